@@ -59,5 +59,6 @@ class Simulation:
         if t_end <= self.t:
             return
         controller = Controller(self.solver, t_range=(self.t, t_end), tracker=list(trackers))
-        controller.run(self.state, dt=self.config.grid.dt)
+        # the Controller evolves a copy of the state and returns it
+        self.state = controller.run(self.state, dt=self.config.grid.dt)
         self.t = float(controller.info["t_final"])
