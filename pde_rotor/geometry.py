@@ -13,11 +13,11 @@ touching both sides of a *corner*) put them at the corners; we follow the corner
 See docs/model.md.
 
 F and G are the smoothed indicators of the paper (the two unnumbered equations after
-Eq. (rj)). Both are 1/2 (1 + tanh(x)) of a signed distance x in units of delta. In
-float64, tanh(x) is exactly +-1 for |x| >= X_SATURATION, so F and G are exactly 0 or 1
-there; :func:`update_indicators` evaluates tanh only inside the disk of radius
-R + X_SATURATION delta / cos(pi/N) that contains every cell where F or G can differ from
-0, and the result equals the full evaluation bit for bit.
+Eq. (rj)). Both are 1/2 (1 + tanh(x)) of a signed distance x in units of delta. For
+|x| >= X_SATURATION they equal 0 or 1 to within exp(-2 X_SATURATION) = 4e-18, so
+:func:`update_indicators` evaluates them only inside the disk of radius
+R + X_SATURATION delta / cos(pi/N) (F) and within rho + X_SATURATION delta of each pill
+(G), and agrees with the full evaluation to round-off.
 """
 
 from __future__ import annotations
@@ -130,6 +130,12 @@ def pill_indicator(x: np.ndarray, y: np.ndarray, shape: RotorShape, phi: float) 
     return out
 
 
+@nb.njit(cache=True, nogil=True, inline="always")
+def _logistic(arg: float) -> float:
+    """1/2 (1 + tanh(arg)) written as 1 / (1 + exp(-2 arg)): 3x cheaper than libm tanh."""
+    return 1.0 / (1.0 + math.exp(-2.0 * arg))
+
+
 @nb.njit(cache=True, nogil=True)
 def update_indicators(
     F: np.ndarray,
@@ -140,13 +146,16 @@ def update_indicators(
     shape: np.ndarray,
     phi: float,
 ) -> None:
-    """Recompute F and G in place where they can differ from 0 (compiled, in place).
+    """Recompute F and G in place where they can differ from 0 (compiled).
+
+    Uses 1/2 (1 + tanh(x)) = 1 / (1 + exp(-2x)); cells beyond the support keep the value
+    0, which differs from the formula by less than exp(-2 X_SATURATION) = 4e-18.
 
     Args:
         F: plate indicator on the grid, shape (n, n); cells outside the support are
             left untouched and must hold 0.
         G: pill indicator on the grid, shape (n, n), same convention.
-        coords: cell-centre coordinates along one axis (the grid is square).
+        coords: cell-centre coordinates along one axis (the grid is square, uniform).
         box_lo: for each row i, first column j inside the support disk.
         box_hi: for each row i, one past the last such column (box_lo == box_hi: none).
         shape: :meth:`RotorShape.as_array`.
@@ -157,41 +166,38 @@ def update_indicators(
     inv_delta = 1.0 / delta
     normal_c = np.empty(n_corners)
     normal_s = np.empty(n_corners)
-    pill_x = np.empty(n_corners)
-    pill_y = np.empty(n_corners)
     for k in range(n_corners):
         a_edge = phi + 2.0 * math.pi * (k + 0.5) / n_corners
         normal_c[k] = math.cos(a_edge)
         normal_s[k] = math.sin(a_edge)
-        a_pill = phi + 2.0 * math.pi * (k + 1) / n_corners + asym
-        pill_x[k] = r_c * math.cos(a_pill)
-        pill_y[k] = r_c * math.sin(a_pill)
-    reach = rho + X_SATURATION * delta
-    reach2 = reach * reach
     for i in range(coords.size):
         x = coords[i]
         for j in range(box_lo[i], box_hi[i]):
             y = coords[j]
             proj = x * normal_c[0] + y * normal_s[0]
             for k in range(1, n_corners):
-                p = x * normal_c[k] + y * normal_s[k]
-                if p > proj:
-                    proj = p
-            arg = (apothem - proj) * inv_delta
-            if arg <= -X_SATURATION:
-                F[i, j] = 0.0
-            elif arg >= X_SATURATION:
-                F[i, j] = 1.0
-            else:
-                F[i, j] = 0.5 * (1.0 + math.tanh(arg))
-            g = 0.0
-            for k in range(n_corners):
-                dx = x - pill_x[k]
-                dy = y - pill_y[k]
-                d2 = dx * dx + dy * dy
-                if d2 < reach2:
-                    g += 0.5 * (1.0 + math.tanh((rho - math.sqrt(d2)) * inv_delta))
-            G[i, j] = g
+                proj = max(proj, x * normal_c[k] + y * normal_s[k])
+            F[i, j] = _logistic((apothem - proj) * inv_delta)
+            G[i, j] = 0.0
+    # each pill only touches the cells within rho + X_SATURATION delta of its centre
+    x0 = coords[0]
+    spacing = coords[1] - coords[0]
+    reach = rho + X_SATURATION * delta
+    last = coords.size - 1
+    for k in range(n_corners):
+        a_pill = phi + 2.0 * math.pi * (k + 1) / n_corners + asym
+        px = r_c * math.cos(a_pill)
+        py = r_c * math.sin(a_pill)
+        i0 = max(0, math.floor((px - reach - x0) / spacing))
+        i1 = min(last, math.ceil((px + reach - x0) / spacing))
+        j0 = max(0, math.floor((py - reach - x0) / spacing))
+        j1 = min(last, math.ceil((py + reach - x0) / spacing))
+        for i in range(i0, i1 + 1):
+            dx2 = (coords[i] - px) ** 2
+            for j in range(j0, j1 + 1):
+                d2 = dx2 + (coords[j] - py) ** 2
+                if d2 < reach * reach:
+                    G[i, j] += _logistic((rho - math.sqrt(d2)) * inv_delta)
 
 
 def support_rows(coords: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray]:
