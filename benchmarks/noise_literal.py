@@ -12,7 +12,6 @@ Run:  python benchmarks/noise_literal.py [--dx 0.05]
 from __future__ import annotations
 
 import argparse
-import copy
 
 import numpy as np
 
@@ -36,10 +35,7 @@ def main() -> None:
     print(f"{'sigma':>8} {'kick/step':>10} {'mean omega':>11} {'std omega':>10}")
     for sigma in args.sigmas:
         config = RotorConfig.model_validate({**base, "noise": {"sigma": sigma, "seed": 1}})
-        sim = Simulation(config)
-        sim.state = warm.state.copy()
-        sim.pde.rotor = copy.copy(warm.rotor)
-        sim.t = warm.t
+        sim = warm.branch(config)
         omegas = []
         for n in range(1, 101):
             sim.run(warm.t + 0.01 * n)

@@ -5,6 +5,7 @@ This is the single entry point that the CLI, sweeps and gallery use to run the m
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Sequence
 
 import numpy as np
@@ -13,7 +14,7 @@ from pde import Controller, FieldCollection
 from pde.trackers.base import TrackerBase
 
 from .config import RotorConfig
-from .model import RotorPDE
+from .model import RotorPDE, RotorState
 from .solver import RotorSolver
 
 pde.config["backend.numba.multithreading"] = "never"
@@ -44,8 +45,30 @@ class Simulation:
         self.solver = RotorSolver(self.pde, rng=rng)
         self.t = 0.0
 
+    def branch(
+        self, config: RotorConfig | None = None, rng: np.random.Generator | None = None
+    ) -> Simulation:
+        """A new simulation that starts from this one's fields, rotor state and time.
+
+        Args:
+            config: configuration of the branch (default: this one's); it must describe
+                the same grid.
+            rng: Generator for the branch's noise (default: from ``config.noise.seed``).
+
+        Raises:
+            ValueError: if the grids differ.
+        """
+        other = Simulation(config or self.config, rng=rng)
+        if other.pde.domain.grid != self.pde.domain.grid:
+            msg = "branch: the configuration describes a different grid (grid.*)"
+            raise ValueError(msg)
+        other.state = self.state.copy()
+        other.pde.rotor = copy.copy(self.pde.rotor)
+        other.t = self.t
+        return other
+
     @property
-    def rotor(self):
+    def rotor(self) -> RotorState:
         """The rotor state (phi, omega, torque, friction, stopped)."""
         return self.pde.rotor
 
