@@ -1,0 +1,97 @@
+"""Shared fixtures of the physics test suite: configuration builders and random states.
+
+Every configuration is built with ``RotorConfig.model_validate`` from the schema's
+defaults (the paper's values) plus the few overrides a test needs; no test repeats a
+default number. :data:`COARSE` is the coarse test resolution named in issue 3
+(dx = 0.05, dt = 4e-4, delta = 0.05); :data:`SMALL_DOMAIN` shrinks the circular domain
+for tests whose property does not depend on L, keeping the support of F and G
+(radius R + 20 delta / cos(pi/N)) inside the interior cells.
+"""
+
+from __future__ import annotations
+
+import copy
+from collections.abc import Callable, Mapping
+from typing import Any
+
+import numpy as np
+import pytest
+from pde import FieldCollection
+
+from pde_rotor.config import RotorConfig
+from pde_rotor.model import RotorPDE
+
+COARSE: dict[str, Any] = {"grid": {"dx": 0.05, "dt": 4e-4}, "geometry": {"smoothing": 0.05}}
+"""Coarse resolution of the issue's spin-up test (about 0.26 ms per step with L = 3)."""
+
+SMALL_DOMAIN: dict[str, Any] = {"grid": {"domain_radius": 1.75}}
+"""Domain radius for quick coarse runs: the support of F and G (radius 1.655 with the
+coarse delta) stays clear of the border cells of the square grid."""
+
+
+def merge(base: Mapping[str, Any], *overrides: Mapping[str, Any]) -> dict[str, Any]:
+    """Deep-merge nested config dictionaries (later ones win), without mutating inputs."""
+    out = copy.deepcopy(dict(base))
+    for override in overrides:
+        for key, value in override.items():
+            if isinstance(value, Mapping) and isinstance(out.get(key), Mapping):
+                out[key] = merge(out[key], value)
+            else:
+                out[key] = copy.deepcopy(value)
+    return out
+
+
+def build_coarse_config(*overrides: Mapping[str, Any]) -> RotorConfig:
+    """Validated config at the coarse test resolution with the given section overrides."""
+    return RotorConfig.model_validate(merge(COARSE, *overrides))
+
+
+def build_small_config(*overrides: Mapping[str, Any]) -> RotorConfig:
+    """Coarse config on the small domain (:data:`SMALL_DOMAIN`) with overrides."""
+    return RotorConfig.model_validate(merge(COARSE, SMALL_DOMAIN, *overrides))
+
+
+@pytest.fixture
+def coarse_config() -> Callable[..., RotorConfig]:
+    """Builder ``coarse_config({"rotor": {...}}, ...)`` of coarse-resolution configs (L = 3)."""
+    return build_coarse_config
+
+
+@pytest.fixture
+def small_config() -> Callable[..., RotorConfig]:
+    """Builder of coarse-resolution configs on the small domain."""
+    return build_small_config
+
+
+def smooth_random_state(
+    pde: RotorPDE, rng: np.random.Generator, flow: bool = True
+) -> FieldCollection:
+    """A smooth, random, non-trivial state [c, v] (zero on and outside the circle |r| = L).
+
+    c is positive and of order 1 everywhere inside the circle, including the cells next to
+    the boundary (so that boundary fluxes are not negligible); v is a random smooth
+    field of order 1 (zero if ``flow`` is False).
+    """
+    x, y = pde.cell_coordinates()
+    mask = pde.domain.interior_mask
+    state = pde.initial_state()
+
+    def modes(n_modes: int) -> np.ndarray:
+        field = np.zeros_like(x)
+        for _ in range(n_modes):
+            kx, ky = rng.uniform(-3.0, 3.0, size=2)
+            amp, phase = rng.uniform(-1.0, 1.0), rng.uniform(0, 2 * np.pi)
+            field += amp * np.cos(kx * x + ky * y + phase)
+        return field / n_modes
+
+    state.data[0] = mask * (1.0 + 0.5 * modes(6))
+    if flow:
+        state.data[1] = mask * modes(6)
+        state.data[2] = mask * modes(6)
+    return state
+
+
+@pytest.fixture
+def random_state() -> Callable[..., FieldCollection]:
+    """``random_state(pde, rng, flow=True)``: see :func:`smooth_random_state`."""
+    return smooth_random_state
