@@ -22,6 +22,8 @@ from pde_rotor.solver import _fields_with_flow, _fields_without_flow
 
 # fine enough for < 1 % against the Bessel solutions, small enough to take ~1 s each
 ANALYTIC_GRID = {"domain_radius": 1.5, "dx": 0.025, "dt": 1e-5}
+# tanh edges of the test disks half a cell wide (sharp, yet sampled smoothly)
+ANALYTIC_SMOOTHING = 0.5 * ANALYTIC_GRID["dx"]
 
 
 def smooth_disk(r: np.ndarray, radius: float, width: float) -> np.ndarray:
@@ -115,7 +117,11 @@ def test_steady_flow_around_rotating_disk_matches_bessel_solution() -> None:
     D_eta are distinct so that a swapped coefficient is detected.
     """
     cfg = RotorConfig.model_validate(
-        {"grid": ANALYTIC_GRID, "flow": {"drag": 2.0, "bulk_drag": 0.5, "viscosity": 0.8}}
+        {
+            "grid": ANALYTIC_GRID,
+            "geometry": {"smoothing": ANALYTIC_SMOOTHING},
+            "flow": {"drag": 2.0, "bulk_drag": 0.5, "viscosity": 0.8},
+        }
     )
     pde = RotorPDE(cfg)
     dom = pde.domain
@@ -124,7 +130,7 @@ def test_steady_flow_around_rotating_disk_matches_bessel_solution() -> None:
     x, y = pde.cell_coordinates()
     r = np.hypot(x, y)
     radius, omega = cfg.geometry.radius, -3.0
-    F = smooth_disk(r, radius, 0.5 * cfg.grid.dx) * dom.interior_mask
+    F = smooth_disk(r, radius, cfg.geometry.smoothing) * dom.interior_mask
     G = np.zeros_like(F)
 
     def step(cur: np.ndarray, nxt: np.ndarray) -> None:
@@ -160,7 +166,7 @@ def test_steady_camphor_of_fixed_pill_matches_bessel_solution() -> None:
     cfg = RotorConfig.model_validate(
         {
             "grid": ANALYTIC_GRID,
-            "geometry": {"radius": 1.0, "pill_radius": 0.3},
+            "geometry": {"radius": 1.0, "pill_radius": 0.3, "smoothing": ANALYTIC_SMOOTHING},
             "camphor": {"diffusion": 0.8, "evaporation": 1.5, "supply": 2.0},
             "flow": {"enabled": False},
         }
@@ -172,7 +178,7 @@ def test_steady_camphor_of_fixed_pill_matches_bessel_solution() -> None:
     x, y = pde.cell_coordinates()
     r = np.hypot(x, y)
     rho = cfg.geometry.pill_radius
-    G = smooth_disk(r, rho, 0.5 * cfg.grid.dx) * dom.interior_mask
+    G = smooth_disk(r, rho, cfg.geometry.smoothing) * dom.interior_mask
     F = np.zeros_like(G)
 
     def step(cur: np.ndarray, nxt: np.ndarray) -> None:
