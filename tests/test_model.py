@@ -293,11 +293,10 @@ def test_symmetric_rotor_at_rest_stays_at_rest(small_config: Callable[..., Rotor
     assert np.all(np.abs(history[:, 1]) < 1e-10)
     assert np.abs(rest.state.data[0]).max() > 0.1  # camphor was released
 
-    for overrides in ({"phi0": 0.1}, {"phi0": 0.0}):
-        geometry = {"asymmetry": 0.01 if overrides["phi0"] == 0.0 else 0.0}
-        sim = Simulation(
-            small_config({"rotor": {"omega0": 0.0, **overrides}, "geometry": geometry})
-        )
+    off_axis = {"rotor": {"omega0": 0.0, "phi0": 0.1}}
+    asymmetric = {"rotor": {"omega0": 0.0, "phi0": 0.0}, "geometry": {"asymmetry": 0.01}}
+    for broken in (off_axis, asymmetric):
+        sim = Simulation(small_config(broken))
         sim.run(0.5)
         assert abs(sim.rotor.omega) > 1e-3
 
