@@ -6,18 +6,64 @@ Every default is the value used in the paper's section "Numerical results"
 
 Units are the paper's dimensionless units: length in units of the camphor
 diffusion length sqrt(D/a), time in units of 1/a.
+
+Configs are written as YAML (:func:`load_config`, :func:`dump_config`) and can be
+changed from the command line with ``--set key.path=value`` (:func:`apply_overrides`).
+Every invalid input raises :class:`ConfigError` whose message is one line that names
+the key path and the allowed values (:func:`format_validation_error`), before anything
+is compiled.
 """
 
 from __future__ import annotations
 
+import hashlib
+import json
 import math
-from typing import Annotated, Literal
+import re
+import types
+from collections.abc import Iterable, Mapping
+from pathlib import Path
+from typing import Annotated, Any, Literal, Union, get_args, get_origin
 
-from pydantic import BaseModel, ConfigDict, Field, model_validator
+import annotated_types
+import yaml
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, ValidationError, model_validator
+from pydantic.fields import FieldInfo
 
-PositiveFloat = Annotated[float, Field(gt=0, allow_inf_nan=False)]
-NonNegativeFloat = Annotated[float, Field(ge=0, allow_inf_nan=False)]
-FiniteFloat = Annotated[float, Field(allow_inf_nan=False)]
+
+def _reject_bool(value: Any) -> Any:
+    """YAML ``true`` is not a number: refuse the silent coercion bool -> 1."""
+    if isinstance(value, bool):
+        msg = "expected a number, got a boolean"
+        raise ValueError(msg)
+    return value
+
+
+_NoBool = BeforeValidator(_reject_bool)
+PositiveFloat = Annotated[float, _NoBool, Field(gt=0, allow_inf_nan=False)]
+NonNegativeFloat = Annotated[float, _NoBool, Field(ge=0, allow_inf_nan=False)]
+FiniteFloat = Annotated[float, _NoBool, Field(allow_inf_nan=False)]
+Fraction = Annotated[float, _NoBool, Field(gt=0, le=1, allow_inf_nan=False)]
+Int = Annotated[int, _NoBool]
+
+
+class FieldError(ValueError):
+    """A cross-field check failed; carries the key path it is about.
+
+    Attributes:
+        path: dotted key path relative to the model that raised it (e.g. ``pill_radius``
+            inside ``geometry``, or ``grid.dx`` at the top level).
+        value: the offending value.
+    """
+
+    def __init__(self, path: str, value: Any, message: str):
+        super().__init__(message)
+        self.path = path
+        self.value = value
+
+
+class ConfigError(ValueError):
+    """Invalid configuration input; ``str(err)`` is one readable line."""
 
 
 class _Section(BaseModel):
@@ -29,7 +75,7 @@ class _Section(BaseModel):
 class GeometryConfig(_Section):
     """Rotor geometry: regular N-gon plate with N camphor pills (paper Fig. 1, Eqs. (rc), (rj))."""
 
-    n_corners: int = Field(6, ge=3, le=24, description="N: number of plate corners and pills")
+    n_corners: Int = Field(6, ge=3, le=24, description="N: number of plate corners and pills")
     radius: PositiveFloat = Field(0.5, description="R: circumradius of the plate")
     pill_radius: PositiveFloat = Field(0.1, description="rho: radius of one camphor pill")
     pill_inset: NonNegativeFloat = Field(
@@ -45,25 +91,51 @@ class GeometryConfig(_Section):
         """R_c = R - rho / cos(pi/N) - p, Eq. (rc)."""
         return self.radius - self.pill_radius / math.cos(math.pi / self.n_corners) - self.pill_inset
 
+    def edge_clearance(self) -> float:
+        """Distance from a pill centre to the nearer edge of its corner.
+
+        The two edges of a corner have normals at angles pi/N -/+ Delta from the pill
+        direction, so the clearance is R cos(pi/N) - R_c cos(pi/N - |Delta|).
+        """
+        half = math.pi / self.n_corners
+        return self.radius * math.cos(half) - self.pill_distance * math.cos(
+            half - abs(self.asymmetry)
+        )
+
+    def max_asymmetry(self) -> float:
+        """Largest |Delta| for which the pills stay inside the plate (nan if none does)."""
+        half = math.pi / self.n_corners
+        ratio = (self.radius * math.cos(half) - self.pill_radius) / self.pill_distance
+        if ratio < math.cos(half):
+            return math.nan
+        return half - math.acos(min(1.0, ratio))
+
     @model_validator(mode="after")
     def _pills_inside_plate(self) -> GeometryConfig:
         r_c = self.pill_distance
         if r_c <= 0:
+            rho_max = (self.radius - self.pill_inset) * math.cos(math.pi / self.n_corners)
             msg = (
-                f"geometry: pill distance R_c = R - rho/cos(pi/N) - p = {r_c:.4g} must be > 0 "
-                "(reduce pill_radius or pill_inset)"
+                f"pill distance R_c = R - rho/cos(pi/N) - p = {r_c:.4g} must be > 0 "
+                f"(allowed: pill_radius < {rho_max:.4g} for radius = {self.radius:g}, "
+                f"pill_inset = {self.pill_inset:g}, n_corners = {self.n_corners})"
             )
-            raise ValueError(msg)
-        # clearance between a pill centre and the nearer of its corner's two edges, whose
-        # normals make the angle pi/N -/+ Delta with the pill direction
-        half = math.pi / self.n_corners
-        edge_distance = self.radius * math.cos(half) - r_c * math.cos(half - abs(self.asymmetry))
-        if edge_distance < self.pill_radius - 1e-12:
+            raise FieldError("pill_radius", self.pill_radius, msg)
+        if self.edge_clearance() < self.pill_radius - 1e-12:
+            limit = self.max_asymmetry()
+            if math.isnan(limit) or abs(self.asymmetry) <= limit:
+                msg = (
+                    f"pills stick out of the plate even at asymmetry 0 (edge clearance "
+                    f"{self.edge_clearance():.4g} < pill_radius); increase pill_inset or "
+                    "reduce pill_radius"
+                )
+                raise FieldError("pill_radius", self.pill_radius, msg)
             msg = (
-                f"geometry: pills stick out of the plate (edge clearance {edge_distance:.4g} < "
-                f"pill_radius {self.pill_radius:.4g}); increase pill_inset or reduce |asymmetry|"
+                f"pills stick out of the plate (edge clearance {self.edge_clearance():.4g} "
+                f"< pill_radius {self.pill_radius:g}); allowed: |asymmetry| <= {limit:.4g} "
+                f"rad for these radius, pill_radius, pill_inset"
             )
-            raise ValueError(msg)
+            raise FieldError("asymmetry", self.asymmetry, msg)
         return self
 
 
@@ -114,7 +186,9 @@ class NoiseConfig(_Section):
     """
 
     sigma: NonNegativeFloat = Field(0.0, description="sigma: torque noise intensity")
-    seed: int | None = Field(None, ge=0, description="seed of the numpy Generator (None: random)")
+    seed: Int | None = Field(
+        None, ge=0, description="seed of the numpy Generator (null: drawn and recorded per run)"
+    )
 
 
 class ProtocolConfig(_Section):
@@ -123,7 +197,7 @@ class ProtocolConfig(_Section):
     t_ini: NonNegativeFloat = Field(10.0, description="t_ini: free rotation before the first stop")
     t_stop: NonNegativeFloat = Field(0.5, description="t_stop: duration of one forced stop")
     t_release: PositiveFloat = Field(10.0, description="t_release: free rotation after a stop")
-    cycles: int = Field(100, ge=0, description="M: number of stop-and-release cycles")
+    cycles: Int = Field(100, ge=0, description="M: number of stop-and-release cycles")
 
     @property
     def period(self) -> float:
@@ -135,6 +209,13 @@ class ProtocolConfig(_Section):
         """End of the protocol, t_ini + M T."""
         return self.t_ini + self.cycles * self.period
 
+    @model_validator(mode="after")
+    def _something_to_run(self) -> ProtocolConfig:
+        if self.t_end <= 0:
+            msg = "nothing to simulate: t_ini + cycles * (t_stop + t_release) = 0 (allowed: > 0)"
+            raise FieldError("t_ini", self.t_ini, msg)
+        return self
+
 
 class GridConfig(_Section):
     """Cartesian grid covering the circular domain of radius L (Dirichlet c = v = 0 outside)."""
@@ -142,6 +223,62 @@ class GridConfig(_Section):
     domain_radius: PositiveFloat = Field(3.0, description="L: radius of the circular domain")
     dx: PositiveFloat = Field(0.025, description="grid spacing")
     dt: PositiveFloat = Field(1e-4, description="explicit Euler time step")
+
+
+class SolverConfig(_Section):
+    """Where the time steps run."""
+
+    backend: Literal["cpu", "gpu", "auto"] = Field(
+        "cpu",
+        description=(
+            "compute backend: cpu (fused numba kernel), gpu (needs the optional gpu extra "
+            "and a GPU), auto (gpu when available, else cpu)"
+        ),
+    )
+
+
+class OutputConfig(_Section):
+    """What a run records (trackers of :mod:`pde_rotor.trackers`) and how often."""
+
+    timeseries_interval: PositiveFloat = Field(
+        0.01, description="time between rows of timeseries.nc (t, phi, omega, torque, ...)"
+    )
+    event_interval: PositiveFloat = Field(
+        0.01, description="time between omega samples used to detect the commit after a release"
+    )
+    commit_fraction: Fraction = Field(
+        0.5,
+        description=(
+            "a released rotor has committed to a direction once |omega| >= commit_fraction * "
+            "|omega before the stop|"
+        ),
+    )
+    snapshot_interval: PositiveFloat | None = Field(
+        10.0, description="time between field snapshots in snapshots.h5 (null: none)"
+    )
+    movie: bool = Field(True, description="render movie.mp4 while the run goes")
+    movie_interval: PositiveFloat = Field(0.05, description="simulated time between movie frames")
+    movie_fps: Int = Field(20, ge=1, le=120, description="frames per second of movie.mp4")
+    movie_dpi: Int = Field(100, ge=20, le=600, description="resolution of the movie frames")
+    movie_view: PositiveFloat = Field(
+        1.5, description="half width of the square shown in the movie (paper Fig. 3: 1.5)"
+    )
+    progress: bool = Field(True, description="show a progress bar (simulated time, ETA, omega)")
+    checkpoint_seconds: PositiveFloat = Field(
+        60.0, description="wall-clock seconds between rewrites of timeseries.nc during a run"
+    )
+
+
+TIME_KEYS = (
+    "protocol.t_ini",
+    "protocol.t_stop",
+    "protocol.t_release",
+    "output.timeseries_interval",
+    "output.event_interval",
+    "output.snapshot_interval",
+    "output.movie_interval",
+)
+"""Times that must be integer multiples of grid.dt (the schedule counts whole steps)."""
 
 
 class RotorConfig(_Section):
@@ -154,27 +291,61 @@ class RotorConfig(_Section):
     noise: NoiseConfig = Field(default_factory=NoiseConfig)
     protocol: ProtocolConfig = Field(default_factory=ProtocolConfig)
     grid: GridConfig = Field(default_factory=GridConfig)
+    solver: SolverConfig = Field(default_factory=SolverConfig)
+    output: OutputConfig = Field(default_factory=OutputConfig)
 
     @model_validator(mode="after")
     def _numerically_sound(self) -> RotorConfig:
         dx = self.grid.dx
-        if dx > 2 * self.geometry.smoothing:
+        smoothing = self.geometry.smoothing
+        if dx > 2 * smoothing:
             msg = (
-                f"grid.dx = {dx:g} is too coarse for geometry.smoothing = "
-                f"{self.geometry.smoothing:g}: need dx <= 2 * smoothing to resolve F and G"
+                f"too coarse for geometry.smoothing = {smoothing:g} (allowed: dx <= 2 * "
+                f"smoothing = {2 * smoothing:g}, to resolve the edges of F and G)"
             )
-            raise ValueError(msg)
+            raise FieldError("grid.dx", dx, msg)
         if self.geometry.radius + 2 * dx >= self.grid.domain_radius:
             msg = (
-                f"grid.domain_radius = {self.grid.domain_radius:g} must exceed "
-                f"geometry.radius + 2 dx = {self.geometry.radius + 2 * dx:g}"
+                f"leaves no water around the plate (allowed: domain_radius > "
+                f"geometry.radius + 2 dx = {self.geometry.radius + 2 * dx:g})"
             )
-            raise ValueError(msg)
+            raise FieldError("grid.domain_radius", self.grid.domain_radius, msg)
+        from .geometry import X_SATURATION  # geometry imports this module
+
+        n = self.geometry.n_corners
+        support = self.geometry.radius + X_SATURATION * smoothing / math.cos(math.pi / n)
+        if support > self.grid.domain_radius:
+            msg = (
+                f"smaller than the reach of the smoothed plate indicator F, R + "
+                f"{X_SATURATION:g} delta / cos(pi/N) = {support:.4g} (allowed: domain_radius "
+                f">= {support:.4g}, or reduce geometry.smoothing)"
+            )
+            raise FieldError("grid.domain_radius", self.grid.domain_radius, msg)
         limit = self.dt_limit()
         if self.grid.dt > limit:
-            msg = f"grid.dt = {self.grid.dt:g} exceeds the explicit stability limit {limit:.4g}"
-            raise ValueError(msg)
+            msg = f"above the explicit stability limit (allowed: dt <= {limit:.4g} for this dx)"
+            raise FieldError("grid.dt", self.grid.dt, msg)
+        dt = self.grid.dt
+        for key in TIME_KEYS:
+            value = self.get(key)
+            if value is None:
+                continue
+            steps = round(value / dt)
+            if abs(steps * dt - value) > 1e-9 * max(1.0, value):
+                below, above = math.floor(value / dt) * dt, math.ceil(value / dt) * dt
+                msg = (
+                    f"not an integer multiple of grid.dt = {dt:g} (allowed: k * dt, "
+                    f"e.g. {below:.10g} or {above:.10g})"
+                )
+                raise FieldError(key, value, msg)
         return self
+
+    def get(self, key: str) -> Any:
+        """Value at a dotted key path, e.g. ``config.get("protocol.t_stop")``."""
+        node: Any = self
+        for part in key.split("."):
+            node = getattr(node, part)
+        return node
 
     def dt_limit(self) -> float:
         """Largest stable explicit Euler step of the linear terms of Eqs. (eqc), (eqv), (eq_motion).
@@ -194,3 +365,305 @@ class RotorConfig(_Section):
         polar_moment = math.pi * self.geometry.radius**4 / 2
         rates.append(self.rotor.friction * polar_moment / self.rotor.inertia)
         return 2.0 / max(rates)
+
+    def config_hash(self) -> str:
+        """Short SHA-256 of the canonical JSON of the model, protocol, noise and grid.
+
+        The ``solver`` and ``output`` sections are left out: runs that differ only in
+        what they record (or where they ran) share the hash of their physics.
+        """
+        data = self.model_dump(mode="json", exclude={"solver", "output"})
+        text = json.dumps(data, sort_keys=True, separators=(",", ":"))
+        return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+# ---------------------------------------------------------------------------------------
+# YAML in and out
+# ---------------------------------------------------------------------------------------
+
+PROVENANCE_KEY = "provenance"
+"""Top-level key of a run's config.yaml holding versions and hash; ignored when loading."""
+
+
+class _Loader(yaml.SafeLoader):
+    """Safe YAML loader that reads 1e-4 as a float and refuses duplicate keys."""
+
+
+_Loader.add_implicit_resolver(
+    "tag:yaml.org,2002:float",
+    re.compile(r"^[-+]?(?:[0-9][0-9_]*)(?:\.[0-9_]*)?[eE][-+]?[0-9]+$"),
+    list("-+0123456789"),
+)
+
+
+def _construct_mapping(loader: _Loader, node: yaml.MappingNode, deep: bool = False) -> dict:
+    loader.flatten_mapping(node)
+    result: dict = {}
+    for key_node, value_node in node.value:
+        key = loader.construct_object(key_node, deep=deep)
+        if key in result:
+            mark = key_node.start_mark
+            msg = f"line {mark.line + 1}: duplicate key {key!r}"
+            raise ConfigError(msg)
+        result[key] = loader.construct_object(value_node, deep=deep)
+    return result
+
+
+_Loader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, _construct_mapping)
+
+
+def parse_yaml(text: str, source: str = "<string>") -> Any:
+    """Parse YAML text (floats like 1e-4 included); errors become one-line ConfigErrors."""
+    try:
+        return yaml.load(text, Loader=_Loader)
+    except ConfigError as err:
+        msg = f"{source}: {err}"
+        raise ConfigError(msg) from None
+    except yaml.YAMLError as err:
+        mark = getattr(err, "problem_mark", None)
+        where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
+        problem = getattr(err, "problem", None) or str(err).splitlines()[0]
+        msg = f"{source}: invalid YAML{where}: {problem}"
+        raise ConfigError(msg) from None
+
+
+def read_config_data(path: str | Path) -> dict[str, Any]:
+    """Read a YAML config file into a plain dict (provenance removed), without validating."""
+    path = Path(path)
+    if path.is_dir():
+        path = path / "config.yaml"
+    if not path.exists():
+        msg = f"config file {str(path)!r} not found"
+        raise ConfigError(msg)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as err:
+        msg = f"config file {str(path)!r} cannot be read: {err}"
+        raise ConfigError(msg) from None
+    data = parse_yaml(text, source=str(path))
+    if data is None:
+        data = {}
+    if not isinstance(data, dict):
+        msg = (
+            f"{path}: the top level must be a mapping of sections "
+            f"({', '.join(RotorConfig.model_fields)}), got {type(data).__name__}"
+        )
+        raise ConfigError(msg)
+    data.pop(PROVENANCE_KEY, None)
+    return data
+
+
+def load_config(path: str | Path, overrides: Iterable[str] = ()) -> RotorConfig:
+    """Load and validate a YAML config file, then apply ``--set`` overrides.
+
+    Args:
+        path: YAML file (or a run directory holding config.yaml).
+        overrides: strings ``key.path=value``; value is parsed as YAML.
+
+    Raises:
+        ConfigError: one line naming the file or key path and the allowed values.
+    """
+    data = read_config_data(path)
+    data = apply_overrides(data, overrides)
+    return validate_config(data)
+
+
+def validate_config(data: Mapping[str, Any]) -> RotorConfig:
+    """Build a :class:`RotorConfig` from a nested mapping; errors become ConfigErrors."""
+    try:
+        return RotorConfig.model_validate(dict(data))
+    except ValidationError as err:
+        raise ConfigError(format_validation_error(err)) from None
+
+
+_KEY_PATH = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z_][A-Za-z0-9_]*)*$")
+
+
+def parse_override(text: str) -> tuple[list[str], Any]:
+    """Split ``key.path=value`` into the key path and the YAML-parsed value."""
+    key, sep, raw = text.partition("=")
+    key = key.strip()
+    if not sep or not _KEY_PATH.match(key):
+        msg = (
+            f"--set {text!r}: expected KEY.PATH=VALUE with a dotted key path, "
+            "e.g. --set protocol.t_stop=1.5"
+        )
+        raise ConfigError(msg)
+    if raw.strip() == "":
+        msg = f"--set {text!r}: missing value after '=' for {key}"
+        raise ConfigError(msg)
+    value = parse_yaml(raw, source=f"--set {key}")
+    return key.split("."), value
+
+
+def apply_overrides(data: Mapping[str, Any], overrides: Iterable[str]) -> dict[str, Any]:
+    """Return a copy of `data` with every ``key.path=value`` override applied (in order).
+
+    Unknown keys are left for the schema to reject, so overrides and files give the
+    same error messages.
+    """
+    result = json.loads(json.dumps(data, default=str)) if data else {}
+    for text in overrides:
+        path, value = parse_override(text)
+        node = result
+        for depth, part in enumerate(path[:-1]):
+            child = node.get(part)
+            if child is None:
+                child = node[part] = {}
+            if not isinstance(child, dict):
+                where = ".".join(path[: depth + 1])
+                msg = f"--set {text!r}: {where} is a value, not a section"
+                raise ConfigError(msg)
+            node = child
+        node[path[-1]] = value
+    return result
+
+
+def dump_config(config: RotorConfig, provenance: Mapping[str, Any] | None = None) -> str:
+    """The fully resolved config as YAML (every key), optionally with a provenance block.
+
+    :func:`load_config` reads it back to an equal :class:`RotorConfig`.
+    """
+    data: dict[str, Any] = {}
+    if provenance:
+        data[PROVENANCE_KEY] = dict(provenance)
+    data.update(config.model_dump(mode="json"))
+    return yaml.safe_dump(data, sort_keys=False, default_flow_style=False)
+
+
+# ---------------------------------------------------------------------------------------
+# one-line error messages
+# ---------------------------------------------------------------------------------------
+
+_PROBLEMS = {
+    "extra_forbidden": "unknown key",
+    "float_parsing": "expected a number",
+    "float_type": "expected a number",
+    "int_parsing": "expected an integer",
+    "int_type": "expected an integer",
+    "int_from_float": "expected an integer, got a fraction",
+    "bool_parsing": "expected true or false",
+    "bool_type": "expected true or false",
+    "finite_number": "must be finite",
+    "literal_error": "not one of the allowed values",
+    "model_type": "expected a section (a mapping of keys)",
+    "model_attributes_type": "expected a section (a mapping of keys)",
+    "dict_type": "expected a section (a mapping of keys)",
+    "greater_than": "out of range",
+    "greater_than_equal": "out of range",
+    "less_than": "out of range",
+    "less_than_equal": "out of range",
+}
+
+
+def _model_at(path: tuple[str, ...]) -> type[BaseModel] | None:
+    """The section model that the key path leads into (None if it leaves the schema)."""
+    model: type[BaseModel] = RotorConfig
+    for part in path:
+        field = model.model_fields.get(part)
+        if field is None:
+            return None
+        ann = field.annotation
+        if not (isinstance(ann, type) and issubclass(ann, BaseModel)):
+            return None
+        model = ann
+    return model
+
+
+def _unwrap(ann: Any) -> tuple[Any, list[Any], bool]:
+    """Split an annotation into (base type, constraint metadata, whether None is allowed)."""
+    optional = False
+    if get_origin(ann) in (Union, types.UnionType):
+        args = [arg for arg in get_args(ann) if arg is not type(None)]
+        optional = len(args) < len(get_args(ann))
+        ann = args[0]
+    metadata: list[Any] = []
+    if get_origin(ann) is Annotated:
+        ann, *extras = get_args(ann)
+        for extra in extras:
+            metadata.extend(extra.metadata if isinstance(extra, FieldInfo) else [extra])
+    return ann, metadata, optional
+
+
+def allowed_values(path: tuple[str, ...]) -> str:
+    """Describe the allowed values of the field at `path` (e.g. ``float > 0``)."""
+    if not path:
+        return "sections " + ", ".join(RotorConfig.model_fields)
+    parent = _model_at(path[:-1])
+    if parent is None or path[-1] not in parent.model_fields:
+        return ""
+    field = parent.model_fields[path[-1]]
+    sub = _model_at(path)
+    if sub is not None:
+        return "a section with keys " + ", ".join(sub.model_fields)
+    base, metadata, optional = _unwrap(field.annotation)
+    metadata = [*field.metadata, *metadata]
+    if get_origin(base) is Literal:
+        kind = "one of " + ", ".join(str(arg) for arg in get_args(base))
+    elif base is bool:
+        kind = "true or false"
+    elif base is int:
+        kind = "integer"
+    else:
+        kind = "number"
+    lower = upper = ""
+    for meta in metadata:
+        if isinstance(meta, annotated_types.Gt):
+            lower = f"{meta.gt:g} <"
+        elif isinstance(meta, annotated_types.Ge):
+            lower = f"{meta.ge:g} <="
+        elif isinstance(meta, annotated_types.Lt):
+            upper = f"< {meta.lt:g}"
+        elif isinstance(meta, annotated_types.Le):
+            upper = f"<= {meta.le:g}"
+    if lower and not upper:
+        value, sym = lower.split(" ")
+        kind += f", {path[-1]} {sym.replace('<', '>')} {value}"
+    elif lower or upper:
+        kind += ", " + " ".join(part for part in (lower, path[-1], upper) if part)
+    if optional:
+        kind += " or null"
+    return kind
+
+
+def _show(value: Any) -> str:
+    if isinstance(value, dict):
+        return "{...}"
+    text = repr(value) if isinstance(value, str) else json.dumps(value, default=str)
+    return text if len(text) <= 40 else text[:37] + "..."
+
+
+def _format_one(error: Mapping[str, Any]) -> str:
+    loc = tuple(str(part) for part in error["loc"])
+    kind = error["type"]
+    ctx = error.get("ctx") or {}
+    cause = ctx.get("error")
+    if kind == "value_error" and isinstance(cause, FieldError):
+        path = ".".join((*loc, cause.path))
+        return f"{path} = {_show(cause.value)}: {cause}"
+    path = ".".join(loc) if loc else "<top level>"
+    if kind == "extra_forbidden":
+        parent = _model_at(loc[:-1])
+        keys = ", ".join(parent.model_fields) if parent else ""
+        where = ".".join(loc[:-1]) or "top level"
+        return f"{path}: unknown key (allowed keys in {where}: {keys})"
+    value = error.get("input")
+    if kind == "value_error":
+        message = str(cause) if cause is not None else error["msg"]
+    elif isinstance(value, float) and not math.isfinite(value):
+        message = "must be a finite number"
+    else:
+        message = _PROBLEMS.get(kind, error["msg"].lower())
+    allowed = allowed_values(loc)
+    suffix = f" (allowed: {allowed})" if allowed else ""
+    return f"{path} = {_show(value)}: {message}{suffix}"
+
+
+def format_validation_error(err: ValidationError, limit: int = 3) -> str:
+    """One line describing the first `limit` problems of a validation error."""
+    errors = err.errors()
+    parts = [_format_one(e) for e in errors[:limit]]
+    more = len(errors) - limit
+    if more > 0:
+        parts.append(f"and {more} more")
+    return "; ".join(parts)

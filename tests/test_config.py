@@ -1,0 +1,250 @@
+"""Config files: YAML round trip, --set overrides, and one-line errors for every bad input."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+import yaml
+
+from pde_rotor.config import (
+    ConfigError,
+    RotorConfig,
+    apply_overrides,
+    dump_config,
+    load_config,
+    parse_yaml,
+    validate_config,
+)
+from pde_rotor.protocol import StopSchedule
+
+CONFIGS = sorted((Path(__file__).parent.parent / "configs").glob("*.yaml"))
+COARSE_YAML = "grid: {dx: 0.05, dt: 4.0e-4}\ngeometry: {smoothing: 0.05}\n"
+
+# (YAML text or None, --set overrides, key path named in the error, allowed text named)
+BAD_INPUTS: dict[str, tuple[str | None, list[str], str, str]] = {
+    "unknown section": ("protcol: {t_stop: 1.0}\n", [], "protcol", "allowed keys"),
+    "unknown key": ("protocol: {t_stp: 1.0}\n", [], "protocol.t_stp", "t_stop"),
+    "unknown key via --set": (None, ["grid.ddx=0.1"], "grid.ddx", "dx"),
+    "section is a number": ("protocol: 5\n", [], "protocol", "t_stop"),
+    "section is a list": ("grid: [1, 2]\n", [], "grid", "dx"),
+    "negative t_stop": (None, ["protocol.t_stop=-1"], "protocol.t_stop", "t_stop >= 0"),
+    "zero t_release": (None, ["protocol.t_release=0"], "protocol.t_release", "t_release > 0"),
+    "negative cycles": (None, ["protocol.cycles=-3"], "protocol.cycles", "cycles >= 0"),
+    "fractional cycles": (None, ["protocol.cycles=2.5"], "protocol.cycles", "integer"),
+    "cycles as text": (None, ["protocol.cycles=many"], "protocol.cycles", "integer"),
+    "negative radius": (None, ["geometry.radius=-0.5"], "geometry.radius", "radius > 0"),
+    "zero pill radius": (None, ["geometry.pill_radius=0"], "geometry.pill_radius", "> 0"),
+    "negative pill inset": (None, ["geometry.pill_inset=-0.1"], "geometry.pill_inset", ">= 0"),
+    "two corners": (None, ["geometry.n_corners=2"], "geometry.n_corners", "3 <= n_corners"),
+    "too many corners": (None, ["geometry.n_corners=25"], "geometry.n_corners", "<= 24"),
+    "R_c <= 0": (None, ["geometry.pill_radius=0.45"], "geometry.pill_radius", "R_c"),
+    "pills outside plate": (None, ["geometry.asymmetry=0.5"], "geometry.asymmetry", "0.4283"),
+    "negative smoothing": (None, ["geometry.smoothing=-0.01"], "geometry.smoothing", "> 0"),
+    "infinite asymmetry": (None, ["geometry.asymmetry=.inf"], "geometry.asymmetry", "finite"),
+    "nan radius": (None, ["geometry.radius=.nan"], "geometry.radius", "finite"),
+    "grid too coarse": (None, ["grid.dx=0.2"], "grid.dx", "dx <= 2 * smoothing"),
+    "negative dx": (None, ["grid.dx=-0.05"], "grid.dx", "dx > 0"),
+    "dt above stability limit": (None, ["grid.dt=1e-3"], "grid.dt", "dt <= 0.0006"),
+    "zero dt": (None, ["grid.dt=0"], "grid.dt", "dt > 0"),
+    "domain smaller than plate": (None, ["grid.domain_radius=0.5"], "grid.domain_radius", "> "),
+    "domain cuts the support of F": (
+        None,
+        ["grid.domain_radius=1.5"],
+        "grid.domain_radius",
+        "domain_radius >= 1.655",
+    ),
+    "dx as text": (None, ["grid.dx=fine"], "grid.dx", "number"),
+    "dx as boolean": (None, ["grid.dx=true"], "grid.dx", "number"),
+    "t_stop not a multiple of dt": (
+        None,
+        ["protocol.t_stop=0.0005"],
+        "protocol.t_stop",
+        "multiple of grid.dt",
+    ),
+    "t_ini not a multiple of dt": (None, ["protocol.t_ini=1.0001"], "protocol.t_ini", "k * dt"),
+    "interval not a multiple of dt": (
+        None,
+        ["output.movie_interval=0.0101"],
+        "output.movie_interval",
+        "multiple of grid.dt",
+    ),
+    "nothing to simulate": (
+        None,
+        ["protocol.t_ini=0", "protocol.cycles=0"],
+        "protocol.t_ini",
+        "> 0",
+    ),
+    "negative seed": (None, ["noise.seed=-1"], "noise.seed", "seed >= 0"),
+    "negative sigma": (None, ["noise.sigma=-0.1"], "noise.sigma", "sigma >= 0"),
+    "unknown backend": (None, ["solver.backend=tpu"], "solver.backend", "cpu, gpu, auto"),
+    "unknown torque convention": (None, ["rotor.torque=mine"], "rotor.torque", "physical"),
+    "zero inertia": (None, ["rotor.inertia=0"], "rotor.inertia", "inertia > 0"),
+    "flow switch not boolean": (None, ["flow.enabled=sometimes"], "flow.enabled", "true or false"),
+    "commit fraction above 1": (
+        None,
+        ["output.commit_fraction=1.5"],
+        "output.commit_fraction",
+        "commit_fraction <= 1",
+    ),
+    "movie fps zero": (None, ["output.movie_fps=0"], "output.movie_fps", "movie_fps"),
+    "negative diffusion": (None, ["camphor.diffusion=-1"], "camphor.diffusion", "> 0"),
+    "--set without '='": (None, ["protocol.t_stop"], "protocol.t_stop", "KEY.PATH=VALUE"),
+    "--set without key": (None, ["=1.5"], "--set", "KEY.PATH=VALUE"),
+    "--set without value": (None, ["protocol.t_stop="], "protocol.t_stop", "missing value"),
+    "--set bad key path": (None, ["protocol..t_stop=1"], "protocol..t_stop", "dotted key path"),
+    "--set into a value": (None, ["grid.dx.fine=1"], "grid.dx", "not a section"),
+    "--set unparsable value": (None, ["protocol.t_stop=[1"], "protocol.t_stop", "invalid YAML"),
+    "unparsable YAML": ("protocol: {t_stop: 1\n", [], "invalid YAML", "line"),
+    "tab in YAML": ("protocol:\n\tt_stop: 1\n", [], "invalid YAML", "line 2"),
+    "duplicate key": ("protocol:\n  t_stop: 1\n  t_stop: 2\n", [], "duplicate key", "t_stop"),
+    "top level is a list": ("- 1\n- 2\n", [], "top level", "geometry"),
+}
+
+
+def write_config(tmp_path: Path, text: str | None) -> Path:
+    """A config file: the coarse grid, or the given text."""
+    path = tmp_path / "config.yaml"
+    path.write_text(COARSE_YAML if text is None else text)
+    return path
+
+
+def test_at_least_thirty_bad_inputs():
+    assert len(BAD_INPUTS) >= 30
+
+
+@pytest.mark.parametrize("case", list(BAD_INPUTS), ids=list(BAD_INPUTS))
+def test_bad_input_gives_one_line_naming_key_and_allowed(tmp_path, case):
+    text, overrides, key, allowed = BAD_INPUTS[case]
+    path = write_config(tmp_path, text)
+    with pytest.raises(ConfigError) as info:
+        load_config(path, overrides)
+    message = str(info.value)
+    assert "\n" not in message
+    assert key in message
+    assert allowed in message
+
+
+def test_missing_file(tmp_path):
+    with pytest.raises(ConfigError, match="not found"):
+        load_config(tmp_path / "nope.yaml")
+
+
+@pytest.mark.parametrize("path", CONFIGS, ids=[p.name for p in CONFIGS])
+def test_shipped_configs_round_trip(path, tmp_path):
+    """YAML -> model -> YAML -> model gives the same model and the same YAML text."""
+    config = load_config(path)
+    text = dump_config(config, {"config_hash": config.config_hash()})
+    again_path = tmp_path / "again.yaml"
+    again_path.write_text(text)
+    again = load_config(again_path)
+    assert again == config
+    assert dump_config(again, {"config_hash": again.config_hash()}) == text
+    assert again.config_hash() == config.config_hash()
+
+
+def test_hash_follows_physics_not_recording():
+    base = RotorConfig()
+    quiet = validate_config({"output": {"movie": False, "progress": False}})
+    assert quiet.config_hash() == base.config_hash()
+    other = validate_config({"protocol": {"t_stop": 1.0}})
+    assert other.config_hash() != base.config_hash()
+
+
+def test_dump_holds_every_key():
+    data = yaml.safe_load(dump_config(RotorConfig()))
+    for section, model in RotorConfig.model_fields.items():
+        assert set(data[section]) == set(model.annotation.model_fields)
+
+
+def test_shipped_paper_configs_follow_the_paper():
+    """Figs. 4 and 6: Delta 0 / 1e-4, t_stop 0.5 / 2, t_ini = t_release = 10, M = 100."""
+    expected = {
+        "paper_fig4a.yaml": (0.0, 0.5),
+        "paper_fig4b.yaml": (0.0, 2.0),
+        "paper_fig6a.yaml": (1e-4, 0.5),
+        "paper_fig6b.yaml": (1e-4, 2.0),
+    }
+    paper = RotorConfig()
+    for name, (delta, t_stop) in expected.items():
+        config = load_config(CONFIGS[0].parent / name)
+        assert config.geometry.asymmetry == delta
+        assert config.protocol.t_stop == t_stop
+        assert config.protocol.t_ini == config.protocol.t_release == 10
+        assert config.protocol.cycles == 100
+        assert config.grid == paper.grid
+        assert config.geometry.smoothing == paper.geometry.smoothing
+        assert config.flow.enabled
+
+
+def test_no_flow_config_switches_the_flow_off():
+    config = load_config(CONFIGS[0].parent / "no_flow.yaml")
+    assert not config.flow.enabled
+
+
+def test_quickstart_is_coarse_and_has_cycles():
+    config = load_config(CONFIGS[0].parent / "quickstart.yaml")
+    assert config.grid.dx > RotorConfig().grid.dx
+    assert config.protocol.cycles >= 2
+    assert config.output.movie
+    # every stop starts on a step of the schedule
+    schedule = StopSchedule.from_config(config.protocol, config.grid.dt)
+    assert schedule.stop_times()[-1] + config.protocol.period == pytest.approx(
+        config.protocol.t_end
+    )
+
+
+def test_overrides_apply_in_order_and_parse_yaml_values(tmp_path):
+    path = write_config(tmp_path, None)
+    config = load_config(
+        path,
+        [
+            "protocol.t_stop=1.5",
+            "protocol.t_stop=2",
+            "geometry.asymmetry=1e-4",
+            "flow.enabled=false",
+            "noise.seed=null",
+        ],
+    )
+    assert config.protocol.t_stop == 2.0
+    assert config.geometry.asymmetry == 1e-4
+    assert config.flow.enabled is False
+    assert config.noise.seed is None
+
+
+def test_overrides_do_not_mutate_input():
+    data = {"grid": {"dx": 0.05}}
+    apply_overrides(data, ["grid.dx=0.025"])
+    assert data == {"grid": {"dx": 0.05}}
+
+
+def test_exponent_floats_are_floats():
+    assert parse_yaml("a: 1e-4\nb: -2E+3\nc: 1.0e-5") == {"a": 1e-4, "b": -2000.0, "c": 1e-5}
+
+
+def test_provenance_block_is_ignored_on_load(tmp_path):
+    config = validate_config({"protocol": {"t_stop": 1.0}})
+    path = tmp_path / "run.yaml"
+    path.write_text(dump_config(config, {"pde_rotor_version": "0", "seed": 5}))
+    assert load_config(path) == config
+
+
+def test_stability_limit_is_the_boundary():
+    """dt exactly at the limit is accepted; just above it is refused."""
+    base = RotorConfig()
+    limit = base.dt_limit()
+    assert not math.isnan(limit)
+    with pytest.raises(ConfigError, match=r"grid\.dt"):
+        validate_config({"grid": {"dt": limit * 1.01}})
+
+
+def test_pill_asymmetry_limit_is_sharp():
+    """The largest allowed |Delta| puts the pill exactly on the edge (clearance = rho)."""
+    geometry = RotorConfig().geometry
+    limit = geometry.max_asymmetry()
+    at_limit = geometry.model_copy(update={"asymmetry": limit})
+    assert at_limit.edge_clearance() == pytest.approx(geometry.pill_radius, abs=1e-12)
+    validate_config({"geometry": {"asymmetry": 0.999 * limit}})
+    with pytest.raises(ConfigError, match=r"geometry\.asymmetry"):
+        validate_config({"geometry": {"asymmetry": -1.001 * limit}})
