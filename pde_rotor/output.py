@@ -1,0 +1,274 @@
+"""Run directory layout and atomic file writing.
+
+A run directory holds (names in :class:`RunDirectory`):
+
+* ``config.yaml``: the fully resolved configuration with a provenance block (package
+  versions, seed, config hash); ``pde-rotor run RUN_DIR/config.yaml`` repeats the run;
+* ``timeseries.nc``: t, phi, omega, torque, friction, total camphor (xarray / NetCDF);
+* ``events.csv`` (appended row by row as the run goes) and ``events.nc``: one row per
+  stop-and-release cycle;
+* ``snapshots.h5``: fields c and v (py-pde FileStorage);
+* ``movie.mp4``, ``summary.png`` and ``run.log``.
+
+Every file except the two append-only streams (events.csv, run.log) is written under
+the temporary name ``NAME.part`` in the same directory and renamed with
+:func:`os.replace` when complete, so a file with its final name is always complete. An
+interrupted run leaves ``*.part`` files, which never look finished.
+"""
+
+from __future__ import annotations
+
+import csv
+import logging
+import os
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
+from datetime import datetime
+from pathlib import Path
+from typing import IO, Any
+
+import xarray as xr
+
+PART_SUFFIX = ".part"
+"""Suffix of files being written; they are renamed to their final name when complete."""
+
+
+class OutputError(OSError):
+    """A run directory cannot be used; ``str(err)`` is one readable line."""
+
+
+def part_path(path: str | Path) -> Path:
+    """Temporary name used while `path` is written (same directory, so rename is atomic)."""
+    path = Path(path)
+    return path.with_name(path.name + PART_SUFFIX)
+
+
+def _fsync(path: Path) -> None:
+    """Flush a closed file's data to disk before it is renamed."""
+    fd = os.open(path, os.O_RDONLY)
+    try:
+        os.fsync(fd)
+    finally:
+        os.close(fd)
+
+
+def commit(tmp: str | Path, path: str | Path) -> None:
+    """Rename the finished temporary file `tmp` to `path` atomically."""
+    _fsync(Path(tmp))
+    os.replace(tmp, path)
+
+
+@contextmanager
+def atomic_path(path: str | Path) -> Iterator[Path]:
+    """Yield a temporary path; rename it to `path` if the block succeeds, else delete it.
+
+    Example:
+        >>> with atomic_path(run / "timeseries.nc") as tmp:  # doctest: +SKIP
+        ...     dataset.to_netcdf(tmp)
+    """
+    path = Path(path)
+    tmp = part_path(path)
+    try:
+        yield tmp
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+    commit(tmp, path)
+
+
+def write_text_atomic(path: str | Path, text: str) -> None:
+    """Write `text` to `path` atomically (UTF-8)."""
+    with atomic_path(path) as tmp:
+        tmp.write_text(text, encoding="utf-8")
+
+
+def write_netcdf_atomic(dataset: xr.Dataset, path: str | Path) -> None:
+    """Write an xarray Dataset as NetCDF-4 (h5netcdf engine) atomically."""
+    with atomic_path(path) as tmp:
+        dataset.to_netcdf(tmp, engine="h5netcdf")
+
+
+class AppendOnlyCSV:
+    """CSV file written row by row; every row is flushed to disk when it is added.
+
+    A crash keeps the header and every complete row written so far.
+    """
+
+    def __init__(self, path: str | Path, columns: Sequence[str]):
+        """
+        Args:
+            path: file to create (truncated if present).
+            columns: column names written as the header.
+        """
+        self.path = Path(path)
+        self.columns = list(columns)
+        self._file: IO[str] | None = self.path.open("w", newline="", encoding="utf-8")
+        self._writer = csv.writer(self._file)
+        self._writer.writerow(self.columns)
+        self._flush()
+
+    def append(self, row: dict[str, Any]) -> None:
+        """Write one row (keys: the columns) and flush it to disk."""
+        if self._file is None:
+            msg = f"{self.path} is closed"
+            raise ValueError(msg)
+        self._writer.writerow([_csv_value(row[name]) for name in self.columns])
+        self._flush()
+
+    def _flush(self) -> None:
+        assert self._file is not None
+        self._file.flush()
+        os.fsync(self._file.fileno())
+
+    def close(self) -> None:
+        """Close the file (idempotent)."""
+        if self._file is not None:
+            self._file.close()
+            self._file = None
+
+
+def _csv_value(value: Any) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, float):
+        return repr(value)
+    return str(value)
+
+
+class RunDirectory:
+    """The files of one run (see module docstring)."""
+
+    FILES = (
+        "config.yaml",
+        "timeseries.nc",
+        "events.csv",
+        "events.nc",
+        "snapshots.h5",
+        "movie.mp4",
+        "summary.png",
+        "run.log",
+    )
+
+    def __init__(self, path: str | Path):
+        """
+        Args:
+            path: the directory (not created; see :meth:`create`).
+        """
+        self.path = Path(path)
+
+    @classmethod
+    def create(cls, path: str | Path, *, overwrite: bool = False) -> RunDirectory:
+        """Create the directory; refuse one that already holds run files.
+
+        Args:
+            path: directory to create.
+            overwrite: delete the run files (and their ``.part`` files) of an earlier
+                run there instead of refusing.
+
+        Raises:
+            OutputError: the path is a file, or holds an earlier run and not `overwrite`.
+        """
+        run = cls(path)
+        if run.path.exists() and not run.path.is_dir():
+            msg = f"output path {str(run.path)!r} is a file, not a directory"
+            raise OutputError(msg)
+        present = [name for name in cls.FILES if (run.path / name).exists()]
+        present += [name for name in cls.FILES if part_path(run.path / name).exists()]
+        if present and not overwrite:
+            msg = (
+                f"output directory {str(run.path)!r} already holds a run ({present[0]}); "
+                "choose another --out or pass --overwrite"
+            )
+            raise OutputError(msg)
+        try:
+            run.path.mkdir(parents=True, exist_ok=True)
+        except OSError as err:
+            msg = f"cannot create output directory {str(run.path)!r}: {err.strerror}"
+            raise OutputError(msg) from None
+        for name in cls.FILES:
+            (run.path / name).unlink(missing_ok=True)
+            part_path(run.path / name).unlink(missing_ok=True)
+        return run
+
+    @staticmethod
+    def default_path(config_path: str | Path | None, root: str | Path = "runs") -> Path:
+        """``runs/<config name>-<YYYYmmdd-HHMMSS>``, the CLI's default output directory."""
+        stem = Path(config_path).stem if config_path else "run"
+        if stem == "config":
+            stem = Path(config_path).parent.name or "run"
+        stamp = datetime.now().strftime("%Y%m%d-%H%M%S")
+        return Path(root) / f"{stem}-{stamp}"
+
+    def __truediv__(self, name: str) -> Path:
+        return self.path / name
+
+    @property
+    def config(self) -> Path:
+        """config.yaml: resolved configuration with provenance."""
+        return self.path / "config.yaml"
+
+    @property
+    def timeseries(self) -> Path:
+        """timeseries.nc: rotor time series."""
+        return self.path / "timeseries.nc"
+
+    @property
+    def events_csv(self) -> Path:
+        """events.csv: inversion events, appended as the run goes."""
+        return self.path / "events.csv"
+
+    @property
+    def events_nc(self) -> Path:
+        """events.nc: inversion events as a Dataset over cycles."""
+        return self.path / "events.nc"
+
+    @property
+    def snapshots(self) -> Path:
+        """snapshots.h5: py-pde FileStorage of the fields [c, v]."""
+        return self.path / "snapshots.h5"
+
+    @property
+    def movie(self) -> Path:
+        """movie.mp4."""
+        return self.path / "movie.mp4"
+
+    @property
+    def summary(self) -> Path:
+        """summary.png: figure written by ``pde-rotor show``."""
+        return self.path / "summary.png"
+
+    @property
+    def log(self) -> Path:
+        """run.log."""
+        return self.path / "run.log"
+
+    def attach_log(self, loggers: Sequence[str] = ("pde_rotor", "pde")) -> logging.Handler:
+        """Send INFO and above of the named loggers to run.log; returns the handler.
+
+        Detach it with :func:`detach_log` when the run ends.
+        """
+        handler = logging.FileHandler(self.log, mode="a", encoding="utf-8")
+        handler.setLevel(logging.INFO)
+        handler.setFormatter(
+            logging.Formatter("%(asctime)s %(levelname)s %(name)s: %(message)s", "%H:%M:%S")
+        )
+        saved = {}
+        for name in loggers:
+            logger = logging.getLogger(name)
+            logger.addHandler(handler)
+            saved[name] = logger.level
+            if logger.getEffectiveLevel() > logging.INFO:
+                logger.setLevel(logging.INFO)
+        handler.saved_levels = saved  # type: ignore[attr-defined]
+        return handler
+
+
+def detach_log(handler: logging.Handler, loggers: Sequence[str] = ("pde_rotor", "pde")) -> None:
+    """Remove a handler added by :meth:`RunDirectory.attach_log` and close it."""
+    saved = getattr(handler, "saved_levels", {})
+    for name in loggers:
+        logger = logging.getLogger(name)
+        logger.removeHandler(handler)
+        if name in saved:
+            logger.setLevel(saved[name])
+    handler.close()
