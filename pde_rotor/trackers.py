@@ -1,0 +1,609 @@
+"""py-pde trackers that watch a rotor run: progress, time series, inversion events, fields, movie.
+
+py-pde's :class:`~pde.solvers.Controller` calls every tracker at the times its
+``interrupts`` ask for, before advancing the state further (see pde/trackers/base.py).
+The fused solver advances whole steps of dt, so every interrupt time used here is an
+integer number of steps; the trackers that record the rotor ask in addition for the
+start and the end of every stop phase (:meth:`StopSchedule.stop_times`), so that the
+angular velocity just before each stop is sampled exactly.
+
+The rotor state is not part of py-pde's FieldCollection; trackers read it from the
+:class:`~pde_rotor.simulation.Simulation` given to their constructor: ``sim.rotor``
+holds phi, omega (Eq. (eq_motion)) and the torque T (Eq. (torque)) and friction torque
+of the last step.
+
+Inversion events (:class:`InversionTracker`), one row per stop-and-release cycle m:
+
+* ``omega_before``: omega at the start of stop m (the last step before the stop);
+* ``direction_after``: the sign of omega when the released rotor has *committed*, i.e.
+  the first sample (every ``output.event_interval``) after the release at which
+  ``|omega| >= commit_fraction * |omega_before|``; if that never happens before the
+  next stop (or the end of the run), the sign of omega at the end of the release phase
+  and ``committed = false``;
+* ``inverted``: ``direction_after == -sign(omega_before)`` (false if omega_before = 0);
+* ``time_to_commit``: commit time minus release time (NaN if not committed).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+from dataclasses import asdict, dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+import xarray as xr
+from pde import FieldCollection
+from pde.storage import FileStorage
+from pde.storage.base import StorageTracker
+from pde.trackers.base import InfoDict, TrackerBase
+from pde.trackers.interrupts import FixedInterrupts, RealtimeInterrupts
+from tqdm.auto import tqdm
+
+from .output import AppendOnlyCSV, commit, part_path, write_netcdf_atomic
+from .protocol import StopSchedule
+
+if TYPE_CHECKING:
+    from .simulation import Simulation
+
+_logger = logging.getLogger(__name__)
+
+TIMESERIES_VARIABLES: dict[str, dict[str, str]] = {
+    "phi": {
+        "long_name": "rotor angle phi",
+        "units": "rad",
+        "equation": "Eq. (eq_motion): dphi/dt = omega",
+    },
+    "omega": {
+        "long_name": "angular velocity dphi/dt",
+        "units": "rad per time unit 1/a",
+        "equation": "Eq. (eq_motion)",
+    },
+    "torque": {
+        "long_name": "surface tension torque T (of the last step)",
+        "units": "model units (k, D, a = 1)",
+        "equation": "Eq. (torque)",
+    },
+    "friction": {
+        "long_name": "friction torque -mu int F (|r|^2 omega - r x v) dA (of the last step)",
+        "units": "model units (k, D, a = 1)",
+        "equation": "Eq. (eq_motion)",
+    },
+    "camphor_total": {
+        "long_name": "total camphor int c dA over the domain",
+        "units": "model units",
+        "equation": "Eq. (eqc)",
+    },
+    "stopped": {
+        "long_name": "1 if the last step was in a stop phase (phi frozen, omega = 0)",
+        "units": "1",
+        "equation": "protocol (section Model)",
+    },
+    "cycle": {
+        "long_name": "stop-and-release cycle m of the last step (0: before the first stop)",
+        "units": "1",
+        "equation": "protocol (section Model)",
+    },
+}
+"""Variables of timeseries.nc with their attributes."""
+
+EVENT_COLUMNS = (
+    "cycle",
+    "t_stop",
+    "omega_before",
+    "direction_before",
+    "direction_after",
+    "inverted",
+    "committed",
+    "time_to_commit",
+    "omega_after",
+)
+"""Columns of events.csv / variables of events.nc (see module docstring)."""
+
+EVENT_ATTRS: dict[str, dict[str, str]] = {
+    "t_stop": {"long_name": "start time of the stop", "units": "1/a"},
+    "omega_before": {"long_name": "omega just before the stop", "units": "rad per 1/a"},
+    "direction_before": {"long_name": "sign of omega_before (+1: counterclockwise)"},
+    "direction_after": {"long_name": "sign of omega at commit (or end of release)"},
+    "inverted": {"long_name": "direction_after == -direction_before"},
+    "committed": {"long_name": "|omega| reached commit_fraction |omega_before| after release"},
+    "time_to_commit": {"long_name": "commit time minus release time", "units": "1/a"},
+    "omega_after": {"long_name": "omega at commit (or end of release)", "units": "rad per 1/a"},
+}
+
+
+def _sampling_times(schedule: StopSchedule, interval: float, t_end: float) -> np.ndarray:
+    """Multiples of `interval` in [0, t_end] plus the start and end of every stop.
+
+    Computed in integer steps so that every time is an exact step time.
+    """
+    dt = schedule.dt
+    n_end = round(t_end / dt)
+    every = max(1, round(interval / dt))
+    steps = [np.arange(0, n_end + 1, every, dtype=np.int64), np.array([n_end], dtype=np.int64)]
+    starts = schedule.n_ini + schedule.n_period * np.arange(schedule.cycles, dtype=np.int64)
+    steps += [starts, starts + schedule.n_stop]
+    all_steps = np.unique(np.concatenate(steps))
+    return all_steps[all_steps <= n_end] * dt
+
+
+def _sign(value: float) -> int:
+    return int(np.sign(value)) if math.isfinite(value) else 0
+
+
+class _RotorTracker(TrackerBase):
+    """Base of the trackers that read ``sim.rotor``; finalize runs at most once."""
+
+    def __init__(self, sim: Simulation, interrupts: Any):
+        super().__init__(interrupts=interrupts)
+        self.sim = sim
+        self.schedule = StopSchedule.from_config(sim.config.protocol, sim.config.grid.dt)
+        self._finalized = False
+
+    def step_of(self, t: float) -> int:
+        """Index of the step that starts at time t."""
+        return round(t / self.schedule.dt)
+
+    def finalize(self, info: InfoDict | None = None) -> None:
+        """Finish once (the run driver may call it again after an error)."""
+        if self._finalized:
+            return
+        self._finalized = True
+        self._finish(_run_status(info))
+
+    def _finish(self, status: dict[str, Any]) -> None:
+        """Write the results; `status` holds status, message and t_final."""
+
+
+def _run_status(info: InfoDict | None) -> dict[str, Any]:
+    """Status of a run from py-pde's diagnostics (or the run driver's equivalent)."""
+    controller = (info or {}).get("controller", {})
+    if controller.get("successful", False):
+        status, message = "completed", controller.get("stop_reason", "")
+    else:
+        status = controller.get("status", "interrupted")
+        message = controller.get("stop_reason", "run did not finish")
+    return {"status": status, "message": str(message), "t_final": controller.get("t_final")}
+
+
+class ProgressBarTracker(_RotorTracker):
+    """tqdm progress bar: simulated time, ETA, current omega and protocol phase."""
+
+    def __init__(self, sim: Simulation, refresh_seconds: float = 0.5, *, leave: bool = True):
+        """
+        Args:
+            sim: the simulation.
+            refresh_seconds: wall-clock time between updates.
+            leave: keep the bar on screen when the run ends.
+        """
+        super().__init__(
+            sim, RealtimeInterrupts(duration=refresh_seconds, dt_initial=100 * sim.config.grid.dt)
+        )
+        self.leave = leave
+        self.bar: tqdm | None = None
+
+    def initialize(self, field: FieldCollection, info: InfoDict | None = None) -> float:
+        """Open the bar over [t_start, t_end] of the controller."""
+        t_first = super().initialize(field, info)
+        controller = (info or {}).get("controller", {})
+        t_start = float(controller.get("t_start", 0.0))
+        t_end = float(controller.get("t_end", self.sim.config.protocol.t_end))
+        self.bar = tqdm(
+            total=round(t_end, 6),
+            initial=round(t_start, 6),
+            unit="t",
+            leave=self.leave,
+            dynamic_ncols=True,
+            bar_format="{l_bar}{bar}| t={n:.2f}/{total:.2f} [{elapsed}<{remaining}{postfix}]",
+        )
+        return t_first
+
+    def handle(self, field: FieldCollection, t: float) -> None:
+        """Advance the bar to t and show omega, phase and cycle."""
+        if self.bar is None:
+            return
+        rotor = self.sim.rotor
+        cycle = self.schedule.cycle(max(self.step_of(t) - 1, 0))
+        self.bar.n = round(min(t, self.bar.total), 6)
+        self.bar.set_postfix_str(
+            f"omega={rotor.omega:+.1f} {'stopped' if rotor.stopped else 'running'} "
+            f"cycle {cycle}/{self.schedule.cycles}",
+            refresh=False,
+        )
+        self.bar.refresh()
+
+    def _finish(self, status: dict[str, Any]) -> None:
+        if self.bar is not None:
+            if status["status"] == "completed":
+                self.bar.n = self.bar.total
+                self.bar.refresh()
+            self.bar.close()
+
+
+class TimeSeriesTracker(_RotorTracker):
+    """Records t, phi, omega, torque, friction, total camphor; writes timeseries.nc.
+
+    Samples every ``interval`` and at the start and end of every stop phase. The file
+    is rewritten atomically every ``checkpoint_seconds`` of wall time and at the end.
+    """
+
+    def __init__(
+        self,
+        sim: Simulation,
+        interval: float,
+        path: str | Path | None = None,
+        *,
+        checkpoint_seconds: float = 60.0,
+        attrs: dict[str, Any] | None = None,
+    ):
+        """
+        Args:
+            sim: the simulation.
+            interval: time between samples (a multiple of dt).
+            path: NetCDF file to write (None: keep in memory only).
+            checkpoint_seconds: wall time between intermediate writes.
+            attrs: global attributes of the Dataset (config hash, versions, ...).
+        """
+        times = _sampling_times(
+            StopSchedule.from_config(sim.config.protocol, sim.config.grid.dt),
+            interval,
+            sim.config.protocol.t_end,
+        )
+        super().__init__(sim, FixedInterrupts(times))
+        self.interval = interval
+        self.path = Path(path) if path is not None else None
+        self.checkpoint_seconds = checkpoint_seconds
+        self.attrs = dict(attrs or {})
+        self.rows: dict[str, list[float]] = {"time": [], **{k: [] for k in TIMESERIES_VARIABLES}}
+        self._cell_area = sim.pde.domain.cell_area
+        self._last_write = time.monotonic()
+
+    def handle(self, field: FieldCollection, t: float) -> None:
+        """Append one sample of the rotor state."""
+        rotor = self.sim.rotor
+        step = self.step_of(t)
+        values = {
+            "time": step * self.schedule.dt,
+            "phi": rotor.phi,
+            "omega": rotor.omega,
+            "torque": rotor.torque,
+            "friction": rotor.friction,
+            "camphor_total": float(field.data[0].sum()) * self._cell_area,
+            "stopped": int(rotor.stopped),
+            "cycle": self.schedule.cycle(max(step - 1, 0)),
+        }
+        if self.rows["time"] and values["time"] <= self.rows["time"][-1]:
+            return  # the same time handed twice (py-pde handles t_end once more)
+        for key, value in values.items():
+            self.rows[key].append(value)
+        if self.path is not None and time.monotonic() - self._last_write > self.checkpoint_seconds:
+            self.write({"status": "running", "message": "", "t_final": values["time"]})
+
+    def to_dataset(self, status: dict[str, Any] | None = None) -> xr.Dataset:
+        """The samples so far as an xarray Dataset over ``time``."""
+        data_vars = {}
+        for name, attrs in TIMESERIES_VARIABLES.items():
+            dtype = np.int64 if name in ("stopped", "cycle") else np.float64
+            data_vars[name] = ("time", np.asarray(self.rows[name], dtype=dtype), attrs)
+        coords = {"time": ("time", np.asarray(self.rows["time"]), {"units": "1/a"})}
+        ds = xr.Dataset(data_vars, coords=coords)
+        ds.attrs.update(self.attrs)
+        ds.attrs["sample_interval"] = self.interval
+        ds.attrs["sampling"] = "every sample_interval and at the start and end of every stop"
+        if status is not None:
+            ds.attrs["status"] = status["status"]
+            ds.attrs["message"] = status["message"]
+        return ds
+
+    def write(self, status: dict[str, Any]) -> None:
+        """Write timeseries.nc atomically (no-op without a path)."""
+        if self.path is None:
+            return
+        write_netcdf_atomic(self.to_dataset(status), self.path)
+        self._last_write = time.monotonic()
+
+    def _finish(self, status: dict[str, Any]) -> None:
+        self.status = status
+        self.write(status)
+
+
+@dataclass
+class InversionEvent:
+    """Outcome of one stop-and-release cycle (see module docstring)."""
+
+    cycle: int
+    t_stop: float
+    omega_before: float
+    direction_before: int
+    direction_after: int = 0
+    inverted: bool = False
+    committed: bool = False
+    time_to_commit: float = math.nan
+    omega_after: float = math.nan
+
+
+class InversionTracker(_RotorTracker):
+    """Detects, per cycle, whether the released rotor inverted its direction.
+
+    Appends one row per cycle to events.csv as soon as it is known (flushed to disk) and
+    writes events.nc atomically at the end.
+    """
+
+    def __init__(
+        self,
+        sim: Simulation,
+        interval: float,
+        commit_fraction: float,
+        csv_path: str | Path | None = None,
+        nc_path: str | Path | None = None,
+        *,
+        attrs: dict[str, Any] | None = None,
+    ):
+        """
+        Args:
+            sim: the simulation.
+            interval: time between omega samples after a release (a multiple of dt).
+            commit_fraction: commit criterion |omega| >= commit_fraction |omega_before|.
+            csv_path: events.csv, appended row by row (None: not written).
+            nc_path: events.nc, written at the end (None: not written).
+            attrs: global attributes of events.nc.
+        """
+        cfg = sim.config
+        schedule = StopSchedule.from_config(cfg.protocol, cfg.grid.dt)
+        super().__init__(
+            sim, FixedInterrupts(_sampling_times(schedule, interval, cfg.protocol.t_end))
+        )
+        self.interval = interval
+        self.commit_fraction = commit_fraction
+        self.csv_path = Path(csv_path) if csv_path is not None else None
+        self.nc_path = Path(nc_path) if nc_path is not None else None
+        self.attrs = dict(attrs or {})
+        starts = schedule.n_ini + schedule.n_period * np.arange(schedule.cycles)
+        self._stop_steps = {int(s): m + 1 for m, s in enumerate(starts)}
+        self.events: list[InversionEvent] = []
+        self._open: InversionEvent | None = None
+        self._last_omega = math.nan
+        self._last_t = math.nan
+        self._csv: AppendOnlyCSV | None = None
+
+    def initialize(self, field: FieldCollection, info: InfoDict | None = None) -> float:
+        """Create events.csv with its header."""
+        if self.csv_path is not None and self._csv is None:
+            self._csv = AppendOnlyCSV(self.csv_path, EVENT_COLUMNS)
+        return super().initialize(field, info)
+
+    def release_time(self, event: InversionEvent) -> float:
+        """Time at which the stop of `event` ends."""
+        return event.t_stop + self.schedule.n_stop * self.schedule.dt
+
+    def handle(self, field: FieldCollection, t: float) -> None:
+        """Open a cycle at its stop time, close it when the rotor commits after release."""
+        step = self.step_of(t)
+        omega = self.sim.rotor.omega
+        cycle = self._stop_steps.get(step)
+        if cycle is not None:
+            if self._open is not None:
+                self._close(self._open, omega, committed=False, t=t)
+            self._open = InversionEvent(
+                cycle=cycle,
+                t_stop=step * self.schedule.dt,
+                omega_before=omega,
+                direction_before=_sign(omega),
+            )
+        elif self._open is not None and step * self.schedule.dt >= self.release_time(self._open):
+            event = self._open
+            threshold = self.commit_fraction * abs(event.omega_before)
+            if omega != 0 and abs(omega) >= threshold:
+                self._close(event, omega, committed=True, t=step * self.schedule.dt)
+        self._last_omega, self._last_t = omega, t
+
+    def _close(self, event: InversionEvent, omega: float, *, committed: bool, t: float) -> None:
+        event.direction_after = _sign(omega)
+        event.inverted = event.direction_before != 0 and (
+            event.direction_after == -event.direction_before
+        )
+        event.committed = committed
+        event.omega_after = omega
+        if committed:
+            steps = self.step_of(t) - self.step_of(self.release_time(event))
+            event.time_to_commit = round(steps * self.schedule.dt, 12)
+        self.events.append(event)
+        self._open = None
+        if self._csv is not None:
+            self._csv.append(asdict(event))
+        _logger.info(
+            "cycle %d: omega %+.2f -> %+.2f, %s%s",
+            event.cycle,
+            event.omega_before,
+            omega,
+            "inverted" if event.inverted else "kept direction",
+            "" if committed else " (not committed)",
+        )
+
+    @property
+    def inversion_probability(self) -> float:
+        """Fraction of the recorded cycles that inverted (NaN if none)."""
+        if not self.events:
+            return math.nan
+        return sum(e.inverted for e in self.events) / len(self.events)
+
+    def to_dataset(self, status: dict[str, Any] | None = None) -> xr.Dataset:
+        """The events so far as an xarray Dataset over ``cycle``."""
+        columns = {name: [getattr(e, name) for e in self.events] for name in EVENT_COLUMNS}
+        dtypes = {
+            "cycle": np.int64,
+            "direction_before": np.int64,
+            "direction_after": np.int64,
+            "inverted": bool,
+            "committed": bool,
+        }
+        data_vars = {
+            name: ("cycle", np.asarray(columns[name], dtype=dtypes.get(name, np.float64)), attrs)
+            for name, attrs in EVENT_ATTRS.items()
+        }
+        ds = xr.Dataset(data_vars, coords={"cycle": np.asarray(columns["cycle"], dtype=np.int64)})
+        ds.attrs.update(self.attrs)
+        ds.attrs["commit_fraction"] = self.commit_fraction
+        ds.attrs["sample_interval"] = self.interval
+        ds.attrs["commit_criterion"] = (
+            "after the release, the first sample with |omega| >= commit_fraction * "
+            "|omega_before|; direction_after is the sign of omega there"
+        )
+        ds.attrs["inversion_probability"] = self.inversion_probability
+        ds.attrs["inversions"] = int(sum(e.inverted for e in self.events))
+        if status is not None:
+            ds.attrs["status"] = status["status"]
+            ds.attrs["message"] = status["message"]
+        return ds
+
+    def _finish(self, status: dict[str, Any]) -> None:
+        event = self._open
+        if event is not None and self._last_t >= self.release_time(event):
+            # released but not committed when the run ended
+            self._close(event, self._last_omega, committed=False, t=self._last_t)
+        if self._csv is not None:
+            self._csv.close()
+        if self.nc_path is not None:
+            write_netcdf_atomic(self.to_dataset(status), self.nc_path)
+
+
+class SnapshotTracker(StorageTracker):
+    """Stores the fields [c, v] in an HDF5 py-pde FileStorage, with phi and omega.
+
+    Written to ``snapshots.h5.part`` and renamed to its final name when the run ends.
+    The rotor angle and velocity of every snapshot are stored as the file attributes
+    ``rotor_phi`` and ``rotor_omega`` (lists in snapshot order).
+    """
+
+    def __init__(
+        self, sim: Simulation, path: str | Path, interval: float, info: dict | None = None
+    ):
+        """
+        Args:
+            sim: the simulation.
+            path: final HDF5 file name.
+            interval: time between snapshots (a multiple of dt).
+            info: extra attributes of the file (config hash, config YAML, versions).
+        """
+        self.path = Path(path)
+        storage = FileStorage(part_path(self.path), info=dict(info or {}), write_mode="truncate")
+        schedule = StopSchedule.from_config(sim.config.protocol, sim.config.grid.dt)
+        times = _sampling_times(schedule, interval, sim.config.protocol.t_end)
+        # multiples of the interval and the final time (no stop times)
+        every = round(interval / schedule.dt)
+        steps = np.round(times / schedule.dt).astype(np.int64)
+        times = times[(steps % every == 0) | (steps == steps[-1])]
+        super().__init__(storage, interrupts=FixedInterrupts(times))
+        self.sim = sim
+        self.phi: list[float] = []
+        self.omega: list[float] = []
+        self._finalized = False
+
+    def handle(self, field: FieldCollection, t: float) -> None:
+        """Store the fields and the rotor angle."""
+        super().handle(field, t)
+        self.phi.append(self.sim.rotor.phi)
+        self.omega.append(self.sim.rotor.omega)
+
+    def finalize(self, info: InfoDict | None = None) -> None:
+        """Close the file and give it its final name (once)."""
+        if self._finalized:
+            return
+        self._finalized = True
+        status = _run_status(info)
+        self.storage.info.update(
+            rotor_phi=self.phi, rotor_omega=self.omega, status=status["status"]
+        )
+        super().finalize(info)
+        self.storage.close()
+        if part_path(self.path).exists():
+            commit(part_path(self.path), self.path)
+
+
+class MovieTracker(_RotorTracker):
+    """Renders a frame (c, v, plate and pills, omega, phase) every interval into an mp4.
+
+    Frames are rendered as the run goes, so no field history is kept in memory. The
+    mp4 is encoded by matplotlib's FFMpegWriter with the ffmpeg binary of the
+    imageio-ffmpeg wheel, written to ``movie.mp4.part`` and renamed when complete.
+    """
+
+    def __init__(
+        self,
+        sim: Simulation,
+        path: str | Path,
+        interval: float,
+        *,
+        fps: int = 20,
+        dpi: int = 100,
+        half_width: float = 1.5,
+    ):
+        """
+        Args:
+            sim: the simulation.
+            path: final mp4 file name.
+            interval: simulated time between frames (a multiple of dt).
+            fps: frames per second of the movie.
+            dpi: resolution of the frames.
+            half_width: half width of the square shown.
+        """
+        dt = sim.config.grid.dt
+        every = max(1, round(interval / dt))
+        n_end = round(sim.config.protocol.t_end / dt)
+        times = np.arange(0, n_end + 1, every, dtype=np.int64) * dt
+        super().__init__(sim, FixedInterrupts(times))
+        self.path = Path(path)
+        self.fps = fps
+        self.dpi = dpi
+        self.half_width = half_width
+        self.frames = 0
+        self._writer = None
+        self._frame = None
+        self._last_step = -1
+
+    def initialize(self, field: FieldCollection, info: InfoDict | None = None) -> float:
+        """Create the figure and start ffmpeg."""
+        import imageio_ffmpeg
+        import matplotlib as mpl
+        from matplotlib.animation import FFMpegWriter
+
+        from .plotting import RotorFrame
+
+        mpl.rcParams["animation.ffmpeg_path"] = imageio_ffmpeg.get_ffmpeg_exe()
+        sim = self.sim
+        self._frame = RotorFrame(sim.pde.shape, sim.pde.domain.coords, self.half_width)
+        self._writer = FFMpegWriter(
+            fps=self.fps, codec="h264", extra_args=["-f", "mp4"], metadata={"title": "pde_rotor"}
+        )
+        self._writer.setup(self._frame.fig, str(part_path(self.path)), dpi=self.dpi)
+        return super().initialize(field, info)
+
+    def handle(self, field: FieldCollection, t: float) -> None:
+        """Render and encode one frame."""
+        from .plotting import frame_title
+
+        step = self.step_of(t)
+        if step == self._last_step or self._frame is None:
+            return
+        self._last_step = step
+        rotor = self.sim.rotor
+        cycle = self.schedule.cycle(max(step - 1, 0))
+        title = frame_title(
+            step * self.schedule.dt, rotor.omega, rotor.stopped, cycle, self.schedule.cycles
+        )
+        self._frame.update(field.data, rotor.phi, title=title)
+        self._writer.grab_frame()
+        self.frames += 1
+
+    def _finish(self, status: dict[str, Any]) -> None:
+        if self._writer is None:
+            return
+        self._writer.finish()
+        self._writer = None
+        tmp = part_path(self.path)
+        if self.frames > 0 and tmp.exists():
+            commit(tmp, self.path)
+        else:
+            tmp.unlink(missing_ok=True)
