@@ -7,8 +7,9 @@ operations", Chaos 30, 2020, on py-pde.
 
 from __future__ import annotations
 
+from .api import RunResult, run
 from .config import RotorConfig
 from .simulation import Simulation
 
-__all__ = ["RotorConfig", "Simulation"]
+__all__ = ["RotorConfig", "RunResult", "Simulation", "run"]
 __version__ = "0.1.0"

@@ -1,0 +1,445 @@
+"""Run one configuration with all trackers and collect the results: :func:`run` -> RunResult.
+
+This is what ``pde-rotor run`` calls; it is equally usable from Python::
+
+    import pde_rotor
+    result = pde_rotor.run("configs/quickstart.yaml", out="runs/quick")
+    result.timeseries.omega.plot()
+    print(result.inversion_probability)
+
+Without ``out`` nothing is written: the time series and events are returned in memory
+(no snapshots, no movie).
+"""
+
+from __future__ import annotations
+
+import importlib
+import logging
+import math
+import platform
+import secrets
+import time
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field
+from datetime import datetime, timezone
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from .config import ConfigError, RotorConfig, dump_config, load_config, validate_config
+from .output import RunDirectory, atomic_path, detach_log, write_text_atomic
+
+_logger = logging.getLogger(__name__)
+
+PAPER = (
+    "Koyano, Kitahata, Nakata, Gorecki: On a simple model that explains inversion of a "
+    "self-propelled rotor under periodic stop-and-release operations, Chaos 30 (2020)"
+)
+
+
+class BackendError(RuntimeError):
+    """The requested compute backend cannot be used; ``str(err)`` is one line."""
+
+
+def gpu_unavailable_reason() -> str | None:
+    """Why the GPU backend cannot run here (None if it can).
+
+    Asks :mod:`pde_rotor.backends` (``gpu_unavailable_reason()``) when it provides the
+    check; otherwise imports :mod:`pde_rotor.backends.gpu` and asks its
+    ``unavailable_reason()`` or ``is_available()``.
+    """
+    try:
+        backends = importlib.import_module("pde_rotor.backends")
+    except Exception:  # no backends package: fall through to the direct import
+        backends = None
+    check = getattr(backends, "gpu_unavailable_reason", None)
+    if callable(check):
+        try:
+            return check()
+        except Exception as err:
+            return f"the GPU check failed ({type(err).__name__}: {err})"
+    try:
+        module = importlib.import_module("pde_rotor.backends.gpu")
+    except Exception as err:  # ImportError, or a CUDA error raised at import
+        detail = str(err).splitlines()[0] if str(err) else type(err).__name__
+        return f"pde_rotor.backends.gpu cannot be imported ({detail})"
+    try:
+        reason = getattr(module, "unavailable_reason", None)
+        if callable(reason):
+            return reason()
+        available = getattr(module, "is_available", None)
+        if callable(available) and not available():
+            return "no GPU found"
+    except Exception as err:
+        return f"the GPU check failed ({type(err).__name__}: {err})"
+    return None
+
+
+def resolve_backend(requested: str) -> str:
+    """Turn ``solver.backend`` into the backend that will run: "cpu" or "gpu".
+
+    "auto" falls back to "cpu" when no GPU can be used.
+
+    Raises:
+        BackendError: "gpu" was requested and cannot be used.
+    """
+    if requested == "cpu":
+        return "cpu"
+    reason = gpu_unavailable_reason()
+    if reason is None:
+        return "gpu"
+    if requested == "auto":
+        _logger.info("solver.backend = auto: using cpu (%s)", reason)
+        return "cpu"
+    msg = f"solver.backend = 'gpu': {reason} (allowed here: cpu, auto; use --backend cpu)"
+    raise BackendError(msg)
+
+
+def versions() -> dict[str, str]:
+    """Versions of pde_rotor and of the packages that determine its results."""
+    import numba
+    import pde
+
+    from . import __version__
+
+    return {
+        "pde_rotor": __version__,
+        "py-pde": pde.__version__,
+        "numba": numba.__version__,
+        "numpy": np.__version__,
+        "xarray": xr.__version__,
+        "python": platform.python_version(),
+    }
+
+
+def with_seed(config: RotorConfig) -> RotorConfig:
+    """The config with ``noise.seed`` set: a fresh random seed if it is null."""
+    if config.noise.seed is not None:
+        return config
+    noise = config.noise.model_copy(update={"seed": secrets.randbits(32)})
+    return config.model_copy(update={"noise": noise})
+
+
+def as_config(config: RotorConfig | Mapping[str, Any] | str | Path) -> RotorConfig:
+    """Accept a RotorConfig, a nested mapping, or a YAML file path."""
+    if isinstance(config, RotorConfig):
+        return config
+    if isinstance(config, (str, Path)):
+        return load_config(config)
+    return validate_config(config)
+
+
+@dataclass
+class RunResult:
+    """Everything a run produced.
+
+    Attributes:
+        config: the resolved configuration (seed filled in).
+        timeseries: Dataset over ``time``: phi, omega, torque, friction, camphor_total,
+            stopped, cycle (see :data:`pde_rotor.trackers.TIMESERIES_VARIABLES`).
+        events: Dataset over ``cycle``: one row per stop-and-release cycle.
+        status: "completed", "diverged", "interrupted" or "failed".
+        message: why the run ended.
+        run_dir: the run directory (None for an in-memory run).
+        wall_time: seconds the run took.
+        backend: compute backend that ran it.
+    """
+
+    config: RotorConfig
+    timeseries: xr.Dataset
+    events: xr.Dataset
+    status: str = "completed"
+    message: str = ""
+    run_dir: Path | None = None
+    wall_time: float = math.nan
+    backend: str = "cpu"
+    files: dict[str, Path] = field(default_factory=dict)
+
+    @property
+    def ok(self) -> bool:
+        """Whether the run reached the end of the protocol."""
+        return self.status == "completed"
+
+    @property
+    def inversion_probability(self) -> float:
+        """Inversions divided by the recorded cycles (the paper's definition)."""
+        n = self.events.sizes.get("cycle", 0)
+        if n == 0:
+            return math.nan
+        return float(self.events["inverted"].values.mean())
+
+    @classmethod
+    def load(cls, run_dir: str | Path) -> RunResult:
+        """Read a run directory written by :func:`run` (config, time series, events).
+
+        Raises:
+            ConfigError: the directory or one of its files is missing or unreadable.
+        """
+        run = RunDirectory(run_dir)
+        if not run.path.is_dir():
+            msg = f"run directory {str(run.path)!r} not found"
+            raise ConfigError(msg)
+        config = load_config(run.config)
+        datasets = {}
+        for name, path in (("timeseries", run.timeseries), ("events", run.events_nc)):
+            if not path.exists():
+                msg = f"{path} not found (the run has not finished writing it)"
+                raise ConfigError(msg)
+            with xr.open_dataset(path, engine="h5netcdf") as ds:
+                datasets[name] = ds.load()
+        ts = datasets["timeseries"]
+        return cls(
+            config=config,
+            timeseries=ts,
+            events=datasets["events"],
+            status=str(ts.attrs.get("status", "completed")),
+            message=str(ts.attrs.get("message", "")),
+            run_dir=run.path,
+            backend=str(ts.attrs.get("backend", "cpu")),
+            files={name: run / name for name in RunDirectory.FILES if (run / name).exists()},
+        )
+
+    def snapshot(self, index: int = -1):
+        """One stored field snapshot (:class:`pde_rotor.plotting.Snapshot`), or None."""
+        from pde.storage import FileStorage
+
+        from .plotting import Snapshot
+
+        if self.run_dir is None:
+            return None
+        path = RunDirectory(self.run_dir).snapshots
+        if not path.exists():
+            return None
+        storage = FileStorage(path, write_mode="readonly")
+        try:
+            if len(storage) == 0:
+                return None
+            state = storage[index]
+            phis = storage.info.get("rotor_phi", [])
+            k = index % len(storage)
+            phi = float(phis[k]) if k < len(phis) else self.config.rotor.phi0
+            return Snapshot(
+                t=float(storage.times[k]),
+                data=np.array(state.data),
+                phi=phi,
+                coords=np.asarray(state.grid.axes_coords[0]),
+            )
+        finally:
+            storage.close()
+
+    def summary_figure(self):
+        """The ``pde-rotor show`` figure of this run (a matplotlib Figure)."""
+        from .plotting import summary_figure
+
+        return summary_figure(self.config, self.timeseries, self.events, self.snapshot())
+
+    def write_summary(self) -> Path | None:
+        """Save :meth:`summary_figure` as summary.png in the run directory (atomically)."""
+        if self.run_dir is None:
+            return None
+        path = RunDirectory(self.run_dir).summary
+        fig = self.summary_figure()
+        with atomic_path(path) as tmp:
+            fig.savefig(tmp, format="png", dpi=110)
+        self.files["summary.png"] = path
+        return path
+
+
+def run(
+    config: RotorConfig | Mapping[str, Any] | str | Path,
+    out: str | Path | None = None,
+    *,
+    movie: bool | None = None,
+    progress: bool | None = None,
+    overwrite: bool = False,
+    check: bool = True,
+    overrides: Iterable[str] = (),
+) -> RunResult:
+    """Run one configuration with the trackers of :mod:`pde_rotor.trackers`.
+
+    Args:
+        config: RotorConfig, nested mapping, or path of a YAML config.
+        out: run directory to write (see :mod:`pde_rotor.output`); None: in memory only.
+        movie: override ``output.movie`` (only with `out`).
+        progress: override ``output.progress``.
+        overwrite: replace the files of an earlier run in `out`.
+        check: raise SimulationDivergedError when the run diverges (after writing
+            everything recorded up to then); False: return a result with status
+            "diverged".
+        overrides: ``key.path=value`` strings applied to the config first.
+
+    Returns:
+        The :class:`RunResult`.
+
+    Raises:
+        ConfigError: invalid configuration (before anything is compiled).
+        BackendError: solver.backend is "gpu" and no GPU backend is usable.
+        OutputError: `out` holds an earlier run and not `overwrite`.
+        SimulationDivergedError: the state became NaN/Inf and `check` is True.
+    """
+    cfg = as_config(config)
+    overrides = list(overrides)
+    if overrides:
+        from .config import apply_overrides
+
+        cfg = validate_config(apply_overrides(cfg.model_dump(mode="json"), overrides))
+    output_update: dict[str, Any] = {}
+    if movie is not None:
+        output_update["movie"] = bool(movie)
+    if progress is not None:
+        output_update["progress"] = bool(progress)
+    if output_update:
+        cfg = cfg.model_copy(update={"output": cfg.output.model_copy(update=output_update)})
+    cfg = with_seed(cfg)
+    backend = resolve_backend(cfg.solver.backend)
+    run_dir = RunDirectory.create(out, overwrite=overwrite) if out is not None else None
+
+    from . import trackers as tr
+    from .simulation import Simulation
+    from .solver import SimulationDivergedError
+
+    vers = versions()
+    provenance = {
+        "pde_rotor_version": vers["pde_rotor"],
+        "py_pde_version": vers["py-pde"],
+        "numba_version": vers["numba"],
+        "config_hash": cfg.config_hash(),
+        "seed": cfg.noise.seed,
+        "backend": backend,
+        "created": datetime.now(timezone.utc).isoformat(timespec="seconds"),
+        "paper": PAPER,
+    }
+    attrs = {
+        "title": "camphor rotor under stop-and-release operations",
+        "source": f"pde_rotor {vers['pde_rotor']} (py-pde {vers['py-pde']})",
+        "references": PAPER,
+        "config_hash": provenance["config_hash"],
+        "seed": int(cfg.noise.seed),
+        "backend": backend,
+        "config": dump_config(cfg),
+        "units": "lengths in sqrt(D/a), times in 1/a (the paper's dimensionless units)",
+    }
+    log_handler = None
+    if run_dir is not None:
+        write_text_atomic(run_dir.config, dump_config(cfg, provenance))
+        log_handler = run_dir.attach_log()
+    try:
+        _logger.info(
+            "run %s: config hash %s, seed %s, backend %s, t_end %g, dx %g, dt %g",
+            run_dir.path if run_dir else "(in memory)",
+            provenance["config_hash"],
+            cfg.noise.seed,
+            backend,
+            cfg.protocol.t_end,
+            cfg.grid.dx,
+            cfg.grid.dt,
+        )
+        _logger.info("versions: %s", ", ".join(f"{k} {v}" for k, v in vers.items()))
+        if backend == "gpu":
+            _logger.warning(
+                "a GPU is available, but a single run with trackers uses the CPU solver; "
+                "batches of members run on the GPU through pde_rotor.backends.run_ensemble"
+            )
+        sim = Simulation(cfg)
+        out_cfg = cfg.output
+        ts_tracker = tr.TimeSeriesTracker(
+            sim,
+            out_cfg.timeseries_interval,
+            run_dir.timeseries if run_dir else None,
+            checkpoint_seconds=out_cfg.checkpoint_seconds,
+            attrs=attrs,
+        )
+        ev_tracker = tr.InversionTracker(
+            sim,
+            out_cfg.event_interval,
+            out_cfg.commit_fraction,
+            run_dir.events_csv if run_dir else None,
+            run_dir.events_nc if run_dir else None,
+            attrs=attrs,
+        )
+        trackers: list[Any] = [ts_tracker, ev_tracker]
+        if run_dir is not None and out_cfg.snapshot_interval is not None:
+            info = {k: v for k, v in attrs.items() if isinstance(v, (str, int, float))}
+            trackers.append(
+                tr.SnapshotTracker(sim, run_dir.snapshots, out_cfg.snapshot_interval, info)
+            )
+        if run_dir is not None and out_cfg.movie:
+            trackers.append(
+                tr.MovieTracker(
+                    sim,
+                    run_dir.movie,
+                    out_cfg.movie_interval,
+                    fps=out_cfg.movie_fps,
+                    dpi=out_cfg.movie_dpi,
+                    half_width=out_cfg.movie_view,
+                )
+            )
+        if out_cfg.progress:
+            trackers.append(tr.ProgressBarTracker(sim))
+
+        start = time.perf_counter()
+        error: BaseException | None = None
+        try:
+            sim.run(trackers=trackers)
+        except SimulationDivergedError as err:
+            error = err
+            _finalize_after_error(trackers, "diverged", str(err), ts_tracker)
+        except BaseException as err:
+            error = err
+            _finalize_after_error(trackers, "failed", f"{type(err).__name__}: {err}", ts_tracker)
+        wall = time.perf_counter() - start
+        status = getattr(ts_tracker, "status", {"status": "failed", "message": ""})
+        result = RunResult(
+            config=cfg,
+            timeseries=ts_tracker.to_dataset(status),
+            events=ev_tracker.to_dataset(status),
+            status=status["status"],
+            message=status["message"],
+            run_dir=run_dir.path if run_dir else None,
+            wall_time=wall,
+            backend=backend,
+        )
+        steps = int(sim.solver.info.get("steps", 0))
+        _logger.info(
+            "run %s after %.1f s wall time (%d steps, %.3g ms/step): %s; inversions %d/%d",
+            result.status,
+            wall,
+            steps,
+            1e3 * wall / max(steps, 1),
+            result.message,
+            int(result.events["inverted"].values.sum()),
+            result.events.sizes.get("cycle", 0),
+        )
+        if run_dir is not None:
+            result.files = {
+                name: run_dir / name for name in RunDirectory.FILES if (run_dir / name).exists()
+            }
+            if error is None or isinstance(error, SimulationDivergedError):
+                result.write_summary()
+        if error is not None and (check or not isinstance(error, SimulationDivergedError)):
+            raise error
+        return result
+    finally:
+        if log_handler is not None:
+            detach_log(log_handler)
+
+
+def _finalize_after_error(trackers: list[Any], status: str, message: str, ts_tracker: Any) -> None:
+    """py-pde's Controller does not finalize trackers when the stepper raises: do it here."""
+    _logger.error("%s", message)
+    t_final = ts_tracker.rows["time"][-1] if ts_tracker.rows["time"] else 0.0
+    info = {
+        "controller": {
+            "successful": False,
+            "status": status,
+            "stop_reason": message,
+            "t_final": t_final,
+        }
+    }
+    for tracker in trackers:
+        try:
+            tracker.finalize(info=info)
+        except Exception:  # keep finalizing the others
+            _logger.exception("finalizing %s failed", type(tracker).__name__)

@@ -1,0 +1,219 @@
+"""The ``pde-rotor`` command line: run, show, check, info.
+
+Exit codes: 0 success; 1 the simulation diverged (NaN/Inf; everything recorded up to
+then is kept); 2 bad input (config, --set, paths, backend), always one line
+``error: ...`` naming the key path and the allowed values, printed before anything is
+compiled; 130 interrupted with Ctrl-C.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+from typing import Annotated, NoReturn
+
+import typer
+
+from .api import BackendError, RunResult, resolve_backend, versions
+from .config import ConfigError, dump_config, load_config
+from .output import OutputError, RunDirectory
+
+app = typer.Typer(
+    name="pde-rotor",
+    help="Camphor rotor under stop-and-release operations (Koyano et al., Chaos 2020).",
+    add_completion=False,
+    no_args_is_help=True,
+    pretty_exceptions_enable=False,
+)
+
+EXIT_BAD_INPUT = 2
+EXIT_DIVERGED = 1
+EXIT_INTERRUPTED = 130
+
+
+def _fail(message: str, code: int = EXIT_BAD_INPUT) -> NoReturn:
+    typer.echo(f"error: {message}", err=True)
+    raise typer.Exit(code)
+
+
+SetOption = Annotated[
+    list[str] | None,
+    typer.Option(
+        "--set",
+        metavar="KEY.PATH=VALUE",
+        help="Override one config value, e.g. --set protocol.t_stop=1.5 (repeatable).",
+    ),
+]
+
+
+@app.command()
+def run(
+    config: Annotated[Path, typer.Argument(help="YAML config file (see configs/).")],
+    set_: SetOption = None,
+    out: Annotated[
+        Path | None,
+        typer.Option("--out", "-o", help="Run directory [default: runs/<config>-<time>]."),
+    ] = None,
+    movie: Annotated[
+        bool | None,
+        typer.Option("--movie/--no-movie", help="Render movie.mp4 [default: output.movie]."),
+    ] = None,
+    seed: Annotated[
+        int | None, typer.Option(help="Seed of the noise (sets noise.seed).", show_default=False)
+    ] = None,
+    backend: Annotated[
+        str | None,
+        typer.Option(help="Compute backend: cpu, gpu or auto (sets solver.backend)."),
+    ] = None,
+    overwrite: Annotated[
+        bool, typer.Option(help="Replace the files of an earlier run in --out.")
+    ] = False,
+    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
+) -> None:
+    """Run CONFIG and write a run directory (config, time series, events, fields, movie)."""
+    overrides = list(set_ or [])
+    if seed is not None:
+        overrides.append(f"noise.seed={seed}")
+    if backend is not None:
+        overrides.append(f"solver.backend={backend}")
+    try:
+        cfg = load_config(config, overrides)
+        resolve_backend(cfg.solver.backend)
+        run_dir = out if out is not None else RunDirectory.default_path(config)
+        RunDirectory.create(run_dir, overwrite=overwrite)
+    except (ConfigError, BackendError, OutputError) as err:
+        _fail(str(err))
+
+    from .api import run as run_config
+
+    typer.echo(f"pde-rotor: running {config} -> {run_dir}")
+    try:
+        result = run_config(
+            cfg,
+            run_dir,
+            movie=movie,
+            progress=False if quiet else None,
+            overwrite=True,
+            check=False,
+        )
+    except (ConfigError, BackendError, OutputError) as err:
+        _fail(str(err))
+    _report(result)
+    if result.status == "diverged":
+        _fail(result.message, EXIT_DIVERGED)
+    if result.status != "completed":
+        _fail(f"run {result.status}: {result.message}", EXIT_INTERRUPTED)
+
+
+def _report(result: RunResult) -> None:
+    n = result.events.sizes.get("cycle", 0)
+    inversions = int(result.events["inverted"].values.sum()) if n else 0
+    t_final = float(result.timeseries["time"].values[-1]) if result.timeseries.sizes["time"] else 0
+    typer.echo(f"run {result.status} (last sample t = {t_final:g}) after {result.wall_time:.1f} s")
+    typer.echo(f"inversions: {inversions}/{n}" + (f" = {inversions / n:.2f}" if n else ""))
+    typer.echo(f"run directory: {result.run_dir}")
+    for name in result.files:
+        typer.echo(f"  {name}")
+
+
+@app.command()
+def show(
+    run_dir: Annotated[Path, typer.Argument(help="Run directory written by `pde-rotor run`.")],
+    out: Annotated[
+        Path | None, typer.Option("--out", "-o", help="Image file [default: RUN_DIR/summary.png].")
+    ] = None,
+    display: Annotated[bool, typer.Option(help="Also open the figure in a window.")] = False,
+) -> None:
+    """Plot phi(t) and omega(t) with the stops shaded, the events table and a c/v snapshot."""
+    try:
+        result = RunResult.load(run_dir)
+    except ConfigError as err:
+        _fail(str(err))
+    from .output import atomic_path
+    from .plotting import SUMMARY_SIZE, summary_figure
+
+    fig = None
+    if display:
+        import matplotlib.pyplot as plt
+
+        fig = plt.figure(figsize=SUMMARY_SIZE, layout="constrained")
+    fig = summary_figure(
+        result.config, result.timeseries, result.events, result.snapshot(), fig=fig
+    )
+    target = out if out is not None else RunDirectory(run_dir).summary
+    suffix = target.suffix.lstrip(".") or "png"
+    try:
+        with atomic_path(target) as tmp:
+            fig.savefig(tmp, format=suffix, dpi=110)
+    except (OSError, ValueError) as err:
+        _fail(f"cannot write {target}: {err}")
+    typer.echo(f"wrote {target}")
+    if display:
+        import matplotlib as mpl
+        import matplotlib.pyplot as plt
+
+        if mpl.get_backend().lower() == "agg":
+            typer.echo("no display available (matplotlib backend Agg); see the image file")
+        else:
+            plt.show()
+
+
+@app.command()
+def check(
+    config: Annotated[Path, typer.Argument(help="YAML config file.")],
+    set_: SetOption = None,
+) -> None:
+    """Validate CONFIG (with overrides) and print the fully resolved configuration."""
+    try:
+        cfg = load_config(config, set_ or [])
+    except ConfigError as err:
+        _fail(str(err))
+    steps = round(cfg.protocol.t_end / cfg.grid.dt)
+    typer.echo(dump_config(cfg), nl=False)
+    typer.echo(
+        f"# ok: t_end = {cfg.protocol.t_end:g} ({steps} steps), dt limit "
+        f"{cfg.dt_limit():.4g}, config hash {cfg.config_hash()}"
+    )
+
+
+@app.command()
+def info() -> None:
+    """Versions, compute backend and threads."""
+    import matplotlib as mpl
+    import numba
+
+    from .api import gpu_unavailable_reason
+
+    for name, version in versions().items():
+        typer.echo(f"{name:<12} {version}")
+    typer.echo(f"{'matplotlib':<12} {mpl.__version__}")
+    typer.echo("backend      cpu: numba fused kernel (single-threaded)")
+    reason = gpu_unavailable_reason()
+    typer.echo(f"gpu          {'available' if reason is None else 'unavailable: ' + reason}")
+    try:
+        affinity = len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        affinity = os.cpu_count() or 1
+    typer.echo(
+        f"threads      numba {numba.config.NUMBA_NUM_THREADS} "
+        f"(layer {numba.config.THREADING_LAYER}), cpus usable {affinity}, "
+        f"cpus total {os.cpu_count()}"
+    )
+    try:
+        import imageio_ffmpeg
+
+        typer.echo(f"ffmpeg       {imageio_ffmpeg.get_ffmpeg_exe()}")
+    except (ImportError, RuntimeError) as err:
+        typer.echo(f"ffmpeg       unavailable ({err})")
+    typer.echo(f"executable   {sys.executable}")
+
+
+from .cli_sweep import register as _register_sweep  # noqa: E402
+
+_register_sweep(app)  # pde-rotor sweep / report (issue 5)
+
+
+def main() -> None:
+    """Entry point equivalent to the ``pde-rotor`` script."""
+    app()

@@ -1,0 +1,290 @@
+"""The pde-rotor CLI end to end: a tiny run, every output file, bad inputs, divergence."""
+
+from __future__ import annotations
+
+import csv
+import math
+from pathlib import Path
+
+import imageio_ffmpeg
+import numpy as np
+import pytest
+import xarray as xr
+import yaml
+from pde.storage import FileStorage
+from test_config import BAD_INPUTS, COARSE_YAML
+from typer.testing import CliRunner
+
+import pde_rotor
+from pde_rotor import api
+from pde_rotor.cli import app
+from pde_rotor.config import load_config
+from pde_rotor.output import PART_SUFFIX, RunDirectory
+from pde_rotor.solver import SimulationDivergedError
+from pde_rotor.trackers import EVENT_COLUMNS, TIMESERIES_VARIABLES
+
+TINY_YAML = """\
+geometry: {smoothing: 0.05}
+grid: {dx: 0.05, dt: 4.0e-4, domain_radius: 1.75}
+protocol: {t_ini: 0.4, t_stop: 0.2, t_release: 0.4, cycles: 2}
+output:
+  timeseries_interval: 0.02
+  event_interval: 0.02
+  snapshot_interval: 0.4
+  movie_interval: 0.04
+  movie_fps: 10
+  movie_dpi: 40
+"""
+"""t_end = 1.6 (4000 steps of a 72 x 72 grid): a few seconds including the movie."""
+
+runner = CliRunner()
+
+
+def invoke(*args: str):
+    return runner.invoke(app, [str(a) for a in args], catch_exceptions=False)
+
+
+@pytest.fixture(scope="module")
+def tiny_run(tmp_path_factory):
+    """`pde-rotor run` of the tiny config with a fixed seed, plus the result it wrote."""
+    root = tmp_path_factory.mktemp("cli")
+    config_path = root / "tiny.yaml"
+    config_path.write_text(TINY_YAML)
+    out = root / "run"
+    result = invoke("run", config_path, "--out", out, "--seed", "7", "--quiet")
+    return config_path, out, result
+
+
+def test_run_succeeds_and_lists_files(tiny_run):
+    _, out, result = tiny_run
+    assert result.exit_code == 0, result.output
+    assert "run completed" in result.stdout
+    assert "inversions: " in result.stdout
+    for name in RunDirectory.FILES:
+        assert (out / name).exists(), name
+    assert not list(out.glob(f"*{PART_SUFFIX}"))
+
+
+def test_config_yaml_is_resolved_with_seed_and_versions(tiny_run):
+    config_path, out, _ = tiny_run
+    written = load_config(out / "config.yaml")
+    expected = load_config(config_path, ["noise.seed=7", "output.progress=false"])
+    assert written == expected
+    provenance = yaml.safe_load((out / "config.yaml").read_text())["provenance"]
+    assert provenance["pde_rotor_version"] == pde_rotor.__version__
+    assert provenance["seed"] == 7
+    assert provenance["config_hash"] == written.config_hash()
+
+
+def test_timeseries_nc_holds_the_rotor_with_attributes(tiny_run):
+    _, out, _ = tiny_run
+    config = load_config(out / "config.yaml")
+    with xr.open_dataset(out / "timeseries.nc", engine="h5netcdf") as ds:
+        assert set(TIMESERIES_VARIABLES) <= set(ds.data_vars)
+        for name in TIMESERIES_VARIABLES:
+            assert ds[name].attrs["units"]
+            assert ds[name].attrs["equation"]
+        assert ds.attrs["config_hash"] == config.config_hash()
+        assert ds.attrs["status"] == "completed"
+        assert ds.attrs["seed"] == 7
+        t = ds["time"].values
+        assert t[0] == 0.0 and t[-1] == pytest.approx(config.protocol.t_end)
+        assert np.all(np.diff(t) > 0)
+        assert np.all(np.isfinite(ds["omega"].values))
+
+
+def test_events_csv_and_nc_agree(tiny_run):
+    _, out, _ = tiny_run
+    config = load_config(out / "config.yaml")
+    with (out / "events.csv").open() as fh:
+        rows = list(csv.DictReader(fh))
+    assert list(rows[0]) == list(EVENT_COLUMNS)
+    assert len(rows) == config.protocol.cycles
+    with xr.open_dataset(out / "events.nc", engine="h5netcdf") as ev:
+        assert list(ev["cycle"].values) == [int(r["cycle"]) for r in rows]
+        np.testing.assert_array_equal(
+            ev["omega_before"].values, [float(r["omega_before"]) for r in rows]
+        )
+        assert [bool(v) for v in ev["inverted"].values] == [r["inverted"] == "true" for r in rows]
+        assert ev.attrs["config_hash"] == config.config_hash()
+        assert "commit_fraction" in ev.attrs
+    with xr.open_dataset(out / "timeseries.nc", engine="h5netcdf") as ts:
+        for row in rows:  # omega before the stop is the time series at the stop time
+            k = int(np.argmin(np.abs(ts["time"].values - float(row["t_stop"]))))
+            assert ts["time"].values[k] == pytest.approx(float(row["t_stop"]), abs=1e-12)
+            assert ts["omega"].values[k] == float(row["omega_before"])
+
+
+def test_snapshots_h5_holds_the_fields(tiny_run):
+    _, out, _ = tiny_run
+    config = load_config(out / "config.yaml")
+    storage = FileStorage(out / "snapshots.h5", write_mode="readonly")
+    try:
+        times = np.asarray(storage.times)
+        expected = np.arange(0.0, config.protocol.t_end + 1e-9, config.output.snapshot_interval)
+        np.testing.assert_allclose(times, expected, atol=1e-12)
+        state = storage[-1]
+        assert state.data.shape[0] == 3  # c, v_x, v_y
+        assert np.all(np.isfinite(state.data))
+        assert state.data[0].max() > 0  # camphor has spread from the pills
+        assert len(storage.info["rotor_phi"]) == len(storage)
+    finally:
+        storage.close()
+
+
+def test_movie_has_one_frame_per_interval(tiny_run):
+    _, out, _ = tiny_run
+    config = load_config(out / "config.yaml")
+    movie = out / "movie.mp4"
+    assert movie.stat().st_size > 0
+    frames, _seconds = imageio_ffmpeg.count_frames_and_secs(str(movie))
+    expected = math.floor(config.protocol.t_end / config.output.movie_interval + 1e-9) + 1
+    assert frames == expected
+
+
+def test_log_and_summary(tiny_run):
+    _, out, _ = tiny_run
+    log = (out / "run.log").read_text()
+    assert "config hash" in log
+    assert "run completed" in log
+    assert (out / "summary.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_show_writes_a_figure(tiny_run, tmp_path):
+    _, out, _ = tiny_run
+    target = tmp_path / "fig.png"
+    result = invoke("show", out, "--out", target)
+    assert result.exit_code == 0, result.output
+    assert target.read_bytes()[:4] == b"\x89PNG"
+
+
+def test_show_of_a_missing_run_is_one_line(tmp_path):
+    result = invoke("show", tmp_path / "nothing")
+    assert result.exit_code == 2
+    assert result.stderr.count("\n") == 1
+    assert "not found" in result.stderr
+
+
+def test_rerun_into_the_same_directory_is_refused(tiny_run):
+    config_path, out, _ = tiny_run
+    result = invoke("run", config_path, "--out", out, "--quiet")
+    assert result.exit_code == 2
+    assert "already holds a run" in result.stderr
+
+
+def test_info_names_versions_and_threads():
+    result = invoke("info")
+    assert result.exit_code == 0
+    for word in ("pde_rotor", "py-pde", "numba", "numpy", "threads", "backend"):
+        assert word in result.stdout
+
+
+def test_check_prints_a_loadable_config(tmp_path):
+    path = tmp_path / "c.yaml"
+    path.write_text(COARSE_YAML)
+    result = invoke("check", path, "--set", "protocol.t_stop=1.5")
+    assert result.exit_code == 0, result.output
+    back = tmp_path / "back.yaml"
+    back.write_text(result.stdout)
+    assert load_config(back).protocol.t_stop == 1.5
+
+
+@pytest.mark.parametrize("case", list(BAD_INPUTS), ids=list(BAD_INPUTS))
+def test_bad_input_exits_2_with_one_line(tmp_path, case):
+    """Every bad input through `pde-rotor run`: exit 2, one line, nothing created."""
+    text, overrides, key, allowed = BAD_INPUTS[case]
+    path = tmp_path / "c.yaml"
+    path.write_text(COARSE_YAML if text is None else text)
+    args = ["run", path, "--out", tmp_path / "out", "--quiet"]
+    for override in overrides:
+        args += ["--set", override]
+    result = invoke(*args)
+    assert result.exit_code == 2
+    assert result.stderr.startswith("error: ")
+    assert result.stderr.count("\n") == 1
+    assert key in result.stderr and allowed in result.stderr
+    assert "Traceback" not in result.output
+    assert not (tmp_path / "out").exists()
+
+
+def test_missing_config_file_exits_2(tmp_path):
+    result = invoke("run", tmp_path / "missing.yaml", "--quiet")
+    assert result.exit_code == 2
+    assert "not found" in result.stderr
+
+
+def test_gpu_backend_without_gpu_exits_2(tmp_path, monkeypatch):
+    monkeypatch.setattr(api, "gpu_unavailable_reason", lambda: "no GPU found")
+    path = tmp_path / "c.yaml"
+    path.write_text(TINY_YAML)
+    result = invoke("run", path, "--backend", "gpu", "--out", tmp_path / "o")
+    assert result.exit_code == 2
+    assert result.stderr.count("\n") == 1
+    assert "solver.backend = 'gpu': no GPU found" in result.stderr
+    assert not (tmp_path / "o").exists()
+
+
+def test_auto_backend_falls_back_to_cpu(monkeypatch):
+    monkeypatch.setattr(api, "gpu_unavailable_reason", lambda: "no GPU found")
+    assert api.resolve_backend("auto") == "cpu"
+    assert api.resolve_backend("cpu") == "cpu"
+    monkeypatch.setattr(api, "gpu_unavailable_reason", lambda: None)
+    assert api.resolve_backend("auto") == "gpu"
+    assert api.resolve_backend("gpu") == "gpu"
+
+
+def test_divergence_exits_1_and_keeps_what_was_written(tmp_path):
+    """A huge initial omega drives a flow that breaks the advection limit: NaN/Inf."""
+    path = tmp_path / "c.yaml"
+    path.write_text(TINY_YAML)
+    out = tmp_path / "run"
+    result = invoke("run", path, "--out", out, "--quiet", "--set", "rotor.omega0=1e7")
+    assert result.exit_code == 1
+    assert result.stderr.startswith("error: simulation diverged at t = ")
+    assert result.stderr.count("\n") == 1
+    assert not list(out.glob(f"*{PART_SUFFIX}"))
+    with xr.open_dataset(out / "timeseries.nc", engine="h5netcdf") as ds:
+        assert ds.attrs["status"] == "diverged"
+        assert "diverged" in ds.attrs["message"]
+        assert ds.sizes["time"] >= 1
+    with (out / "events.csv").open() as fh:
+        assert next(csv.reader(fh)) == list(EVENT_COLUMNS)
+    storage = FileStorage(out / "snapshots.h5", write_mode="readonly")
+    try:
+        assert len(storage) >= 1
+        assert storage.info["status"] == "diverged"
+    finally:
+        storage.close()
+    assert "diverged" in (out / "run.log").read_text()
+
+
+def test_api_run_in_memory_draws_and_records_a_seed():
+    config = yaml.safe_load(TINY_YAML)
+    config["output"]["progress"] = False
+    result = pde_rotor.run(config)
+    assert isinstance(result, pde_rotor.RunResult)
+    assert result.ok and result.run_dir is None and result.files == {}
+    assert isinstance(result.config.noise.seed, int)
+    assert result.timeseries.attrs["seed"] == result.config.noise.seed
+    assert result.events.sizes["cycle"] == result.config.protocol.cycles
+    assert 0.0 <= result.inversion_probability <= 1.0
+
+
+def test_api_run_raises_on_divergence_after_writing(tmp_path):
+    config = yaml.safe_load(TINY_YAML)
+    config["rotor"] = {"omega0": 1e7}
+    with pytest.raises(SimulationDivergedError):
+        pde_rotor.run(config, tmp_path / "run", movie=False, progress=False)
+    assert (tmp_path / "run" / "timeseries.nc").exists()
+    result = pde_rotor.run(config, movie=False, progress=False, check=False)
+    assert result.status == "diverged"
+    assert "diverged at t" in result.message
+
+
+def test_result_load_round_trip(tiny_run):
+    _, out, _ = tiny_run
+    result = pde_rotor.RunResult.load(out)
+    assert result.ok
+    assert result.config == load_config(Path(out) / "config.yaml")
+    snap = result.snapshot()
+    assert snap is not None and snap.data.shape[0] == 3
