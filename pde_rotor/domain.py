@@ -65,9 +65,19 @@ def make_domain(grid_config: GridConfig, shape: RotorShape) -> Domain:
 
     Returns:
         The :class:`Domain`. With L = 3 and dx = 0.025 the grid has 242 x 242 cells.
+
+    Raises:
+        ValueError: if the support of F and G reaches the circle (the kernels read the
+            neighbours of every support cell, which must be interior).
     """
     dx = grid_config.dx
     radius = grid_config.domain_radius
+    if shape.support_radius + dx >= radius:
+        msg = (
+            f"grid.domain_radius = {radius:g} must exceed the support of F and G plus one "
+            f"cell, {shape.support_radius + dx:.4g}"
+        )
+        raise ValueError(msg)
     n = 2 * math.ceil(radius / dx - 1e-9) + 2
     half = n * dx / 2
     grid = CartesianGrid([[-half, half], [-half, half]], [n, n])

@@ -178,7 +178,7 @@ def advance(
         slo, shi: support column ranges per row.
         shape: :meth:`RotorShape.as_array`.
         par: float parameters, indices P_*.
-        flow: whether the flow is on (False: v = 0, Fig. 8).
+        flow: whether the flow is on (False: v is set to 0 and stays 0, Fig. 8).
         schedule: :meth:`StopSchedule.as_array`.
         rotor: [phi, omega, torque, friction, stopped], updated in place.
         kicks: Euler-Maruyama noise increments of omega, one per step (may be empty).
@@ -195,6 +195,9 @@ def advance(
     nxt = spare
     phi_f = math.nan
     noisy = kicks.size > 0
+    if not flow:
+        data[1:] = 0.0
+        spare[1:] = 0.0
     for s in range(n_steps):
         stopped = stopped_at(step0 + s, schedule)
         if stopped:
