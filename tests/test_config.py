@@ -248,3 +248,11 @@ def test_pill_asymmetry_limit_is_sharp():
     validate_config({"geometry": {"asymmetry": 0.999 * limit}})
     with pytest.raises(ConfigError, match=r"geometry\.asymmetry"):
         validate_config({"geometry": {"asymmetry": -1.001 * limit}})
+
+
+def test_usage_doc_lists_every_key():
+    """docs/usage.md's reference table names every key of the schema."""
+    doc = (Path(__file__).parent.parent / "docs" / "usage.md").read_text()
+    for section, field in RotorConfig.model_fields.items():
+        for key in field.annotation.model_fields:
+            assert f"`{section}.{key}`" in doc

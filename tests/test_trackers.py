@@ -241,3 +241,28 @@ def test_progress_bar_shows_time_and_omega(capsys):
     assert "omega=-123.4" in err
     assert f"t={t_end:.2f}/{t_end:.2f}" in err  # completed runs end at 100 %
     assert bar.bar.disable  # closed
+
+
+def test_timeseries_checkpoints_during_the_run(tmp_path):
+    """With a zero checkpoint period the file is rewritten (complete, status running) at
+    every sample, so a killed run still leaves a readable time series."""
+    import xarray as xr
+
+    config = RotorConfig.model_validate(TINY)
+    sim = FakeSimulation(config)
+    sim.pde = SimpleNamespace(domain=SimpleNamespace(cell_area=config.grid.dx**2))
+    path = tmp_path / "ts.nc"
+    tracker = TimeSeriesTracker(sim, 0.2, path, checkpoint_seconds=0.0)
+    tracker.initialize(None, {"controller": {"t_start": 0.0}})
+    field = SimpleNamespace(data=np.ones((3, 4, 4)))
+    for k, t in enumerate([0.0, 0.2, 0.4]):
+        sim.rotor.omega = float(k)
+        tracker.handle(field, t)
+        with xr.open_dataset(path, engine="h5netcdf") as ds:
+            assert ds.attrs["status"] == "running"
+            assert ds.sizes["time"] == k + 1
+            assert ds["omega"].values[-1] == k
+            assert ds["camphor_total"].values[-1] == pytest.approx(16 * config.grid.dx**2)
+    tracker.finalize({"controller": {"successful": True}})
+    with xr.open_dataset(path, engine="h5netcdf") as ds:
+        assert ds.attrs["status"] == "completed"
