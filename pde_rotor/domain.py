@@ -51,6 +51,12 @@ class Domain:
         return x**2 + y**2 < self.radius**2
 
     @property
+    def support_mask(self) -> np.ndarray:
+        """Boolean (n, n) array, True on the cells where F or G may be nonzero."""
+        columns = np.arange(self.coords.size)
+        return (columns >= self.support_lo[:, None]) & (columns < self.support_hi[:, None])
+
+    @property
     def cell_area(self) -> float:
         """Area of one cell, dx^2."""
         return self.dx**2

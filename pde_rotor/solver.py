@@ -43,21 +43,16 @@ class SimulationDivergedError(FloatingPointError):
 P_DT, P_DX, P_D, P_A, P_SRC, P_K, P_ETA, P_ETAB, P_DETA, P_I, P_MU, P_TSIGN = range(12)
 
 
-@nb.njit(cache=True, nogil=True, fastmath={"contract", "arcp", "nsz"})
-def _fields_with_flow(cur, nxt, F, G, coords, lo, hi, par, omega):
-    """One Euler step of Eqs. (eqc) and (eqv) on all interior cells (compiled).
+_FAST = {"contract", "arcp", "nsz"}
 
-    Indices are unsigned so that numba emits no negative-index wraparound and LLVM
-    vectorises the inner loop (3x faster than signed indices).
 
-    Args:
-        cur: state (3, n, n) = (c, v_x, v_y) at the old time level.
-        nxt: receives the new state on interior cells.
-        F, G: plate and pill indicators.
-        coords: cell-centre coordinates.
-        lo, hi: interior column ranges per row.
-        par: float parameters (indices P_*).
-        omega: plate angular velocity (0 during a stop).
+@nb.njit(cache=True, nogil=True, fastmath=_FAST, inline="always")
+def _row_with_flow(cur, nxt, F, G, coords, par, omega, u, x, j0, j1, plate):
+    """Euler step of Eqs. (eqc), (eqv) on cells [j0, j1) of row u (compiled).
+
+    `plate` is False on cells outside the support of F and G (F = G = 0 there), which then
+    skip reading F and G. Indices are unsigned, so numba emits no negative-index
+    wraparound and LLVM vectorises the loop.
     """
     dt, dx = par[P_DT], par[P_DX]
     inv_dx2 = 1.0 / (dx * dx)
@@ -65,57 +60,94 @@ def _fields_with_flow(cur, nxt, F, G, coords, lo, hi, par, omega):
     diff, evap, src = par[P_D], par[P_A], par[P_SRC]
     eta, eta_b, d_eta = par[P_ETA], par[P_ETAB], par[P_DETA]
     one = np.uint64(1)
-    for i in range(coords.size):
-        x = coords[i]
-        u = np.uint64(i)
-        up, um = u + one, u - one
-        for j in range(np.uint64(lo[i]), np.uint64(hi[i])):
-            jp, jm = j + one, j - one
-            y = coords[j]
-            cc = cur[0, u, j]
-            ux = cur[1, u, j]
-            uy = cur[2, u, j]
+    up, um = u + one, u - one
+    for j in range(j0, j1):
+        jp, jm = j + one, j - one
+        cc = cur[0, u, j]
+        ux = cur[1, u, j]
+        uy = cur[2, u, j]
+        lap_c = cur[0, up, j] + cur[0, um, j] + cur[0, u, jp] + cur[0, u, jm]
+        div_cv = (
+            cur[0, up, j] * cur[1, up, j]
+            - cur[0, um, j] * cur[1, um, j]
+            + cur[0, u, jp] * cur[2, u, jp]
+            - cur[0, u, jm] * cur[2, u, jm]
+        )
+        lap_x = cur[1, up, j] + cur[1, um, j] + cur[1, u, jp] + cur[1, u, jm]
+        lap_y = cur[2, up, j] + cur[2, um, j] + cur[2, u, jp] + cur[2, u, jm]
+        rate_c = diff * (lap_c - 4.0 * cc) * inv_dx2 - div_cv * inv_2dx - evap * cc
+        rate_x = d_eta * (lap_x - 4.0 * ux) * inv_dx2 - eta_b * ux
+        rate_y = d_eta * (lap_y - 4.0 * uy) * inv_dx2 - eta_b * uy
+        if plate:
             f = F[u, j]
-            lap_c = cur[0, up, j] + cur[0, um, j] + cur[0, u, jp] + cur[0, u, jm]
-            div_cv = (
-                cur[0, up, j] * cur[1, up, j]
-                - cur[0, um, j] * cur[1, um, j]
-                + cur[0, u, jp] * cur[2, u, jp]
-                - cur[0, u, jm] * cur[2, u, jm]
-            )
-            nxt[0, u, j] = cc + dt * (
-                diff * (lap_c - 4.0 * cc) * inv_dx2
-                - div_cv * inv_2dx
-                - evap * (1.0 - f) * cc
-                + src * G[u, j]
-            )
-            lap_x = cur[1, up, j] + cur[1, um, j] + cur[1, u, jp] + cur[1, u, jm]
-            lap_y = cur[2, up, j] + cur[2, um, j] + cur[2, u, jp] + cur[2, u, jm]
-            nxt[1, u, j] = ux + dt * (
-                eta * f * (-omega * y - ux) - eta_b * ux + d_eta * (lap_x - 4.0 * ux) * inv_dx2
-            )
-            nxt[2, u, j] = uy + dt * (
-                eta * f * (omega * x - uy) - eta_b * uy + d_eta * (lap_y - 4.0 * uy) * inv_dx2
-            )
+            rate_c += evap * f * cc + src * G[u, j]
+            rate_x += eta * f * (-omega * coords[j] - ux)
+            rate_y += eta * f * (omega * x - uy)
+        nxt[0, u, j] = cc + dt * rate_c
+        nxt[1, u, j] = ux + dt * rate_x
+        nxt[2, u, j] = uy + dt * rate_y
 
 
-@nb.njit(cache=True, nogil=True, fastmath={"contract", "arcp", "nsz"})
-def _fields_without_flow(cur, nxt, F, G, coords, lo, hi, par):
-    """One Euler step of Eq. (eqc) with v = 0 (the paper's Fig. 8; compiled, unsigned indices)."""
+@nb.njit(cache=True, nogil=True, fastmath=_FAST, inline="always")
+def _row_without_flow(cur, nxt, F, G, par, u, j0, j1, plate):
+    """Euler step of Eq. (eqc) with v = 0 on cells [j0, j1) of row u (compiled)."""
     dt, dx = par[P_DT], par[P_DX]
     inv_dx2 = 1.0 / (dx * dx)
     diff, evap, src = par[P_D], par[P_A], par[P_SRC]
     one = np.uint64(1)
+    up, um = u + one, u - one
+    for j in range(j0, j1):
+        cc = cur[0, u, j]
+        lap_c = cur[0, up, j] + cur[0, um, j] + cur[0, u, j + one] + cur[0, u, j - one]
+        rate_c = diff * (lap_c - 4.0 * cc) * inv_dx2 - evap * cc
+        if plate:
+            rate_c += evap * F[u, j] * cc + src * G[u, j]
+        nxt[0, u, j] = cc + dt * rate_c
+
+
+@nb.njit(cache=True, nogil=True, fastmath=_FAST)
+def _fields_with_flow(cur, nxt, F, G, coords, lo, hi, slo, shi, par, omega):
+    """One Euler step of Eqs. (eqc) and (eqv) on all interior cells (compiled).
+
+    Args:
+        cur: state (3, n, n) = (c, v_x, v_y) at the old time level.
+        nxt: receives the new state on interior cells.
+        F, G: plate and pill indicators (zero outside the support).
+        coords: cell-centre coordinates.
+        lo, hi: interior column ranges per row.
+        slo, shi: support column ranges per row (inside the interior ranges).
+        par: float parameters (indices P_*).
+        omega: plate angular velocity (0 during a stop).
+    """
     for i in range(coords.size):
         u = np.uint64(i)
-        up, um = u + one, u - one
-        for j in range(np.uint64(lo[i]), np.uint64(hi[i])):
-            jp, jm = j + one, j - one
-            cc = cur[0, u, j]
-            lap_c = cur[0, up, j] + cur[0, um, j] + cur[0, u, jp] + cur[0, u, jm]
-            nxt[0, u, j] = cc + dt * (
-                diff * (lap_c - 4.0 * cc) * inv_dx2 - evap * (1.0 - F[u, j]) * cc + src * G[u, j]
-            )
+        x = coords[i]
+        j0, j1 = np.uint64(lo[i]), np.uint64(hi[i])
+        if shi[i] > slo[i]:
+            s0, s1 = np.uint64(slo[i]), np.uint64(shi[i])
+            _row_with_flow(cur, nxt, F, G, coords, par, omega, u, x, j0, s0, False)
+            _row_with_flow(cur, nxt, F, G, coords, par, omega, u, x, s0, s1, True)
+            _row_with_flow(cur, nxt, F, G, coords, par, omega, u, x, s1, j1, False)
+        else:
+            _row_with_flow(cur, nxt, F, G, coords, par, omega, u, x, j0, j1, False)
+
+
+@nb.njit(cache=True, nogil=True, fastmath=_FAST)
+def _fields_without_flow(cur, nxt, F, G, coords, lo, hi, slo, shi, par):
+    """One Euler step of Eq. (eqc) with v = 0 (the paper's Fig. 8; compiled).
+
+    Arguments as for :func:`_fields_with_flow`.
+    """
+    for i in range(coords.size):
+        u = np.uint64(i)
+        j0, j1 = np.uint64(lo[i]), np.uint64(hi[i])
+        if shi[i] > slo[i]:
+            s0, s1 = np.uint64(slo[i]), np.uint64(shi[i])
+            _row_without_flow(cur, nxt, F, G, par, u, j0, s0, False)
+            _row_without_flow(cur, nxt, F, G, par, u, s0, s1, True)
+            _row_without_flow(cur, nxt, F, G, par, u, s1, j1, False)
+        else:
+            _row_without_flow(cur, nxt, F, G, par, u, j0, j1, False)
 
 
 @nb.njit(cache=True, nogil=True)
@@ -216,9 +248,9 @@ def advance(
             rotor[0], rotor[1] = phi, omega
             return s
         if flow:
-            _fields_with_flow(cur, nxt, F, G, coords, lo, hi, par, omega)
+            _fields_with_flow(cur, nxt, F, G, coords, lo, hi, slo, shi, par, omega)
         else:
-            _fields_without_flow(cur, nxt, F, G, coords, lo, hi, par)
+            _fields_without_flow(cur, nxt, F, G, coords, lo, hi, slo, shi, par)
         if not stopped:
             phi += dt * omega
             omega += dt * (friction + torque) * inv_inertia
