@@ -182,18 +182,23 @@ class RunResult:
             msg = f"run directory {str(run.path)!r} not found"
             raise ConfigError(msg)
         config = load_config(run.config)
-        datasets = {}
-        for name, path in (("timeseries", run.timeseries), ("events", run.events_nc)):
-            if not path.exists():
-                msg = f"{path} not found (the run has not finished writing it)"
-                raise ConfigError(msg)
-            with xr.open_dataset(path, engine="h5netcdf") as ds:
-                datasets[name] = ds.load()
-        ts = datasets["timeseries"]
+        if not run.timeseries.exists():
+            msg = (
+                f"{run.timeseries} not found (a running run writes it every "
+                f"{config.output.checkpoint_seconds:g} s)"
+            )
+            raise ConfigError(msg)
+        with xr.open_dataset(run.timeseries, engine="h5netcdf") as ds:
+            ts = ds.load()
+        if run.events_nc.exists():
+            with xr.open_dataset(run.events_nc, engine="h5netcdf") as ds:
+                events = ds.load()
+        else:  # still running: the rows written so far
+            events = _events_from_csv(run.events_csv, config.output.commit_fraction)
         return cls(
             config=config,
             timeseries=ts,
-            events=datasets["events"],
+            events=events,
             status=str(ts.attrs.get("status", "completed")),
             message=str(ts.attrs.get("message", "")),
             run_dir=run.path,
@@ -390,7 +395,7 @@ def run(
             error = err
             _finalize_after_error(trackers, "failed", f"{type(err).__name__}: {err}", ts_tracker)
         wall = time.perf_counter() - start
-        status = getattr(ts_tracker, "status", {"status": "failed", "message": ""})
+        status = ts_tracker.status or {"status": "failed", "message": "trackers not finalized"}
         result = RunResult(
             config=cfg,
             timeseries=ts_tracker.to_dataset(status),
@@ -424,6 +429,35 @@ def run(
     finally:
         if log_handler is not None:
             detach_log(log_handler)
+
+
+def _events_from_csv(path: Path, commit_fraction: float) -> xr.Dataset:
+    """Events Dataset from the rows of events.csv (empty if the file does not exist)."""
+    import csv
+
+    from .trackers import EVENT_COLUMNS
+
+    rows: list[dict[str, str]] = []
+    if path.exists():
+        with path.open(newline="", encoding="utf-8") as fh:
+            rows = list(csv.DictReader(fh))
+    flags = ("inverted", "committed")
+    ints = ("cycle", "direction_before", "direction_after")
+    data: dict[str, Any] = {}
+    for name in EVENT_COLUMNS:
+        values = [r[name] for r in rows]
+        if name in flags:
+            data[name] = np.array([v == "true" for v in values], dtype=bool)
+        elif name in ints:
+            data[name] = np.array([int(v) for v in values], dtype=np.int64)
+        else:
+            data[name] = np.array([float(v) for v in values], dtype=np.float64)
+    cycle = data.pop("cycle")
+    return xr.Dataset(
+        {name: ("cycle", values) for name, values in data.items()},
+        coords={"cycle": cycle},
+        attrs={"commit_fraction": commit_fraction, "status": "running"},
+    )
 
 
 def _finalize_after_error(trackers: list[Any], status: str, message: str, ts_tracker: Any) -> None:

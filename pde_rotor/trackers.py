@@ -140,6 +140,7 @@ class _RotorTracker(TrackerBase):
         super().__init__(interrupts=interrupts)
         self.sim = sim
         self.schedule = StopSchedule.from_config(sim.config.protocol, sim.config.grid.dt)
+        self.status: dict[str, Any] | None = None
         self._finalized = False
 
     def step_of(self, t: float) -> int:
@@ -151,7 +152,8 @@ class _RotorTracker(TrackerBase):
         if self._finalized:
             return
         self._finalized = True
-        self._finish(_run_status(info))
+        self.status = _run_status(info)
+        self._finish(self.status)
 
     def _finish(self, status: dict[str, Any]) -> None:
         """Write the results; `status` holds status, message and t_final."""
@@ -305,7 +307,6 @@ class TimeSeriesTracker(_RotorTracker):
         self._last_write = time.monotonic()
 
     def _finish(self, status: dict[str, Any]) -> None:
-        self.status = status
         self.write(status)
 
 

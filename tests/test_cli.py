@@ -288,3 +288,19 @@ def test_result_load_round_trip(tiny_run):
     assert result.config == load_config(Path(out) / "config.yaml")
     snap = result.snapshot()
     assert snap is not None and snap.data.shape[0] == 3
+
+
+def test_show_during_a_run_reads_events_csv(tiny_run, tmp_path):
+    """While a run goes, events.nc does not exist yet: show uses the rows of events.csv."""
+    import shutil
+
+    _, out, _ = tiny_run
+    running = tmp_path / "running"
+    shutil.copytree(out, running)
+    (running / "events.nc").unlink()
+    result = pde_rotor.RunResult.load(running)
+    with xr.open_dataset(out / "events.nc", engine="h5netcdf") as ev:
+        for name in ("omega_before", "direction_after", "inverted", "time_to_commit"):
+            np.testing.assert_array_equal(result.events[name].values, ev[name].values)
+        np.testing.assert_array_equal(result.events["cycle"].values, ev["cycle"].values)
+    assert invoke("show", running).exit_code == 0
