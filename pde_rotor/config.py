@@ -25,7 +25,6 @@ from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Annotated, Any, Literal, Union, get_args, get_origin
 
-import annotated_types
 import yaml
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, ValidationError, model_validator
 from pydantic.fields import FieldInfo
@@ -607,14 +606,14 @@ def allowed_values(path: tuple[str, ...]) -> str:
     else:
         kind = "number"
     lower = upper = ""
-    for meta in metadata:
-        if isinstance(meta, annotated_types.Gt):
+    for meta in metadata:  # annotated_types.Gt(gt=...), Ge, Lt, Le
+        if getattr(meta, "gt", None) is not None:
             lower = f"{meta.gt:g} <"
-        elif isinstance(meta, annotated_types.Ge):
+        elif getattr(meta, "ge", None) is not None:
             lower = f"{meta.ge:g} <="
-        elif isinstance(meta, annotated_types.Lt):
+        elif getattr(meta, "lt", None) is not None:
             upper = f"< {meta.lt:g}"
-        elif isinstance(meta, annotated_types.Le):
+        elif getattr(meta, "le", None) is not None:
             upper = f"<= {meta.le:g}"
     if lower and not upper:
         value, sym = lower.split(" ")
