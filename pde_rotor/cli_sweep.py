@@ -1,0 +1,94 @@
+"""``pde-rotor sweep`` and ``pde-rotor report``: parameter sweeps of inversion statistics.
+
+Registered on the main typer app by :func:`register` (called from :mod:`pde_rotor.cli`).
+Exit codes as for ``pde-rotor run``: 0 success, 1 some runs failed (the others are
+stored; rerun the same command to retry them), 2 bad input, 130 interrupted (finished
+runs are kept; rerun to resume).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+DEFAULT_ROOT = Path("runs") / "sweeps"
+"""Sweep directories default to runs/sweeps/<name of the sweep file>."""
+
+
+def register(app: typer.Typer) -> None:
+    """Add the ``sweep`` and ``report`` commands to `app`."""
+
+    @app.command("sweep")
+    def sweep_command(
+        sweep: Annotated[Path, typer.Argument(help="Sweep YAML file (see configs/sweeps/).")],
+        scheduler: Annotated[
+            str | None,
+            typer.Option(
+                help="Address of a running dask scheduler, e.g. tcp://node:8786 "
+                "(default: start a LocalCluster here)."
+            ),
+        ] = None,
+        workers: Annotated[
+            int | None,
+            typer.Option(min=1, help="LocalCluster worker processes [default: usable cores]."),
+        ] = None,
+        out: Annotated[
+            Path | None,
+            typer.Option(
+                "--out", "-o", help="Sweep directory [default: runs/sweeps/<sweep file stem>]."
+            ),
+        ] = None,
+        quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
+    ) -> None:
+        """Run SWEEP on dask (resumable: finished runs are skipped), then write the report."""
+        from .sweep import Sweep, SweepError, report, run_sweep
+
+        try:
+            spec = Sweep.load(sweep)
+        except SweepError as err:
+            typer.echo(f"error: {err}", err=True)
+            raise typer.Exit(2) from None
+        sweep_dir = out if out is not None else DEFAULT_ROOT / sweep.stem
+        n_runs = len(spec.runs())
+        where = scheduler or f"LocalCluster ({workers or 'all usable'} workers)"
+        typer.echo(f"pde-rotor: sweep {sweep} ({n_runs} runs) on {where} -> {sweep_dir}", err=True)
+        try:
+            outcome = run_sweep(
+                spec, sweep_dir, scheduler=scheduler, workers=workers, progress=not quiet
+            )
+        except KeyboardInterrupt:
+            typer.echo("interrupted: finished runs are kept; rerun to resume", err=True)
+            raise typer.Exit(130) from None
+        typer.echo(
+            f"runs: {outcome.total} ({outcome.skipped} already done, {outcome.computed} "
+            f"computed, {len(outcome.failed)} failed)"
+        )
+        report(sweep_dir)
+        typer.echo(f"report: {sweep_dir / 'report.nc'}")
+        if outcome.failed:
+            for key, message in outcome.failed[:5]:
+                typer.echo(f"failed run {key}: {message}", err=True)
+            raise typer.Exit(1)
+
+    @app.command("report")
+    def report_command(
+        sweep_dir: Annotated[Path, typer.Argument(help="Directory written by `pde-rotor sweep`.")],
+        out: Annotated[
+            Path | None,
+            typer.Option("--out", "-o", help="NetCDF file [default: SWEEP_DIR/report.nc]."),
+        ] = None,
+    ) -> None:
+        """Gather the finished runs of SWEEP_DIR into NetCDF and print a table."""
+        from .sweep import SweepError, report
+
+        if not (sweep_dir / "sweep.yaml").is_file():
+            typer.echo(f"error: {sweep_dir} holds no sweep.yaml (not a sweep directory)", err=True)
+            raise typer.Exit(2)
+        try:
+            report(sweep_dir, out)
+        except SweepError as err:
+            typer.echo(f"error: {err}", err=True)
+            raise typer.Exit(2) from None
+        typer.echo(f"report: {out if out is not None else sweep_dir / 'report.nc'}")

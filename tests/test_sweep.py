@@ -1,0 +1,278 @@
+"""Tests of pde_rotor.sweep: schema, seeds, resumable dask execution and the report.
+
+Every sweep here runs on a tiny grid (domain radius 1.75, dx = delta = 0.05,
+dt = 4e-4) with very short times, so that one run takes a fraction of a second.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+import yaml
+
+from pde_rotor.config import RotorConfig
+from pde_rotor.stats import CCW, CW
+from pde_rotor.sweep import (
+    RUNS_DIR,
+    Run,
+    Sweep,
+    SweepError,
+    SweepSpec,
+    execute,
+    finished,
+    format_table,
+    gather,
+    report,
+    run_path,
+    run_seed,
+    run_sweep,
+)
+
+TINY_BASE = {
+    "grid": {"domain_radius": 1.75, "dx": 0.05, "dt": 4e-4},
+    "geometry": {"smoothing": 0.05},
+    "protocol": {"t_ini": 2.0, "t_stop": 0.2, "t_release": 1.6, "cycles": 3},
+    "noise": {"sigma": 1e-6},
+}
+
+TINY_SWEEP = {
+    "name": "tiny",
+    "base": TINY_BASE,
+    "axes": {"protocol.t_stop": [0.2, 1.2]},
+    "estimator": {"kind": "restart", "warmup": 2.0},
+    "samples": 3,
+    "seed": 7,
+}
+
+
+def write_sweep(path: Path, data: dict) -> Path:
+    path.write_text(yaml.safe_dump(data, sort_keys=False), encoding="utf-8")
+    return path
+
+
+def tiny_sweep(**changes) -> Sweep:
+    data = json.loads(json.dumps(TINY_SWEEP))
+    data.update(changes)
+    return Sweep.from_spec(SweepSpec.model_validate(data))
+
+
+@pytest.fixture(scope="module")
+def two_worker_sweep(tmp_path_factory) -> tuple[Path, xr.Dataset]:
+    """The tiny sweep run uninterrupted on a LocalCluster of 2 workers, and its report."""
+    root = tmp_path_factory.mktemp("sweep2")
+    path = write_sweep(root / "tiny.yaml", TINY_SWEEP)
+    outcome = run_sweep(path, root / "out", workers=2, progress=False)
+    assert outcome.failed == []
+    assert outcome.computed == outcome.total == 12
+    return root / "out", report(root / "out", echo=False)
+
+
+# ---------------------------------------------------------------------------------------
+# schema and seeds
+# ---------------------------------------------------------------------------------------
+
+
+def test_axes_accept_lists_and_ranges():
+    sweep = tiny_sweep(
+        axes={
+            "protocol.t_stop": {"start": 0.4, "stop": 1.6, "step": 0.4},
+            "geometry.asymmetry": {"start": 0.0, "stop": 1e-4, "num": 3},
+            "flow.enabled": [True, False],
+        }
+    )
+    assert sweep.axes["protocol.t_stop"] == [0.4, 0.8, 1.2, 1.6]
+    assert sweep.axes["geometry.asymmetry"] == [0.0, 5e-5, 1e-4]
+    assert sweep.shape == (4, 3, 2)
+    runs = sweep.runs()
+    assert len(runs) == 4 * 3 * 2 * 2 * 3
+    assert {r.direction for r in runs} == {CCW, CW}
+    assert len({r.key for r in runs}) == len(runs)
+    assert runs[-1].config["flow"]["enabled"] is False
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        ({"axes": {"protocol.t_stopp": [1.0]}}, "t_stopp"),
+        ({"axes": {"protocol.t_stop": [-1.0]}}, "t_stop"),
+        ({"axes": {"protocol.t_stop": [0.2001]}}, "multiple"),
+        ({"axes": {"noise.seed": [1, 2]}}, "seed"),
+        ({"axes": {"protocol.t_stop": {"start": 0, "stop": 1}}}, "num or step"),
+        ({"samples": 0}, "samples"),
+        ({"estimator": {"kind": "bootstrap"}}, "estimator"),
+    ],
+)
+def test_invalid_sweeps_are_rejected_with_one_line(tmp_path, change, message):
+    data = {**TINY_SWEEP, **change}
+    path = write_sweep(tmp_path / "bad.yaml", data)
+    with pytest.raises(SweepError, match=message) as err:
+        Sweep.load(path)
+    assert "\n" not in str(err.value)
+
+
+def test_base_from_a_file_and_set_overrides(tmp_path):
+    (tmp_path / "base.yaml").write_text(yaml.safe_dump(TINY_BASE), encoding="utf-8")
+    data = {**TINY_SWEEP, "base": "base.yaml", "set": {"geometry.asymmetry": 2e-5}}
+    sweep = Sweep.load(write_sweep(tmp_path / "s.yaml", data))
+    assert sweep.base["geometry"]["asymmetry"] == 2e-5
+    inline = tiny_sweep(set={"geometry.asymmetry": 2e-5})
+    assert [r.key for r in sweep.runs()] == [r.key for r in inline.runs()]
+
+
+def test_seeds_depend_only_on_the_run_itself():
+    coords = {"protocol.t_stop": 1.2, "geometry.asymmetry": 2e-5}
+    seed = run_seed(7, coords, 0, CCW)
+    assert run_seed(7, dict(reversed(coords.items())), 0, CCW) == seed
+    others = {
+        run_seed(8, coords, 0, CCW),
+        run_seed(7, coords, 1, CCW),
+        run_seed(7, coords, 0, CW),
+        run_seed(7, {**coords, "protocol.t_stop": 1.6}, 0, CCW),
+    }
+    assert seed not in others and len(others) == 4
+    # adding axis values or samples leaves the runs of existing points unchanged
+    small = tiny_sweep()
+    large = tiny_sweep(axes={"protocol.t_stop": [0.2, 0.6, 1.2]}, samples=4)
+    assert {r.key for r in small.runs()} < {r.key for r in large.runs()}
+    seeds = [r.config["noise"]["seed"] for r in large.runs()]
+    assert len(set(seeds)) == len(seeds)
+    assert all(0 <= s < 2**63 for s in seeds)
+
+
+# ---------------------------------------------------------------------------------------
+# single runs
+# ---------------------------------------------------------------------------------------
+
+
+def test_protocol_run_counts_the_sign_changes_of_omega():
+    sweep = tiny_sweep(estimator={"kind": "protocol"}, samples=1, axes={})
+    (run,) = sweep.runs()
+    content = execute(run)
+    res = content["result"]
+    omegas = np.array(res["omegas"])
+    assert omegas.size == TINY_BASE["protocol"]["cycles"] + 1
+    flips = np.sign(omegas[1:]) != np.sign(omegas[:-1])
+    assert res["inversions_ccw"] + res["inversions_cw"] == flips.sum()
+    assert res["n_ccw"] + res["n_cw"] == TINY_BASE["protocol"]["cycles"]
+    # short stops invert the rotation (paper, Figs. 4a and 5)
+    assert flips.all()
+
+
+def test_restart_run_is_reproducible_and_randomises_the_stop_angle():
+    sweep = tiny_sweep(samples=4, axes={})
+    runs = [r for r in sweep.runs() if r.direction == CW]
+    results = [execute(r)["result"] for r in runs]
+    again = execute(runs[0])["result"]
+    assert again == results[0]
+    period = np.pi / 3
+    for res in results:
+        assert res["direction_before"] == CW
+        assert res["committed"] and 0 < res["t_commit"] <= TINY_BASE["protocol"]["t_release"]
+        assert abs(res["omega_end"]) >= 0.5 * abs(res["omega_before"])
+        assert 0 <= res["phi_stop"] < period
+    assert len({res["extra_steps"] for res in results}) > 1
+
+
+# ---------------------------------------------------------------------------------------
+# dask execution, resume, report
+# ---------------------------------------------------------------------------------------
+
+
+def test_report_of_a_tiny_sweep(two_worker_sweep, capsys):
+    sweep_dir, ds = two_worker_sweep
+    assert list(ds.sizes) == ["t_stop"]
+    assert ds["t_stop"].attrs["config_key"] == "protocol.t_stop"
+    assert ds["t_stop"].values.tolist() == [0.2, 1.2]
+    assert (ds["runs_done"] == ds["runs_expected"]).all()
+    assert (ds["stops"] == 2 * TINY_SWEEP["samples"]).all()
+    assert (ds["stops_ccw"] == ds["stops_cw"]).all()
+    assert (ds["inversions"] == ds["inversions_ccw"] + ds["inversions_cw"]).all()
+    assert ((ds["P_low"] <= ds["P"]) & (ds["P"] <= ds["P_high"])).all()
+    assert (ds["mean_abs_omega"] > 100).all()
+    # short stops always invert (paper, Fig. 5)
+    assert float(ds["P"].sel(t_stop=0.2)) == 1.0
+    on_disk = xr.load_dataset(sweep_dir / "report.nc", engine="h5netcdf")
+    xr.testing.assert_identical(on_disk, ds)
+    report(sweep_dir)
+    table = capsys.readouterr().out
+    assert table == format_table(ds) + "\n"
+    assert len(table.splitlines()) == 2 + 2
+
+
+def test_one_worker_gives_the_same_dataset_as_two(two_worker_sweep, tmp_path):
+    _, ds2 = two_worker_sweep
+    path = write_sweep(tmp_path / "tiny.yaml", TINY_SWEEP)
+    outcome = run_sweep(path, tmp_path / "out", workers=1, progress=False)
+    assert outcome.computed == 12, outcome.failed
+    xr.testing.assert_identical(report(tmp_path / "out", echo=False), ds2)
+
+
+def test_resume_after_a_killed_sweep(two_worker_sweep, tmp_path):
+    """Kill the sweep process mid-sweep; the rerun computes only the missing runs."""
+    _, reference = two_worker_sweep
+    path = write_sweep(tmp_path / "tiny.yaml", TINY_SWEEP)
+    out = tmp_path / "out"
+    script = textwrap.dedent(
+        f"""
+        from pde_rotor.sweep import run_sweep
+        run_sweep({str(path)!r}, {str(out)!r}, workers=1, progress=False)
+        """
+    )
+    proc = subprocess.Popen([sys.executable, "-c", script], start_new_session=True)
+    runs_dir = out / RUNS_DIR
+    deadline = time.monotonic() + 120
+    try:
+        while time.monotonic() < deadline:
+            done = list(runs_dir.glob("*.json")) if runs_dir.exists() else []
+            if len(done) >= 3 or proc.poll() is not None:
+                break
+            time.sleep(0.05)
+    finally:
+        os.killpg(proc.pid, signal.SIGKILL)
+        proc.wait()
+    before = {p.name: (p.stat().st_mtime_ns, p.read_bytes()) for p in runs_dir.glob("*.json")}
+    assert 3 <= len(before) < 12, "the sweep was not killed mid-way"
+    assert not list(runs_dir.glob("*.part"))  # no temporary file left behind, or harmless
+
+    sweep = Sweep.load(path)
+    outcome = run_sweep(sweep, out, workers=1, progress=False)
+    assert outcome.skipped == len(before)
+    assert outcome.computed == 12 - len(before)
+    for name, (mtime, content) in before.items():
+        p = runs_dir / name
+        assert p.stat().st_mtime_ns == mtime and p.read_bytes() == content
+    assert finished(out, sweep.runs()) == {r.key for r in sweep.runs()}
+    xr.testing.assert_identical(report(out, echo=False), reference)
+    # a third call finds nothing to do
+    assert run_sweep(sweep, out, progress=False).computed == 0
+
+
+def test_unreadable_run_files_are_recomputed_and_foreign_files_ignored(tmp_path):
+    sweep = tiny_sweep(samples=1, axes={})
+    out = tmp_path / "out"
+    (out / RUNS_DIR).mkdir(parents=True)
+    runs: list[Run] = sweep.runs()
+    run_path(out, runs[0].key).write_text('{"key": "trunc', encoding="utf-8")
+    (out / RUNS_DIR / "unrelated.json").write_text("{}", encoding="utf-8")
+    assert finished(out, runs) == set()
+    outcome = run_sweep(sweep, out, workers=1, progress=False)
+    assert outcome.computed == 2
+    ds = gather(sweep, out)
+    assert int(ds["runs_done"]) == 2 and int(ds["stops"]) == 2
+
+
+def test_sweep_config_validates_like_a_run_config():
+    sweep = tiny_sweep()
+    for run in sweep.runs():
+        cfg = RotorConfig.model_validate(run.config)
+        assert cfg.noise.seed == run.config["noise"]["seed"]
