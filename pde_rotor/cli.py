@@ -1,4 +1,4 @@
-"""The ``pde-rotor`` command line: run, show, check, info.
+"""The ``pde-rotor`` command line: run, show, check, info (and sweep, report: cli_sweep).
 
 Exit codes: 0 success; 1 the simulation diverged (NaN/Inf; everything recorded up to
 then is kept); 2 bad input (config, --set, paths, backend), always one line
@@ -16,6 +16,7 @@ from typing import Annotated, NoReturn
 import typer
 
 from .api import BackendError, RunResult, resolve_backend, versions
+from .cli_sweep import register as register_sweep_commands
 from .config import ConfigError, dump_config, load_config
 from .output import OutputError, RunDirectory
 
@@ -212,6 +213,9 @@ def info() -> None:
 from .cli_sweep import register as _register_sweep  # noqa: E402
 
 _register_sweep(app)  # pde-rotor sweep / report (issue 5)
+
+
+register_sweep_commands(app)
 
 
 def main() -> None:

@@ -304,3 +304,10 @@ def test_show_during_a_run_reads_events_csv(tiny_run, tmp_path):
             np.testing.assert_array_equal(result.events[name].values, ev[name].values)
         np.testing.assert_array_equal(result.events["cycle"].values, ev["cycle"].values)
     assert invoke("show", running).exit_code == 0
+
+
+def test_help_lists_the_commands():
+    result = invoke("--help")
+    assert result.exit_code == 0
+    for command in ("run", "show", "check", "info", "sweep", "report"):
+        assert command in result.stdout
