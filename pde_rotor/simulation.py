@@ -82,6 +82,11 @@ class Simulation:
         if t_end <= self.t:
             return
         controller = Controller(self.solver, t_range=(self.t, t_end), tracker=list(trackers))
-        # the Controller evolves a copy of the state and returns it
-        self.state = controller.run(self.state, dt=self.config.grid.dt)
+        # the Controller evolves a copy of the state: keep its result, also when a step
+        # raises (SimulationDivergedError names the time of the failing state it leaves)
+        try:
+            self.state = controller.run(self.state, dt=self.config.grid.dt)
+        except Exception:
+            self.state = controller.diagnostics.get("last_state", self.state)
+            raise
         self.t = float(controller.info["t_final"])

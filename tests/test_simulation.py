@@ -16,6 +16,7 @@ import pytest
 
 from pde_rotor import RotorConfig, Simulation
 from pde_rotor.analysis import stopped_torque
+from pde_rotor.solver import SimulationDivergedError
 
 COARSE = {"grid": {"dx": 0.05, "dt": 4e-4}, "geometry": {"smoothing": 0.05}}
 PAPER: dict = {}
@@ -101,3 +102,12 @@ def test_branch_rejects_another_grid():
     other = RotorConfig.model_validate({**COARSE, "grid": {"dx": 0.04, "dt": 2e-4}})
     with pytest.raises(ValueError, match="grid"):
         sim.branch(other)
+
+
+def test_diverged_run_keeps_the_failing_state():
+    """After SimulationDivergedError the simulation holds the non-finite state, not the start."""
+    config = RotorConfig.model_validate({**COARSE, "rotor": {"omega0": 1e7}})
+    sim = Simulation(config)
+    with pytest.raises(SimulationDivergedError, match="diverged at t ="):
+        sim.run(1.0)
+    assert not np.isfinite(sim.state.data).all()
