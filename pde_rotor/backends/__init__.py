@@ -1,0 +1,121 @@
+"""Compute backends that advance many members (realisations) of the rotor at once.
+
+A *member* is one independent simulation of Eqs. (eqc), (eqv), (eq_motion) with its own
+configuration: parameters (Delta, t_stop, sigma, ...), noise seed, stop schedule and
+initial rotor state. Members of one ensemble share the grid (``grid`` section).
+
+* :mod:`pde_rotor.backends.cpu`: the members one after the other with the fused CPU
+  solver (:class:`pde_rotor.solver.RotorSolver`, driven through its py-pde stepper);
+  the reference the GPU backend is checked against.
+* :mod:`pde_rotor.backends.gpu`: all members in one batched CUDA computation
+  (numba-cuda, fp64), with the same discretisation, stop logic and noise stream.
+
+Both return an :class:`~pde_rotor.backends.ensemble.EnsembleResult`. Nothing here
+imports numba-cuda: :func:`gpu_available` and :func:`run_ensemble` import the GPU
+module only when asked, so ``import pde_rotor`` works on machines without a GPU or
+without the ``gpu`` extra.
+"""
+
+from __future__ import annotations
+
+import importlib
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import numpy as np
+
+from ..config import RotorConfig
+from .ensemble import EnsembleResult, EnsembleState
+
+__all__ = [
+    "EnsembleResult",
+    "EnsembleState",
+    "gpu_available",
+    "gpu_unavailable_reason",
+    "resolve_backend",
+    "run_ensemble",
+]
+
+
+def gpu_unavailable_reason(allow_simulator: bool = False) -> str | None:
+    """Why the GPU backend cannot run here, or None when it can.
+
+    Args:
+        allow_simulator: count numba's CUDA simulator (``NUMBA_ENABLE_CUDASIM=1``) as
+            a GPU (tests); by default only real hardware counts.
+    """
+    try:
+        gpu = importlib.import_module("pde_rotor.backends.gpu")
+    except Exception as err:  # ImportError (no numba-cuda) or a CUDA error at import
+        detail = str(err).splitlines()[0] if str(err) else type(err).__name__
+        return f"numba-cuda is not usable ({detail}); install the gpu extra: pip install '.[gpu]'"
+    return gpu.unavailable_reason(allow_simulator=allow_simulator)
+
+
+def gpu_available(allow_simulator: bool = False) -> bool:
+    """Whether :func:`run_ensemble` can use the GPU backend on this machine."""
+    return gpu_unavailable_reason(allow_simulator=allow_simulator) is None
+
+
+def resolve_backend(requested: str) -> str:
+    """Turn ``cpu | gpu | auto`` (``config.solver.backend``) into ``cpu`` or ``gpu``.
+
+    Raises:
+        RuntimeError: "gpu" was requested and no usable GPU is present (one line).
+        ValueError: unknown backend name.
+    """
+    if requested == "cpu":
+        return "cpu"
+    if requested not in ("gpu", "auto"):
+        msg = f"unknown backend {requested!r} (allowed: cpu, gpu, auto)"
+        raise ValueError(msg)
+    reason = gpu_unavailable_reason()
+    if reason is None:
+        return "gpu"
+    if requested == "auto":
+        return "cpu"
+    msg = f"backend 'gpu' requested but {reason}"
+    raise RuntimeError(msg)
+
+
+def run_ensemble(
+    configs: Sequence[RotorConfig],
+    t_end: float | None = None,
+    *,
+    backend: str = "auto",
+    record_interval: float | None = None,
+    initial: EnsembleState | None = None,
+    rngs: Sequence[np.random.Generator] | None = None,
+    progress: Callable[[int, int], None] | None = None,
+    **options: Any,
+) -> EnsembleResult:
+    """Advance every member of an ensemble to `t_end`; the entry point of sweeps and the CLI.
+
+    Args:
+        configs: one validated configuration per member; all with the same ``grid``.
+        t_end: final time (default: the latest ``protocol.t_end`` of the members);
+            a multiple of ``grid.dt``.
+        backend: ``cpu``, ``gpu`` or ``auto`` (see :func:`resolve_backend`).
+        record_interval: time between rows of phi(t), omega(t), ... (default:
+            ``output.timeseries_interval`` of the first member); a multiple of dt.
+        initial: state to continue from (default: c = v = 0, phi0, omega0 at t = 0).
+        rngs: one numpy Generator per member for the noise (default:
+            ``np.random.default_rng(config.noise.seed)``, as the CPU solver).
+        progress: called as ``progress(steps_done, steps_total)`` between chunks.
+        **options: backend-specific options (GPU: ``threads_per_block``,
+            ``chunk_steps``; see :func:`pde_rotor.backends.gpu.run_ensemble`).
+
+    Returns:
+        The per-member time series, divergence times and final state.
+    """
+    name = resolve_backend(backend)
+    module = importlib.import_module(f"pde_rotor.backends.{name}")
+    return module.run_ensemble(
+        configs,
+        t_end,
+        record_interval=record_interval,
+        initial=initial,
+        rngs=rngs,
+        progress=progress,
+        **options,
+    )

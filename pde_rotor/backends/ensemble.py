@@ -1,0 +1,252 @@
+"""Data shared by the ensemble backends: the batch's state, its plan and its result.
+
+An ensemble is a list of :class:`~pde_rotor.config.RotorConfig`, one per member, that
+share the ``grid`` section. Both backends (:mod:`.cpu`, :mod:`.gpu`) take the same
+arguments, build the same :class:`EnsemblePlan` and return the same
+:class:`EnsembleResult`, so a sweep can switch backends without other changes.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import xarray as xr
+
+from ..config import RotorConfig
+from ..domain import Domain, make_domain
+from ..geometry import RotorShape
+from ..protocol import steps_of
+
+ROTOR_FIELDS = ("phi", "omega", "torque", "friction", "stopped")
+"""Columns of the rotor arrays (the order of :meth:`RotorState.as_array`)."""
+
+
+@dataclass
+class EnsembleState:
+    """Fields and rotor states of all members at one time.
+
+    Attributes:
+        data: (E, 3, n, n) = per member (c, v_x, v_y), the layout of ``state.data``.
+        rotor: (E, 5) = per member [phi, omega, torque, friction, stopped].
+        step: global step index reached (t = step dt), the same for all members.
+    """
+
+    data: np.ndarray
+    rotor: np.ndarray
+    step: int
+
+    @classmethod
+    def initial(cls, configs: Sequence[RotorConfig], domain: Domain) -> EnsembleState:
+        """The paper's initial condition: c = v = 0, phi(0) and omega(0) from each config."""
+        n = domain.coords.size
+        rotor = np.zeros((len(configs), len(ROTOR_FIELDS)))
+        for m, cfg in enumerate(configs):
+            rotor[m, :2] = cfg.rotor.phi0, cfg.rotor.omega0
+        return cls(data=np.zeros((len(configs), 3, n, n)), rotor=rotor, step=0)
+
+
+@dataclass(frozen=True)
+class EnsemblePlan:
+    """What a call of ``run_ensemble`` will do, checked before any step.
+
+    Attributes:
+        configs: one configuration per member.
+        domain: the common grid and loop ranges.
+        dt: common time step.
+        step_start, step_end: global step range [step_start, step_end).
+        record_every: steps between records.
+        record_steps: global steps at which the rotor is recorded: step_start, then every
+            multiple of record_every up to step_end.
+    """
+
+    configs: tuple[RotorConfig, ...]
+    domain: Domain
+    dt: float
+    step_start: int
+    step_end: int
+    record_every: int
+    record_steps: np.ndarray
+
+    @property
+    def n_members(self) -> int:
+        """E, the number of members."""
+        return len(self.configs)
+
+    @property
+    def n_steps(self) -> int:
+        """Number of steps to advance."""
+        return self.step_end - self.step_start
+
+    def record_index(self, step: int) -> int:
+        """Index in :attr:`record_steps` of the record taken after global step `step`."""
+        return int(np.searchsorted(self.record_steps, step))
+
+
+def make_plan(
+    configs: Sequence[RotorConfig],
+    t_end: float | None,
+    record_interval: float | None,
+    initial: EnsembleState | None,
+) -> EnsemblePlan:
+    """Check an ensemble request and turn times into step counts.
+
+    Raises:
+        ValueError: no members, members on different grids, t_end or record_interval
+            not a multiple of dt, t_end before the initial state, or an initial state
+            of the wrong shape.
+    """
+    configs = tuple(configs)
+    if not configs:
+        msg = "an ensemble needs at least one member config"
+        raise ValueError(msg)
+    grid = configs[0].grid
+    for m, cfg in enumerate(configs):
+        if cfg.grid != grid:
+            msg = (
+                f"member {m} has grid {cfg.grid.model_dump()} but member 0 has "
+                f"{grid.model_dump()}: all members of an ensemble share the grid section"
+            )
+            raise ValueError(msg)
+    dt = grid.dt
+    domain = make_domain(grid, RotorShape.from_config(configs[0].geometry))
+    if t_end is None:
+        t_end = max(cfg.protocol.t_end for cfg in configs)
+    step_end = steps_of(t_end, dt)
+    if record_interval is None:
+        record_interval = configs[0].output.timeseries_interval
+    record_every = steps_of(record_interval, dt)
+    if record_every < 1:
+        msg = f"record_interval = {record_interval:g} must be at least dt = {dt:g}"
+        raise ValueError(msg)
+    step_start = 0 if initial is None else int(initial.step)
+    if initial is not None:
+        n = domain.coords.size
+        expected = {"data": (len(configs), 3, n, n), "rotor": (len(configs), len(ROTOR_FIELDS))}
+        for name, shape in expected.items():
+            got = getattr(initial, name).shape
+            if got != shape:
+                msg = f"initial.{name} has shape {got}, expected {shape}"
+                raise ValueError(msg)
+    if step_end < step_start:
+        msg = f"t_end = {t_end:g} lies before the initial state's t = {step_start * dt:g}"
+        raise ValueError(msg)
+    first = (step_start // record_every + 1) * record_every
+    records = np.concatenate(
+        [[step_start], np.arange(first, step_end + 1, record_every, dtype=np.int64)]
+    ).astype(np.int64)
+    return EnsemblePlan(
+        configs=configs,
+        domain=domain,
+        dt=dt,
+        step_start=step_start,
+        step_end=step_end,
+        record_every=record_every,
+        record_steps=records,
+    )
+
+
+def default_rngs(configs: Sequence[RotorConfig]) -> list[np.random.Generator]:
+    """One Generator per member seeded like the CPU solver: ``default_rng(noise.seed)``."""
+    return [np.random.default_rng(cfg.noise.seed) for cfg in configs]
+
+
+def kick_scale(config: RotorConfig) -> float:
+    """Euler-Maruyama factor of the noise, sqrt(2 dt) sigma / I (Eq. (noiseav)); 0: no noise.
+
+    The same expression as :meth:`pde_rotor.solver.FusedStepper.kicks`.
+    """
+    sigma = config.noise.sigma
+    if sigma == 0:
+        return 0.0
+    return math.sqrt(2.0 * config.grid.dt) * sigma / config.rotor.inertia
+
+
+@dataclass
+class EnsembleResult:
+    """Rotor time series of every member of an ensemble.
+
+    Attributes:
+        configs: the member configurations.
+        t: record times, shape (T,).
+        phi, omega: rotor angle and angular velocity after each record step, (E, T).
+        torque, friction: surface-tension torque T, Eq. (torque), and friction torque
+            of Eq. (eq_motion) of the last step before each record, (E, T).
+        stopped: whether that step was in a stop phase, (E, T) bool.
+        diverged_at: per member the time of the step at which the state stopped being
+            finite (NaN: never); records after it are NaN.
+        state: fields and rotor states at the end.
+        backend: "cpu" or "gpu".
+        wall_seconds: wall-clock time of the run (compilation included).
+    """
+
+    configs: tuple[RotorConfig, ...]
+    t: np.ndarray
+    phi: np.ndarray
+    omega: np.ndarray
+    torque: np.ndarray
+    friction: np.ndarray
+    stopped: np.ndarray
+    diverged_at: np.ndarray
+    state: EnsembleState
+    backend: str
+    wall_seconds: float
+
+    @classmethod
+    def from_records(
+        cls,
+        plan: EnsemblePlan,
+        records: np.ndarray,
+        diverged_step: np.ndarray,
+        state: EnsembleState,
+        backend: str,
+        wall_seconds: float,
+    ) -> EnsembleResult:
+        """Build the result from the (E, T, 5) record array and the failing steps (-1: none)."""
+        records = records.copy()
+        diverged_at = np.full(plan.n_members, np.nan)
+        for m, step in enumerate(diverged_step):
+            if step >= 0:
+                diverged_at[m] = step * plan.dt
+                records[m, plan.record_steps > step] = np.nan
+        return cls(
+            configs=plan.configs,
+            t=plan.record_steps * plan.dt,
+            phi=records[..., 0],
+            omega=records[..., 1],
+            torque=records[..., 2],
+            friction=records[..., 3],
+            stopped=records[..., 4] == 1.0,
+            diverged_at=diverged_at,
+            state=state,
+            backend=backend,
+            wall_seconds=wall_seconds,
+        )
+
+    @property
+    def n_members(self) -> int:
+        """E, the number of members."""
+        return len(self.configs)
+
+    def to_dataset(self) -> xr.Dataset:
+        """The time series as an xarray Dataset with dimensions (member, time)."""
+        dims = ("member", "time")
+        data = {
+            "phi": (dims, self.phi, {"long_name": "rotor angle phi", "units": "rad"}),
+            "omega": (dims, self.omega, {"long_name": "angular velocity dphi/dt"}),
+            "torque": (dims, self.torque, {"long_name": "surface tension torque, Eq. (torque)"}),
+            "friction": (dims, self.friction, {"long_name": "friction torque, Eq. (eq_motion)"}),
+            "stopped": (dims, self.stopped, {"long_name": "step in a stop phase"}),
+            "diverged_at": ("member", self.diverged_at, {"long_name": "time of divergence"}),
+            "asymmetry": ("member", [c.geometry.asymmetry for c in self.configs]),
+            "t_stop": ("member", [c.protocol.t_stop for c in self.configs]),
+            "sigma": ("member", [c.noise.sigma for c in self.configs]),
+            "config_hash": ("member", [c.config_hash() for c in self.configs]),
+        }
+        return xr.Dataset(
+            data,
+            coords={"time": self.t, "member": np.arange(self.n_members)},
+            attrs={"backend": self.backend, "wall_seconds": self.wall_seconds},
+        )

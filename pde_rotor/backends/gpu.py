@@ -1,0 +1,550 @@
+"""GPU ensemble backend: E members of the rotor model in one batched CUDA computation.
+
+The same discretisation as the CPU solver (:mod:`pde_rotor.solver`), member by member:
+
+* F and G, the indicators after Eq. (rj), as 1 / (1 + exp(-2 x)) on the support only
+  (:func:`pde_rotor.geometry.update_indicators`), at the angle phi of the step's start;
+* the rotor integrals of Eqs. (eq_motion) and (torque) with central differences for
+  grad c, summed over the support cells with F != 0 and multiplied by dx^2
+  (:func:`pde_rotor.solver.rotor_integrals`);
+* one forward Euler step of Eqs. (eqc) and (eqv) on the interior cells with the 5-point
+  Laplacian and central divergence, every term at the old time level, omega = 0 during
+  a stop, the plate terms added on the support only (:func:`pde_rotor.solver._row_with_flow`,
+  ``_row_without_flow``); without flow v is set to 0 and stays 0;
+* then phi += dt omega, omega += dt (T + friction) / I, plus the Euler-Maruyama kick
+  of Eq. (noiseav), except in a stop phase, where omega stays 0;
+* the stop schedule in integer steps (:func:`pde_rotor.protocol.stopped_at`);
+* the noise: one standard normal per step per member, drawn on the host from a numpy
+  Generator seeded like the CPU solver's (``default_rng(noise.seed)``) in step order,
+  so both backends use the identical noise sequence.
+
+Layout and parallelisation. One thread block advances one member for a whole chunk of
+steps in one kernel launch: members are independent, so a step only needs the block's
+own threads to agree (``syncthreads``), never a grid-wide barrier or a second kernel.
+Each step, the block's threads sweep the member's cells (coalesced along y), compute F
+and G on the fly (no indicator arrays in memory), write the new c, v into the other of
+two buffers and accumulate the three rotor integrals in registers; a tree reduction in
+shared memory (fixed order: bitwise reproducible) and one thread's update of phi and
+omega end the step. Per step and member the kernel reads and writes c, v_x, v_y once
+(48 bytes per interior cell, 2.2 MB at the paper's 242^2 grid).
+
+All arithmetic is fp64. The module imports numba-cuda at import time but compiles
+nothing until the first run; :func:`unavailable_reason` says whether a GPU is present.
+With ``NUMBA_ENABLE_CUDASIM=1`` the kernels run in numba's CUDA simulator on the CPU
+(slowly: for tests on tiny grids).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable, Sequence
+
+import numpy as np
+from numba import cuda, float64
+
+from ..config import RotorConfig
+from ..geometry import X_SATURATION
+from ..model import RotorPDE
+from ..protocol import StopSchedule
+from ..solver import P_A, P_D, P_DETA, P_DT, P_DX, P_ETA, P_ETAB, P_I, P_K, P_MU, P_SRC, P_TSIGN
+from .ensemble import (
+    EnsemblePlan,
+    EnsembleResult,
+    EnsembleState,
+    default_rngs,
+    kick_scale,
+    make_plan,
+)
+
+MAX_CORNERS = 24
+"""Largest N the kernel's shared geometry table holds (the config allows 3..24)."""
+
+# columns of the per-member integer flags
+FLAG_FLOW, FLAG_NOISY = 0, 1
+
+
+def simulator_enabled() -> bool:
+    """Whether numba runs CUDA kernels in its CPU simulator (``NUMBA_ENABLE_CUDASIM=1``)."""
+    from numba.cuda.core import config as cuda_config
+
+    return bool(cuda_config.ENABLE_CUDASIM)
+
+
+def unavailable_reason(allow_simulator: bool = False) -> str | None:
+    """Why no kernel can run here (None: a GPU, or the simulator if allowed, is present)."""
+    if simulator_enabled():
+        return None if allow_simulator else "only numba's CUDA simulator is enabled"
+    try:
+        if not cuda.is_available():
+            return "no CUDA GPU or driver found"
+    except Exception as err:  # driver errors surface as various exception types
+        return f"the CUDA driver failed ({type(err).__name__}: {err})"
+    return None
+
+
+def is_available(allow_simulator: bool = False) -> bool:
+    """Whether a CUDA GPU (or, if allowed, the simulator) can run the kernels."""
+    return unavailable_reason(allow_simulator=allow_simulator) is None
+
+
+@cuda.jit(device=True, inline=True)
+def _logistic(arg):
+    """1/2 (1 + tanh(arg)) as 1 / (1 + exp(-2 arg)), :func:`pde_rotor.geometry._logistic`."""
+    return 1.0 / (1.0 + math.exp(-2.0 * arg))
+
+
+def _advance(
+    buf,
+    coords,
+    interior,
+    rows,
+    support,
+    par,
+    shape,
+    sched,
+    flags,
+    rotor,
+    kicks,
+    records,
+    status,
+    step0,
+    n_steps,
+    parity0,
+    record_every,
+    record0,
+):
+    """Advance every member by `n_steps` fused Euler steps; block m advances member m.
+
+    Args:
+        buf: two state buffers (2, E, 3, n, n) of (c, v_x, v_y), flattened; buffer
+            `parity0` holds the state at step0, the result ends in buffer
+            (parity0 + n_steps) % 2.
+        coords: (n,) cell-centre coordinates.
+        interior: (2, n) column range [lo, hi) of interior cells per row.
+        rows: [i0, i1), the rows holding interior cells.
+        support: (E, 2, n) column range of each member's support of F and G per row
+            (inside the interior ranges).
+        par: (E, 12) float parameters, the solver's P_* layout.
+        shape: (E, 6) :meth:`RotorShape.as_array` per member.
+        sched: (E, 4) :meth:`StopSchedule.as_array` per member.
+        flags: (E, 2) flow enabled, noise on.
+        rotor: (E, 5) [phi, omega, torque, friction, stopped], updated.
+        kicks: (E, n_steps) noise increments of omega (read where noise is on).
+        records: (E, R, 5) receives the rotor after each step that ends on a multiple of
+            `record_every`, at row (step + 1) // record_every - record0.
+        status: (E,) -1, or the step at which the member's state stopped being finite
+            (the member is then left at the start of that step and not advanced again).
+        step0: global index of the first step.
+        n_steps: number of steps.
+        parity0: buffer holding the state at step0.
+        record_every: steps between records.
+        record0: record number of row 0 of `records`.
+    """
+    m = cuda.blockIdx.x
+    tid = cuda.threadIdx.x
+    n_threads = cuda.blockDim.x
+    if status[m] >= 0:
+        return
+    red = cuda.shared.array(0, float64)  # 3 * n_threads partial sums
+    tab = cuda.shared.array((4, MAX_CORNERS), float64)  # edge normals, pill centres
+    rot = cuda.shared.array(6, float64)  # phi, omega, torque, friction, stopped, failed
+
+    dt, dx = par[m, P_DT], par[m, P_DX]
+    inv_dx2 = 1.0 / (dx * dx)
+    inv_2dx = 0.5 / dx
+    area = dx * dx
+    diff, evap, src = par[m, P_D], par[m, P_A], par[m, P_SRC]
+    eta, eta_b, d_eta = par[m, P_ETA], par[m, P_ETAB], par[m, P_DETA]
+    inv_inertia = 1.0 / par[m, P_I]
+    mu = par[m, P_MU]
+    tsign_k = par[m, P_TSIGN] * par[m, P_K]
+    n_corners = int(shape[m, 0])
+    apothem, rho, r_c, asym, delta = shape[m, 1], shape[m, 2], shape[m, 3], shape[m, 4], shape[m, 5]
+    inv_delta = 1.0 / delta
+    reach = rho + X_SATURATION * delta
+    reach2 = reach * reach
+    n_ini, n_stop, n_period, n_cycles = sched[m, 0], sched[m, 1], sched[m, 2], sched[m, 3]
+    flow = flags[m, FLAG_FLOW] != 0
+    noisy = flags[m, FLAG_NOISY] != 0
+    i0, i1 = rows[0], rows[1]
+    lanes = min(n_threads, 32)  # a warp sweeps a row, coalesced along y
+    group = tid // lanes
+    lane = tid % lanes
+    n_groups = n_threads // lanes
+    n = coords.size
+    nn = n * n
+    n_members = status.size
+
+    if tid == 0:
+        for q in range(5):
+            rot[q] = rotor[m, q]
+        rot[5] = 0.0
+    cuda.syncthreads()
+
+    for s in range(n_steps):
+        step = step0 + s
+        p_cur = (parity0 + s) % 2
+        p_nxt = 1 - p_cur
+        # stop schedule, pde_rotor.protocol.stopped_at
+        rel = step - n_ini
+        stopped = rel >= 0 and rel < n_cycles * n_period and rel % n_period < n_stop
+        phi = rot[0]
+        omega = rot[1]
+        if stopped:
+            omega = 0.0
+        # edge normals and pill centres at phi (geometry.update_indicators)
+        for q in range(tid, 2 * n_corners, n_threads):
+            if q < n_corners:
+                a_edge = phi + 2.0 * math.pi * (q + 0.5) / n_corners
+                tab[0, q] = math.cos(a_edge)
+                tab[1, q] = math.sin(a_edge)
+            else:
+                k = q - n_corners
+                a_pill = phi + 2.0 * math.pi * (k + 1) / n_corners + asym
+                tab[2, k] = r_c * math.cos(a_pill)
+                tab[3, k] = r_c * math.sin(a_pill)
+        cuda.syncthreads()
+
+        cross_grad = 0.0
+        moment = 0.0
+        cross_v = 0.0
+        bad = False
+        cur = (p_cur * n_members + m) * 3 * nn  # offset of the member's c in buf
+        nxt = (p_nxt * n_members + m) * 3 * nn
+        for i in range(i0 + group, i1, n_groups):
+            x = coords[i]
+            s_lo = support[m, 0, i]
+            s_hi = support[m, 1, i]
+            for j in range(interior[0, i] + lane, interior[1, i], lanes):
+                on_support = s_lo <= j and j < s_hi
+                y = coords[j]
+                o = cur + i * n + j
+                cc = buf[o]
+                c_e = buf[o + n]
+                c_w = buf[o - n]
+                c_n = buf[o + 1]
+                c_s = buf[o - 1]
+                ux = 0.0
+                uy = 0.0
+                if flow:
+                    ux = buf[o + nn]
+                    uy = buf[o + 2 * nn]
+                f = 0.0
+                g = 0.0
+                if on_support:  # geometry.update_indicators
+                    proj = x * tab[0, 0] + y * tab[1, 0]
+                    for k in range(1, n_corners):
+                        proj = max(proj, x * tab[0, k] + y * tab[1, k])
+                    f = _logistic((apothem - proj) * inv_delta)
+                    for k in range(n_corners):
+                        d2 = (x - tab[2, k]) ** 2 + (y - tab[3, k]) ** 2
+                        if d2 < reach2:
+                            g += _logistic((rho - math.sqrt(d2)) * inv_delta)
+                    if f != 0.0:  # solver.rotor_integrals
+                        dcdx = (c_e - c_w) * inv_2dx
+                        dcdy = (c_n - c_s) * inv_2dx
+                        cross_grad += f * (x * dcdy - y * dcdx)
+                        moment += f * (x * x + y * y)
+                        if flow:
+                            cross_v += f * (x * uy - y * ux)
+                lap_c = c_e + c_w + c_n + c_s
+                if flow:  # solver._row_with_flow
+                    ox = o + nn
+                    oy = o + 2 * nn
+                    ux_e = buf[ox + n]
+                    ux_w = buf[ox - n]
+                    ux_n = buf[ox + 1]
+                    ux_s = buf[ox - 1]
+                    uy_e = buf[oy + n]
+                    uy_w = buf[oy - n]
+                    uy_n = buf[oy + 1]
+                    uy_s = buf[oy - 1]
+                    div_cv = c_e * ux_e - c_w * ux_w + c_n * uy_n - c_s * uy_s
+                    lap_x = ux_e + ux_w + ux_n + ux_s
+                    lap_y = uy_e + uy_w + uy_n + uy_s
+                    rate_c = diff * (lap_c - 4.0 * cc) * inv_dx2 - div_cv * inv_2dx - evap * cc
+                    rate_x = d_eta * (lap_x - 4.0 * ux) * inv_dx2 - eta_b * ux
+                    rate_y = d_eta * (lap_y - 4.0 * uy) * inv_dx2 - eta_b * uy
+                    if on_support:
+                        rate_c += evap * f * cc + src * g
+                        rate_x += eta * f * (-omega * y - ux)
+                        rate_y += eta * f * (omega * x - uy)
+                    new_x = ux + dt * rate_x
+                    new_y = uy + dt * rate_y
+                    buf[nxt + nn + i * n + j] = new_x
+                    buf[nxt + 2 * nn + i * n + j] = new_y
+                    if not (math.isfinite(new_x) and math.isfinite(new_y)):
+                        bad = True
+                else:  # solver._row_without_flow
+                    rate_c = diff * (lap_c - 4.0 * cc) * inv_dx2 - evap * cc
+                    if on_support:
+                        rate_c += evap * f * cc + src * g
+                new_c = cc + dt * rate_c
+                buf[nxt + i * n + j] = new_c
+                if not math.isfinite(new_c):
+                    bad = True
+
+        # block reduction of the rotor integrals in a fixed order
+        red[tid] = cross_grad
+        red[n_threads + tid] = moment
+        red[2 * n_threads + tid] = cross_v
+        if bad:
+            rot[5] = 1.0
+        cuda.syncthreads()
+        half = n_threads // 2
+        while half > 0:
+            if tid < half:
+                red[tid] += red[tid + half]
+                red[n_threads + tid] += red[n_threads + tid + half]
+                red[2 * n_threads + tid] += red[2 * n_threads + tid + half]
+            cuda.syncthreads()
+            half //= 2
+
+        if tid == 0:
+            torque = tsign_k * (red[0] * area)
+            friction = -mu * ((red[n_threads] * area) * omega - red[2 * n_threads] * area)
+            if not (math.isfinite(torque) and math.isfinite(friction)) or rot[5] != 0.0:
+                status[m] = step
+                rot[1] = omega
+                rot[5] = 1.0
+            else:
+                if not stopped:
+                    phi += dt * omega
+                    omega += dt * (friction + torque) * inv_inertia
+                    if noisy:
+                        omega += kicks[m, s]
+                rot[0] = phi
+                rot[1] = omega
+                rot[2] = torque
+                rot[3] = friction
+                rot[4] = 1.0 if stopped else 0.0
+                if (step + 1) % record_every == 0:
+                    row_out = (step + 1) // record_every - record0
+                    for q in range(5):
+                        records[m, row_out, q] = rot[q]
+        cuda.syncthreads()
+        if rot[5] != 0.0:
+            # diverged: leave the member at the start of this step in both buffers
+            for i in range(i0 + group, i1, n_groups):
+                for j in range(interior[0, i] + lane, interior[1, i], lanes):
+                    for ch in range(3):
+                        buf[nxt + ch * nn + i * n + j] = buf[cur + ch * nn + i * n + j]
+            break
+
+    cuda.syncthreads()
+    if tid == 0:
+        for q in range(5):
+            rotor[m, q] = rot[q]
+
+
+_KERNELS: dict[tuple[int, int], Callable] = {}
+
+
+def advance_kernel(threads_per_block: int, min_blocks_per_sm: int = 0) -> Callable:
+    """The kernel for a block size and launch bound (compiled on its first launch).
+
+    Args:
+        threads_per_block: threads per block (the launch bound the compiler may assume).
+        min_blocks_per_sm: if > 0, ask the compiler to fit this many blocks on one
+            multiprocessor (fewer registers per thread, possibly spills); 0: its choice.
+    """
+    key = (threads_per_block, min_blocks_per_sm)
+    if key not in _KERNELS:
+        if simulator_enabled():
+            _KERNELS[key] = cuda.jit(_advance)
+        else:
+            bounds = (threads_per_block, min_blocks_per_sm) if min_blocks_per_sm else None
+            _KERNELS[key] = cuda.jit(launch_bounds=bounds)(_advance)
+    return _KERNELS[key]
+
+
+def _member_arrays(plan: EnsemblePlan) -> dict[str, np.ndarray]:
+    """Per-member parameters packed for the kernel (one row per member)."""
+    n = plan.domain.coords.size
+    n_members = plan.n_members
+    par = np.empty((n_members, 12))
+    shape = np.empty((n_members, 6))
+    sched = np.empty((n_members, 4), dtype=np.int64)
+    flags = np.zeros((n_members, 2), dtype=np.int64)
+    support = np.empty((n_members, 2, n), dtype=np.int64)
+    models: dict[str, RotorPDE] = {}  # members often share all but seed and protocol
+    for m, cfg in enumerate(plan.configs):
+        key = cfg.model_dump_json(include={"geometry", "camphor", "flow", "rotor", "grid"})
+        pde = models.get(key)
+        if pde is None:
+            pde = models[key] = RotorPDE(cfg)
+        par[m] = pde.kernel_parameters(plan.dt)
+        shape[m] = pde.shape.as_array()
+        sched[m] = StopSchedule.from_config(cfg.protocol, plan.dt).as_array()
+        flags[m, FLAG_FLOW] = int(cfg.flow.enabled)
+        flags[m, FLAG_NOISY] = int(cfg.noise.sigma != 0)
+        support[m, 0] = pde.domain.support_lo
+        support[m, 1] = pde.domain.support_hi
+        if pde.shape.n_corners > MAX_CORNERS:
+            msg = f"member {m}: n_corners = {pde.shape.n_corners} > {MAX_CORNERS}"
+            raise ValueError(msg)
+    return {"par": par, "shape": shape, "sched": sched, "flags": flags, "support": support}
+
+
+def _interior_rows(plan: EnsemblePlan, support: np.ndarray) -> np.ndarray:
+    """[i0, i1): the rows with interior cells; checks that every support lies inside them.
+
+    :func:`pde_rotor.domain.make_domain` guarantees that the support of F and G (radius
+    R + 20 delta / cos(pi/N)) lies inside the interior; the kernel relies on it.
+
+    Raises:
+        ValueError: if a support cell is not an interior cell.
+    """
+    dom = plan.domain
+    used = np.nonzero(dom.interior_hi > dom.interior_lo)[0]
+    has_support = support[:, 1] > support[:, 0]
+    outside = (support[:, 0] < dom.interior_lo) | (support[:, 1] > dom.interior_hi)
+    if np.any(has_support & outside):
+        msg = (
+            "the support of F and G (radius R + 20 delta / cos(pi/N)) leaves the interior "
+            f"cells; increase grid.domain_radius above {dom.radius:g}"
+        )
+        raise ValueError(msg)
+    return np.array([used[0], used[-1] + 1], dtype=np.int64)
+
+
+def _draw_kicks(
+    rngs: Sequence[np.random.Generator], scales: np.ndarray, n_steps: int
+) -> np.ndarray:
+    """(E, n_steps) noise increments, each member's in step order from its own Generator."""
+    kicks = np.zeros((scales.size, max(n_steps, 1)))
+    for m, scale in enumerate(scales):
+        if scale != 0.0:
+            kicks[m, :n_steps] = scale * rngs[m].standard_normal(n_steps)
+    return kicks
+
+
+def run_ensemble(
+    configs: Sequence[RotorConfig],
+    t_end: float | None = None,
+    *,
+    record_interval: float | None = None,
+    initial: EnsembleState | None = None,
+    rngs: Sequence[np.random.Generator] | None = None,
+    progress: Callable[[int, int], None] | None = None,
+    threads_per_block: int = 256,
+    min_blocks_per_sm: int | None = None,
+    chunk_steps: int = 20_000,
+    allow_simulator: bool = True,
+) -> EnsembleResult:
+    """Advance every member on the GPU (arguments: :func:`pde_rotor.backends.run_ensemble`).
+
+    Args:
+        configs: one configuration per member (common ``grid`` section).
+        t_end: final time (default: latest protocol end).
+        record_interval: time between records (default: ``output.timeseries_interval``).
+        initial: state to continue from.
+        rngs: one Generator per member (default: ``default_rng(noise.seed)``).
+        progress: ``progress(steps_done, steps_total)`` after every launch.
+        threads_per_block: threads advancing one member (a power of two <= 1024;
+            a multiple of 32 on a GPU).
+        min_blocks_per_sm: launch bound passed to the compiler (see
+            :func:`advance_kernel`); 0: none; default: 512 // threads_per_block (at
+            least 1), which caps the kernel at 128 registers per thread (ptxas, sm_90:
+            165 registers unbounded, 128 with 52 bytes of spills at (256, 2)).
+        chunk_steps: steps per kernel launch; the host draws the next chunk's noise
+            while the GPU runs the current one.
+        allow_simulator: accept numba's CUDA simulator (``NUMBA_ENABLE_CUDASIM=1``).
+
+    Raises:
+        RuntimeError: no GPU (and no simulator if allowed).
+        ValueError: invalid request (see :func:`~pde_rotor.backends.ensemble.make_plan`).
+    """
+    wall = time.perf_counter()
+    reason = unavailable_reason(allow_simulator=allow_simulator)
+    if reason is not None:
+        raise RuntimeError(f"GPU backend unavailable: {reason}")
+    if not 1 <= threads_per_block <= 1024 or threads_per_block & (threads_per_block - 1):
+        msg = f"threads_per_block = {threads_per_block}: must be a power of two in 1..1024"
+        raise ValueError(msg)
+    if chunk_steps < 1:
+        raise ValueError(f"chunk_steps = {chunk_steps} must be >= 1")
+    plan = make_plan(configs, t_end, record_interval, initial)
+    rngs = default_rngs(plan.configs) if rngs is None else list(rngs)
+    if len(rngs) != plan.n_members:
+        raise ValueError(f"{len(rngs)} generators for {plan.n_members} members")
+    state = initial if initial is not None else EnsembleState.initial(plan.configs, plan.domain)
+    host = _member_arrays(plan)
+    rows = _interior_rows(plan, host["support"])
+    scales = np.array([kick_scale(cfg) for cfg in plan.configs])
+    dom = plan.domain
+    n_members = plan.n_members
+
+    start = np.array(state.data, dtype=np.float64)  # a copy, C-contiguous
+    for m, cfg in enumerate(plan.configs):
+        if not cfg.flow.enabled:  # as solver.advance: v = 0 without flow
+            start[m, 1:] = 0.0
+    size = start.size
+    d_buf = cuda.device_array(2 * size)  # both buffers start as the initial state
+    d_buf[:size].copy_to_device(start.reshape(-1))
+    d_buf[size:].copy_to_device(start.reshape(-1))
+    d_coords = cuda.to_device(dom.coords)
+    d_interior = cuda.to_device(np.stack([dom.interior_lo, dom.interior_hi]).astype(np.int64))
+    d_rows = cuda.to_device(rows)
+    d_host = {key: cuda.to_device(value) for key, value in host.items()}
+    d_rotor = cuda.to_device(state.rotor.copy())
+    d_status = cuda.to_device(np.full(n_members, -1, dtype=np.int64))
+    records = np.full((n_members, plan.record_steps.size, 5), np.nan)
+    records[:, 0] = state.rotor
+    if min_blocks_per_sm is None:
+        min_blocks_per_sm = max(1, 512 // threads_per_block)
+    kernel = advance_kernel(threads_per_block, min_blocks_per_sm)[
+        n_members, threads_per_block, 0, 3 * threads_per_block * 8
+    ]
+
+    step, parity = plan.step_start, 0
+    kicks = _draw_kicks(rngs, scales, min(chunk_steps, plan.step_end - step))
+    while step < plan.step_end:
+        n_steps = min(chunk_steps, plan.step_end - step)
+        first = step // plan.record_every + 1
+        last = (step + n_steps) // plan.record_every
+        d_records = cuda.to_device(np.full((n_members, max(last - first + 1, 1), 5), np.nan))
+        kernel(
+            d_buf,
+            d_coords,
+            d_interior,
+            d_rows,
+            d_host["support"],
+            d_host["par"],
+            d_host["shape"],
+            d_host["sched"],
+            d_host["flags"],
+            d_rotor,
+            cuda.to_device(kicks),
+            d_records,
+            d_status,
+            step,
+            n_steps,
+            parity,
+            plan.record_every,
+            first,
+        )
+        upcoming = min(chunk_steps, plan.step_end - step - n_steps)
+        if upcoming > 0:  # drawn on the host while the GPU works
+            kicks = _draw_kicks(rngs, scales, upcoming)
+        if last >= first:
+            r0 = plan.record_index(first * plan.record_every)
+            records[:, r0 : r0 + last - first + 1] = d_records.copy_to_host()[:, : last - first + 1]
+        step += n_steps
+        parity = (parity + n_steps) % 2
+        if progress is not None:
+            progress(step - plan.step_start, plan.n_steps)
+
+    status = d_status.copy_to_host()
+    final = EnsembleState(
+        data=d_buf[parity * size : (parity + 1) * size].copy_to_host().reshape(start.shape),
+        rotor=d_rotor.copy_to_host(),
+        step=plan.step_end,
+    )
+    return EnsembleResult.from_records(
+        plan, records, status, final, "gpu", time.perf_counter() - wall
+    )
+
+
+__all__ = ["is_available", "run_ensemble", "simulator_enabled", "unavailable_reason"]
