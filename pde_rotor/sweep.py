@@ -61,7 +61,7 @@ import xarray as xr
 import yaml
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
-from .config import RotorConfig
+from .config import ConfigError, RotorConfig, parse_yaml, read_config_data, validate_config
 from .simulation import Simulation
 from .stats import (
     CCW,
@@ -226,12 +226,9 @@ def _set_key(data: dict[str, Any], key: str, value: Any) -> None:
 
 def _validate(data: Mapping[str, Any], where: str) -> RotorConfig:
     try:
-        return RotorConfig.model_validate(copy.deepcopy(dict(data)))
-    except ValidationError as err:
-        first = err.errors()[0]
-        loc = ".".join(str(p) for p in first["loc"])
-        msg = f"{where}: invalid configuration: {loc}: {first['msg']}"
-        raise SweepError(msg) from None
+        return validate_config(copy.deepcopy(dict(data)))
+    except ConfigError as err:
+        raise SweepError(f"{where}: {err}") from None
 
 
 @dataclass(frozen=True)
@@ -284,11 +281,9 @@ class Sweep:
             if not path.is_absolute() and root is not None:
                 path = root / path
             try:
-                base = yaml.safe_load(path.read_text(encoding="utf-8")) or {}
-            except (OSError, yaml.YAMLError) as err:
-                msg = f"base config {str(path)!r} cannot be read: {err}"
-                raise SweepError(msg) from None
-            base.pop("provenance", None)
+                base = read_config_data(path)
+            except ConfigError as err:
+                raise SweepError(f"base: {err}") from None
         else:
             base = copy.deepcopy(spec.base)
         for key, value in spec.set.items():
@@ -306,10 +301,12 @@ class Sweep:
         if path.is_dir():
             path = path / SPEC_FILE
         try:
-            data = yaml.safe_load(path.read_text(encoding="utf-8"))
-        except (OSError, yaml.YAMLError) as err:
+            data = parse_yaml(path.read_text(encoding="utf-8"), source=str(path))
+        except OSError as err:
             msg = f"sweep file {str(path)!r} cannot be read: {err}"
             raise SweepError(msg) from None
+        except ConfigError as err:
+            raise SweepError(str(err)) from None
         try:
             spec = SweepSpec.model_validate(data)
         except ValidationError as err:

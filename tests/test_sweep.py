@@ -276,3 +276,23 @@ def test_sweep_config_validates_like_a_run_config():
     for run in sweep.runs():
         cfg = RotorConfig.model_validate(run.config)
         assert cfg.noise.seed == run.config["noise"]["seed"]
+
+
+SWEEPS = Path(__file__).resolve().parents[1] / "configs" / "sweeps"
+FIGURES = ("fig5", "fig7a", "fig7b", "fig7c", "fig8", "fig9")
+
+
+@pytest.mark.parametrize("name", FIGURES)
+def test_figure_sweeps_have_a_quick_coarse_and_a_full_paper_variant(name):
+    full = Sweep.load(SWEEPS / f"{name}.yaml")
+    quick = Sweep.load(SWEEPS / f"{name}_quick.yaml")
+    paper = RotorConfig()
+    assert full.base["grid"]["dx"] == paper.grid.dx and full.base["grid"]["dt"] == paper.grid.dt
+    assert quick.base["grid"]["dx"] > paper.grid.dx
+    assert list(full.axes) == list(quick.axes)
+    for key in full.axes:  # the quick grid is coarser
+        assert len(quick.axes[key]) <= len(full.axes[key])
+    assert len(quick.runs()) < len(full.runs())
+    assert full.spec.estimator.kind == quick.spec.estimator.kind == "restart"
+    # the paper counts M = 100 stops per point; the full variants at least as many
+    assert 2 * full.spec.samples >= paper.protocol.cycles
