@@ -1,0 +1,590 @@
+"""Shared helpers of the gallery scripts: fidelities, configs, sweeps, saving and captions.
+
+Every gallery script reproduces one figure of Koyano, Kitahata, Nakata & Gorecki, Chaos 30
+(2020) (or adds a page the paper does not have) at one of three fidelities:
+
+* ``full`` (default): the paper's resolution from configs/ (dx = delta = 0.025,
+  dt = 1e-4, domain radius 3) and the paper's protocol (t_ini = t_release = 10, M = 100);
+* ``quick`` (``--quick``): the coarse grid of configs/quickstart.yaml (dx = delta = 0.05,
+  dt = 4e-4) and short protocols, so that all figures together run in minutes;
+* ``tiny`` (``--tiny``): the coarse grid on a small domain (radius 1.75) with very short
+  times, only to prove in CI that a script runs end to end; its images mean nothing.
+
+Figures are written as PNG and PDF to gallery/output/ (or ``--out``); every figure carries
+a footer that states the fidelity it was computed at (dx, dt, delta, samples, backend).
+"""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import math
+import os
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import xarray as xr
+from matplotlib.figure import Figure
+
+from pde_rotor.config import RotorConfig, load_config, read_config_data
+from pde_rotor.stats import wilson_interval
+
+GALLERY = Path(__file__).resolve().parent
+"""The gallery directory (scripts, committed PNGs, README)."""
+ROOT = GALLERY.parent
+"""Repository root."""
+CONFIGS = ROOT / "configs"
+"""Run configurations read by the scripts."""
+SWEEPS = CONFIGS / "sweeps"
+"""Sweep specifications of the probability figures (``pde-rotor sweep``)."""
+DATA = ROOT / "data"
+"""Stored sweep reports (NetCDF written by :func:`pde_rotor.sweep.report`)."""
+SWEEP_RUNS = ROOT / "runs" / "sweeps"
+"""Where sweeps run by the gallery keep their results (the CLI's default: resumable)."""
+OUTPUT = GALLERY / "output"
+"""Default output directory (gitignored)."""
+SCHEDULER: str | None = None
+"""Dask scheduler address for the sweeps (``--scheduler``); None: a LocalCluster per sweep."""
+
+PAPER_CONFIG = CONFIGS / "paper_fig4a.yaml"
+"""Paper-resolution config of the symmetric rotor (Delta = 0): base of Fig. 3 and the movie."""
+QUICK_CONFIG = CONFIGS / "quickstart.yaml"
+"""Source of the coarse grid used by the quick and tiny fidelities."""
+
+TINY_DOMAIN_RADIUS = 1.75
+"""Domain radius of the tiny fidelity: the support of F and G (radius 1.655 at delta = 0.05)
+stays inside the disk (the config rejects smaller domains)."""
+
+_logger = logging.getLogger("gallery")
+
+
+@dataclass(frozen=True)
+class Fidelity:
+    """How a gallery figure is computed.
+
+    Attributes:
+        name: "full", "quick" or "tiny".
+        grid: ``key.path=value`` overrides of grid and smoothing (empty: the config's own).
+        protocol: overrides of the stop-and-release protocol for the time-series figures
+            (Figs. 4 and 6; empty: the config's own, the paper's t_ini = t_release = 10 and
+            M = 100).
+        spinup: time of free rotation before a steady state is used (Fig. 3, movie).
+        sweep_variant: which variant of a figure's sweep to run when no stored report
+            exists ("" for the full sweep file, "_quick" for the quick one).
+    """
+
+    name: str
+    grid: tuple[str, ...] = ()
+    protocol: tuple[str, ...] = ()
+    spinup: float = 10.0
+    sweep_variant: str = ""
+
+    @property
+    def is_tiny(self) -> bool:
+        """Whether this is the CI smoke-test size."""
+        return self.name == "tiny"
+
+    def config(self, path: str | Path = PAPER_CONFIG, *overrides: str) -> RotorConfig:
+        """Load a config from configs/ with this fidelity's grid and the given overrides.
+
+        Output trackers that write files (movie, snapshots) and the progress bar are off:
+        the gallery runs in memory.
+        """
+        return load_config(
+            path,
+            [
+                *self.grid,
+                *overrides,
+                "output.progress=false",
+                "output.movie=false",
+                "output.snapshot_interval=null",
+            ],
+        )
+
+
+def _quick_grid() -> tuple[str, ...]:
+    """The coarse grid of configs/quickstart.yaml as overrides (one home for the numbers)."""
+    data = read_config_data(QUICK_CONFIG)
+    grid, geometry = data.get("grid", {}), data.get("geometry", {})
+    return (
+        f"grid.dx={grid['dx']!r}",
+        f"grid.dt={grid['dt']!r}",
+        f"geometry.smoothing={geometry['smoothing']!r}",
+    )
+
+
+def fidelity(name: str) -> Fidelity:
+    """The :class:`Fidelity` called `name` ("full", "quick" or "tiny")."""
+    if name == "full":
+        return Fidelity("full")
+    quick = _quick_grid()
+    if name == "quick":
+        return Fidelity(
+            "quick",
+            grid=quick,
+            protocol=("protocol.t_ini=6.0", "protocol.t_release=6.0", "protocol.cycles=6"),
+            spinup=8.0,
+            sweep_variant="_quick",
+        )
+    if name == "tiny":
+        return Fidelity(
+            "tiny",
+            grid=(*quick, f"grid.domain_radius={TINY_DOMAIN_RADIUS}"),
+            protocol=("protocol.t_ini=1.0", "protocol.t_release=1.0", "protocol.cycles=2"),
+            spinup=1.0,
+            sweep_variant="_quick",
+        )
+    msg = f"unknown fidelity {name!r} (allowed: full, quick, tiny)"
+    raise ValueError(msg)
+
+
+def parse_args(
+    description: str,
+    argv: Sequence[str] | None = None,
+    extra: Callable[[argparse.ArgumentParser], None] | None = None,
+) -> argparse.Namespace:
+    """Command line shared by the scripts: ``[--quick | --tiny] [--out DIR]``.
+
+    The namespace gets ``fidelity`` (a :class:`Fidelity`) and ``out`` (a Path, created).
+    """
+    parser = argparse.ArgumentParser(description=description)
+    mode = parser.add_mutually_exclusive_group()
+    mode.add_argument(
+        "--quick", action="store_true", help="coarse grid, short protocol, few samples"
+    )
+    mode.add_argument(
+        "--tiny", action="store_true", help="smoke-test size (CI): tiny domain, seconds"
+    )
+    parser.add_argument(
+        "--out", type=Path, default=OUTPUT, help=f"output directory [default: {OUTPUT}]"
+    )
+    parser.add_argument(
+        "--scheduler",
+        default=None,
+        help="address of a running dask scheduler for the sweeps [default: a LocalCluster]",
+    )
+    if extra is not None:
+        extra(parser)
+    args = parser.parse_args(argv)
+    args.fidelity = fidelity("tiny" if args.tiny else "quick" if args.quick else "full")
+    global SCHEDULER
+    SCHEDULER = args.scheduler
+    args.out.mkdir(parents=True, exist_ok=True)
+    logging.basicConfig(level=logging.INFO, format="%(name)s: %(message)s")
+    for name in ("pde", "distributed"):  # py-pde's per-run and dask's cluster INFO lines
+        logging.getLogger(name).setLevel(logging.WARNING)
+    return args
+
+
+# ---------------------------------------------------------------------------------------
+# captions and saving
+# ---------------------------------------------------------------------------------------
+
+
+def grid_label(config: RotorConfig) -> str:
+    """``dx = 0.05, dt = 0.0004, delta = 0.05, L = 3``."""
+    g = config.grid
+    return (
+        f"dx = {g.dx:.4g}, dt = {g.dt:.3g}, \u03b4 = {config.geometry.smoothing:.4g}, "
+        f"L = {g.domain_radius:g}"
+    )
+
+
+CPU_BACKEND = "cpu (numba fused kernel)"
+"""Backend label of everything the gallery computes (single runs and sweeps run on CPU)."""
+
+
+def fidelity_label(
+    fid: Fidelity, config: RotorConfig | None, detail: str = "", backend: str | None = CPU_BACKEND
+) -> str:
+    """Footer text: fidelity, grid, noise, backend and any detail (samples, M)."""
+    parts = [f"pde_rotor, {fid.name} fidelity"]
+    if config is not None:
+        parts.append(grid_label(config))
+        parts.append(f"\u03c3 = {config.noise.sigma:g}")
+    if detail:
+        parts.append(detail)
+    if backend:
+        parts.append(f"backend {backend}")
+    return "; ".join(parts)
+
+
+def add_footer(fig: Figure, text: str) -> None:
+    """Write the fidelity footer at the bottom of `fig`."""
+    fig.text(0.5, 0.005, text, ha="center", va="bottom", fontsize=7, color="0.3", wrap=True)
+
+
+def save(fig: Figure, out: Path, name: str, dpi: int = 110) -> list[Path]:
+    """Write `fig` as out/name.png and out/name.pdf (atomically: temporary name, rename).
+
+    Returns:
+        The two paths.
+    """
+    paths = []
+    for suffix in ("png", "pdf"):
+        path = out / f"{name}.{suffix}"
+        tmp = path.with_name(f".{path.name}.part")
+        fig.savefig(tmp, format=suffix, dpi=dpi)
+        os.replace(tmp, path)
+        paths.append(path)
+        _logger.info("wrote %s", path)
+    return paths
+
+
+def new_figure(width: float, height: float) -> Figure:
+    """A pyplot-free Figure with constrained layout and room for the footer."""
+    fig = Figure(figsize=(width, height), layout="constrained")
+    fig.get_layout_engine().set(rect=(0, 0.03, 1, 0.97))
+    return fig
+
+
+# ---------------------------------------------------------------------------------------
+# sweeps and probabilities
+# ---------------------------------------------------------------------------------------
+
+
+@dataclass
+class SweepData:
+    """A sweep report and where it came from.
+
+    Attributes:
+        report: Dataset of :func:`pde_rotor.sweep.report` (P, P_low, P_high, stops, ...).
+        source: file or directory it was read from or computed into.
+        computed: whether the gallery ran the sweep (False: a stored report).
+    """
+
+    report: xr.Dataset
+    source: Path
+    computed: bool
+
+    def label(self) -> str:
+        """Fidelity of the report: estimator, samples, grid."""
+        attrs = self.report.attrs
+        stops = self.report["stops"].values
+        n = (
+            f"{int(np.min(stops))}"
+            if np.min(stops) == np.max(stops)
+            else (f"{int(np.min(stops))}-{int(np.max(stops))}")
+        )
+        base = attrs.get("base_config", "{}")
+        sigma = _base_value(base, ("noise", "sigma"), 0.0)
+        smoothing = _base_value(base, ("geometry", "smoothing"), math.nan)
+        radius = _base_value(base, ("grid", "domain_radius"), 3.0)
+        return (
+            f"sweep {attrs.get('sweep', '?')}: {attrs.get('estimator', '?')} estimator, "
+            f"{n} stops per point; dx = {float(attrs.get('grid_dx', math.nan)):.4g}, "
+            f"dt = {float(attrs.get('grid_dt', math.nan)):.3g}, \u03b4 = {smoothing:.4g}, "
+            f"L = {radius:g}, \u03c3 = {sigma:g}"
+        )
+
+
+def _base_value(base_json: str, keys: tuple[str, ...], default: float) -> float:
+    import json
+
+    try:
+        node: Any = json.loads(base_json)
+        for key in keys:
+            node = node[key]
+        return float(node)
+    except (ValueError, KeyError, TypeError):
+        return default
+
+
+def sweep_file(name: str, fid: Fidelity) -> Path:
+    """The sweep specification configs/sweeps/<name><variant>.yaml for this fidelity.
+
+    Raises:
+        FileNotFoundError: the statistics module provides no such sweep.
+    """
+    path = SWEEPS / f"{name}{fid.sweep_variant}.yaml"
+    if not path.exists():
+        msg = f"{path} not found: the sweeps of the probability figures live in {SWEEPS}"
+        raise FileNotFoundError(msg)
+    return path
+
+
+def stored_reports(name: str) -> list[Path]:
+    """Stored reports of sweep `name` under data/ (any variant), best fidelity first.
+
+    A report is a NetCDF file whose name (or directory name) is `name` or starts with
+    `name` followed by "_" or "-"; the finest grid is preferred, then more stops.
+    """
+    if not DATA.is_dir():
+        return []
+    found = []
+    for path in DATA.rglob("*.nc"):
+        label = path.stem if path.stem != "report" else path.parent.name
+        if label == name or label.startswith((f"{name}_", f"{name}-")):
+            found.append(path)
+
+    def rank(path: Path) -> tuple[float, float]:
+        """Finer grid first, then more stops per point."""
+        try:
+            with xr.open_dataset(path, engine="h5netcdf") as ds:
+                return (float(ds.attrs.get("grid_dx", math.inf)), -float(ds["stops"].min()))
+        except (OSError, ValueError, KeyError):
+            return (math.inf, 0.0)
+
+    return sorted(found, key=rank)
+
+
+def tiny_sweep(spec_path: Path, work: Path) -> Any:
+    """A smoke-test version of a sweep file: tiny domain, two values per axis, 1 sample.
+
+    The base, estimator kind, axes keys and seed are those of the file; only sizes and
+    times shrink, so the tiny run exercises the same code path as the real one.
+    """
+    import yaml
+
+    from pde_rotor.sweep import Sweep, SweepSpec
+
+    data = yaml.safe_load(spec_path.read_text(encoding="utf-8"))
+    spec = SweepSpec.model_validate(data)
+    sweep = Sweep.from_spec(spec, root=spec_path.parent)
+    tiny = fidelity("tiny")
+    base = dict(sweep.base)
+    for text in tiny.grid:
+        key, value = text.split("=")
+        _set(base, key, float(value))
+    _set(base, "protocol.t_ini", 1.0)
+    _set(base, "protocol.t_release", 1.0)
+    _set(base, "protocol.cycles", 2)
+    axes = {}
+    for key, values in sweep.axes.items():
+        picked = [values[0], values[-1]] if len(values) > 1 else list(values)
+        if key == "protocol.t_stop":  # short stops on the tiny time scale
+            picked = [0.4, 0.8][: len(picked)]
+        axes[key] = picked
+    estimator = spec.estimator.model_dump(mode="json")
+    if estimator.get("kind") == "restart":
+        estimator.update(warmup=2.0, release_cap=1.6, check_interval=0.04)
+    new = SweepSpec.model_validate(
+        {
+            "name": f"{spec.name}_tiny",
+            "base": base,
+            "axes": axes,
+            "estimator": estimator,
+            "samples": 1,
+            "seed": spec.seed,
+        }
+    )
+    return Sweep.from_spec(new)
+
+
+def _set(data: dict[str, Any], key: str, value: Any) -> None:
+    parts = key.split(".")
+    node = data
+    for part in parts[:-1]:
+        node = node.setdefault(part, {})
+    node[parts[-1]] = value
+
+
+def sweep_data(name: str, fid: Fidelity, out: Path) -> SweepData:
+    """The report of sweep `name` (e.g. "fig5") at fidelity `fid`.
+
+    * full and quick: a stored report from data/ if there is one (the best fidelity
+      stored, which the footer names); otherwise the sweep configs/sweeps/<name>.yaml
+      (full) or <name>_quick.yaml (quick) is run through :func:`pde_rotor.sweep.run_sweep`
+      into runs/sweeps/<file stem> (resumable: a rerun continues where it stopped) and
+      its report is written there;
+    * tiny: a shrunken copy of the quick sweep (:func:`tiny_sweep`) run into
+      `out`/sweeps/.
+    """
+    from pde_rotor.sweep import REPORT_FILE, report, run_sweep
+
+    if not fid.is_tiny:
+        for path in stored_reports(name):
+            with xr.open_dataset(path, engine="h5netcdf") as ds:
+                _logger.info("%s: stored report %s", name, path)
+                return SweepData(ds.load(), path, computed=False)
+    spec_path = sweep_file(name, fid)
+    if fid.is_tiny:
+        sweep: Any = tiny_sweep(spec_path, out)
+        sweep_dir = out / "sweeps" / f"{name}_tiny"
+        workers = 1
+    else:
+        from pde_rotor.sweep import Sweep
+
+        sweep = Sweep.load(spec_path)
+        sweep_dir = SWEEP_RUNS / spec_path.stem
+        workers = None
+    _logger.info("%s: running sweep %s into %s", name, spec_path, sweep_dir)
+    outcome = run_sweep(
+        sweep, sweep_dir, scheduler=SCHEDULER, workers=workers, progress=not fid.is_tiny
+    )
+    if outcome.failed:
+        key, message = outcome.failed[0]
+        msg = f"sweep {spec_path}: {len(outcome.failed)} runs failed, e.g. {key}: {message}"
+        raise RuntimeError(msg)
+    ds = report(sweep_dir, echo=not fid.is_tiny)
+    return SweepData(ds, sweep_dir / REPORT_FILE, computed=True)
+
+
+def errorbar_p(ax: Any, x: np.ndarray, ds: xr.Dataset, **kwargs: Any) -> None:
+    """Plot P with its 95 % interval (P_low, P_high) as error bars against `x`."""
+    p = np.asarray(ds["P"].values, dtype=float)
+    lo = np.asarray(ds["P_low"].values, dtype=float)
+    hi = np.asarray(ds["P_high"].values, dtype=float)
+    yerr = np.vstack([np.clip(p - lo, 0, None), np.clip(hi - p, 0, None)])
+    ax.errorbar(x, p, yerr=yerr, capsize=3, **kwargs)
+
+
+def probability_axes(ax: Any, xlabel: str) -> None:
+    """Axis styling shared by the probability figures."""
+    ax.set_ylim(-0.05, 1.05)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel("inversion probability P")
+    ax.axhline(0.5, color="0.6", lw=0.7, ls=":")
+    ax.grid(alpha=0.3)
+
+
+def format_p(ds: xr.Dataset) -> str:
+    """``P = 0.83 [0.66, 0.93] (k/n)`` for a scalar (one-point) selection of a report."""
+    p, lo, hi = (float(ds[v]) for v in ("P", "P_low", "P_high"))
+    return f"P = {p:.2f} [{lo:.2f}, {hi:.2f}] ({int(ds['inversions'])}/{int(ds['stops'])})"
+
+
+def wilson_text(k: int, n: int) -> str:
+    """``k/n, 95 % CI [lo, hi]``."""
+    lo, hi = wilson_interval(k, n)
+    return f"{k}/{n}, 95 % CI [{lo:.2f}, {hi:.2f}]"
+
+
+# ---------------------------------------------------------------------------------------
+# time series (Figs. 4 and 6)
+# ---------------------------------------------------------------------------------------
+
+
+def timeseries_figure(
+    title: str, panels: Sequence[tuple[str, Path]], fid: Fidelity
+) -> tuple[Figure, list[str]]:
+    """phi(t) (row 1) and omega(t) (row 2) of one run per column, stops shaded.
+
+    Each config (a paper config from configs/) is run by :func:`pde_rotor.api.run` in
+    memory, with the fidelity's grid and protocol.
+
+    Args:
+        title: figure title.
+        panels: (panel letter, config path) per column.
+        fid: fidelity.
+
+    Returns:
+        The figure and one summary line per panel (inversions with the Wilson interval).
+    """
+    from pde_rotor.api import run
+    from pde_rotor.plotting import stop_intervals
+
+    fig = new_figure(5.2 * len(panels), 6.4)
+    axes = fig.subplots(2, len(panels), squeeze=False, sharex="col")
+    lines = []
+    config = None
+    walls = []
+    for col, (letter, path) in enumerate(panels):
+        config = fid.config(path, *fid.protocol)
+        result = run(config, progress=False)
+        walls.append(result.wall_time)
+        ts = result.timeseries
+        t = ts["time"].values
+        events = result.events
+        n = int(events.sizes.get("cycle", 0))
+        k = int(events["inverted"].values.sum()) if n else 0
+        committed = int(events["committed"].values.sum()) if n else 0
+        p = config.protocol
+        summary = f"({letter}) t_stop = {p.t_stop:g}: inversions {wilson_text(k, n)}" + (
+            f", {n - committed} not committed" if committed < n else ""
+        )
+        lines.append(summary)
+        for row, (name, label) in enumerate(
+            (("phi", "angle \u03c6 [rad]"), ("omega", "angular velocity d\u03c6/dt"))
+        ):
+            ax = axes[row, col]
+            for a, b in stop_intervals(config, float(t[-1]) if t.size else None):
+                ax.axvspan(a, b, color="tab:red", alpha=0.25, lw=0)
+            ax.plot(t, ts[name].values, color="k", lw=0.8)
+            ax.grid(alpha=0.3)
+            if col == 0:
+                ax.set_ylabel(f"({row + 1}) {label}")
+        axes[0, col].set_title(
+            f"({letter}) t_stop = {p.t_stop:g}, \u0394 = {config.geometry.asymmetry:g}: "
+            f"{k}/{n} inverted",
+            fontsize=10,
+        )
+        axes[1, col].set_xlabel("time t (stops shaded)")
+        if result.status != "completed":
+            axes[0, col].text(
+                0.02, 0.95, f"run {result.status}", transform=axes[0, col].transAxes, color="r"
+            )
+    fig.suptitle(title, fontsize=11)
+    assert config is not None
+    p = config.protocol
+    add_footer(
+        fig,
+        fidelity_label(
+            fid,
+            config,
+            f"t_ini = {p.t_ini:g}, t_release = {p.t_release:g}, M = {p.cycles} cycles per run; "
+            f"wall {sum(walls):.0f} s",
+        ),
+    )
+    return fig, lines
+
+
+def curve(ds: xr.Dataset, x_dim: str, **fixed: float) -> xr.Dataset:
+    """One curve of a report: every dimension but `x_dim` fixed.
+
+    Dimensions of length one are squeezed; others must be given in `fixed` (nearest value).
+
+    Raises:
+        ValueError: `x_dim` is missing or another dimension is left free.
+    """
+    if x_dim not in ds.dims:
+        msg = f"report has no dimension {x_dim!r} (dimensions: {', '.join(ds.dims) or 'none'})"
+        raise ValueError(msg)
+    if fixed:
+        ds = ds.sel(fixed, method="nearest")
+    extra = [d for d in ds.dims if d != x_dim]
+    free = [d for d in extra if ds.sizes[d] > 1]
+    if free:
+        msg = f"report dimension(s) {', '.join(free)} must be fixed to draw P against {x_dim}"
+        raise ValueError(msg)
+    return ds.squeeze(extra, drop=False) if extra else ds
+
+
+def draw_conditionals(ax: Any, x: np.ndarray, ds: xr.Dataset) -> None:
+    """Faint P(inversion | CCW) and P(inversion | CW): the two directions of the chain."""
+    for name, marker, label in (("P_ccw", "^", "from CCW"), ("P_cw", "v", "from CW")):
+        if name in ds and np.isfinite(ds[name].values).any():
+            ax.plot(
+                x,
+                ds[name].values,
+                marker,
+                ms=4,
+                ls="none",
+                alpha=0.45,
+                color="0.35",
+                label=f"P(inv | {label})",
+            )
+
+
+def probability_footer(fid: Fidelity, data: SweepData) -> str:
+    """Footer of a probability figure: the report's fidelity and where it came from."""
+    where = "computed now" if data.computed else f"stored: {_relative(data.source)}"
+    interval = (
+        "Wilson score"
+        if data.report.attrs.get("estimator") == "protocol"
+        else "two-state chain of the 97.5 % Wilson bounds of P(inv | CCW), P(inv | CW)"
+    )
+    return (
+        f"pde_rotor, {fid.name} run of the gallery; {data.label()}; {where}; "
+        f"95 % interval: {interval}; backend {CPU_BACKEND}"
+    )
+
+
+def _relative(path: Path) -> str:
+    try:
+        return str(path.resolve().relative_to(ROOT))
+    except ValueError:
+        return str(path)

@@ -1,0 +1,68 @@
+"""Paper Fig. 5: inversion probability P against t_stop for the symmetric rotor (Delta = 0).
+
+Reads the report of the sweep ``fig5`` (:func:`pde_rotor.sweep.report`): a stored one
+from data/ if present, else it runs configs/sweeps/fig5.yaml (full) or fig5_quick.yaml
+(``--quick``) through :mod:`pde_rotor.sweep` (``--tiny``: a shrunken copy). P is drawn
+with its 95 % interval, and faintly the conditional probabilities from CCW and CW
+rotation. The paper: P = 1 for small t_stop, decaying near t_stop = 1.4 to 0.5.
+
+Run: ``python gallery/fig5_probability.py [--quick | --tiny]``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+from _common import (
+    add_footer,
+    curve,
+    draw_conditionals,
+    errorbar_p,
+    new_figure,
+    parse_args,
+    probability_axes,
+    probability_footer,
+    save,
+    sweep_data,
+)
+
+NAME = "fig5_probability"
+SWEEP = "fig5"
+PAPER_DECAY = 1.4
+"""t_stop near which the paper's P decays ("It decayed around t_stop = 1.4")."""
+
+
+def main(argv: Sequence[str] | None = None) -> list[Path]:
+    """Load or run the sweep, write Fig. 5 as PNG and PDF."""
+    args = parse_args(__doc__.splitlines()[0], argv)
+    data = sweep_data(SWEEP, args.fidelity, args.out)
+    ds = curve(data.report, "t_stop")
+    x = ds["t_stop"].values
+    fig = new_figure(7.0, 5.0)
+    ax = fig.subplots()
+    errorbar_p(ax, x, ds, fmt="o-", color="tab:red", label="P (95 % CI)")
+    draw_conditionals(ax, x, ds)
+    ax.axvline(PAPER_DECAY, color="0.6", ls="--", lw=0.8, label="paper: decay near 1.4")
+    probability_axes(ax, "stop duration t_stop")
+    ax.legend(fontsize=8)
+    ax.set_title(
+        "Fig. 5: symmetric rotor (\u0394 = 0); paper: P = 1 for small t_stop, "
+        "\u2192 0.5 for long stops",
+        fontsize=10,
+    )
+    add_footer(fig, probability_footer(args.fidelity, data))
+    for t, p, lo, hi, n in zip(
+        x,
+        ds["P"].values,
+        ds["P_low"].values,
+        ds["P_high"].values,
+        ds["stops"].values,
+        strict=True,
+    ):
+        print(f"{NAME}: t_stop = {t:g}: P = {p:.3f} [{lo:.3f}, {hi:.3f}] ({int(n)} stops)")
+    return save(fig, args.out, NAME)
+
+
+if __name__ == "__main__":
+    main()

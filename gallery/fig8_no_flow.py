@@ -1,0 +1,77 @@
+"""Paper Fig. 8: inversion probability without the surface flow (v = 0).
+
+P against t_stop for Delta = 0, 2e-5 and 1e-4 with v = 0 in Eqs. (eqc) and (eq_motion)
+(sweep ``fig8``: a stored report from data/ if present, else configs/sweeps/fig8.yaml or
+fig8_quick.yaml through :mod:`pde_rotor.sweep`; ``--tiny``: a shrunken copy). Markers as
+in the paper: red closed circles Delta = 0, green open triangles 2e-5, blue open squares
+1e-4. The paper: no systematic inversion for any t_stop; random direction for Delta = 0,
+always the favourable direction for 1e-4, the favourable one with probability 0.8 for
+2e-5.
+
+Run: ``python gallery/fig8_no_flow.py [--quick | --tiny]``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+from _common import (
+    add_footer,
+    curve,
+    errorbar_p,
+    new_figure,
+    parse_args,
+    probability_axes,
+    probability_footer,
+    save,
+    sweep_data,
+)
+
+NAME = "fig8_no_flow"
+SWEEP = "fig8"
+STYLES = {
+    0.0: {"fmt": "o-", "color": "tab:red"},
+    2e-5: {"fmt": "^-", "color": "tab:green", "mfc": "white"},
+    1e-4: {"fmt": "s-", "color": "tab:blue", "mfc": "white"},
+}
+
+
+def main(argv: Sequence[str] | None = None) -> list[Path]:
+    """Load or run the sweep, write Fig. 8 as PNG and PDF."""
+    args = parse_args(__doc__.splitlines()[0], argv)
+    data = sweep_data(SWEEP, args.fidelity, args.out)
+    report = data.report
+    deltas = report["asymmetry"].values if "asymmetry" in report.dims else [None]
+    fig = new_figure(7.0, 5.0)
+    ax = fig.subplots()
+    for delta in deltas:
+        ds = curve(report, "t_stop", **({} if delta is None else {"asymmetry": delta}))
+        value = float(ds["asymmetry"]) if "asymmetry" in ds.coords else 0.0
+        style = STYLES.get(value, {"fmt": "d-", "color": "0.3"})
+        x = ds["t_stop"].values
+        errorbar_p(ax, x, ds, label=f"\u0394 = {value:g}", **style)
+        for t, p, lo, hi, n in zip(
+            x,
+            ds["P"].values,
+            ds["P_low"].values,
+            ds["P_high"].values,
+            ds["stops"].values,
+            strict=True,
+        ):
+            print(
+                f"{NAME}: Delta = {value:g}, t_stop = {t:g}: P = {p:.3f} [{lo:.3f}, {hi:.3f}] "
+                f"({int(n)} stops)"
+            )
+    probability_axes(ax, "stop duration t_stop")
+    ax.legend(fontsize=8)
+    ax.set_title(
+        "Fig. 8: no flow (v = 0); paper: no systematic inversion for any t_stop",
+        fontsize=10,
+    )
+    add_footer(fig, probability_footer(args.fidelity, data))
+    return save(fig, args.out, NAME)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,185 @@
+"""The gallery: every script runs end to end at the tiny size and writes its figure.
+
+All gallery scripts run once (module fixture) through :func:`pde_rotor.gallery.run_gallery`
+with ``tiny=True``: the coarse grid on a domain of radius 1.75, times of about one unit,
+one restart per direction and point for the probability sweeps (shrunken copies of
+configs/sweeps/<fig>_quick.yaml, run on one in-process dask cluster). The images mean
+nothing at this size; the tests prove that every script reads its configs and sweeps,
+computes, and writes a PNG and a PDF (and the movie an mp4 and a GIF).
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+from typer.testing import CliRunner
+
+from pde_rotor.cli import app
+from pde_rotor.gallery import (
+    GalleryError,
+    gallery_dir,
+    load_script,
+    publish_files,
+    run_gallery,
+    scripts,
+    select,
+)
+
+PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+EXPECTED = (
+    "convergence",
+    "fig1_geometry",
+    "fig3_fields",
+    "fig4_timeseries",
+    "fig5_probability",
+    "fig6_timeseries",
+    "fig7_probability",
+    "fig8_no_flow",
+    "fig9_map",
+    "movie_inversion",
+)
+"""The figures the issue asks for (paper Figs. 1, 3-9, the movie, the convergence page)."""
+
+
+@pytest.fixture(scope="module")
+def tiny_gallery(tmp_path_factory):
+    """Every gallery script at the tiny size, written into one directory."""
+    out = tmp_path_factory.mktemp("gallery")
+    return run_gallery(False, None, out, tiny=True)
+
+
+def test_every_figure_has_a_script():
+    assert tuple(scripts()) == EXPECTED
+
+
+@pytest.mark.parametrize("name", EXPECTED)
+def test_script_writes_png_and_pdf(tiny_gallery, name):
+    assert name not in tiny_gallery.failed, tiny_gallery.failed.get(name)
+    png = tiny_gallery.out / f"{name}.png"
+    pdf = tiny_gallery.out / f"{name}.pdf"
+    assert png in tiny_gallery.files[name]
+    assert pdf in tiny_gallery.files[name]
+    assert png.read_bytes()[:8] == PNG_SIGNATURE
+    assert pdf.read_bytes()[:5] == b"%PDF-"
+    assert png.stat().st_size > 10_000  # a drawn figure, not an empty canvas
+    assert not list(tiny_gallery.out.glob(".*.part"))  # atomic writes finished
+
+
+def test_movie_writes_mp4_and_gif(tiny_gallery):
+    out = tiny_gallery.out
+    mp4 = (out / "movie_inversion.mp4").read_bytes()
+    assert mp4[4:8] == b"ftyp"  # ISO base media file
+    from PIL import Image
+
+    with Image.open(out / "movie_inversion.gif") as gif:
+        assert gif.format == "GIF"
+        assert gif.n_frames > 5
+
+
+def test_probability_reports_hold_intervals(tiny_gallery):
+    """The tiny sweeps give P inside its 95 % interval, with the stops counted."""
+    reports = sorted((tiny_gallery.out / "sweeps").glob("*/report.nc"))
+    names = {p.parent.name for p in reports}
+    assert {"fig5_tiny", "fig7a_tiny", "fig7b_tiny", "fig7c_tiny", "fig8_tiny"} <= names
+    assert "fig9_tiny" in names
+    for path in reports:
+        with xr.open_dataset(path, engine="h5netcdf") as ds:
+            p, lo, hi = ds["P"].values, ds["P_low"].values, ds["P_high"].values
+            done = np.isfinite(p)
+            assert done.any()
+            assert np.all(lo[done] <= p[done] + 1e-12)
+            assert np.all(p[done] <= hi[done] + 1e-12)
+            assert np.all(ds["stops"].values > 0)
+
+
+def test_convergence_table(tiny_gallery):
+    """The convergence page writes its numbers; the lattice torque vanishes at phi = 0."""
+    rows = (tiny_gallery.out / "convergence.csv").read_text().splitlines()
+    assert rows[0].startswith("quantity,dx,dt,value")
+    omegas = [r for r in rows if r.startswith("omega")]
+    assert len(omegas) >= 2
+    assert all(float(r.split(",")[3]) > 0 for r in omegas)  # CCW spin-up from omega0 > 0
+
+
+def test_select_matches_prefixes_and_rejects_unknown_names():
+    names = list(EXPECTED)
+    assert select(names, None) == names
+    assert select(names, ["fig5"]) == ["fig5_probability"]
+    assert select(names, ["movie", "fig1"]) == ["fig1_geometry", "movie_inversion"]
+    with pytest.raises(GalleryError, match="'fig'"):  # a prefix must end at "_"
+        select(names, ["fig"])
+    with pytest.raises(GalleryError, match="fig2"):
+        select(names, ["fig2"])
+
+
+def test_cli_rejects_unknown_figure_with_exit_code_2():
+    result = CliRunner().invoke(app, ["gallery", "--tiny", "--only", "fig2"])
+    assert result.exit_code == 2
+    assert "fig2" in result.output
+
+
+def test_tiny_images_are_never_published(tmp_path):
+    with pytest.raises(GalleryError, match="tiny"):
+        run_gallery(False, ["fig1"], tmp_path, tiny=True, publish=True)
+
+
+def test_publish_copies_png_and_gif_only(tmp_path, monkeypatch):
+    target = tmp_path / "gallery"
+    target.mkdir()
+    files = []
+    for name in ("a.png", "a.pdf", "b.gif", "b.mp4"):
+        path = tmp_path / name
+        path.write_bytes(b"x")
+        files.append(path)
+    copied = publish_files(files, target)
+    assert sorted(p.name for p in copied) == ["a.png", "b.gif"]
+    assert sorted(p.name for p in target.iterdir()) == ["a.png", "b.gif"]
+
+
+def test_fidelity_footer_names_grid_and_samples():
+    module = load_script(gallery_dir() / "fig1_geometry.py")
+    common = sys.modules["_common"]
+    assert module.NAME == "fig1_geometry"
+    quick = common.fidelity("quick")
+    config = quick.config(common.PAPER_CONFIG)
+    label = common.fidelity_label(quick, config, "M = 6")
+    assert "dx = 0.05" in label
+    assert "dt = 0.0004" in label
+    assert "M = 6" in label
+    full = common.fidelity("full").config(common.PAPER_CONFIG)
+    assert (full.grid.dx, full.grid.dt) == (0.025, 1e-4)  # the paper's resolution
+
+
+def test_stored_report_is_preferred(tiny_gallery, tmp_path, monkeypatch):
+    """With a report under data/, quick mode reads it instead of running the sweep."""
+    common = sys.modules["_common"]
+    source = tiny_gallery.out / "sweeps" / "fig5_tiny" / "report.nc"
+    data = tmp_path / "data" / "fig5_quick"
+    data.mkdir(parents=True)
+    (data / "report.nc").write_bytes(source.read_bytes())
+    monkeypatch.setattr(common, "DATA", tmp_path / "data")
+    monkeypatch.setattr(common, "SWEEPS", tmp_path / "no_sweeps")  # running would fail
+    found = common.sweep_data("fig5", common.fidelity("quick"), tmp_path)
+    assert not found.computed
+    assert found.source == data / "report.nc"
+    assert "stops per point" in found.label()
+
+
+def test_curve_requires_the_other_axes_fixed(tiny_gallery):
+    common = sys.modules["_common"]
+    path = tiny_gallery.out / "sweeps" / "fig9_tiny" / "report.nc"
+    with xr.open_dataset(path, engine="h5netcdf") as ds:
+        with pytest.raises(ValueError, match="asymmetry"):
+            common.curve(ds, "t_stop")
+        one = common.curve(ds, "t_stop", asymmetry=0.0)
+        assert one["P"].dims == ("t_stop",)
+        with pytest.raises(ValueError, match="no dimension"):
+            common.curve(ds, "sigma")
+
+
+def test_gallery_dir_is_the_checkout():
+    assert gallery_dir() == Path(__file__).resolve().parent.parent / "gallery"
