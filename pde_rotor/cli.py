@@ -217,6 +217,10 @@ _register_sweep(app)  # pde-rotor sweep / report (issue 5)
 
 register_sweep_commands(app)
 
+from .cli_gallery import register as _register_gallery  # noqa: E402
+
+_register_gallery(app)  # pde-rotor gallery (issue 7)
+
 
 def main() -> None:
     """Entry point equivalent to the ``pde-rotor`` script."""
