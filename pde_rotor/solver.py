@@ -384,7 +384,8 @@ class RotorSolver(SolverBase):
         if dt > limit:
             msg = f"dt = {dt:g} exceeds the explicit stability limit {limit:.4g}"
             raise ValueError(msg)
-        self.info.update(dt=float(dt), steps=0, dt_adaptive=False, stochastic=False)
+        stochastic = self.pde.config.noise.sigma > 0
+        self.info.update(dt=float(dt), steps=0, dt_adaptive=False, stochastic=stochastic)
         self.info["backend"] = "numba (fused rotor kernel)"
         fused = make_fused_stepper(self.pde, dt, self.rng)
         self.fused = fused
