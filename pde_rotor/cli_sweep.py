@@ -43,7 +43,7 @@ def register(app: typer.Typer) -> None:
         quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
     ) -> None:
         """Run SWEEP on dask (resumable: finished runs are skipped), then write the report."""
-        from .sweep import Sweep, SweepError, report, run_sweep
+        from .sweep import Sweep, SweepError, report, run_sweep, usable_cores
 
         try:
             spec = Sweep.load(sweep)
@@ -52,7 +52,11 @@ def register(app: typer.Typer) -> None:
             raise typer.Exit(2) from None
         sweep_dir = out if out is not None else DEFAULT_ROOT / sweep.stem
         n_runs = len(spec.runs())
-        where = scheduler or f"LocalCluster ({workers or 'all usable'} workers)"
+        if scheduler:
+            where = f"the dask scheduler at {scheduler}"
+        else:
+            n = workers or usable_cores()
+            where = f"a LocalCluster of {n} worker process{'es' if n > 1 else ''}"
         typer.echo(f"pde-rotor: sweep {sweep} ({n_runs} runs) on {where} -> {sweep_dir}", err=True)
         try:
             outcome = run_sweep(

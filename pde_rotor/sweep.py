@@ -619,18 +619,24 @@ class SweepOutcome:
     sweep_dir: Path
 
 
+def usable_cores() -> int:
+    """CPU cores this process may run on (all cores where affinity is unknown)."""
+    affinity = getattr(os, "sched_getaffinity", None)
+    return len(affinity(0)) if affinity is not None else os.cpu_count() or 1
+
+
 def _start_client(scheduler: str | None, workers: int | None) -> tuple[Any, Any]:
     """A dask Client on the given scheduler, or on a new LocalCluster of processes."""
     from distributed import Client, LocalCluster
 
     if scheduler:
         return Client(scheduler), None
-    n = workers or len(os.sched_getaffinity(0))
+    n = workers or usable_cores()
     cluster = LocalCluster(
         n_workers=n,
         threads_per_worker=1,
         processes=True,
-        dashboard_address=None,
+        dashboard_address=":0",  # any free port: several sweeps may run side by side
         silence_logs=40,
     )
     return Client(cluster), cluster

@@ -296,3 +296,28 @@ def test_figure_sweeps_have_a_quick_coarse_and_a_full_paper_variant(name):
     assert full.spec.estimator.kind == quick.spec.estimator.kind == "restart"
     # the paper counts M = 100 stops per point; the full variants at least as many
     assert 2 * full.spec.samples >= paper.protocol.cycles
+
+
+def test_cli_sweep_and_report(two_worker_sweep, tmp_path):
+    from typer.testing import CliRunner
+
+    from pde_rotor.cli import app
+
+    sweep_dir, ds = two_worker_sweep
+    runner = CliRunner()
+    # a finished sweep: nothing to compute (no cluster is started), the report is printed
+    result = runner.invoke(app, ["sweep", str(sweep_dir / "sweep.yaml"), "-o", str(sweep_dir)])
+    assert result.exit_code == 0, result.output
+    assert "12 already done, 0 computed, 0 failed" in result.output
+    assert format_table(ds) in result.output
+    target = tmp_path / "copy.nc"
+    result = runner.invoke(app, ["report", str(sweep_dir), "--out", str(target)])
+    assert result.exit_code == 0, result.output
+    xr.testing.assert_identical(xr.load_dataset(target, engine="h5netcdf"), ds)
+    bad = write_sweep(tmp_path / "bad.yaml", {**TINY_SWEEP, "axes": {"protocol.t_stopp": [1]}})
+    result = runner.invoke(app, ["sweep", str(bad), "-o", str(tmp_path / "never")])
+    assert result.exit_code == 2
+    assert "error: protocol.t_stopp" in result.output
+    assert not (tmp_path / "never").exists()
+    result = runner.invoke(app, ["report", str(tmp_path)])
+    assert result.exit_code == 2 and "not a sweep directory" in result.output
