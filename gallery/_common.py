@@ -20,6 +20,7 @@ import argparse
 import logging
 import math
 import os
+import textwrap
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -54,6 +55,9 @@ PAPER_CONFIG = CONFIGS / "paper_fig4a.yaml"
 QUICK_CONFIG = CONFIGS / "quickstart.yaml"
 """Source of the coarse grid used by the quick and tiny fidelities."""
 
+QUICK_SWEEP_SAMPLES = 10
+"""Restarts per direction and point of the sweeps the quick gallery runs itself (20 stops
+per point): all six probability sweeps then take about 10 minutes on 2 cores."""
 TINY_DOMAIN_RADIUS = 1.75
 """Domain radius of the tiny fidelity: the support of F and G (radius 1.655 at delta = 0.05)
 stays inside the disk (the config rejects smaller domains)."""
@@ -74,6 +78,10 @@ class Fidelity:
         spinup: time of free rotation before a steady state is used (Fig. 3, movie).
         sweep_variant: which variant of a figure's sweep to run when no stored report
             exists ("" for the full sweep file, "_quick" for the quick one).
+        sweep_samples: at most this many restarts per direction and point when the
+            gallery runs a sweep itself (None: the sweep file's ``samples``). The runs are
+            the first ones of the sweep file's (same seeds, same run files), so a later
+            ``pde-rotor sweep`` of the file into the same directory reuses them.
     """
 
     name: str
@@ -81,6 +89,7 @@ class Fidelity:
     protocol: tuple[str, ...] = ()
     spinup: float = 10.0
     sweep_variant: str = ""
+    sweep_samples: int | None = None
 
     @property
     def is_tiny(self) -> bool:
@@ -128,6 +137,7 @@ def fidelity(name: str) -> Fidelity:
             protocol=("protocol.t_ini=6.0", "protocol.t_release=6.0", "protocol.cycles=6"),
             spinup=8.0,
             sweep_variant="_quick",
+            sweep_samples=QUICK_SWEEP_SAMPLES,
         )
     if name == "tiny":
         return Fidelity(
@@ -212,9 +222,19 @@ def fidelity_label(
     return "; ".join(parts)
 
 
-def add_footer(fig: Figure, text: str) -> None:
-    """Write the fidelity footer at the bottom of `fig`."""
-    fig.text(0.5, 0.005, text, ha="center", va="bottom", fontsize=7, color="0.3", wrap=True)
+def add_footer(fig: Figure, text: str, fontsize: float = 7.0) -> None:
+    """Write the fidelity footer at the bottom of `fig`, wrapped, with room reserved for it.
+
+    Each line of `text` is a paragraph, wrapped to the figure width; the constrained layout
+    keeps the axes above the footer.
+    """
+    width = max(40, int(fig.get_figwidth() * 72 / (0.55 * fontsize)))
+    lines = [line for para in text.splitlines() for line in (textwrap.wrap(para, width) or [""])]
+    height = (len(lines) * 1.25 * fontsize / 72 + 0.08) / fig.get_figheight()
+    engine = fig.get_layout_engine()
+    if engine is not None:
+        engine.set(rect=(0, height, 1, 1 - height))
+    fig.text(0.5, 0.005, "\n".join(lines), ha="center", va="bottom", fontsize=fontsize, color="0.3")
 
 
 def save(fig: Figure, out: Path, name: str, dpi: int = 110) -> list[Path]:
@@ -387,9 +407,10 @@ def sweep_data(name: str, fid: Fidelity, out: Path) -> SweepData:
 
     * full and quick: a stored report from data/ if there is one (the best fidelity
       stored, which the footer names); otherwise the sweep configs/sweeps/<name>.yaml
-      (full) or <name>_quick.yaml (quick) is run through :func:`pde_rotor.sweep.run_sweep`
-      into runs/sweeps/<file stem> (resumable: a rerun continues where it stopped) and
-      its report is written there;
+      (full) or <name>_quick.yaml (quick, with at most ``fid.sweep_samples`` restarts per
+      direction and point) is run through :func:`pde_rotor.sweep.run_sweep` into
+      runs/sweeps/<file stem> (resumable: a rerun continues where it stopped; the
+      directory ``pde-rotor sweep`` uses by default) and its report is written there;
     * tiny: a shrunken copy of the quick sweep (:func:`tiny_sweep`) run into
       `out`/sweeps/.
     """
@@ -409,6 +430,9 @@ def sweep_data(name: str, fid: Fidelity, out: Path) -> SweepData:
         from pde_rotor.sweep import Sweep
 
         sweep = Sweep.load(spec_path)
+        if fid.sweep_samples is not None and sweep.spec.samples > fid.sweep_samples:
+            fewer = sweep.spec.model_copy(update={"samples": fid.sweep_samples})
+            sweep = Sweep.from_spec(fewer)
         sweep_dir = SWEEP_RUNS / spec_path.stem
         workers = None
     _logger.info("%s: running sweep %s into %s", name, spec_path, sweep_dir)

@@ -116,7 +116,7 @@ def plan(fid: Fidelity) -> Plan:
             pairs=PAPER_PAIRS[:3],
             t_omega=T_OMEGA,
             torque_dx=tuple(p[0] for p in PAPER_PAIRS),
-            angles=12,
+            angles=24,
             sweep_pairs=PAPER_PAIRS[:2],
             t_stops=POINTS_T_STOP,
             deltas=POINTS_DELTA,
@@ -339,12 +339,13 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
         )
     ax_p.set_xticks(slots, [f"dx = {dx:.4g}\ndt = {dt:g}" for dx, dt in pairs])
     ax_p.set_xlim(-0.5, len(pairs) - 0.5)
-    ax_p.set_ylim(-0.05, 1.05)
+    ax_p.set_ylim(-0.05, 1.35)
+    ax_p.set_yticks(np.linspace(0, 1, 6))
     ax_p.set_xlabel("grid (\u03b4 = dx), dt on the paper ratio")
     ax_p.set_ylabel("inversion probability P (95 % CI)")
     n_stops = f"{min(samples)}" + (f"-{max(samples)}" if max(samples) > min(samples) else "")
     ax_p.set_title(f"(d) inversions, restart estimator, {n_stops} stops per point", fontsize=10)
-    ax_p.legend(fontsize=8)
+    ax_p.legend(fontsize=8, loc="upper center", ncols=2)
     ax_p.grid(alpha=0.3)
     fig.suptitle("Convergence: \u03c9, lattice torque and inversions against dx (\u03b4 = dx)")
     config = grid_config(fid, 0.05, 4e-4)

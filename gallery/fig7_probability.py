@@ -18,6 +18,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from _common import (
+    add_footer,
     curve,
     draw_conditionals,
     errorbar_p,
@@ -68,9 +69,8 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
                 f"({int(n)} stops)"
             )
     fig.suptitle("Fig. 7: inversion probability of asymmetric rotors", fontsize=11)
-    fig.get_layout_engine().set(rect=(0, 0.09, 1, 0.91))
-    # one footer line per panel: the three sweeps may come at different fidelities
-    fig.text(0.01, 0.005, "\n".join(footers), fontsize=6.5, color="0.3", va="bottom")
+    # one footer paragraph per panel: the three sweeps may come at different fidelities
+    add_footer(fig, "\n".join(footers), fontsize=6.5)
     return save(fig, args.out, NAME)
 
 

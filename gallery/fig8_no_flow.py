@@ -45,12 +45,13 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     deltas = report["asymmetry"].values if "asymmetry" in report.dims else [None]
     fig = new_figure(7.0, 5.0)
     ax = fig.subplots()
-    for delta in deltas:
+    for k, delta in enumerate(deltas):
         ds = curve(report, "t_stop", **({} if delta is None else {"asymmetry": delta}))
         value = float(ds["asymmetry"]) if "asymmetry" in ds.coords else 0.0
         style = STYLES.get(value, {"fmt": "d-", "color": "0.3"})
         x = ds["t_stop"].values
-        errorbar_p(ax, x, ds, label=f"\u0394 = {value:g}", **style)
+        dodge = 0.03 * (k - (len(deltas) - 1) / 2)  # keep the error bars apart
+        errorbar_p(ax, x + dodge, ds, label=f"\u0394 = {value:g}", **style)
         for t, p, lo, hi, n in zip(
             x,
             ds["P"].values,

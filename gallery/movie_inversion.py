@@ -4,11 +4,12 @@ The symmetric rotor of configs/paper_fig4a.yaml (Delta = 0) spins up freely, is 
 once for t_stop = 0.5 and released. The movie shows the camphor concentration c of
 Eq. (eqc) with the surface flow v of Eq. (eqv) as arrows
 (:class:`pde_rotor.plotting.RotorFrame`) next to omega(t), Eq. (eq_motion). While the
-plate turns, frames are 0.002 time units apart (at omega = 176 the hexagon turns 0.35 rad
-per frame, below half its symmetry angle pi/3, so the eye sees the true direction); during
-the stop, 0.01 apart. Written: movie_inversion.mp4 (ffmpeg of imageio-ffmpeg),
-movie_inversion.gif (small, for the README; Pillow) and movie_inversion.png/.pdf, four
-frames of the movie side by side.
+plate turns, frames are 0.002 (before the stop) and 0.0025 (after the release) time units
+apart: at omega = 176 the hexagon turns at most 0.44 rad per frame, below half its symmetry
+angle pi/3, so the eye sees the true direction; during the stop, 0.01 apart. Written:
+movie_inversion.mp4 (ffmpeg of imageio-ffmpeg),
+movie_inversion.gif (small, for the README; Pillow) and movie_inversion.png/.pdf: three
+frames (steady rotation, a fifth into the stop, the last frame) with omega(t).
 
 Run: ``python gallery/movie_inversion.py [--quick | --tiny]``.
 """
@@ -34,7 +35,9 @@ NAME = "movie_inversion"
 T_STOP = 0.5
 """Duration of the stop (the paper's Fig. 4(a))."""
 ROTATING_FRAME_DT = 0.002
-"""Time between frames while the plate turns (see module docstring)."""
+"""Time between frames of the steady rotation (see module docstring)."""
+RELEASED_FRAME_DT = 0.0025
+"""Time between frames after the release."""
 STOPPED_FRAME_DT = 0.01
 """Time between frames during the stop."""
 BEFORE = 0.06
@@ -62,10 +65,11 @@ def frame_times(config, fid_tiny: bool) -> np.ndarray:
     p = config.protocol
     scale = 10.0 if fid_tiny else 1.0
     t_stop, t_release = p.t_ini, p.t_ini + p.t_stop
+    after = 2 * p.t_stop if fid_tiny else AFTER
     segments = [
         Segment(t_stop - BEFORE, t_stop, ROTATING_FRAME_DT * scale),
         Segment(t_stop, t_release, STOPPED_FRAME_DT * scale),
-        Segment(t_release, t_release + (AFTER if not fid_tiny else 2 * p.t_stop), 0.0025 * scale),
+        Segment(t_release, t_release + after, RELEASED_FRAME_DT * scale),
     ]
     steps: list[int] = []
     for seg in segments:
@@ -79,7 +83,8 @@ class MovieFigure:
     """c and v on the left, omega(t) on the right; :meth:`draw` renders one frame."""
 
     def __init__(self, config, coords: np.ndarray, t_range: tuple[float, float], w_max: float):
-        self.fig = Figure(figsize=(9.6, 4.8), dpi=100, layout="constrained")
+        self.fig = Figure(figsize=(8.0, 4.0), dpi=120, layout="constrained")
+        self.fig.get_layout_engine().set(wspace=0.06)
         self.canvas = FigureCanvasAgg(self.fig)
         ax_f, self.ax_w = self.fig.subplots(1, 2, width_ratios=[1.15, 1])
         self.frame = RotorFrame(RotorShape.from_config(config.geometry), coords, 1.5, ax=ax_f)
@@ -182,7 +187,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     p = config.protocol
     marks = {
         "steady rotation": p.t_ini - 0.02 * (10 if fid.is_tiny else 1),
-        "end of the stop": p.t_ini + p.t_stop,
+        "during the stop": p.t_ini + p.t_stop / 5,
         "released": float(times[-1]),
     }
     for t in times:
