@@ -558,6 +558,25 @@ def execute(run: Run) -> dict[str, Any]:
 # ---------------------------------------------------------------------------------------
 
 
+def _read_umask() -> int:
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
+_UMASK = _read_umask()
+"""The process umask, read once at import (reading it means setting it)."""
+
+
+def _publish(tmp: str | Path, path: str | Path) -> None:
+    """Give the finished temporary file the usual permissions and rename it atomically.
+
+    (mkstemp creates files readable by their owner only.)
+    """
+    os.chmod(tmp, 0o666 & ~_UMASK)
+    os.replace(tmp, path)
+
+
 def write_json_atomic(path: Path, content: Mapping[str, Any]) -> None:
     """Write JSON to `path` via a temporary file in the same directory and os.replace."""
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".part")
@@ -566,7 +585,7 @@ def write_json_atomic(path: Path, content: Mapping[str, Any]) -> None:
             json.dump(content, handle, indent=1, allow_nan=True)
             handle.flush()
             os.fsync(handle.fileno())
-        os.replace(tmp, path)
+        _publish(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise
@@ -656,7 +675,7 @@ def prepare(sweep: Sweep, sweep_dir: str | Path) -> Path:
     fd, tmp = tempfile.mkstemp(dir=sweep_dir, prefix=".sweep.", suffix=".part")
     with os.fdopen(fd, "w", encoding="utf-8") as handle:
         handle.write(text)
-    os.replace(tmp, spec_path)
+    _publish(tmp, spec_path)
     return sweep_dir
 
 
@@ -909,7 +928,7 @@ def report(sweep_dir: str | Path, out: str | Path | None = None, echo: bool = Tr
     os.close(fd)
     try:
         ds.to_netcdf(tmp, engine="h5netcdf")
-        os.replace(tmp, target)
+        _publish(tmp, target)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise
