@@ -2,12 +2,13 @@
 
 Registered on the main typer app by :func:`register` (called from :mod:`pde_rotor.cli`).
 Exit codes as for ``pde-rotor run``: 0 success, 1 some runs failed (the others are
-stored; rerun the same command to retry them), 2 bad input, 130 interrupted (finished
-runs are kept; rerun to resume).
+stored; rerun the same command to retry them), 2 bad input, 130 interrupted by Ctrl-C
+or SIGTERM (finished runs are kept; rerun to resume).
 """
 
 from __future__ import annotations
 
+import signal
 from pathlib import Path
 from typing import Annotated
 
@@ -15,6 +16,10 @@ import typer
 
 DEFAULT_ROOT = Path("runs") / "sweeps"
 """Sweep directories default to runs/sweeps/<name of the sweep file>."""
+
+
+def _interrupt(signum: int, frame: object) -> None:
+    raise KeyboardInterrupt
 
 
 def register(app: typer.Typer) -> None:
@@ -58,6 +63,9 @@ def register(app: typer.Typer) -> None:
             n = workers or usable_cores()
             where = f"a LocalCluster of {n} worker process{'es' if n > 1 else ''}"
         typer.echo(f"pde-rotor: sweep {sweep} ({n_runs} runs) on {where} -> {sweep_dir}", err=True)
+        # SIGTERM (a batch system ending the job, kill PID) stops like Ctrl-C: the
+        # cluster is closed and every finished run is kept
+        previous = signal.signal(signal.SIGTERM, _interrupt)
         try:
             outcome = run_sweep(
                 spec, sweep_dir, scheduler=scheduler, workers=workers, progress=not quiet
@@ -65,6 +73,8 @@ def register(app: typer.Typer) -> None:
         except KeyboardInterrupt:
             typer.echo("interrupted: finished runs are kept; rerun to resume", err=True)
             raise typer.Exit(130) from None
+        finally:
+            signal.signal(signal.SIGTERM, previous)
         typer.echo(
             f"runs: {outcome.total} ({outcome.skipped} already done, {outcome.computed} "
             f"computed, {len(outcome.failed)} failed)"

@@ -321,3 +321,33 @@ def test_cli_sweep_and_report(two_worker_sweep, tmp_path):
     assert not (tmp_path / "never").exists()
     result = runner.invoke(app, ["report", str(tmp_path)])
     assert result.exit_code == 2 and "not a sweep directory" in result.output
+
+
+def test_cli_sweep_stops_cleanly_on_sigterm(tmp_path):
+    """SIGTERM (a batch system ending the job) exits with 130, keeps finished runs and
+    leaves no worker process behind."""
+    import psutil
+
+    path = write_sweep(tmp_path / "tiny.yaml", TINY_SWEEP)
+    out = tmp_path / "out"
+    command = [sys.executable, "-c", "from pde_rotor.cli import app; app()"]
+    args = ["sweep", str(path), "-o", str(out), "--workers", "1", "-q"]
+    proc = subprocess.Popen([*command, *args], start_new_session=True)
+    runs_dir = out / RUNS_DIR
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline and proc.poll() is None:
+        if runs_dir.exists() and len(list(runs_dir.glob("*.json"))) >= 2:
+            break
+        time.sleep(0.05)
+    children = psutil.Process(proc.pid).children(recursive=True)
+    assert children, "the LocalCluster started no worker process"
+    proc.send_signal(signal.SIGTERM)
+    try:
+        code = proc.wait(timeout=60)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+    assert code == 130
+    _, alive = psutil.wait_procs(children, timeout=30)
+    assert not alive
+    assert 2 <= len(list(runs_dir.glob("*.json"))) < 12
