@@ -16,6 +16,7 @@ from typing import Annotated, NoReturn
 import typer
 
 from .api import BackendError, RunResult, resolve_backend, versions
+from .cli_gallery import register as register_gallery_commands
 from .cli_sweep import register as register_sweep_commands
 from .config import ConfigError, dump_config, load_config
 from .output import OutputError, RunDirectory
@@ -210,16 +211,8 @@ def info() -> None:
     typer.echo(f"executable   {sys.executable}")
 
 
-from .cli_sweep import register as _register_sweep  # noqa: E402
-
-_register_sweep(app)  # pde-rotor sweep / report (issue 5)
-
-
-register_sweep_commands(app)
-
-from .cli_gallery import register as _register_gallery  # noqa: E402
-
-_register_gallery(app)  # pde-rotor gallery (issue 7)
+register_sweep_commands(app)  # pde-rotor sweep / report
+register_gallery_commands(app)  # pde-rotor gallery
 
 
 def main() -> None:
