@@ -456,6 +456,14 @@ def errorbar_p(ax: Any, x: np.ndarray, ds: xr.Dataset, **kwargs: Any) -> None:
     ax.errorbar(x, p, yerr=yerr, capsize=3, **kwargs)
 
 
+def print_points(prefix: str, x_name: str, x: np.ndarray, ds: xr.Dataset) -> None:
+    """Print ``PREFIX X_NAME = x: P = p [lo, hi] (n stops)`` for every point of a 1-D curve."""
+    for xv, p, lo, hi, n in zip(
+        x, ds["P"].values, ds["P_low"].values, ds["P_high"].values, ds["stops"].values, strict=True
+    ):
+        print(f"{prefix}{x_name} = {xv:g}: P = {p:.3f} [{lo:.3f}, {hi:.3f}] ({int(n)} stops)")
+
+
 def probability_axes(ax: Any, xlabel: str) -> None:
     """Axis styling shared by the probability figures."""
     ax.set_ylim(-0.05, 1.05)

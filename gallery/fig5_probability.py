@@ -21,6 +21,7 @@ from _common import (
     errorbar_p,
     new_figure,
     parse_args,
+    print_points,
     probability_axes,
     probability_footer,
     save,
@@ -52,15 +53,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
         fontsize=10,
     )
     add_footer(fig, probability_footer(args.fidelity, data))
-    for t, p, lo, hi, n in zip(
-        x,
-        ds["P"].values,
-        ds["P_low"].values,
-        ds["P_high"].values,
-        ds["stops"].values,
-        strict=True,
-    ):
-        print(f"{NAME}: t_stop = {t:g}: P = {p:.3f} [{lo:.3f}, {hi:.3f}] ({int(n)} stops)")
+    print_points(f"{NAME}: ", "t_stop", x, ds)
     return save(fig, args.out, NAME)
 
 

@@ -24,6 +24,7 @@ from _common import (
     errorbar_p,
     new_figure,
     parse_args,
+    print_points,
     probability_axes,
     probability_footer,
     save,
@@ -56,18 +57,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
         ax.set_title(title, fontsize=10)
         ax.legend(fontsize=8)
         footers.append(f"({sweep[-1]}) {probability_footer(args.fidelity, data)}")
-        for xv, p, lo, hi, n in zip(
-            x,
-            ds["P"].values,
-            ds["P_low"].values,
-            ds["P_high"].values,
-            ds["stops"].values,
-            strict=True,
-        ):
-            print(
-                f"{NAME} {sweep}: {x_dim} = {xv:g}: P = {p:.3f} [{lo:.3f}, {hi:.3f}] "
-                f"({int(n)} stops)"
-            )
+        print_points(f"{NAME} {sweep}: ", x_dim, x, ds)
     fig.suptitle("Fig. 7: inversion probability of asymmetric rotors", fontsize=11)
     # one footer paragraph per panel: the three sweeps may come at different fidelities
     add_footer(fig, "\n".join(footers), fontsize=6.5)

@@ -22,6 +22,7 @@ from _common import (
     errorbar_p,
     new_figure,
     parse_args,
+    print_points,
     probability_axes,
     probability_footer,
     save,
@@ -52,18 +53,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
         x = ds["t_stop"].values
         dodge = 0.03 * (k - (len(deltas) - 1) / 2)  # keep the error bars apart
         errorbar_p(ax, x + dodge, ds, label=f"\u0394 = {value:g}", **style)
-        for t, p, lo, hi, n in zip(
-            x,
-            ds["P"].values,
-            ds["P_low"].values,
-            ds["P_high"].values,
-            ds["stops"].values,
-            strict=True,
-        ):
-            print(
-                f"{NAME}: Delta = {value:g}, t_stop = {t:g}: P = {p:.3f} [{lo:.3f}, {hi:.3f}] "
-                f"({int(n)} stops)"
-            )
+        print_points(f"{NAME}: Delta = {value:g}, ", "t_stop", x, ds)
     probability_axes(ax, "stop duration t_stop")
     ax.legend(fontsize=8)
     ax.set_title(
