@@ -8,7 +8,7 @@ A sweep is a YAML file (:class:`SweepSpec`)::
     axes:                           # any dotted config key: a list or a range
       protocol.t_stop: {start: 0.5, stop: 3.0, step: 0.5}
       geometry.asymmetry: [0.0, 2.0e-5, 1.0e-4]
-    estimator: {kind: restart}      # or {kind: protocol} (the paper's M cycles per run)
+    estimator: {kind: restart}      # or {kind: bank}, or {kind: protocol} (M cycles per run)
     samples: 40                     # restart: stops per direction; protocol: runs per point
     seed: 20200501
 
@@ -38,6 +38,15 @@ Estimators (see :mod:`pde_rotor.stats` and docs/statistics.md):
   |omega| >= commit_fraction |omega before the stop|, checked every check_interval, or
   at most release_cap (default protocol.t_release). P(inv | CCW) and P(inv | CW) are
   combined with the stationary weights of the two-state chain.
+* ``bank``: restarts whose stop is shared by every noise intensity. The noise acts only
+  on the moving rotor, so the end-of-stop state depends on the stop angle, the
+  direction and the noise-free configuration alone; runs that differ only in their
+  ``noise`` section (a ``noise.sigma`` axis) form one group (:func:`stop_group`),
+  submitted as one task: the stop is computed once, noise-free, at the stop angle
+  :func:`bank_offset` of the sample (a golden-ratio sequence, evenly covering the
+  period), and each run is released from it with its own noise. Same statistics as
+  ``restart``; with k noise intensities it costs one stop and k releases per sample
+  instead of k stops and k releases.
 """
 
 from __future__ import annotations
@@ -152,13 +161,30 @@ class RestartEstimator(_Strict):
     )
 
 
+class BankEstimator(RestartEstimator):
+    """Restarts whose stops are shared by every noise intensity (a stop bank).
+
+    The noise acts only while the rotor moves (Eq. (eq_motion); during a stop phi and
+    omega are frozen), so the state at the end of a stop depends only on the stop angle,
+    the direction before the stop and the noise-free configuration. Runs that differ only
+    in their ``noise`` section (a ``noise.sigma`` axis) share one stop, computed once,
+    and each is released from it with its own noise. The stop angle of sample i is the
+    golden-ratio sequence frac(1/2 + i (sqrt(5) - 1) / 2) of one period 2 pi / N, so
+    every prefix of samples covers the period evenly.
+    """
+
+    kind: Literal["bank"] = "bank"  # type: ignore[assignment]
+
+
 class ProtocolEstimator(_Strict):
     """The paper's protocol: one run of t_ini and M stop-and-release cycles per sample."""
 
     kind: Literal["protocol"] = "protocol"
 
 
-Estimator = Annotated[RestartEstimator | ProtocolEstimator, Field(discriminator="kind")]
+Estimator = Annotated[
+    RestartEstimator | BankEstimator | ProtocolEstimator, Field(discriminator="kind")
+]
 
 
 class SweepSpec(_Strict):
@@ -197,7 +223,7 @@ class SweepSpec(_Strict):
 
 
 _TYPE_ERRORS = {"list_type", "dict_type", "model_type", "model_attributes_type", "float_type"}
-_UNION_TAGS = {"list[any]", "RangeSpec", "restart", "protocol", "str", "dict[str,any]"}
+_UNION_TAGS = {"list[any]", "RangeSpec", "restart", "bank", "protocol", "str", "dict[str,any]"}
 
 
 def _spec_error(err: ValidationError) -> str:
@@ -327,7 +353,7 @@ class Sweep:
 
     def directions(self) -> tuple[int, ...]:
         """Directions sampled per point: (CCW, CW) for restarts, (0,) for protocol runs."""
-        return (CCW, CW) if self.spec.estimator.kind == "restart" else (0,)
+        return (0,) if self.spec.estimator.kind == "protocol" else (CCW, CW)
 
     def runs(self) -> list[Run]:
         """Every run of the sweep (validated, seeds derived, hashes computed)."""
@@ -341,7 +367,7 @@ class Sweep:
                 _set_key(data, key, value)
             where = ", ".join(f"{k} = {v}" for k, v in coords.items()) or "base"
             config = _validate(data, where)
-            if self.spec.estimator.kind == "restart":
+            if self.spec.estimator.kind != "protocol":
                 _check_restart(config, self.spec.estimator, where)
             for direction in self.directions():
                 for sample in range(self.spec.samples):
@@ -455,6 +481,83 @@ def _steps(duration: float, dt: float) -> int:
     return round(duration / dt)
 
 
+GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0
+"""Increment of the stop-angle sequence of the bank estimator (in periods)."""
+
+
+def bank_offset(sample: int, n_period: int) -> int:
+    """Extra steps before the stop of bank sample `sample`: its stop angle, in steps.
+
+    frac(1/2 + sample * GOLDEN) of the period (n_period steps): the first n samples
+    leave no gap wider than about 2.6 / n of the period (three-gap theorem).
+    """
+    return int(((0.5 + sample * GOLDEN) % 1.0) * n_period)
+
+
+@dataclass(frozen=True)
+class _Timing:
+    """Step counts of one restart: steps before the stop, stop, release cap, check."""
+
+    n0: int
+    n_stop: int
+    n_cap: int
+    n_check: int
+
+    @classmethod
+    def of(cls, config: RotorConfig, estimator: RestartEstimator, n0: int) -> _Timing:
+        dt = config.grid.dt
+        cap = estimator.release_cap
+        cap = cap if cap is not None else config.protocol.t_release
+        return cls(
+            n0,
+            _steps(config.protocol.t_stop, dt),
+            _steps(cap, dt),
+            max(1, _steps(estimator.check_interval, dt)),
+        )
+
+    def protocol(self, config: RotorConfig) -> RotorConfig:
+        """`config` with the one-stop protocol of this restart."""
+        dt = config.grid.dt
+        data = config.model_dump(mode="json")
+        data["protocol"].update(
+            t_ini=self.n0 * dt, t_stop=self.n_stop * dt, t_release=self.n_cap * dt, cycles=1
+        )
+        return RotorConfig.model_validate(data)
+
+
+def _period_steps(config: RotorConfig, warm: Simulation) -> int:
+    """Steps per period 2 pi / N of the stop angle at the warm state's angular velocity."""
+    period = 2 * math.pi / config.geometry.n_corners
+    return max(1, round(period / (abs(warm.rotor.omega) * config.grid.dt)))
+
+
+def _release(
+    sim: Simulation, timing: _Timing, estimator: RestartEstimator, omega_before: float
+) -> dict:
+    """Release `sim` (at the end of its stop) until its direction is committed."""
+    dt = sim.config.grid.dt
+    threshold = estimator.commit_fraction * abs(omega_before)
+    n = 0
+    committed = False
+    while n < timing.n_cap:
+        n = min(n + timing.n_check, timing.n_cap)
+        sim.run((timing.n0 + timing.n_stop + n) * dt)
+        if abs(sim.rotor.omega) >= threshold:
+            committed = True
+            break
+    before = int(np.sign(omega_before))
+    after = int(np.sign(sim.rotor.omega)) if committed else 0
+    return {
+        "direction_before": before,
+        "direction_after": after,
+        "inverted": bool(after == -before),
+        "committed": committed,
+        "omega_before": float(omega_before),
+        "omega_end": float(sim.rotor.omega),
+        "t_commit": float(n * dt) if committed else math.nan,
+    }
+
+
 def run_restart(config: RotorConfig, estimator: RestartEstimator, direction: int) -> dict:
     """One independent stop from the steady state rotating in `direction`.
 
@@ -470,42 +573,57 @@ def run_restart(config: RotorConfig, estimator: RestartEstimator, direction: int
     warm = warm_state(config, estimator, direction)
     dt = config.grid.dt
     rng = np.random.default_rng(config.noise.seed)
-    period = 2 * math.pi / config.geometry.n_corners
-    n_period = max(1, round(period / (abs(warm.rotor.omega) * dt)))
-    extra = int(rng.integers(0, n_period))
-    n0 = _steps(warm.t, dt) + extra
-    n_stop = _steps(config.protocol.t_stop, dt)
-    cap = estimator.release_cap if estimator.release_cap is not None else config.protocol.t_release
-    n_cap = _steps(cap, dt)
-    n_check = max(1, _steps(estimator.check_interval, dt))
-    data = config.model_dump(mode="json")
-    data["protocol"].update(t_ini=n0 * dt, t_stop=n_stop * dt, t_release=n_cap * dt, cycles=1)
-    sim = warm.branch(RotorConfig.model_validate(data), rng=rng)
-    sim.run(n0 * dt)
+    extra = int(rng.integers(0, _period_steps(config, warm)))
+    timing = _Timing.of(config, estimator, _steps(warm.t, dt) + extra)
+    sim = warm.branch(timing.protocol(config), rng=rng)
+    sim.run(timing.n0 * dt)
     omega_before, phi_stop = sim.rotor.omega, sim.rotor.phi
-    before = int(np.sign(omega_before))
-    sim.run((n0 + n_stop) * dt)
-    threshold = estimator.commit_fraction * abs(omega_before)
-    n = 0
-    committed = False
-    while n < n_cap:
-        n = min(n + n_check, n_cap)
-        sim.run((n0 + n_stop + n) * dt)
-        if abs(sim.rotor.omega) >= threshold:
-            committed = True
-            break
-    after = int(np.sign(sim.rotor.omega)) if committed else 0
-    return {
-        "direction_before": before,
-        "direction_after": after,
-        "inverted": bool(after == -before),
-        "committed": committed,
-        "omega_before": float(omega_before),
-        "omega_end": float(sim.rotor.omega),
-        "phi_stop": float(phi_stop % period),
-        "extra_steps": extra,
-        "t_commit": float(n * dt) if committed else math.nan,
-    }
+    sim.run((timing.n0 + timing.n_stop) * dt)
+    result = _release(sim, timing, estimator, omega_before)
+    period = 2 * math.pi / config.geometry.n_corners
+    return {**result, "phi_stop": float(phi_stop % period), "extra_steps": extra}
+
+
+def run_bank(
+    configs: Sequence[RotorConfig], estimator: BankEstimator, direction: int, sample: int
+) -> list[dict]:
+    """One stop shared by `configs` (equal but for ``noise``), released once per config.
+
+    The stop angle is sample's point of the golden-ratio sequence over one period
+    2 pi / N; the steps before and during the stop are noise-free (during the stop the
+    noise has no effect, Eq. (eq_motion)). Each release branches from the end-of-stop
+    state with its config's noise, seeded from its ``noise.seed``.
+
+    Returns:
+        One result per config, as :func:`run_restart`, with ``torque_end``: the torque on
+        the stopped plate at the end of the stop.
+    """
+    base = configs[0]
+    warm = warm_state(base, estimator, direction)
+    dt = base.grid.dt
+    extra = bank_offset(sample, _period_steps(base, warm))
+    timing = _Timing.of(base, estimator, _steps(warm.t, dt) + extra)
+    quiet = timing.protocol(base).model_copy(deep=True)
+    quiet.noise.sigma = 0.0
+    stop = warm.branch(quiet)
+    stop.run(timing.n0 * dt)
+    omega_before, phi_stop = stop.rotor.omega, stop.rotor.phi
+    stop.run((timing.n0 + timing.n_stop) * dt)
+    torque_end = float(stop.rotor.torque)
+    period = 2 * math.pi / base.geometry.n_corners
+    results = []
+    for config in configs:
+        sim = stop.branch(timing.protocol(config))
+        result = _release(sim, timing, estimator, omega_before)
+        results.append(
+            {
+                **result,
+                "phi_stop": float(phi_stop % period),
+                "extra_steps": extra,
+                "torque_end": torque_end,
+            }
+        )
+    return results
 
 
 def run_protocol(config: RotorConfig) -> dict:
@@ -532,14 +650,7 @@ def run_protocol(config: RotorConfig) -> dict:
     }
 
 
-def execute(run: Run) -> dict[str, Any]:
-    """Run one sweep run and return its file content (config, settings, result, timing)."""
-    start = time.perf_counter()
-    config = RotorConfig.model_validate(run.config)
-    if run.estimator["kind"] == "restart":
-        result = run_restart(config, RestartEstimator.model_validate(run.estimator), run.direction)
-    else:
-        result = run_protocol(config)
+def _content(run: Run, result: dict, wall_time: float) -> dict[str, Any]:
     return {
         "key": run.key,
         "schema": SCHEMA_VERSION,
@@ -549,8 +660,43 @@ def execute(run: Run) -> dict[str, Any]:
         "estimator": run.estimator,
         "config": run.config,
         "result": result,
-        "wall_time": time.perf_counter() - start,
+        "wall_time": wall_time,
     }
+
+
+def execute(run: Run) -> dict[str, Any]:
+    """Run one sweep run and return its file content (config, settings, result, timing)."""
+    return execute_group([run])[0]
+
+
+def execute_group(runs: Sequence[Run]) -> list[dict[str, Any]]:
+    """Run a group of runs (one stop shared for the bank estimator); their file contents.
+
+    The wall time of a bank group is split evenly among its runs.
+    """
+    start = time.perf_counter()
+    kind = runs[0].estimator["kind"]
+    configs = [RotorConfig.model_validate(run.config) for run in runs]
+    if kind == "bank":
+        estimator = BankEstimator.model_validate(runs[0].estimator)
+        results = run_bank(configs, estimator, runs[0].direction, runs[0].sample)
+    elif kind == "restart":
+        estimator = RestartEstimator.model_validate(runs[0].estimator)
+        pairs = zip(configs, runs, strict=True)
+        results = [run_restart(c, estimator, r.direction) for c, r in pairs]
+    else:
+        results = [run_protocol(c) for c in configs]
+    share = (time.perf_counter() - start) / len(runs)
+    return [_content(run, result, share) for run, result in zip(runs, results, strict=True)]
+
+
+def stop_group(run: Run) -> str:
+    """Runs with equal value share one stop under the bank estimator (each run its own
+    group under the other estimators)."""
+    if run.estimator["kind"] != "bank":
+        return run.key
+    data = {k: v for k, v in run.config.items() if k != "noise"}
+    return json.dumps([data, run.direction, run.sample], sort_keys=True)
 
 
 # ---------------------------------------------------------------------------------------
@@ -709,6 +855,9 @@ def run_sweep(
     todo = [run for run in runs if run.key not in done]
     # submit the runs of one spin-up state together, so that workers reuse warm states
     todo.sort(key=lambda r: (_warm_group(r), r.point, r.sample))
+    groups: dict[str, list[Run]] = {}
+    for run in todo:
+        groups.setdefault(stop_group(run), []).append(run)
     failed: list[tuple[str, str]] = []
     computed = 0
     if todo:
@@ -725,21 +874,25 @@ def run_sweep(
             dynamic_ncols=True,
         )
         try:
-            futures = [client.submit(execute, run, key=f"run-{run.key}") for run in todo]
-            by_key = {f.key: run for f, run in zip(futures, todo, strict=True)}
+            futures = [
+                client.submit(execute_group, group, key=f"runs-{group[0].key}")
+                for group in groups.values()
+            ]
+            by_key = {f.key: g for f, g in zip(futures, groups.values(), strict=True)}
             for future in as_completed(futures):
-                run = by_key[future.key]
+                group = by_key[future.key]
                 try:
-                    content = future.result()
+                    contents = future.result()
                 except Exception as err:
-                    failed.append((run.key, f"{type(err).__name__}: {err}"))
+                    failed.extend((run.key, f"{type(err).__name__}: {err}") for run in group)
                     bar.set_postfix(failed=len(failed))
                     continue
                 finally:
                     future.release()
-                write_json_atomic(run_path(sweep_dir, run.key), content)
-                computed += 1
-                bar.update(1)
+                for run, content in zip(group, contents, strict=True):
+                    write_json_atomic(run_path(sweep_dir, run.key), content)
+                computed += len(group)
+                bar.update(len(group))
         finally:
             bar.close()
             client.close()
@@ -793,7 +946,7 @@ def _point_statistics(sweep: Sweep, contents: Sequence[dict[str, Any]], expected
     omegas: list[float] = []
     uncommitted = 0
     commit_times: list[float] = []
-    if kind == "restart":
+    if kind != "protocol":
         before = [c["result"]["direction_before"] for c in contents]
         after = [c["result"]["direction_after"] for c in contents]
         if contents:
@@ -814,7 +967,7 @@ def _point_statistics(sweep: Sweep, contents: Sequence[dict[str, Any]], expected
             )
             omegas.extend(abs(w) for w in res["omegas"][:-1])
     total = counts.total
-    if kind == "restart":
+    if kind != "protocol":
         chain = two_state_chain(counts)
         p, lo, hi, pi = chain.p, chain.low, chain.high, chain.pi_ccw
     else:

@@ -28,7 +28,9 @@ from pde_rotor.sweep import (
     Sweep,
     SweepError,
     SweepSpec,
+    bank_offset,
     execute,
+    execute_group,
     finished,
     format_table,
     gather,
@@ -36,6 +38,7 @@ from pde_rotor.sweep import (
     run_path,
     run_seed,
     run_sweep,
+    stop_group,
 )
 
 TINY_BASE = {
@@ -181,6 +184,75 @@ def test_restart_run_is_reproducible_and_randomises_the_stop_angle():
         assert abs(res["omega_end"]) >= 0.5 * abs(res["omega_before"])
         assert 0 <= res["phi_stop"] < period
     assert len({res["extra_steps"] for res in results}) > 1
+
+
+BANK = {"kind": "bank", "warmup": 2.0}
+
+
+def test_bank_groups_share_a_stop_across_the_noise_axis_only():
+    sweep = tiny_sweep(
+        estimator=BANK, samples=2, axes={"protocol.t_stop": [0.2, 1.2], "noise.sigma": [0, 1e-5]}
+    )
+    runs = sweep.runs()
+    groups: dict[str, list[Run]] = {}
+    for run in runs:
+        groups.setdefault(stop_group(run), []).append(run)
+    # 2 stop durations x 2 directions x 2 samples, each released at both noise levels
+    assert len(groups) == 8
+    for group in groups.values():
+        assert sorted(r.coords["noise.sigma"] for r in group) == [0, 1e-5]
+        assert len({(r.coords["protocol.t_stop"], r.direction, r.sample) for r in group}) == 1
+        assert len({r.config["noise"]["seed"] for r in group}) == 2
+    # the other estimators never group runs
+    restart = tiny_sweep(samples=2, axes={"noise.sigma": [0, 1e-5]})
+    assert len({stop_group(r) for r in restart.runs()}) == len(restart.runs())
+
+
+def test_bank_releases_from_a_shared_stop_equal_separate_runs():
+    sweep = tiny_sweep(estimator=BANK, samples=1, axes={"noise.sigma": [0, 1e-4]})
+    group = [r for r in sweep.runs() if r.direction == CCW]
+    shared = execute_group(group)
+    alone = [execute_group([run])[0] for run in group]
+    for one, other in zip(shared, alone, strict=True):
+        assert one["key"] == other["key"]
+        assert one["result"] == other["result"]
+    quiet, noisy = (c["result"] for c in shared)
+    # one stop: same angle, same plate torque at its end; the releases differ by the noise
+    assert quiet["extra_steps"] == noisy["extra_steps"]
+    assert quiet["torque_end"] == noisy["torque_end"] != 0
+    assert quiet["omega_end"] != noisy["omega_end"]
+    for res in (quiet, noisy):
+        assert res["direction_before"] == CCW
+        assert res["committed"]
+
+
+@pytest.mark.parametrize("n_period", [7, 60])
+def test_bank_stop_angles_cover_the_period_evenly(n_period):
+    for n in range(1, 3 * n_period):
+        offsets = np.array([bank_offset(i, n_period) for i in range(n)])
+        assert ((offsets >= 0) & (offsets < n_period)).all()
+        # the golden-ratio sequence leaves no gap wider than 2.62 / n periods (+1 step)
+        x = np.sort(offsets) / n_period
+        gap = np.diff(np.r_[x, x[0] + 1.0]).max()
+        assert gap <= 2.62 / n + 1.0 / n_period
+        if n == n_period:
+            assert len(set(offsets.tolist())) >= 0.6 * n_period
+
+
+def test_bank_sweep_report(tmp_path):
+    data = dict(TINY_SWEEP, estimator=BANK, samples=2, axes={"noise.sigma": [0, 1e-5]})
+    path = write_sweep(tmp_path / "bank.yaml", data)
+    outcome = run_sweep(path, tmp_path / "out", workers=1, progress=False)
+    assert outcome.failed == []
+    assert outcome.computed == outcome.total == 8
+    ds = report(tmp_path / "out", echo=False)
+    assert ds.attrs["estimator"] == "bank"
+    assert (ds["runs_done"] == ds["runs_expected"]).all()
+    assert (ds["stops_ccw"] == ds["stops_cw"]).all()
+    assert ((ds["P_low"] <= ds["P"]) & (ds["P"] <= ds["P_high"])).all()
+    # a second call finds every run done
+    again = run_sweep(path, tmp_path / "out", workers=1, progress=False)
+    assert (again.skipped, again.computed) == (8, 0)
 
 
 # ---------------------------------------------------------------------------------------
