@@ -7,7 +7,7 @@ phi(t) and (2) the angular velocity dphi/dt of Eq. (eq_motion), stop phases shad
 paper: the direction is inverted after every stop for t_stop = 0.5 and random for
 t_stop = 2.
 
-Run: ``python gallery/fig4_timeseries.py [--quick | --tiny]``.
+Run: ``python gallery/fig4_timeseries.py [--quick | --tiny] [--cycles M]``.
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-from _common import CONFIGS, parse_args, save, timeseries_figure
+from _common import CONFIGS, cycles_option, parse_args, save, timeseries_figure
 
 NAME = "fig4_timeseries"
 PANELS = (("a", CONFIGS / "paper_fig4a.yaml"), ("b", CONFIGS / "paper_fig4b.yaml"))
@@ -23,11 +23,12 @@ PANELS = (("a", CONFIGS / "paper_fig4a.yaml"), ("b", CONFIGS / "paper_fig4b.yaml
 
 def main(argv: Sequence[str] | None = None) -> list[Path]:
     """Run both configs and write Fig. 4 as PNG and PDF."""
-    args = parse_args(__doc__.splitlines()[0], argv)
+    args = parse_args(__doc__.splitlines()[0], argv, extra=cycles_option)
     fig, lines = timeseries_figure(
         "Fig. 4: symmetric rotor (\u0394 = 0), (a) t_stop = 0.5, (b) t_stop = 2",
         PANELS,
         args.fidelity,
+        args.cycles,
     )
     for line in lines:
         print(f"{NAME}: {line}")

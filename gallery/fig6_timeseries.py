@@ -7,7 +7,7 @@ phi(t) and (2) the angular velocity dphi/dt of Eq. (eq_motion), stop phases shad
 paper: perfect inversion for t_stop = 0.5; for t_stop = 2 no inversion, the rotor always
 turns in its preferred direction (clockwise for Delta > 0).
 
-Run: ``python gallery/fig6_timeseries.py [--quick | --tiny]``.
+Run: ``python gallery/fig6_timeseries.py [--quick | --tiny] [--cycles M]``.
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-from _common import CONFIGS, parse_args, save, timeseries_figure
+from _common import CONFIGS, cycles_option, parse_args, save, timeseries_figure
 
 NAME = "fig6_timeseries"
 PANELS = (("a", CONFIGS / "paper_fig6a.yaml"), ("b", CONFIGS / "paper_fig6b.yaml"))
@@ -23,11 +23,12 @@ PANELS = (("a", CONFIGS / "paper_fig6a.yaml"), ("b", CONFIGS / "paper_fig6b.yaml
 
 def main(argv: Sequence[str] | None = None) -> list[Path]:
     """Run both configs and write Fig. 6 as PNG and PDF."""
-    args = parse_args(__doc__.splitlines()[0], argv)
+    args = parse_args(__doc__.splitlines()[0], argv, extra=cycles_option)
     fig, lines = timeseries_figure(
         "Fig. 6: asymmetric rotor (\u0394 = 1e-4), (a) t_stop = 0.5, (b) t_stop = 2",
         PANELS,
         args.fidelity,
+        args.cycles,
     )
     for line in lines:
         print(f"{NAME}: {line}")
