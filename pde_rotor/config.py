@@ -176,12 +176,22 @@ class RotorDynamicsConfig(_Section):
     )
 
 
+CALIBRATED_SIGMA = 2.0e-8
+"""Noise intensity calibrated at the paper's resolution (dx = delta = 0.025, dt = 1e-4).
+
+With it the Delta = 2e-5 plateau at t_stop = 3 is the paper's 0.2 (Fig. 7b);
+configs/sweeps/calibration.yaml measured P against sigma (docs/statistics.md, 95 % range
+0 to about 1e-7). The paper-resolution configs (configs/paper_fig*.yaml,
+configs/sweeps/base/paper.yaml) carry this value; tests/test_config.py keeps them equal.
+"""
+
+
 class NoiseConfig(_Section):
     """Torque noise xi(t) of Eq. (eq_motion), <xi(t) xi(s)> = 2 sigma^2 delta(t-s), Eq. (noiseav).
 
     Integrated by Euler-Maruyama, so results do not depend on dt. The paper's
     sigma = 0.1 taken literally destroys the rotation (docs/model.md); the default is
-    therefore no noise.
+    no noise, and :data:`CALIBRATED_SIGMA` is the intensity calibrated to the paper.
     """
 
     sigma: NonNegativeFloat = Field(0.0, description="sigma: torque noise intensity")

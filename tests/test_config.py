@@ -9,6 +9,7 @@ import pytest
 import yaml
 
 from pde_rotor.config import (
+    CALIBRATED_SIGMA,
     ConfigError,
     RotorConfig,
     apply_overrides,
@@ -142,6 +143,18 @@ def test_shipped_configs_round_trip(path, tmp_path):
     assert again == config
     assert dump_config(again, {"config_hash": again.config_hash()}) == text
     assert again.config_hash() == config.config_hash()
+
+
+def test_paper_resolution_configs_carry_the_calibrated_noise():
+    """One value: every config at the paper's grid uses CALIBRATED_SIGMA, coarse ones do not."""
+    root = Path(__file__).resolve().parents[1] / "configs"
+    paper = [*sorted(root.glob("paper_fig*.yaml")), root / "sweeps" / "base" / "paper.yaml"]
+    for path in paper:
+        config = load_config(path)
+        assert (config.grid.dx, config.grid.dt) == (0.025, 1e-4), path
+        assert config.noise.sigma == CALIBRATED_SIGMA, path
+    sweeps = yaml.safe_load((root / "sweeps" / "predictions.yaml").read_text())
+    assert CALIBRATED_SIGMA in sweeps["axes"]["noise.sigma"]
 
 
 def test_hash_follows_physics_not_recording():
