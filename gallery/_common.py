@@ -30,7 +30,7 @@ import numpy as np
 import xarray as xr
 from matplotlib.figure import Figure
 
-from pde_rotor.config import RotorConfig, load_config, read_config_data
+from pde_rotor.config import CALIBRATED_SIGMA, RotorConfig, load_config, read_config_data
 from pde_rotor.stats import wilson_interval
 
 GALLERY = Path(__file__).resolve().parent
@@ -490,8 +490,18 @@ def wilson_text(k: int, n: int) -> str:
 # ---------------------------------------------------------------------------------------
 
 
+def cycles_option(parser: argparse.ArgumentParser) -> None:
+    """``--cycles M``: the number of stop-and-release cycles of the time-series runs."""
+    parser.add_argument(
+        "--cycles",
+        type=int,
+        default=None,
+        help="stop-and-release cycles per run [default: the fidelity's; full: the paper's 100]",
+    )
+
+
 def timeseries_figure(
-    title: str, panels: Sequence[tuple[str, Path]], fid: Fidelity
+    title: str, panels: Sequence[tuple[str, Path]], fid: Fidelity, cycles: int | None = None
 ) -> tuple[Figure, list[str]]:
     """phi(t) (row 1) and omega(t) (row 2) of one run per column, stops shaded.
 
@@ -502,6 +512,7 @@ def timeseries_figure(
         title: figure title.
         panels: (panel letter, config path) per column.
         fid: fidelity.
+        cycles: number of cycles M per run (None: the fidelity's protocol).
 
     Returns:
         The figure and one summary line per panel (inversions with the Wilson interval).
@@ -515,7 +526,8 @@ def timeseries_figure(
     config = None
     walls = []
     for col, (letter, path) in enumerate(panels):
-        config = fid.config(path, *fid.protocol)
+        extra = () if cycles is None else (f"protocol.cycles={cycles}",)
+        config = fid.config(path, *fid.protocol, *extra)
         result = run(config, progress=False)
         walls.append(result.wall_time)
         ts = result.timeseries
@@ -612,6 +624,115 @@ def probability_footer(fid: Fidelity, data: SweepData) -> str:
     return (
         f"pde_rotor, {fid.name} run of the gallery; {data.label()}; {where}; "
         f"95 % interval: {interval}; backend {CPU_BACKEND}"
+    )
+
+
+PAPER_REPORTS = ("calibration", "predictions", "predictions_no_flow")
+"""Stored reports (data/<name>.nc) at the paper's resolution, drawn over the curves."""
+_BASE_KEYS = {
+    "sigma": "noise.sigma",
+    "asymmetry": "geometry.asymmetry",
+    "t_stop": "protocol.t_stop",
+    "enabled": "flow.enabled",
+}
+
+
+def _base_setting(config: RotorConfig, key: str) -> float:
+    section, name = key.split(".")
+    return float(getattr(getattr(config, section), name))
+
+
+def paper_points(x_dim: str, **fixed: float) -> xr.Dataset | None:
+    """Points of the stored paper-resolution reports (:data:`PAPER_REPORTS`) on one curve.
+
+    Args:
+        x_dim: the curve's variable ("t_stop" or "asymmetry").
+        fixed: the other settings by dimension name ("sigma", "asymmetry", "t_stop",
+            "enabled" for flow.enabled); a setting that is not an axis of a report is
+            read from its base config.
+
+    Returns:
+        P, P_low, P_high, stops and the report's name against `x_dim` (sorted), or None
+        if no stored report has such points.
+    """
+    import json
+
+    rows = []
+    for name in PAPER_REPORTS:
+        path = DATA / f"{name}.nc"
+        if not path.exists():
+            continue
+        with xr.open_dataset(path, engine="h5netcdf") as stored:
+            ds = stored.load()
+        config = RotorConfig.model_validate(json.loads(ds.attrs["base_config"]))
+        index: dict[str, int] = {}
+        for dim, value in fixed.items():
+            if dim in ds.dims:
+                match = np.isclose(ds[dim].values.astype(float), value, rtol=1e-6, atol=1e-12)
+                if not match.any():
+                    break
+                index[dim] = int(np.argmax(match))
+            elif not math.isclose(_base_setting(config, _BASE_KEYS[dim]), value, abs_tol=1e-12):
+                break
+        else:
+            sub = ds.isel(index)
+            if x_dim in sub.dims:
+                sub = sub.squeeze([d for d in sub.dims if d != x_dim], drop=True)
+                xs = sub[x_dim].values.astype(float)
+            else:
+                xs = np.array([_base_setting(config, _BASE_KEYS[x_dim])])
+                sub = sub.squeeze(drop=True).expand_dims(x_dim)
+            for k, x in enumerate(xs):
+                row = {v: float(np.ravel(sub[v].values)[k]) for v in ("P", "P_low", "P_high")}
+                rows.append((float(x), row, int(np.ravel(sub["stops"].values)[k]), name))
+    if not rows:
+        return None
+    rows.sort(key=lambda r: r[0])
+    data = {v: (x_dim, np.array([r[1][v] for r in rows])) for v in ("P", "P_low", "P_high")}
+    data["stops"] = (x_dim, np.array([r[2] for r in rows]))
+    data["report"] = (x_dim, np.array([r[3] for r in rows]))
+    return xr.Dataset(data, coords={x_dim: [r[0] for r in rows]})
+
+
+def draw_paper_points(
+    ax: Any, prefix: str, x_dim: str, style: dict[str, Any] | None = None, **fixed: float
+) -> str:
+    """Draw the paper-resolution points of one curve (diamonds) and print them.
+
+    The noise is :data:`pde_rotor.config.CALIBRATED_SIGMA` unless `fixed` names sigma.
+
+    Args:
+        ax: the axes.
+        prefix: start of the printed lines.
+        x_dim: the curve's variable.
+        style: errorbar keywords replacing the default black-and-gold diamonds.
+        fixed: the curve's other settings (see :func:`paper_points`).
+
+    Returns:
+        A footer line naming their fidelity, or "" if there are none.
+    """
+    fixed.setdefault("sigma", CALIBRATED_SIGMA)
+    pts = paper_points(x_dim, **fixed)
+    if pts is None:
+        return ""
+    x = pts[x_dim].values
+    kwargs: dict[str, Any] = {
+        "fmt": "D",
+        "color": "k",
+        "mfc": "gold",
+        "ms": 7,
+        "zorder": 5,
+        "label": f"paper resolution, \u03c3 = {fixed['sigma']:g}",
+    }
+    kwargs.update(style or {})
+    errorbar_p(ax, x, pts, **kwargs)
+    print_points(f"{prefix}paper resolution: ", x_dim, x, pts)
+    names = ", ".join(sorted(set(pts["report"].values.tolist())))
+    n = f"{int(pts['stops'].min())}-{int(pts['stops'].max())}"
+    return (
+        f"Diamonds: paper resolution dx = \u03b4 = 0.025, dt = 1e-4, bank estimator, "
+        f"\u03c3 = {fixed['sigma']:g} (calibrated), {n} stops per point; stored: "
+        f"data/{{{names}}}.nc"
     )
 
 

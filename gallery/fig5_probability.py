@@ -18,6 +18,7 @@ from _common import (
     add_footer,
     curve,
     draw_conditionals,
+    draw_paper_points,
     errorbar_p,
     new_figure,
     parse_args,
@@ -44,6 +45,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     ax = fig.subplots()
     errorbar_p(ax, x, ds, fmt="o-", color="tab:red", label="P (95 % CI)")
     draw_conditionals(ax, x, ds)
+    paper = draw_paper_points(ax, f"{NAME}: ", "t_stop", asymmetry=0.0, enabled=1.0)
     ax.axvline(PAPER_DECAY, color="0.6", ls="--", lw=0.8, label="paper: decay near 1.4")
     probability_axes(ax, "stop duration t_stop")
     ax.legend(fontsize=8)
@@ -52,7 +54,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
         "\u2192 0.5 for long stops",
         fontsize=10,
     )
-    add_footer(fig, probability_footer(args.fidelity, data))
+    add_footer(fig, "\n".join(filter(None, [probability_footer(args.fidelity, data), paper])))
     print_points(f"{NAME}: ", "t_stop", x, ds)
     return save(fig, args.out, NAME)
 

@@ -21,6 +21,7 @@ from _common import (
     add_footer,
     curve,
     draw_conditionals,
+    draw_paper_points,
     errorbar_p,
     new_figure,
     parse_args,
@@ -37,6 +38,8 @@ PANELS = (
     ("fig7b", "t_stop", "(b) \u0394 = 2e-5; paper: plateau \u2248 0.2 (as the experiment)"),
     ("fig7c", "asymmetry", "(c) t_stop = 3; paper: P falls from 0.5 to 0 with \u0394"),
 )
+CURVES = ({"asymmetry": 1e-4}, {"asymmetry": 2e-5}, {"t_stop": 3.0})
+"""The fixed setting of each panel, to find its paper-resolution points."""
 
 
 def main(argv: Sequence[str] | None = None) -> list[Path]:
@@ -45,12 +48,15 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     fig = new_figure(15.0, 5.2)
     axes = fig.subplots(1, 3)
     footers = []
-    for ax, (sweep, x_dim, title) in zip(axes, PANELS, strict=True):
+    paper = ""
+    for ax, (sweep, x_dim, title), fixed in zip(axes, PANELS, CURVES, strict=True):
         data = sweep_data(sweep, args.fidelity, args.out)
         ds = curve(data.report, x_dim)
         x = ds[x_dim].values
         errorbar_p(ax, x, ds, fmt="o-", color="tab:blue", label="P (95 % CI)")
         draw_conditionals(ax, x, ds)
+        prefix = f"{NAME} {sweep}: "
+        paper = draw_paper_points(ax, prefix, x_dim, enabled=1.0, **fixed) or paper
         probability_axes(ax, "stop duration t_stop" if x_dim == "t_stop" else "asymmetry \u0394")
         if x_dim == "asymmetry":
             ax.ticklabel_format(axis="x", style="sci", scilimits=(0, 0))
@@ -60,7 +66,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
         print_points(f"{NAME} {sweep}: ", x_dim, x, ds)
     fig.suptitle("Fig. 7: inversion probability of asymmetric rotors", fontsize=11)
     # one footer paragraph per panel: the three sweeps may come at different fidelities
-    add_footer(fig, "\n".join(footers), fontsize=6.5)
+    add_footer(fig, "\n".join(filter(None, [*footers, paper])), fontsize=6.5)
     return save(fig, args.out, NAME)
 
 

@@ -19,6 +19,7 @@ from pathlib import Path
 from _common import (
     add_footer,
     curve,
+    draw_paper_points,
     errorbar_p,
     new_figure,
     parse_args,
@@ -46,6 +47,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     deltas = report["asymmetry"].values if "asymmetry" in report.dims else [None]
     fig = new_figure(7.0, 5.0)
     ax = fig.subplots()
+    paper = ""
     for k, delta in enumerate(deltas):
         ds = curve(report, "t_stop", **({} if delta is None else {"asymmetry": delta}))
         value = float(ds["asymmetry"]) if "asymmetry" in ds.coords else 0.0
@@ -54,13 +56,25 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
         dodge = 0.03 * (k - (len(deltas) - 1) / 2)  # keep the error bars apart
         errorbar_p(ax, x + dodge, ds, label=f"\u0394 = {value:g}", **style)
         print_points(f"{NAME}: Delta = {value:g}, ", "t_stop", x, ds)
+        marker = {key: val for key, val in style.items() if key != "fmt"}
+        found = draw_paper_points(
+            ax,
+            f"{NAME}: Delta = {value:g}, ",
+            "t_stop",
+            {**marker, "fmt": "D", "mec": "k", "ms": 7, "zorder": 5, "label": None},
+            asymmetry=value,
+            enabled=0.0,
+        )
+        paper = found or paper
     probability_axes(ax, "stop duration t_stop")
+    if paper:
+        ax.plot([], [], "D", color="0.5", mec="k", label="paper resolution (diamonds)")
     ax.legend(fontsize=8)
     ax.set_title(
         "Fig. 8: no flow (v = 0); paper: no systematic inversion for any t_stop",
         fontsize=10,
     )
-    add_footer(fig, probability_footer(args.fidelity, data))
+    add_footer(fig, "\n".join(filter(None, [probability_footer(args.fidelity, data), paper])))
     return save(fig, args.out, NAME)
 
 
