@@ -8,7 +8,8 @@ is a deterministic function of the stop angle. In the continuum model a long sto
 Delta > 0 rotor would end CW, and the plateau would be 0. On the Cartesian grid the
 spurious lattice torque (docs/model.md) adds an angle-dependent part; where it outweighs
 the asymmetry torque the rotor ends in the unfavourable direction. For each point this
-prints, at sigma = 0: the mean and spread over stop angles of the end-of-stop torque,
+prints, at sigma = 0: the mean and spread over stop angles of the end-of-stop torque (per
+direction before the stop: at short stops the flow's memory torque dominates it),
 the share of stops ending against the sign of Delta, whether sign(torque_end) predicts the
 outcome, and P itself — the plateau that the lattice alone produces.
 
@@ -56,14 +57,20 @@ def main() -> None:
             torque = np.array([r["torque_end"] for r in results])
             after = np.array([r["direction_after"] for r in results])
             before = np.array([r["direction_before"] for r in results])
+            spread = ", ".join(
+                f"from {name}: mean {torque[before == d].mean():.3e}, "
+                f"std {torque[before == d].std():.3e}"
+                for d, name in ((1, "CCW"), (-1, "CW"))
+                if (before == d).any()
+            )
             sign = -np.sign(where["Delta"])  # Delta > 0 favours CW (-1)
             against = float(np.mean(after != sign)) if sign != 0 else float("nan")
             predicts = float(np.mean(np.sign(torque) == after))
             chain = two_state_chain(restart_counts(before.tolist(), after.tolist()))
             label = ", ".join(f"{k} = {v}" for k, v in where.items())
             print(
-                f"  {label}: {len(results)} stops; torque_end mean {torque.mean():.3e}, "
-                f"std over angles {torque.std():.3e}; ends against Delta: {against:.3f}; "
+                f"  {label}: {len(results)} stops; torque_end over stop angles {spread}; "
+                f"ends against Delta: {against:.3f}; "
                 f"sign(torque_end) = outcome: {predicts:.3f}; "
                 f"P = {chain.p:.3f} [{chain.low:.3f}, {chain.high:.3f}]"
             )
