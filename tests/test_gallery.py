@@ -183,3 +183,50 @@ def test_curve_requires_the_other_axes_fixed(tiny_gallery):
 
 def test_gallery_dir_is_the_checkout():
     assert gallery_dir() == Path(__file__).resolve().parent.parent / "gallery"
+
+
+def _report(dims: dict[str, list[float]], base: dict, p: float) -> xr.Dataset:
+    """A stored report with constant P = p (and a 0.1-wide interval), 60 stops per point."""
+    import json
+
+    shape = tuple(len(v) for v in dims.values())
+    names = list(dims)
+    data = {
+        "P": (names, np.full(shape, p)),
+        "P_low": (names, np.full(shape, p - 0.05)),
+        "P_high": (names, np.full(shape, p + 0.05)),
+        "stops": (names, np.full(shape, 60)),
+    }
+    return xr.Dataset(data, coords=dims, attrs={"base_config": json.dumps(base)})
+
+
+def test_paper_points_combine_stored_reports_on_one_curve(tmp_path, monkeypatch):
+    """Points of a curve come from every stored paper-resolution report that holds them;
+    settings that are not axes are read from a report's base config."""
+    load_script(gallery_dir() / "fig1_geometry.py")
+    common = sys.modules["_common"]
+    monkeypatch.setattr(common, "DATA", tmp_path)
+    sigma = {"sigma": [0.0, 2e-8]}
+    _report({"asymmetry": [0.0, 1e-4], "t_stop": [0.5, 3.0], **sigma}, {}, 0.7).to_netcdf(
+        tmp_path / "predictions.nc", engine="h5netcdf"
+    )
+    _report(
+        {"asymmetry": [0.0, 2e-5, 1e-4], "t_stop": [0.5, 3.0], **sigma},
+        {"flow": {"enabled": False}},
+        0.3,
+    ).to_netcdf(tmp_path / "predictions_no_flow.nc", engine="h5netcdf")
+    _report({"t_stop": [3.0], **sigma}, {"geometry": {"asymmetry": 2e-5}}, 0.2).to_netcdf(
+        tmp_path / "calibration.nc", engine="h5netcdf"
+    )
+    flow = common.paper_points("t_stop", asymmetry=0.0, sigma=2e-8, enabled=1.0)
+    assert flow["t_stop"].values.tolist() == [0.5, 3.0]
+    assert np.allclose(flow["P"], 0.7)
+    assert set(flow["report"].values) == {"predictions"}
+    no_flow = common.paper_points("t_stop", asymmetry=2e-5, sigma=2e-8, enabled=0.0)
+    assert np.allclose(no_flow["P"], 0.3)
+    # P against Delta at t_stop = 3: two points from predictions, one from calibration
+    across = common.paper_points("asymmetry", t_stop=3.0, sigma=2e-8, enabled=1.0)
+    assert across["asymmetry"].values.tolist() == [0.0, 2e-5, 1e-4]
+    assert across["P"].values.tolist() == [0.7, 0.2, 0.7]
+    assert across["report"].values.tolist() == ["predictions", "calibration", "predictions"]
+    assert common.paper_points("t_stop", asymmetry=0.0, sigma=5e-8, enabled=1.0) is None
