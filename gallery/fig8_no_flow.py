@@ -56,12 +56,12 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
         dodge = 0.03 * (k - (len(deltas) - 1) / 2)  # keep the error bars apart
         errorbar_p(ax, x + dodge, ds, label=f"\u0394 = {value:g}", **style)
         print_points(f"{NAME}: Delta = {value:g}, ", "t_stop", x, ds)
-        marker = {key: val for key, val in style.items() if key != "fmt"}
+        colour = style["color"]
         found = draw_paper_points(
             ax,
             f"{NAME}: Delta = {value:g}, ",
             "t_stop",
-            {**marker, "fmt": "D", "mec": "k", "ms": 7, "zorder": 5, "label": None},
+            {"fmt": "D", "color": colour, "mfc": colour, "mec": "k", "ms": 8, "label": None},
             asymmetry=value,
             enabled=0.0,
         )
