@@ -490,7 +490,7 @@ def wilson_text(k: int, n: int) -> str:
 # ---------------------------------------------------------------------------------------
 
 
-def cycles_option(parser: argparse.ArgumentParser) -> None:
+def _cycles_option(parser: argparse.ArgumentParser) -> None:
     """``--cycles M``: the number of stop-and-release cycles of the time-series runs."""
     parser.add_argument(
         "--cycles",
@@ -574,6 +574,26 @@ def timeseries_figure(
         ),
     )
     return fig, lines
+
+
+def timeseries_main(
+    name: str,
+    title: str,
+    panels: Sequence[tuple[str, Path]],
+    description: str,
+    argv: Sequence[str] | None = None,
+) -> list[Path]:
+    """The whole script of a time-series figure (Figs. 4 and 6).
+
+    Parses ``[--quick | --tiny] [--out DIR] [--cycles M]``, runs one config per panel
+    (:func:`timeseries_figure`), prints the inversion counts and writes `name` as PNG and
+    PDF.
+    """
+    args = parse_args(description, argv, extra=_cycles_option)
+    fig, lines = timeseries_figure(title, panels, args.fidelity, args.cycles)
+    for line in lines:
+        print(f"{name}: {line}")
+    return save(fig, args.out, name)
 
 
 def curve(ds: xr.Dataset, x_dim: str, **fixed: float) -> xr.Dataset:

@@ -15,24 +15,16 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-from _common import CONFIGS, cycles_option, parse_args, save, timeseries_figure
+from _common import CONFIGS, timeseries_main
 
 NAME = "fig4_timeseries"
 PANELS = (("a", CONFIGS / "paper_fig4a.yaml"), ("b", CONFIGS / "paper_fig4b.yaml"))
+TITLE = "Fig. 4: symmetric rotor (\u0394 = 0), (a) t_stop = 0.5, (b) t_stop = 2"
 
 
 def main(argv: Sequence[str] | None = None) -> list[Path]:
     """Run both configs and write Fig. 4 as PNG and PDF."""
-    args = parse_args(__doc__.splitlines()[0], argv, extra=cycles_option)
-    fig, lines = timeseries_figure(
-        "Fig. 4: symmetric rotor (\u0394 = 0), (a) t_stop = 0.5, (b) t_stop = 2",
-        PANELS,
-        args.fidelity,
-        args.cycles,
-    )
-    for line in lines:
-        print(f"{NAME}: {line}")
-    return save(fig, args.out, NAME)
+    return timeseries_main(NAME, TITLE, PANELS, __doc__.splitlines()[0], argv)
 
 
 if __name__ == "__main__":
