@@ -603,7 +603,7 @@ def run_bank(
     dt = base.grid.dt
     extra = bank_offset(sample, _period_steps(base, warm))
     timing = _Timing.of(base, estimator, _steps(warm.t, dt) + extra)
-    quiet = timing.protocol(base).model_copy(deep=True)
+    quiet = timing.protocol(base)
     quiet.noise.sigma = 0.0
     stop = warm.branch(quiet)
     stop.run(timing.n0 * dt)
