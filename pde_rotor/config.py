@@ -234,6 +234,45 @@ class GridConfig(_Section):
     dt: PositiveFloat = Field(1e-4, description="explicit Euler time step")
 
 
+class NumericsConfig(_Section):
+    """How F, G and the torque are discretised on the grid (docs/model.md, "Schemes")."""
+
+    scheme: Literal["paper", "consistent"] = Field(
+        "paper",
+        description=(
+            "paper: point values of F and G and the area-form torque with central "
+            "differences, as in the paper; consistent: cell-averaged F and G and the "
+            "torque in contour form (in development: docs/model.md, Schemes)"
+        ),
+    )
+    subsamples: Int | None = Field(
+        None,
+        ge=1,
+        le=8,
+        description=(
+            "consistent scheme: sample points per cell axis for the cell averages of F "
+            "and G [default: ceil(2 dx / delta)]"
+        ),
+    )
+    contour_nodes: Int = Field(
+        32, ge=4, le=256, description="consistent scheme: Gauss-Legendre nodes per plate edge"
+    )
+    band_nodes: Int = Field(
+        6,
+        ge=1,
+        le=24,
+        description="consistent scheme: Gauss nodes across the smoothed plate edge",
+    )
+
+    def samples_per_axis(self, dx: float, smoothing: float) -> int:
+        """Sample points per cell axis of F and G: 1 for the paper scheme."""
+        if self.scheme == "paper":
+            return 1
+        if self.subsamples is not None:
+            return self.subsamples
+        return max(1, math.ceil(2.0 * dx / smoothing - 1e-9))
+
+
 class SolverConfig(_Section):
     """Where the time steps run."""
 
@@ -300,6 +339,7 @@ class RotorConfig(_Section):
     noise: NoiseConfig = Field(default_factory=NoiseConfig)
     protocol: ProtocolConfig = Field(default_factory=ProtocolConfig)
     grid: GridConfig = Field(default_factory=GridConfig)
+    numerics: NumericsConfig = Field(default_factory=NumericsConfig)
     solver: SolverConfig = Field(default_factory=SolverConfig)
     output: OutputConfig = Field(default_factory=OutputConfig)
 
@@ -319,7 +359,7 @@ class RotorConfig(_Section):
                 f"geometry.radius + 2 dx = {self.geometry.radius + 2 * dx:g})"
             )
             raise FieldError("grid.domain_radius", self.grid.domain_radius, msg)
-        from .geometry import X_SATURATION  # geometry imports this module
+        from .core import X_SATURATION
 
         n = self.geometry.n_corners
         support = self.geometry.radius + X_SATURATION * smoothing / math.cos(math.pi / n)

@@ -14,24 +14,23 @@ See docs/model.md.
 
 F and G are the smoothed indicators of the paper (the two unnumbered equations after
 Eq. (rj)). Both are 1/2 (1 + tanh(x)) of a signed distance x in units of delta. For
-|x| >= X_SATURATION they equal 0 or 1 to within exp(-2 X_SATURATION) = 4e-18, so
-:func:`update_indicators` evaluates them only inside the disk of radius
+|x| >= X_SATURATION they equal 0 or 1 to within exp(-2 X_SATURATION) = 4e-18, so the
+kernels (:mod:`pde_rotor.core`) evaluate them only inside the disk of radius
 R + X_SATURATION delta / cos(pi/N) (F) and within rho + X_SATURATION delta of each pill
-(G), and agrees with the full evaluation to round-off.
+(G). This module holds the numpy reference versions (point values; cell averages of
+the ``consistent`` scheme in :func:`cell_averaged`).
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
-import numba as nb
 import numpy as np
 
 from .config import GeometryConfig
-
-X_SATURATION = 20.0
-"""|x| beyond which float64 tanh(x) is exactly +-1 (1 - tanh(20) = 8.5e-18 < 2^-54)."""
+from .core import X_SATURATION
 
 
 @dataclass(frozen=True)
@@ -130,74 +129,27 @@ def pill_indicator(x: np.ndarray, y: np.ndarray, shape: RotorShape, phi: float) 
     return out
 
 
-@nb.njit(cache=True, nogil=True, inline="always")
-def _logistic(arg: float) -> float:
-    """1/2 (1 + tanh(arg)) written as 1 / (1 + exp(-2 arg)): 3x cheaper than libm tanh."""
-    return 1.0 / (1.0 + math.exp(-2.0 * arg))
-
-
-@nb.njit(cache=True, nogil=True)
-def update_indicators(
-    F: np.ndarray,
-    G: np.ndarray,
-    coords: np.ndarray,
-    box_lo: np.ndarray,
-    box_hi: np.ndarray,
-    shape: np.ndarray,
+def cell_averaged(
+    indicator: Callable[[np.ndarray, np.ndarray, RotorShape, float], np.ndarray],
+    x: np.ndarray,
+    y: np.ndarray,
+    shape: RotorShape,
     phi: float,
-) -> None:
-    """Recompute F and G in place where they can differ from 0 (compiled).
+    dx: float,
+    samples: int,
+) -> np.ndarray:
+    """Mean of `indicator` over samples x samples points of each cell (numpy reference).
 
-    Uses 1/2 (1 + tanh(x)) = 1 / (1 + exp(-2x)); cells beyond the support keep the value
-    0, which differs from the formula by less than exp(-2 X_SATURATION) = 4e-18.
-
-    Args:
-        F: plate indicator on the grid, shape (n, n); cells outside the support are
-            left untouched and must hold 0.
-        G: pill indicator on the grid, shape (n, n), same convention.
-        coords: cell-centre coordinates along one axis (the grid is square, uniform).
-        box_lo: for each row i, first column j inside the support disk.
-        box_hi: for each row i, one past the last such column (box_lo == box_hi: none).
-        shape: :meth:`RotorShape.as_array`.
-        phi: rotor angle.
+    The points sit at the centres of a regular samples x samples division of the cell of
+    side dx centred at (x, y); samples = 1 gives the point value at the centre. This is
+    how the ``consistent`` scheme (:mod:`pde_rotor.schemes`) turns F and G into cell
+    averages.
     """
-    n_corners = int(shape[0])
-    apothem, rho, r_c, asym, delta = shape[1], shape[2], shape[3], shape[4], shape[5]
-    inv_delta = 1.0 / delta
-    normal_c = np.empty(n_corners)
-    normal_s = np.empty(n_corners)
-    for k in range(n_corners):
-        a_edge = phi + 2.0 * math.pi * (k + 0.5) / n_corners
-        normal_c[k] = math.cos(a_edge)
-        normal_s[k] = math.sin(a_edge)
-    for i in range(coords.size):
-        x = coords[i]
-        for j in range(box_lo[i], box_hi[i]):
-            y = coords[j]
-            proj = x * normal_c[0] + y * normal_s[0]
-            for k in range(1, n_corners):
-                proj = max(proj, x * normal_c[k] + y * normal_s[k])
-            F[i, j] = _logistic((apothem - proj) * inv_delta)
-            G[i, j] = 0.0
-    # each pill only touches the cells within rho + X_SATURATION delta of its centre
-    x0 = coords[0]
-    spacing = coords[1] - coords[0]
-    reach = rho + X_SATURATION * delta
-    last = coords.size - 1
-    for k in range(n_corners):
-        a_pill = phi + 2.0 * math.pi * (k + 1) / n_corners + asym
-        px = r_c * math.cos(a_pill)
-        py = r_c * math.sin(a_pill)
-        i0 = max(0, math.floor((px - reach - x0) / spacing))
-        i1 = min(last, math.ceil((px + reach - x0) / spacing))
-        j0 = max(0, math.floor((py - reach - x0) / spacing))
-        j1 = min(last, math.ceil((py + reach - x0) / spacing))
-        for i in range(i0, i1 + 1):
-            dx2 = (coords[i] - px) ** 2
-            for j in range(j0, j1 + 1):
-                d2 = dx2 + (coords[j] - py) ** 2
-                if d2 < reach * reach:
-                    G[i, j] += _logistic((rho - math.sqrt(d2)) * inv_delta)
+    if samples == 1:
+        return indicator(x, y, shape, phi)
+    offsets = (np.arange(samples) + 0.5) * dx / samples - 0.5 * dx
+    total = sum(indicator(x + a, y + b, shape, phi) for a in offsets for b in offsets)
+    return total / samples**2
 
 
 def support_rows(coords: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray]:

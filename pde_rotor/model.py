@@ -26,6 +26,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numba as nb
 import numpy as np
@@ -34,7 +35,14 @@ from pde.pdes.base import PDEBase
 
 from .config import RotorConfig
 from .domain import Domain, make_domain
-from .geometry import RotorShape, pill_indicator, plate_indicator
+from .geometry import (
+    RotorShape,
+    cell_averaged,
+    edge_normal_angles,
+    pill_indicator,
+    plate_indicator,
+)
+from .schemes import Scheme, contour_cross_grad
 
 BOUNDARY = {"value": 0}
 """py-pde boundary condition on the square; it never reaches an interior cell."""
@@ -78,6 +86,7 @@ class RotorPDE(PDEBase):
         config: the run configuration (all parameters).
         shape: derived rotor geometry.
         domain: grid and loop ranges.
+        scheme: discretisation of F, G and the torque (``numerics``).
         rotor: current phi, omega and rotor diagnostics.
         F, G: plate and pill indicators on the grid, maintained by the solver.
     """
@@ -93,6 +102,7 @@ class RotorPDE(PDEBase):
         self.config = config
         self.shape = RotorShape.from_config(config.geometry)
         self.domain: Domain = make_domain(config.grid, self.shape)
+        self.scheme = Scheme.from_config(config)
         self.rotor = RotorState(phi=config.rotor.phi0, omega=config.rotor.omega0)
         self.F = np.zeros(self.domain.grid.shape)
         self.G = np.zeros(self.domain.grid.shape)
@@ -131,9 +141,17 @@ class RotorPDE(PDEBase):
         return np.meshgrid(coords, coords, indexing="ij")
 
     def indicators(self, phi: float) -> tuple[np.ndarray, np.ndarray]:
-        """F and G evaluated on every cell with numpy (reference for the compiled update)."""
+        """F and G of every cell with numpy (reference for the compiled update).
+
+        Point values at the cell centres (scheme ``paper``) or cell averages (scheme
+        ``consistent``), see :mod:`pde_rotor.schemes`.
+        """
         x, y = self.cell_coordinates()
-        return plate_indicator(x, y, self.shape, phi), pill_indicator(x, y, self.shape, phi)
+        dx, sub = self.domain.dx, self.scheme.subsamples
+        return (
+            cell_averaged(plate_indicator, x, y, self.shape, phi, dx, sub),
+            cell_averaged(pill_indicator, x, y, self.shape, phi, dx, sub),
+        )
 
     def evolution_rate(self, state: FieldCollection, t: float = 0) -> FieldCollection:
         """Right-hand sides of Eqs. (eqc) and (eqv) at the current rotor state (numpy).
@@ -167,6 +185,9 @@ class RotorPDE(PDEBase):
     def rotor_torques(self, state: FieldCollection) -> tuple[float, float]:
         """Torque T, Eq. (torque), and friction torque of Eq. (eq_motion) (numpy).
 
+        The torque's integral int F r x grad c dA is taken in the scheme's form: area
+        form with central differences (``paper``) or contour form (``consistent``).
+
         Returns:
             (T, -mu int F (|r|^2 omega - r x v) dA) at the current rotor state.
         """
@@ -174,14 +195,56 @@ class RotorPDE(PDEBase):
         c, v = state
         F, _ = self.indicators(self.rotor.phi)
         x, y = self.cell_coordinates()
-        grad = c.gradient(BOUNDARY).data
         area = self.domain.cell_area
-        cross_grad = np.sum(F * (x * grad[1] - y * grad[0])) * area
+        if self.scheme.contour:
+            normals = edge_normal_angles(self.shape.n_corners, self.rotor.phi)
+            cross_grad = contour_cross_grad(
+                c.data,
+                float(self.domain.coords[0]),
+                self.domain.dx,
+                self.scheme,
+                normals,
+                self.shape.apothem,
+                self.shape.smoothing,
+            )
+        else:
+            grad = c.gradient(BOUNDARY).data
+            cross_grad = np.sum(F * (x * grad[1] - y * grad[0])) * area
         torque = TORQUE_SIGN[cfg.rotor.torque] * cfg.camphor.tension_slope * cross_grad
         cross_v = np.sum(F * (x * v.data[1] - y * v.data[0])) * area if cfg.flow.enabled else 0.0
         moment = np.sum(F * (x**2 + y**2)) * area
         friction = -cfg.rotor.friction * (moment * self.rotor.omega - cross_v)
         return float(torque), float(friction)
+
+    def solve(
+        self,
+        state: FieldCollection,
+        t_range: float | tuple[float, float],
+        dt: float | None = None,
+        tracker: Any = "auto",
+        *,
+        solver: Any = "rotor",
+        **kwargs: Any,
+    ) -> Any:
+        """Solve with :class:`~pde_rotor.solver.RotorSolver`, which advances phi and omega.
+
+        Arguments as for py-pde's ``PDEBase.solve``; `dt` defaults to ``grid.dt``.
+
+        Raises:
+            ValueError: for any other solver: py-pde's generic solvers advance only the
+                fields and would leave the rotor frozen at its current angle.
+        """
+        from .solver import RotorSolver  # the solver module imports this one
+
+        if solver not in ("rotor", RotorSolver):
+            msg = (
+                f"solver {solver!r} would leave the rotor frozen; RotorPDE is solved by "
+                "RotorSolver (solver='rotor'), which advances phi and omega with the fields"
+            )
+            raise ValueError(msg)
+        if dt is None:
+            dt = self.config.grid.dt
+        return super().solve(state, t_range, dt, tracker, solver=RotorSolver, **kwargs)
 
     def make_operator_stepper(self, dt: float) -> Callable[[np.ndarray, np.ndarray, int], None]:
         """Euler stepper composed from py-pde's compiled operators (benchmark reference).

@@ -8,15 +8,16 @@ One compiled loop advances, every time step dt, all three unknowns of the paper'
   dphi/dt = omega, with the torque T of Eq. (torque) (see :mod:`pde_rotor.model` for the
   sign) and Gaussian white noise xi, Eq. (noiseav), integrated by Euler-Maruyama.
 
-Space: 5-point Laplacian, central differences for div(c v) and grad c (the paper's
-"explicit method for the spatial derivative"); time: forward Euler with step dt (the
-paper's "Euler method"). Every right-hand side is evaluated at the old time level.
+Time: forward Euler with step dt (the paper's "Euler method"), every right-hand side at
+the old time level. Space and the rotor integrals: the physics core
+(:mod:`pde_rotor.core`) in the scheme of ``numerics.scheme`` (:mod:`pde_rotor.schemes`).
+The loops below only walk the grid and call the core; the GPU backend calls the same
+core from its threads.
 
-The kernel functions are module-level numba functions compiled once per process (and
-cached on disk); :func:`make_fused_stepper` binds them to arrays and parameters.
-py-pde has no built-in coupling of ODEs to fields (py-pde issue #533), so
-:class:`RotorSolver` replaces ``make_stepper``: py-pde's Controller drives it and its
-trackers work unchanged.
+:class:`RotorSolver` plugs the loop into py-pde through ``SolverBase._make_inner_stepper``
+(py-pde has no built-in coupling of ODEs to fields, py-pde issue #533): py-pde selects
+the backend, calls the PDE's post-step hook if it has one, and its Controller and
+trackers drive the run unchanged.
 """
 
 from __future__ import annotations
@@ -24,158 +25,157 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any
 
 import numba as nb
 import numpy as np
 from pde import FieldCollection
 from pde.solvers.base import SolverBase
 
-from .geometry import update_indicators
+from .core import (
+    CPU,
+    P_DT,
+    P_I,
+    P_K,
+    P_MU,
+    P_TSIGN,
+    S_APOTHEM,
+    S_ASYM,
+    S_DELTA,
+    S_N,
+    S_RC,
+    S_RHO,
+)
 from .model import RotorPDE
 from .protocol import StopSchedule, stopped_at
+
+_rotor_table = CPU.rotor_table
+_plate_cell = CPU.plate_cell
+_pill_cell = CPU.pill_cell
+_cell_rates = CPU.cell_rates
+_cell_integrals = CPU.cell_integrals
+_contour_node = CPU.contour_node
+
+_FAST = {"contract", "arcp", "nsz"}
 
 
 class SimulationDivergedError(FloatingPointError):
     """Raised when the state stops being finite (NaN/Inf); says where and when."""
 
 
-# indices into the float parameter vector of the kernel
-P_DT, P_DX, P_D, P_A, P_SRC, P_K, P_ETA, P_ETAB, P_DETA, P_I, P_MU, P_TSIGN = range(12)
+@nb.njit(cache=True, nogil=True)
+def update_indicators(F, G, coords, slo, shi, shape, tab, sub, phi):
+    """Recompute F and G (flat n*n arrays) on the support cells for angle phi (compiled).
 
-
-_FAST = {"contract", "arcp", "nsz"}
-
-
-@nb.njit(cache=True, nogil=True, fastmath=_FAST, inline="always")
-def _row_with_flow(cur, nxt, F, G, coords, par, omega, u, x, j0, j1, plate):
-    """Euler step of Eqs. (eqc), (eqv) on cells [j0, j1) of row u (compiled).
-
-    `plate` is False on cells outside the support of F and G (F = G = 0 there), which then
-    skip reading F and G. Indices are unsigned, so numba emits no negative-index
-    wraparound and LLVM vectorises the loop.
+    Cells outside the support keep F = G = 0. `tab` (4, >= N) receives the edge normals
+    and pill centres; `sub` is the scheme's samples per cell axis.
     """
-    dt, dx = par[P_DT], par[P_DX]
-    inv_dx2 = 1.0 / (dx * dx)
-    inv_2dx = 0.5 / dx
-    diff, evap, src = par[P_D], par[P_A], par[P_SRC]
-    eta, eta_b, d_eta = par[P_ETA], par[P_ETAB], par[P_DETA]
-    one = np.uint64(1)
-    up, um = u + one, u - one
-    for j in range(j0, j1):
-        jp, jm = j + one, j - one
-        cc = cur[0, u, j]
-        ux = cur[1, u, j]
-        uy = cur[2, u, j]
-        lap_c = cur[0, up, j] + cur[0, um, j] + cur[0, u, jp] + cur[0, u, jm]
-        div_cv = (
-            cur[0, up, j] * cur[1, up, j]
-            - cur[0, um, j] * cur[1, um, j]
-            + cur[0, u, jp] * cur[2, u, jp]
-            - cur[0, u, jm] * cur[2, u, jm]
-        )
-        lap_x = cur[1, up, j] + cur[1, um, j] + cur[1, u, jp] + cur[1, u, jm]
-        lap_y = cur[2, up, j] + cur[2, um, j] + cur[2, u, jp] + cur[2, u, jm]
-        rate_c = diff * (lap_c - 4.0 * cc) * inv_dx2 - div_cv * inv_2dx - evap * cc
-        rate_x = d_eta * (lap_x - 4.0 * ux) * inv_dx2 - eta_b * ux
-        rate_y = d_eta * (lap_y - 4.0 * uy) * inv_dx2 - eta_b * uy
-        if plate:
-            f = F[u, j]
-            rate_c += evap * f * cc + src * G[u, j]
-            rate_x += eta * f * (-omega * coords[j] - ux)
-            rate_y += eta * f * (omega * x - uy)
-        nxt[0, u, j] = cc + dt * rate_c
-        nxt[1, u, j] = ux + dt * rate_x
-        nxt[2, u, j] = uy + dt * rate_y
+    n_corners = int(shape[S_N])
+    apothem, rho, inv_delta = shape[S_APOTHEM], shape[S_RHO], 1.0 / shape[S_DELTA]
+    _rotor_table(phi, n_corners, shape[S_RC], shape[S_ASYM], tab)
+    n = coords.size
+    dx = coords[1] - coords[0]
+    for i in range(n):
+        x = coords[i]
+        for j in range(slo[i], shi[i]):
+            y = coords[j]
+            F[i * n + j] = _plate_cell(x, y, tab, n_corners, apothem, inv_delta, sub, dx)
+            G[i * n + j] = _pill_cell(x, y, tab, n_corners, rho, inv_delta, sub, dx)
 
 
 @nb.njit(cache=True, nogil=True, fastmath=_FAST, inline="always")
-def _row_without_flow(cur, nxt, F, G, par, u, j0, j1, plate):
-    """Euler step of Eq. (eqc) with v = 0 on cells [j0, j1) of row u (compiled)."""
-    dt, dx = par[P_DT], par[P_DX]
-    inv_dx2 = 1.0 / (dx * dx)
-    diff, evap, src = par[P_D], par[P_A], par[P_SRC]
-    one = np.uint64(1)
-    up, um = u + one, u - one
+def _euler_row(cur, nxt, F, G, y_of, par, omega, x, base, sx, nn, j0, j1, flow, plate):
+    """Euler step of the cells [j0, j1) of one row (offset `base`) (compiled)."""
+    dt = par[P_DT]
+    sy = np.uint64(1)
+    f = 0.0
+    g = 0.0
     for j in range(j0, j1):
-        cc = cur[0, u, j]
-        lap_c = cur[0, up, j] + cur[0, um, j] + cur[0, u, j + one] + cur[0, u, j - one]
-        rate_c = diff * (lap_c - 4.0 * cc) * inv_dx2 - evap * cc
+        o = base + j
         if plate:
-            rate_c += evap * F[u, j] * cc + src * G[u, j]
-        nxt[0, u, j] = cc + dt * rate_c
+            f = F[o]
+            g = G[o]
+        rate_c, rate_x, rate_y = _cell_rates(
+            cur, o, sx, sy, nn, f, g, omega, x, y_of[j], par, flow, plate
+        )
+        nxt[o] = cur[o] + dt * rate_c
+        if flow:
+            ox = o + nn
+            nxt[ox] = cur[ox] + dt * rate_x
+            nxt[ox + nn] = cur[ox + nn] + dt * rate_y
 
 
 @nb.njit(cache=True, nogil=True, fastmath=_FAST)
-def _fields_with_flow(cur, nxt, F, G, coords, lo, hi, slo, shi, par, omega):
-    """One Euler step of Eqs. (eqc) and (eqv) on all interior cells (compiled).
+def euler_fields(cur, nxt, F, G, coords, lo, hi, slo, shi, par, omega, flow):
+    """One Euler step of Eqs. (eqc) and (eqv) (or (eqc) alone) on all interior cells.
 
     Args:
-        cur: state (3, n, n) = (c, v_x, v_y) at the old time level.
+        cur: flat state (c, v_x, v_y) at the old time level, 3 n^2 values.
         nxt: receives the new state on interior cells.
-        F, G: plate and pill indicators (zero outside the support).
+        F, G: flat plate and pill indicators (zero outside the support).
         coords: cell-centre coordinates.
         lo, hi: interior column ranges per row.
         slo, shi: support column ranges per row (inside the interior ranges).
-        par: float parameters (indices P_*).
+        par: float parameters (indices P_* of :mod:`pde_rotor.core`).
         omega: plate angular velocity (0 during a stop).
+        flow: whether v is advanced (False: v = 0, Fig. 8).
     """
-    for i in range(coords.size):
-        u = np.uint64(i)
+    n = coords.size
+    sx = np.uint64(n)
+    nn = np.uint64(n * n)
+    for i in range(n):
         x = coords[i]
+        base = np.uint64(i * n)
         j0, j1 = np.uint64(lo[i]), np.uint64(hi[i])
         if shi[i] > slo[i]:
             s0, s1 = np.uint64(slo[i]), np.uint64(shi[i])
-            _row_with_flow(cur, nxt, F, G, coords, par, omega, u, x, j0, s0, False)
-            _row_with_flow(cur, nxt, F, G, coords, par, omega, u, x, s0, s1, True)
-            _row_with_flow(cur, nxt, F, G, coords, par, omega, u, x, s1, j1, False)
+            _euler_row(cur, nxt, F, G, coords, par, omega, x, base, sx, nn, j0, s0, flow, False)
+            _euler_row(cur, nxt, F, G, coords, par, omega, x, base, sx, nn, s0, s1, flow, True)
+            _euler_row(cur, nxt, F, G, coords, par, omega, x, base, sx, nn, s1, j1, flow, False)
         else:
-            _row_with_flow(cur, nxt, F, G, coords, par, omega, u, x, j0, j1, False)
-
-
-@nb.njit(cache=True, nogil=True, fastmath=_FAST)
-def _fields_without_flow(cur, nxt, F, G, coords, lo, hi, slo, shi, par):
-    """One Euler step of Eq. (eqc) with v = 0 (the paper's Fig. 8; compiled).
-
-    Arguments as for :func:`_fields_with_flow`.
-    """
-    for i in range(coords.size):
-        u = np.uint64(i)
-        j0, j1 = np.uint64(lo[i]), np.uint64(hi[i])
-        if shi[i] > slo[i]:
-            s0, s1 = np.uint64(slo[i]), np.uint64(shi[i])
-            _row_without_flow(cur, nxt, F, G, par, u, j0, s0, False)
-            _row_without_flow(cur, nxt, F, G, par, u, s0, s1, True)
-            _row_without_flow(cur, nxt, F, G, par, u, s1, j1, False)
-        else:
-            _row_without_flow(cur, nxt, F, G, par, u, j0, j1, False)
+            _euler_row(cur, nxt, F, G, coords, par, omega, x, base, sx, nn, j0, j1, flow, False)
 
 
 @nb.njit(cache=True, nogil=True)
-def rotor_integrals(c, vx, vy, F, coords, lo, hi, dx, flow):
-    """Plate integrals of Eq. (eq_motion) on the support of F (compiled).
+def rotor_integrals(cur, F, coords, slo, shi, shape, tab, num, quad_s, quad_t, flow):
+    """The integrals of Eq. (eq_motion) over the plate (compiled).
+
+    `tab` must hold the rotor table of the current angle (:func:`update_indicators`).
+    `num` is [samples, contour, tan(pi/N)] of :class:`~pde_rotor.schemes.Scheme`.
 
     Returns:
-        (int F r x grad c dA, int F |r|^2 dA, int F r x v dA), with grad c by central
-        differences and r x u = x u_y - y u_x.
+        (int F r x grad c dA, int F |r|^2 dA, int F r x v dA); the first in area form
+        with central differences, or in contour form when num[1] != 0.
     """
+    n = coords.size
+    dx = coords[1] - coords[0]
     inv_2dx = 0.5 / dx
+    sx, nn = n, n * n
+    contour = num[1] != 0.0
     cross_grad = 0.0
     moment = 0.0
     cross_v = 0.0
-    for i in range(coords.size):
+    for i in range(n):
         x = coords[i]
-        for j in range(lo[i], hi[i]):
-            f = F[i, j]
+        for j in range(slo[i], shi[i]):
+            o = i * n + j
+            f = F[o]
             if f == 0.0:
                 continue
-            y = coords[j]
-            dcdx = (c[i + 1, j] - c[i - 1, j]) * inv_2dx
-            dcdy = (c[i, j + 1] - c[i, j - 1]) * inv_2dx
-            cross_grad += f * (x * dcdy - y * dcdx)
-            moment += f * (x * x + y * y)
-            if flow:
-                cross_v += f * (x * vy[i, j] - y * vx[i, j])
+            grad, mom, vel = _cell_integrals(cur, o, sx, 1, nn, f, x, coords[j], inv_2dx, flow)
+            cross_grad += grad
+            moment += mom
+            cross_v += vel
     area = dx * dx
+    if contour:
+        cross_grad = 0.0
+        n_nodes = int(shape[S_N]) * quad_s.shape[1] * quad_t.shape[1]
+        apothem, delta = shape[S_APOTHEM], shape[S_DELTA]
+        for q in range(n_nodes):
+            cross_grad += _contour_node(
+                cur, 0, n, coords[0], 1.0 / dx, tab, apothem, delta, num[2], quad_s, quad_t, q
+            )
+        return cross_grad, moment * area, cross_v * area
     return cross_grad * area, moment * area, cross_v * area
 
 
@@ -192,6 +192,9 @@ def advance(
     shi,
     shape,
     par,
+    num,
+    quad_s,
+    quad_t,
     flow,
     schedule,
     rotor,
@@ -202,14 +205,16 @@ def advance(
     """Advance c, v, phi, omega by `n_steps` fused Euler steps (compiled).
 
     Args:
-        data: state (3, n, n) = (c, v_x, v_y), updated in place.
+        data: flat state (c, v_x, v_y), 3 n^2 values, updated in place.
         spare: scratch array of the same shape.
-        F, G: indicator arrays (n, n), zero outside the support, updated in place.
+        F, G: flat indicator arrays (n^2), zero outside the support, updated in place.
         coords: cell-centre coordinates.
         lo, hi: interior column ranges per row.
         slo, shi: support column ranges per row.
         shape: :meth:`RotorShape.as_array`.
-        par: float parameters, indices P_*.
+        par: float parameters, indices P_* of :mod:`pde_rotor.core`.
+        num: [samples, contour, tan(pi/N)] of the scheme.
+        quad_s, quad_t: the scheme's quadrature rules (:class:`~pde_rotor.schemes.Scheme`).
         flow: whether the flow is on (False: v is set to 0 and stays 0, Fig. 8).
         schedule: :meth:`StopSchedule.as_array`.
         rotor: [phi, omega, torque, friction, stopped], updated in place.
@@ -225,32 +230,32 @@ def advance(
     phi, omega = rotor[0], rotor[1]
     cur = data
     nxt = spare
+    nn = coords.size * coords.size
+    tab = np.empty((4, int(shape[S_N])))
+    sub = int(num[0])
     phi_f = math.nan
     noisy = kicks.size > 0
     if not flow:
-        data[1:] = 0.0
-        spare[1:] = 0.0
+        data[nn:] = 0.0
+        spare[nn:] = 0.0
     for s in range(n_steps):
         stopped = stopped_at(step0 + s, schedule)
         if stopped:
             omega = 0.0
         if phi != phi_f:
-            update_indicators(F, G, coords, slo, shi, shape, phi)
+            update_indicators(F, G, coords, slo, shi, shape, tab, sub, phi)
             phi_f = phi
         cross_grad, moment, cross_v = rotor_integrals(
-            cur[0], cur[1], cur[2], F, coords, slo, shi, par[P_DX], flow
+            cur, F, coords, slo, shi, shape, tab, num, quad_s, quad_t, flow
         )
         torque = tsign_k * cross_grad
         friction = -mu * (moment * omega - cross_v)
         if not (math.isfinite(torque) and math.isfinite(friction)):
             if s % 2 == 1:
-                data[:] = cur
+                data[:] = spare
             rotor[0], rotor[1] = phi, omega
             return s
-        if flow:
-            _fields_with_flow(cur, nxt, F, G, coords, lo, hi, slo, shi, par, omega)
-        else:
-            _fields_without_flow(cur, nxt, F, G, coords, lo, hi, slo, shi, par)
+        euler_fields(cur, nxt, F, G, coords, lo, hi, slo, shi, par, omega, flow)
         if not stopped:
             phi += dt * omega
             omega += dt * (friction + torque) * inv_inertia
@@ -259,7 +264,7 @@ def advance(
         cur, nxt = nxt, cur
         rotor[2], rotor[3], rotor[4] = torque, friction, 1.0 if stopped else 0.0
     if n_steps % 2 == 1:
-        data[:] = cur
+        data[:] = spare
     rotor[0], rotor[1] = phi, omega
     return -1
 
@@ -303,12 +308,14 @@ class FusedStepper:
         """
         pde = self.pde
         dom = pde.domain
+        scheme = pde.scheme
         rotor = pde.rotor.as_array()
+        work = data if data.flags.c_contiguous else np.ascontiguousarray(data)
         failed = advance(
-            data,
-            self._spare,
-            pde.F,
-            pde.G,
+            work.reshape(-1),
+            self._spare.reshape(-1),
+            pde.F.reshape(-1),
+            pde.G.reshape(-1),
             dom.coords,
             dom.interior_lo,
             dom.interior_hi,
@@ -316,6 +323,9 @@ class FusedStepper:
             dom.support_hi,
             pde.shape.as_array(),
             self._par,
+            scheme.as_array(),
+            scheme.quad_s,
+            scheme.quad_t,
             pde.config.flow.enabled,
             self.schedule.as_array(),
             rotor,
@@ -323,6 +333,8 @@ class FusedStepper:
             step0,
             n_steps,
         )
+        if work is not data:
+            data[...] = work
         pde.rotor.update_from(rotor)
         if failed >= 0:
             self._diverged((step0 + failed) * self.dt, data, rotor)
@@ -351,29 +363,56 @@ def make_fused_stepper(pde: RotorPDE, dt: float, rng: np.random.Generator) -> Fu
 class RotorSolver(SolverBase):
     """py-pde solver that advances the rotor model with the fused compiled kernel.
 
-    py-pde's :class:`~pde.solvers.Controller` calls the stepper between tracker times;
-    the rotor state lives in ``pde.rotor`` and is advanced in the same compiled loop as
-    the fields, every step.
+    It supplies ``_make_inner_stepper``, the hook through which py-pde's generic backend
+    runs a solver: :meth:`SolverBase.make_stepper` records dt, selects the backend and
+    asks it for the stepper, which calls the inner stepper from tracker time to tracker
+    time. The rotor state lives in ``pde.rotor`` and is advanced in the same compiled
+    loop as the fields, every step. If the PDE defines a post-step hook
+    (``make_post_step_hook``), it is called after every step.
     """
 
-    name = "rotor_fused"
+    name = "rotor"
 
-    def __init__(self, pde: RotorPDE, *, rng: np.random.Generator | None = None):
+    def __init__(
+        self,
+        pde: RotorPDE,
+        *,
+        backend: str = "auto",
+        rng: np.random.Generator | None = None,
+    ):
         """
         Args:
             pde: the rotor model.
+            backend: py-pde backend; ``auto`` and ``numpy`` both run the fused kernel
+                through py-pde's generic stepper (the kernel compiles itself with numba).
             rng: Generator for the torque noise; by default seeded from
                 ``pde.config.noise.seed``.
+
+        Raises:
+            ValueError: for a py-pde backend that does not go through
+                ``_make_inner_stepper`` (numba, jax, torch: they compile py-pde's own
+                operators, which this model does not use).
         """
-        super().__init__(pde, backend="numba")
+        if backend not in ("auto", "numpy"):
+            msg = (
+                f"RotorSolver runs its own compiled kernel and takes backend 'auto' or "
+                f"'numpy', not {backend!r}"
+            )
+            raise ValueError(msg)
+        super().__init__(pde, backend=backend)
         self.pde: RotorPDE = pde
         seed = pde.config.noise.seed
         self.rng = rng if rng is not None else np.random.default_rng(seed)
+        self.fused: FusedStepper | None = None
 
     def make_stepper(
         self, state: FieldCollection, dt: float | None = None
     ) -> Callable[[FieldCollection, float, float], float]:
         """Return stepper(state, t_start, t_end) -> t advancing by whole steps of dt.
+
+        Args:
+            state: the state the stepper will advance (its grid must be the model's).
+            dt: time step (default: ``grid.dt`` of the configuration).
 
         Raises:
             ValueError: if dt exceeds the explicit stability limit (before any step).
@@ -384,17 +423,32 @@ class RotorSolver(SolverBase):
         if dt > limit:
             msg = f"dt = {dt:g} exceeds the explicit stability limit {limit:.4g}"
             raise ValueError(msg)
-        stochastic = self.pde.config.noise.sigma > 0
-        self.info.update(dt=float(dt), steps=0, dt_adaptive=False, stochastic=stochastic)
-        self.info["backend"] = "numba (fused rotor kernel)"
+        stepper = super().make_stepper(state, dt)
+        self.info["stochastic"] = self.pde.config.noise.sigma > 0
+        self.info["kernel"] = f"numba fused rotor kernel, scheme {self.pde.scheme.name}"
+        return stepper
+
+    def _make_inner_stepper(self, state: FieldCollection) -> Callable[[Any, float, float], float]:
+        """The backend-level stepper: state data, t_start, t_end -> t after whole steps."""
+        dt = float(self.info["dt"])
         fused = make_fused_stepper(self.pde, dt, self.rng)
         self.fused = fused
+        post_step_hook = self._make_post_step_hook(state)
+        hooked = self.info["post_step_data"] is not None
 
-        def stepper(state: FieldCollection, t_start: float, t_end: float) -> float:
+        def inner_stepper(state_data: np.ndarray, t_start: float, t_end: float) -> float:
             step0 = round(t_start / dt)
             n_steps = max(1, round((t_end - t_start) / dt))
-            fused(state.data, step0, n_steps)
+            if hooked:
+                for step in range(step0, step0 + n_steps):
+                    fused(state_data, step, 1)
+                    data, self.info["post_step_data"] = post_step_hook(
+                        state_data, step * dt, self.info["post_step_data"]
+                    )
+                    state_data[...] = data
+            else:
+                fused(state_data, step0, n_steps)
             self.info["steps"] += n_steps
             return (step0 + n_steps) * dt
 
-        return stepper
+        return inner_stepper

@@ -18,7 +18,7 @@ from scipy.special import i0, i1, k0, k1
 
 from pde_rotor import RotorConfig, Simulation
 from pde_rotor.model import RotorPDE
-from pde_rotor.solver import _fields_with_flow, _fields_without_flow
+from pde_rotor.solver import euler_fields
 
 # fine enough for < 1 % against the Bessel solutions, small enough to take ~1 s each
 ANALYTIC_GRID = {"domain_radius": 1.5, "dx": 0.025, "dt": 1e-5}
@@ -135,11 +135,11 @@ def test_steady_flow_around_rotating_disk_matches_bessel_solution() -> None:
     assert np.abs(F[~dom.support_mask]).max() < 1e-15  # the kernel skips F off the support
 
     def step(cur: np.ndarray, nxt: np.ndarray) -> None:
-        _fields_with_flow(
-            cur,
-            nxt,
-            F,
-            G,
+        euler_fields(
+            cur.reshape(-1),
+            nxt.reshape(-1),
+            F.reshape(-1),
+            G.reshape(-1),
             dom.coords,
             dom.interior_lo,
             dom.interior_hi,
@@ -147,6 +147,7 @@ def test_steady_flow_around_rotating_disk_matches_bessel_solution() -> None:
             dom.support_hi,
             par,
             omega,
+            True,
         )
 
     n_relax = round(2.0 / dt)
@@ -196,17 +197,19 @@ def test_steady_camphor_of_fixed_pill_matches_bessel_solution() -> None:
     assert np.abs(G[~dom.support_mask]).max() < 1e-15  # the kernel skips G off the support
 
     def step(cur: np.ndarray, nxt: np.ndarray) -> None:
-        _fields_without_flow(
-            cur,
-            nxt,
-            F,
-            G,
+        euler_fields(
+            cur.reshape(-1),
+            nxt.reshape(-1),
+            F.reshape(-1),
+            G.reshape(-1),
             dom.coords,
             dom.interior_lo,
             dom.interior_hi,
             dom.support_lo,
             dom.support_hi,
             par,
+            0.0,
+            False,
         )
 
     before = relax(step, np.zeros((3, *G.shape)), round(3.0 / dt))

@@ -280,3 +280,56 @@ def test_nan_far_from_the_plate_is_caught(small_config: Callable[..., RotorConfi
         sim.run(0.12)
     t_failed = float(str(err.value).split("t = ")[1].split(":")[0])
     assert 0.1 <= t_failed <= 0.12 + 1e-12
+
+
+def test_pde_solve_advances_the_rotor_and_refuses_generic_solvers(
+    small_config: Callable[..., RotorConfig],
+) -> None:
+    """RotorPDE.solve runs RotorSolver (phi and omega move); py-pde's own solvers are refused."""
+    cfg = small_config({"rotor": {"omega0": 5.0}, "output": {"progress": False}})
+    pde = RotorPDE(cfg)
+    state = pde.initial_state()
+    phi0 = pde.rotor.phi
+    final = pde.solve(state, t_range=0.02, tracker=None)
+    assert final[0].data.max() > 0  # camphor was released
+    assert pde.rotor.phi != phi0
+    assert pde.rotor.phi == pytest.approx(phi0 + 0.02 * 5.0, rel=0.2)
+    with pytest.raises(ValueError, match="frozen"):
+        pde.solve(state, t_range=0.01, solver="euler")
+    with pytest.raises(ValueError, match="backend"):
+        RotorSolver(pde, backend="numba")
+
+
+class HookedPDE(RotorPDE):
+    """RotorPDE with a post-step hook that counts steps and clamps c from below."""
+
+    def make_post_step_hook(
+        self, state: FieldCollection, backend: Any = "numpy"
+    ) -> tuple[Callable[..., Any], np.ndarray]:
+        """Hook counting the steps and recording the time it was called with."""
+
+        def hook(state_data: np.ndarray, t: float, post_step_data: np.ndarray) -> Any:
+            post_step_data[0] += 1
+            post_step_data[1] = t
+            return state_data, post_step_data
+
+        return hook, np.zeros(2)
+
+
+def test_post_step_hook_of_the_pde_runs_after_every_step(
+    small_config: Callable[..., RotorConfig],
+) -> None:
+    """A PDE's make_post_step_hook is honoured: called once per step with the step's time."""
+    cfg = small_config({"output": {"progress": False}})
+    pde = HookedPDE(cfg)
+    solver = RotorSolver(pde)
+    state = pde.initial_state()
+    stepper = solver.make_stepper(state, cfg.grid.dt)
+    stepper(state, 0.0, 10 * cfg.grid.dt)
+    count, last_t = solver.info["post_step_data"]
+    assert count == 10
+    assert last_t == pytest.approx(9 * cfg.grid.dt)
+    reference = RotorPDE(cfg)
+    ref_state = reference.initial_state()
+    RotorSolver(reference).make_stepper(ref_state, cfg.grid.dt)(ref_state, 0.0, 10 * cfg.grid.dt)
+    np.testing.assert_array_equal(state.data, ref_state.data)  # stepping one by one is exact

@@ -1,7 +1,7 @@
 """Data shared by the ensemble backends: the batch's state, its plan and its result.
 
 An ensemble is a list of :class:`~pde_rotor.config.RotorConfig`, one per member, that
-share the ``grid`` section. Both backends (:mod:`.cpu`, :mod:`.gpu`) take the same
+share the ``grid`` and ``numerics`` sections. Both backends (:mod:`.cpu`, :mod:`.gpu`) take the same
 arguments, build the same :class:`EnsemblePlan` and return the same
 :class:`EnsembleResult`, so a sweep can switch backends without other changes.
 """
@@ -108,6 +108,12 @@ def make_plan(
             msg = (
                 f"member {m} has grid {cfg.grid.model_dump()} but member 0 has "
                 f"{grid.model_dump()}: all members of an ensemble share the grid section"
+            )
+            raise ValueError(msg)
+        if cfg.numerics != configs[0].numerics:
+            msg = (
+                f"member {m} has numerics {cfg.numerics.model_dump()} but member 0 has "
+                f"{configs[0].numerics.model_dump()}: all members share the numerics section"
             )
             raise ValueError(msg)
     dt = grid.dt

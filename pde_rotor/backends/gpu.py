@@ -1,16 +1,15 @@
 """GPU ensemble backend: E members of the rotor model in one batched CUDA computation.
 
-The same discretisation as the CPU solver (:mod:`pde_rotor.solver`), member by member:
+The same physics as the CPU solver (:mod:`pde_rotor.solver`), member by member, from
+the same source: the kernel below only maps cells to threads and calls the CUDA build
+of the physics core (:mod:`pde_rotor.core`, compiled here as device functions):
 
-* F and G, the indicators after Eq. (rj), as 1 / (1 + exp(-2 x)) on the support only
-  (:func:`pde_rotor.geometry.update_indicators`), at the angle phi of the step's start;
-* the rotor integrals of Eqs. (eq_motion) and (torque) with central differences for
-  grad c, summed over the support cells with F != 0 and multiplied by dx^2
-  (:func:`pde_rotor.solver.rotor_integrals`);
-* one forward Euler step of Eqs. (eqc) and (eqv) on the interior cells with the 5-point
-  Laplacian and central divergence, every term at the old time level, omega = 0 during
-  a stop, the plate terms added on the support only (:func:`pde_rotor.solver._row_with_flow`,
-  ``_row_without_flow``); without flow v is set to 0 and stays 0;
+* F and G of the member's scheme at the angle phi of the step's start, computed on the
+  fly on the support cells (``plate_cell``, ``pill_cell``);
+* the rotor integrals of Eqs. (eq_motion) and (torque) (``cell_integrals``, or
+  ``contour_node`` for the contour-form torque of the ``consistent`` scheme);
+* one forward Euler step of Eqs. (eqc) and (eqv) on the interior cells
+  (``cell_rates``), omega = 0 during a stop; without flow v is set to 0 and stays 0;
 * then phi += dt omega, omega += dt (T + friction) / I, plus the Euler-Maruyama kick
   of Eq. (noiseav), except in a stop phase, where omega stays 0;
 * the stop schedule in integer steps (:func:`pde_rotor.protocol.stopped_at`);
@@ -44,10 +43,25 @@ import numpy as np
 from numba import cuda, float64
 
 from ..config import RotorConfig
-from ..geometry import X_SATURATION
+from ..core import (
+    N_PAR,
+    P_DT,
+    P_DX,
+    P_I,
+    P_K,
+    P_MU,
+    P_TSIGN,
+    S_APOTHEM,
+    S_ASYM,
+    S_DELTA,
+    S_N,
+    S_RC,
+    S_RHO,
+    Core,
+    make_core,
+)
 from ..model import RotorPDE
 from ..protocol import StopSchedule
-from ..solver import P_A, P_D, P_DETA, P_DT, P_DX, P_ETA, P_ETAB, P_I, P_K, P_MU, P_SRC, P_TSIGN
 from .ensemble import (
     EnsemblePlan,
     EnsembleResult,
@@ -88,10 +102,20 @@ def is_available(allow_simulator: bool = False) -> bool:
     return unavailable_reason(allow_simulator=allow_simulator) is None
 
 
-@cuda.jit(device=True, inline=True)
-def _logistic(arg):
-    """1/2 (1 + tanh(arg)) as 1 / (1 + exp(-2 arg)), :func:`pde_rotor.geometry._logistic`."""
-    return 1.0 / (1.0 + math.exp(-2.0 * arg))
+def _gpu_jit(func: Callable) -> Callable:
+    """numba-cuda device function, inlined into the kernel."""
+    return cuda.jit(device=True, inline=True)(func)
+
+
+GPU: Core = make_core(_gpu_jit)
+"""The physics core (:mod:`pde_rotor.core`) compiled as CUDA device functions."""
+
+_rotor_table = GPU.rotor_table
+_plate_cell = GPU.plate_cell
+_pill_cell = GPU.pill_cell
+_cell_rates = GPU.cell_rates
+_cell_integrals = GPU.cell_integrals
+_contour_node = GPU.contour_node
 
 
 def _advance(
@@ -102,6 +126,9 @@ def _advance(
     support,
     par,
     shape,
+    num,
+    quad_s,
+    quad_t,
     sched,
     flags,
     rotor,
@@ -125,8 +152,10 @@ def _advance(
         rows: [i0, i1), the rows holding interior cells.
         support: (E, 2, n) column range of each member's support of F and G per row
             (inside the interior ranges).
-        par: (E, 12) float parameters, the solver's P_* layout.
+        par: (E, N_PAR) float parameters, the P_* layout of :mod:`pde_rotor.core`.
         shape: (E, 6) :meth:`RotorShape.as_array` per member.
+        num: (E, 3) :meth:`Scheme.as_array` per member.
+        quad_s, quad_t: the common quadrature rules of the contour torque.
         sched: (E, 4) :meth:`StopSchedule.as_array` per member.
         flags: (E, 2) flow enabled, noise on.
         rotor: (E, 5) [phi, omega, torque, friction, stopped], updated.
@@ -150,20 +179,21 @@ def _advance(
     tab = cuda.shared.array((4, MAX_CORNERS), float64)  # edge normals, pill centres
     rot = cuda.shared.array(6, float64)  # phi, omega, torque, friction, stopped, failed
 
-    dt, dx = par[m, P_DT], par[m, P_DX]
-    inv_dx2 = 1.0 / (dx * dx)
+    pm = par[m]
+    dt, dx = pm[P_DT], pm[P_DX]
     inv_2dx = 0.5 / dx
     area = dx * dx
-    diff, evap, src = par[m, P_D], par[m, P_A], par[m, P_SRC]
-    eta, eta_b, d_eta = par[m, P_ETA], par[m, P_ETAB], par[m, P_DETA]
-    inv_inertia = 1.0 / par[m, P_I]
-    mu = par[m, P_MU]
-    tsign_k = par[m, P_TSIGN] * par[m, P_K]
-    n_corners = int(shape[m, 0])
-    apothem, rho, r_c, asym, delta = shape[m, 1], shape[m, 2], shape[m, 3], shape[m, 4], shape[m, 5]
+    inv_inertia = 1.0 / pm[P_I]
+    mu = pm[P_MU]
+    tsign_k = pm[P_TSIGN] * pm[P_K]
+    n_corners = int(shape[m, S_N])
+    apothem, rho, r_c = shape[m, S_APOTHEM], shape[m, S_RHO], shape[m, S_RC]
+    asym, delta = shape[m, S_ASYM], shape[m, S_DELTA]
     inv_delta = 1.0 / delta
-    reach = rho + X_SATURATION * delta
-    reach2 = reach * reach
+    sub = int(num[m, 0])
+    contour = num[m, 1] != 0.0
+    tan_half = num[m, 2]
+    n_nodes = n_corners * quad_s.shape[1] * quad_t.shape[1] if contour else 0
     n_ini, n_stop, n_period, n_cycles = sched[m, 0], sched[m, 1], sched[m, 2], sched[m, 3]
     flow = flags[m, FLAG_FLOW] != 0
     noisy = flags[m, FLAG_NOISY] != 0
@@ -174,6 +204,8 @@ def _advance(
     n_groups = n_threads // lanes
     n = coords.size
     nn = n * n
+    x0 = coords[0]
+    inv_dx = 1.0 / dx
     n_members = status.size
 
     if tid == 0:
@@ -193,17 +225,8 @@ def _advance(
         omega = rot[1]
         if stopped:
             omega = 0.0
-        # edge normals and pill centres at phi (geometry.update_indicators)
-        for q in range(tid, 2 * n_corners, n_threads):
-            if q < n_corners:
-                a_edge = phi + 2.0 * math.pi * (q + 0.5) / n_corners
-                tab[0, q] = math.cos(a_edge)
-                tab[1, q] = math.sin(a_edge)
-            else:
-                k = q - n_corners
-                a_pill = phi + 2.0 * math.pi * (k + 1) / n_corners + asym
-                tab[2, k] = r_c * math.cos(a_pill)
-                tab[3, k] = r_c * math.sin(a_pill)
+        if tid == 0:
+            _rotor_table(phi, n_corners, r_c, asym, tab)
         cuda.syncthreads()
 
         cross_grad = 0.0
@@ -220,70 +243,37 @@ def _advance(
                 on_support = s_lo <= j and j < s_hi
                 y = coords[j]
                 o = cur + i * n + j
-                cc = buf[o]
-                c_e = buf[o + n]
-                c_w = buf[o - n]
-                c_n = buf[o + 1]
-                c_s = buf[o - 1]
-                ux = 0.0
-                uy = 0.0
-                if flow:
-                    ux = buf[o + nn]
-                    uy = buf[o + 2 * nn]
                 f = 0.0
                 g = 0.0
-                if on_support:  # geometry.update_indicators
-                    proj = x * tab[0, 0] + y * tab[1, 0]
-                    for k in range(1, n_corners):
-                        proj = max(proj, x * tab[0, k] + y * tab[1, k])
-                    f = _logistic((apothem - proj) * inv_delta)
-                    for k in range(n_corners):
-                        d2 = (x - tab[2, k]) ** 2 + (y - tab[3, k]) ** 2
-                        if d2 < reach2:
-                            g += _logistic((rho - math.sqrt(d2)) * inv_delta)
-                    if f != 0.0:  # solver.rotor_integrals
-                        dcdx = (c_e - c_w) * inv_2dx
-                        dcdy = (c_n - c_s) * inv_2dx
-                        cross_grad += f * (x * dcdy - y * dcdx)
-                        moment += f * (x * x + y * y)
-                        if flow:
-                            cross_v += f * (x * uy - y * ux)
-                lap_c = c_e + c_w + c_n + c_s
-                if flow:  # solver._row_with_flow
-                    ox = o + nn
-                    oy = o + 2 * nn
-                    ux_e = buf[ox + n]
-                    ux_w = buf[ox - n]
-                    ux_n = buf[ox + 1]
-                    ux_s = buf[ox - 1]
-                    uy_e = buf[oy + n]
-                    uy_w = buf[oy - n]
-                    uy_n = buf[oy + 1]
-                    uy_s = buf[oy - 1]
-                    div_cv = c_e * ux_e - c_w * ux_w + c_n * uy_n - c_s * uy_s
-                    lap_x = ux_e + ux_w + ux_n + ux_s
-                    lap_y = uy_e + uy_w + uy_n + uy_s
-                    rate_c = diff * (lap_c - 4.0 * cc) * inv_dx2 - div_cv * inv_2dx - evap * cc
-                    rate_x = d_eta * (lap_x - 4.0 * ux) * inv_dx2 - eta_b * ux
-                    rate_y = d_eta * (lap_y - 4.0 * uy) * inv_dx2 - eta_b * uy
-                    if on_support:
-                        rate_c += evap * f * cc + src * g
-                        rate_x += eta * f * (-omega * y - ux)
-                        rate_y += eta * f * (omega * x - uy)
-                    new_x = ux + dt * rate_x
-                    new_y = uy + dt * rate_y
-                    buf[nxt + nn + i * n + j] = new_x
-                    buf[nxt + 2 * nn + i * n + j] = new_y
-                    if not (math.isfinite(new_x) and math.isfinite(new_y)):
-                        bad = True
-                else:  # solver._row_without_flow
-                    rate_c = diff * (lap_c - 4.0 * cc) * inv_dx2 - evap * cc
-                    if on_support:
-                        rate_c += evap * f * cc + src * g
-                new_c = cc + dt * rate_c
-                buf[nxt + i * n + j] = new_c
+                if on_support:
+                    f = _plate_cell(x, y, tab, n_corners, apothem, inv_delta, sub, dx)
+                    g = _pill_cell(x, y, tab, n_corners, rho, inv_delta, sub, dx)
+                    if f != 0.0:
+                        grad, mom, vel = _cell_integrals(buf, o, n, 1, nn, f, x, y, inv_2dx, flow)
+                        cross_grad += grad
+                        moment += mom
+                        cross_v += vel
+                rate_c, rate_x, rate_y = _cell_rates(
+                    buf, o, n, 1, nn, f, g, omega, x, y, pm, flow, on_support
+                )
+                o_new = nxt + i * n + j
+                new_c = buf[o] + dt * rate_c
+                buf[o_new] = new_c
                 if not math.isfinite(new_c):
                     bad = True
+                if flow:
+                    new_x = buf[o + nn] + dt * rate_x
+                    new_y = buf[o + 2 * nn] + dt * rate_y
+                    buf[o_new + nn] = new_x
+                    buf[o_new + 2 * nn] = new_y
+                    if not (math.isfinite(new_x) and math.isfinite(new_y)):
+                        bad = True
+        if contour:  # the contour form replaces the area form of int F r x grad c dA
+            cross_grad = 0.0
+            for q in range(tid, n_nodes, n_threads):
+                cross_grad += _contour_node(
+                    buf, cur, n, x0, inv_dx, tab, apothem, delta, tan_half, quad_s, quad_t, q
+                )
 
         # block reduction of the rotor integrals in a fixed order
         red[tid] = cross_grad
@@ -302,7 +292,7 @@ def _advance(
             half //= 2
 
         if tid == 0:
-            torque = tsign_k * (red[0] * area)
+            torque = tsign_k * (red[0] if contour else red[0] * area)
             friction = -mu * ((red[n_threads] * area) * omega - red[2 * n_threads] * area)
             if not (math.isfinite(torque) and math.isfinite(friction)) or rot[5] != 0.0:
                 status[m] = step
@@ -363,8 +353,9 @@ def _member_arrays(plan: EnsemblePlan) -> dict[str, np.ndarray]:
     """Per-member parameters packed for the kernel (one row per member)."""
     n = plan.domain.coords.size
     n_members = plan.n_members
-    par = np.empty((n_members, 12))
+    par = np.empty((n_members, N_PAR))
     shape = np.empty((n_members, 6))
+    num = np.empty((n_members, 3))
     sched = np.empty((n_members, 4), dtype=np.int64)
     flags = np.zeros((n_members, 2), dtype=np.int64)
     support = np.empty((n_members, 2, n), dtype=np.int64)
@@ -376,6 +367,8 @@ def _member_arrays(plan: EnsemblePlan) -> dict[str, np.ndarray]:
             pde = models[key] = RotorPDE(cfg)
         par[m] = pde.kernel_parameters(plan.dt)
         shape[m] = pde.shape.as_array()
+        num[m] = pde.scheme.as_array()
+        quad = (pde.scheme.quad_s, pde.scheme.quad_t)
         sched[m] = StopSchedule.from_config(cfg.protocol, plan.dt).as_array()
         flags[m, FLAG_FLOW] = int(cfg.flow.enabled)
         flags[m, FLAG_NOISY] = int(cfg.noise.sigma != 0)
@@ -384,7 +377,16 @@ def _member_arrays(plan: EnsemblePlan) -> dict[str, np.ndarray]:
         if pde.shape.n_corners > MAX_CORNERS:
             msg = f"member {m}: n_corners = {pde.shape.n_corners} > {MAX_CORNERS}"
             raise ValueError(msg)
-    return {"par": par, "shape": shape, "sched": sched, "flags": flags, "support": support}
+    return {
+        "par": par,
+        "shape": shape,
+        "num": num,
+        "quad_s": quad[0],
+        "quad_t": quad[1],
+        "sched": sched,
+        "flags": flags,
+        "support": support,
+    }
 
 
 def _interior_rows(plan: EnsemblePlan, support: np.ndarray) -> np.ndarray:
@@ -513,6 +515,9 @@ def run_ensemble(
             d_host["support"],
             d_host["par"],
             d_host["shape"],
+            d_host["num"],
+            d_host["quad_s"],
+            d_host["quad_t"],
             d_host["sched"],
             d_host["flags"],
             d_rotor,

@@ -1,0 +1,313 @@
+"""The physics core: every per-cell update and rotor integral of the model, written once.
+
+The functions below are plain scalar Python functions built by :func:`make_core` for a
+given compiler: :data:`CPU` compiles them with numba's ``njit`` (inlined into the CPU
+loops of :mod:`pde_rotor.solver`), :mod:`pde_rotor.backends.gpu` compiles the same
+source as CUDA device functions. The loops that call them (rows of a grid on the CPU,
+threads of a block on the GPU) hold no physics of their own, so the two backends cannot
+drift apart. :mod:`pde_rotor.model` keeps an independent numpy version of the same
+equations as the test oracle.
+
+numba caches each compiled loop on disk keyed by its own file: after editing this module,
+delete the ``__pycache__/*.nbi`` and ``*.nbc`` files of the package, or the CPU loops of
+:mod:`pde_rotor.solver` keep the inlined old version.
+
+State layout: a flat float64 buffer holding c, v_x, v_y of one member one after the
+other, each an n x n grid with x along axis 0; the cell (i, j) of a field starting at
+offset ``o0`` sits at ``o0 + i n + j``. So ``buf[o + n]`` is the east (x + dx), ``buf[o + 1]``
+the north (y + dx) neighbour of ``buf[o]``.
+
+Physics (section "Model" of Koyano et al., Chaos 2020):
+
+* :func:`rotor_table`: edge normals e_j, Eq. (ejt0) rotated by phi, and pill centres
+  R_j = R_c e(phi + 2 pi j / N + Delta), Eq. (rc) with the pills at the corners
+  (erratum of Eq. (rj), see :mod:`pde_rotor.geometry`);
+* :func:`plate_cell`, :func:`pill_cell`: the smoothed indicators F and G (the
+  equations after Eq. (rj)) of one cell, as point values (scheme ``paper``) or cell
+  averages over ``sub x sub`` sample points (scheme ``consistent``);
+* :func:`cell_rates`: the right-hand sides of Eqs. (eqc) and (eqv) of one cell
+  (5-point Laplacian, central divergence);
+* :func:`cell_integrals`: one cell's share of the integrals of Eq. (eq_motion):
+  F r x grad c (area form of the torque, Eq. (torque)), F |r|^2 and F r x v;
+* :func:`contour_node`: one node of the contour form of the same torque integral
+  (scheme ``consistent``, see :mod:`pde_rotor.schemes`).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import NamedTuple
+
+import numba as nb
+
+X_SATURATION = 20.0
+"""|x| beyond which float64 1/2 (1 + tanh(x)) is exactly 1 (1 - tanh(20) = 8.5e-18 < 2^-54)
+and below 4.3e-18; F and G are evaluated only where some sample point lies within it."""
+
+HALF_DIAGONAL = 0.5 * math.sqrt(2.0)
+"""Distance from a cell's centre to its corners, in units of dx."""
+
+# indices into the float parameter vector of the kernels
+P_DT, P_DX, P_D, P_A, P_SRC, P_K, P_ETA, P_ETAB, P_DETA, P_I, P_MU, P_TSIGN = range(12)
+N_PAR = 12
+
+# indices into the shape vector of the kernels (geometry.RotorShape.as_array)
+S_N, S_APOTHEM, S_RHO, S_RC, S_ASYM, S_DELTA = range(6)
+
+
+class Core(NamedTuple):
+    """The compiled physics functions for one target (see the module docstring)."""
+
+    logistic: Callable
+    rotor_table: Callable
+    plate_cell: Callable
+    pill_cell: Callable
+    cell_rates: Callable
+    cell_integrals: Callable
+    interpolate: Callable
+    contour_node: Callable
+
+
+def make_core(jit: Callable[[Callable], Callable]) -> Core:
+    """Compile the physics functions with `jit` (numba ``njit`` or ``cuda.jit(device=True)``).
+
+    Args:
+        jit: decorator turning a scalar Python function into a compiled one that other
+            compiled functions of the same target can call.
+
+    Returns:
+        The compiled functions; each calls only its siblings, so the set is self-contained.
+    """
+
+    @jit
+    def logistic(arg: float) -> float:
+        """1/2 (1 + tanh(arg)) written as 1 / (1 + exp(-2 arg)) (one exp, no tanh)."""
+        return 1.0 / (1.0 + math.exp(-2.0 * arg))
+
+    @jit
+    def rotor_table(phi, n_corners, r_c, asym, tab):
+        """Fill tab (4, >= N): edge normals (cos, sin), pill centres (x, y) at angle phi."""
+        for k in range(n_corners):
+            a_edge = phi + 2.0 * math.pi * (k + 0.5) / n_corners
+            tab[0, k] = math.cos(a_edge)
+            tab[1, k] = math.sin(a_edge)
+            a_pill = phi + 2.0 * math.pi * (k + 1) / n_corners + asym
+            tab[2, k] = r_c * math.cos(a_pill)
+            tab[3, k] = r_c * math.sin(a_pill)
+
+    @jit
+    def gauge(x, y, tab, n_corners):
+        """h(r) = max_j r . e_j: the plate's level sets h = const are regular N-gons."""
+        proj = x * tab[0, 0] + y * tab[1, 0]
+        for k in range(1, n_corners):
+            proj = max(proj, x * tab[0, k] + y * tab[1, k])
+        return proj
+
+    @jit
+    def plate_point(x, y, tab, n_corners, apothem, inv_delta):
+        """F at one point: 1/2 [1 + tanh((R cos(pi/N) - h(r)) / delta)]."""
+        arg = (apothem - gauge(x, y, tab, n_corners)) * inv_delta
+        if arg >= X_SATURATION:
+            return 1.0
+        if arg <= -X_SATURATION:
+            return 0.0
+        return logistic(arg)
+
+    @jit
+    def plate_cell(x, y, tab, n_corners, apothem, inv_delta, sub, dx):
+        """F of the cell centred at (x, y): the point value (sub = 1) or the mean of
+        sub x sub points on the cell's regular sub-lattice (a cell average)."""
+        if sub == 1:
+            return plate_point(x, y, tab, n_corners, apothem, inv_delta)
+        arg = (apothem - gauge(x, y, tab, n_corners)) * inv_delta
+        if abs(arg) > X_SATURATION + HALF_DIAGONAL * dx * inv_delta:
+            # h is 1-Lipschitz: every sample point is saturated alike
+            return 1.0 if arg > 0.0 else 0.0
+        step = dx / sub
+        first = 0.5 * step - 0.5 * dx
+        acc = 0.0
+        for p in range(sub):
+            xs = x + first + p * step
+            for q in range(sub):
+                acc += plate_point(xs, y + first + q * step, tab, n_corners, apothem, inv_delta)
+        return acc / (sub * sub)
+
+    @jit
+    def pill_cell(x, y, tab, n_corners, rho, inv_delta, sub, dx):
+        """G of the cell centred at (x, y): sum over the pills of
+        1/2 [1 + tanh((rho - |r - R_j|) / delta)], point value or sub x sub cell mean."""
+        reach = rho + X_SATURATION / inv_delta
+        g = 0.0
+        if sub == 1:
+            for k in range(n_corners):
+                d2 = (x - tab[2, k]) ** 2 + (y - tab[3, k]) ** 2
+                if d2 < reach * reach:
+                    g += logistic((rho - math.sqrt(d2)) * inv_delta)
+            return g
+        near = reach + HALF_DIAGONAL * dx
+        step = dx / sub
+        first = 0.5 * step - 0.5 * dx
+        for k in range(n_corners):
+            px = tab[2, k]
+            py = tab[3, k]
+            if (x - px) ** 2 + (y - py) ** 2 < near * near:
+                acc = 0.0
+                for p in range(sub):
+                    ddx = x + first + p * step - px
+                    for q in range(sub):
+                        ddy = y + first + q * step - py
+                        acc += logistic((rho - math.sqrt(ddx * ddx + ddy * ddy)) * inv_delta)
+                g += acc / (sub * sub)
+        return g
+
+    @jit
+    def cell_rates(buf, o, sx, sy, nn, f, g, omega, x, y, par, flow, plate):
+        """Right-hand sides of Eqs. (eqc) and (eqv) at cell offset `o`.
+
+        dc/dt = D lap c - div(c v) - a (1 - F) c + s0 / (pi rho^2) G,
+        dv/dt = eta F (omega (-y, x) - v) - eta_b v + D_eta lap v,
+        5-point Laplacian and central divergence, all at the old time level. `sx`, `sy`
+        are the offsets of the x and y neighbours (n and 1), `nn` that of the next field;
+        all three of the caller's integer type (unsigned on the CPU, so that no index
+        needs a negative-wraparound check). With `plate` False the cell lies outside the
+        support of F and G (both 0) and the plate terms are skipped; without `flow`
+        v = 0 and only c has a rate.
+
+        Returns:
+            (rate of c, rate of v_x, rate of v_y).
+        """
+        dx = par[P_DX]
+        inv_dx2 = 1.0 / (dx * dx)
+        diff, evap, src = par[P_D], par[P_A], par[P_SRC]
+        cc = buf[o]
+        lap_c = buf[o + sx] + buf[o - sx] + buf[o + sy] + buf[o - sy]
+        if not flow:
+            rate_c = diff * (lap_c - 4.0 * cc) * inv_dx2 - evap * cc
+            if plate:
+                rate_c += evap * f * cc + src * g
+            return rate_c, 0.0, 0.0
+        inv_2dx = 0.5 / dx
+        eta, eta_b, d_eta = par[P_ETA], par[P_ETAB], par[P_DETA]
+        ox = o + nn
+        oy = ox + nn
+        ux = buf[ox]
+        uy = buf[oy]
+        div_cv = (
+            buf[o + sx] * buf[ox + sx]
+            - buf[o - sx] * buf[ox - sx]
+            + buf[o + sy] * buf[oy + sy]
+            - buf[o - sy] * buf[oy - sy]
+        )
+        lap_x = buf[ox + sx] + buf[ox - sx] + buf[ox + sy] + buf[ox - sy]
+        lap_y = buf[oy + sx] + buf[oy - sx] + buf[oy + sy] + buf[oy - sy]
+        rate_c = diff * (lap_c - 4.0 * cc) * inv_dx2 - div_cv * inv_2dx - evap * cc
+        rate_x = d_eta * (lap_x - 4.0 * ux) * inv_dx2 - eta_b * ux
+        rate_y = d_eta * (lap_y - 4.0 * uy) * inv_dx2 - eta_b * uy
+        if plate:
+            rate_c += evap * f * cc + src * g
+            rate_x += eta * f * (-omega * y - ux)
+            rate_y += eta * f * (omega * x - uy)
+        return rate_c, rate_x, rate_y
+
+    @jit
+    def cell_integrals(buf, o, sx, sy, nn, f, x, y, inv_2dx, flow):
+        """One cell's F r x grad c (central differences), F |r|^2 and F r x v (no dA).
+
+        r x u = x u_y - y u_x; the three sums over cells, times dx^2, are the integrals
+        of Eqs. (torque) and (eq_motion). Offsets as for :func:`cell_rates`.
+        """
+        dcdx = (buf[o + sx] - buf[o - sx]) * inv_2dx
+        dcdy = (buf[o + sy] - buf[o - sy]) * inv_2dx
+        cross_v = 0.0
+        if flow:
+            ox = o + nn
+            cross_v = f * (x * buf[ox + nn] - y * buf[ox])
+        return f * (x * dcdy - y * dcdx), f * (x * x + y * y), cross_v
+
+    @jit
+    def cubic_weight(t, a):
+        """Weight of the tap at distance `a - t` (a = -1, 0, 1, 2) of Keys' cubic
+        convolution kernel (parameter -1/2, Catmull-Rom): C^1, third-order accurate."""
+        s = abs(t - a)
+        if s < 1.0:
+            return (1.5 * s - 2.5) * s * s + 1.0
+        if s < 2.0:
+            return ((-0.5 * s + 2.5) * s - 4.0) * s + 2.0
+        return 0.0
+
+    @jit
+    def interpolate(buf, o0, n, x0, inv_dx, x, y):
+        """Bicubic (Catmull-Rom) interpolant at (x, y) of the n x n field at offset o0.
+
+        x0 is the coordinate of cell 0's centre; the 4 x 4 taps must be grid cells.
+        """
+        fx = (x - x0) * inv_dx
+        fy = (y - x0) * inv_dx
+        i = math.floor(fx)
+        j = math.floor(fy)
+        tx = fx - i
+        ty = fy - j
+        wy0 = cubic_weight(ty, -1.0)
+        wy1 = cubic_weight(ty, 0.0)
+        wy2 = cubic_weight(ty, 1.0)
+        wy3 = cubic_weight(ty, 2.0)
+        acc = 0.0
+        for a in range(4):
+            row = o0 + (i - 1 + a) * n + j - 1
+            line = wy0 * buf[row] + wy1 * buf[row + 1] + wy2 * buf[row + 2] + wy3 * buf[row + 3]
+            acc += cubic_weight(tx, a - 1.0) * line
+        return acc
+
+    @jit
+    def contour_node(buf, o0, n, x0, inv_dx, tab, apothem, delta, tan_half, quad_s, quad_t, q):
+        """Node q of the contour form of int F r x grad c dA (see :mod:`pde_rotor.schemes`).
+
+        With h(r) = max_j r . e_j the level sets of F are N-gons, and
+
+            int F r x grad c dA = - int w(h) sum_j int c(h e_j + t tau_j) t dt dh,
+
+        w(h) = F'(s) / delta, s = (R cos(pi/N) - h) / delta, tau_j = e_j rotated by
+        +pi/2, t in [-h tan(pi/N), h tan(pi/N)]. `quad_s` (2, M) holds the nodes s_m and
+        weights of a Gauss rule for the weight 1/2 sech^2(s), `quad_t` (2, L) the
+        Gauss-Legendre nodes and weights on [-1, 1]. Node q enumerates (edge j, m, l) as
+        q = (j M + m) L + l.
+
+        Returns:
+            the node's weighted contribution to int F r x grad c dA.
+        """
+        n_s = quad_s.shape[1]
+        n_t = quad_t.shape[1]
+        k_t = q % n_t
+        m = (q // n_t) % n_s
+        j = q // (n_t * n_s)
+        h = apothem - delta * quad_s[0, m]
+        half = h * tan_half
+        t = half * quad_t[0, k_t]
+        ex = tab[0, j]
+        ey = tab[1, j]
+        c = interpolate(buf, o0, n, x0, inv_dx, h * ex - t * ey, h * ey + t * ex)
+        return -quad_s[1, m] * quad_t[1, k_t] * half * t * c
+
+    return Core(
+        logistic=logistic,
+        rotor_table=rotor_table,
+        plate_cell=plate_cell,
+        pill_cell=pill_cell,
+        cell_rates=cell_rates,
+        cell_integrals=cell_integrals,
+        interpolate=interpolate,
+        contour_node=contour_node,
+    )
+
+
+_FAST = {"contract", "arcp", "nsz"}
+
+
+def _cpu_jit(func: Callable) -> Callable:
+    """numba njit for the CPU loops: inlined into the caller, fastmath without reassociation."""
+    return nb.njit(cache=True, nogil=True, fastmath=_FAST, inline="always")(func)
+
+
+CPU: Core = make_core(_cpu_jit)
+"""The physics core compiled for the CPU."""

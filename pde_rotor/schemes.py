@@ -1,0 +1,204 @@
+"""Discretisation schemes of F, G and the torque: ``paper`` and ``consistent``.
+
+The continuum model is invariant under rotations of the plate; a Cartesian grid is
+not, and a stopped symmetric plate feels a spurious *lattice torque* of period pi/6 in
+its angle (docs/model.md). Two schemes are offered (``numerics.scheme``):
+
+``paper`` (default)
+    F and G of the equations after Eq. (rj) sampled at the cell centres; the torque
+    of Eq. (torque) in its area form, -k int F r x grad c dA, with central differences
+    for grad c. The paper's "explicit method for the spatial derivative".
+
+``consistent`` (in development)
+    * F and G as cell averages over ``sub x sub`` regularly spaced points per cell
+      (``numerics.subsamples``, default ceil(2 dx / delta)). This smooths the plate's
+      edge band; it does not make each pill's discrete mass exact, because the pill
+      profile tanh((rho - |r - R_j|) / delta) has a cusp at the pill's centre when
+      rho / delta is small (at delta = dx = 0.05: 6e-5 with 2 x 2 points, 3e-7 with
+      8 x 8; docs/model.md, "Schemes").
+    * The torque in contour form. F depends on r only through h(r) = max_j r . e_j,
+      whose level sets are regular N-gons, so integrating by parts and by level sets
+      (coarea formula, |grad h| = 1)
+
+          int F r x grad c dA = - int w(h) sum_j int c(h e_j + t tau_j) t dt dh,
+
+      with w(h) dh = 1/2 sech^2(s) ds, s = (R cos(pi/N) - h) / delta, and
+      t in [-h tan(pi/N), h tan(pi/N)] along edge j. The identity is exact for the
+      smoothed model (no sharp-interface limit is taken), so both schemes converge to
+      the same continuum torque. It is evaluated with a Gauss rule for the weight
+      1/2 sech^2(s) (:func:`sech2_gauss`, ``numerics.band_nodes`` nodes) across the
+      edge and Gauss-Legendre (``numerics.contour_nodes`` per edge) along it, with c
+      from the bicubic interpolant (:func:`pde_rotor.core.make_core`, ``interpolate``).
+      Every quadrature node turns with the plate, so only the interpolation error of
+      c, O(dx^3), still sees the lattice. With the Catmull-Rom interpolant that error is
+      still larger than the paper scheme's lattice torque (docs/model.md, "Schemes"):
+      the scheme is in development and not the default.
+
+The per-cell work of both schemes is in :mod:`pde_rotor.core`; this module only builds
+the numbers the kernels need.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+
+from .config import RotorConfig
+
+
+@lru_cache(maxsize=32)
+def sech2_gauss(n_nodes: int) -> tuple[np.ndarray, np.ndarray]:
+    """Gauss rule for int 1/2 sech^2(s) g(s) ds over the real line (total weight 1).
+
+    Golub-Welsch on the recurrence coefficients from a discretised Stieltjes procedure
+    (trapezoidal rule on [-S, S], which for this weight is exponentially accurate).
+
+    Args:
+        n_nodes: number of nodes M (exact for polynomials of degree <= 2M - 1).
+
+    Returns:
+        (nodes, weights), each of length M, nodes ascending and symmetric about 0.
+    """
+    half_width = 30.0 + 4.0 * n_nodes
+    s = np.linspace(-half_width, half_width, 40_001)
+    w = 0.5 / np.cosh(s) ** 2 * (s[1] - s[0])
+    alpha = np.zeros(n_nodes)
+    beta = np.zeros(n_nodes)
+    p_prev = np.zeros_like(s)
+    p = np.ones_like(s)
+    norm_prev = 1.0
+    for k in range(n_nodes):
+        norm = np.sum(w * p * p)
+        alpha[k] = np.sum(w * s * p * p) / norm
+        beta[k] = norm / norm_prev if k > 0 else norm
+        p_next = (s - alpha[k]) * p - (beta[k] if k > 0 else 0.0) * p_prev
+        p_prev, p, norm_prev = p, p_next, norm
+    jacobi = np.diag(alpha) + np.diag(np.sqrt(beta[1:]), 1) + np.diag(np.sqrt(beta[1:]), -1)
+    nodes, vectors = np.linalg.eigh(jacobi)
+    weights = vectors[0] ** 2  # the weight function has total mass 1
+    nodes = 0.5 * (nodes - nodes[::-1])  # exact symmetry
+    weights = 0.5 * (weights + weights[::-1])
+    return nodes, weights
+
+
+@dataclass(frozen=True)
+class Scheme:
+    """The numbers one run's kernels need to apply its scheme.
+
+    Attributes:
+        name: ``paper`` or ``consistent``.
+        subsamples: sample points per cell axis of F and G (1: point values).
+        contour: whether the torque is taken in contour form (else area form).
+        quad_s: (2, M) nodes and weights across the edge (weight 1/2 sech^2).
+        quad_t: (2, L) Gauss-Legendre nodes and weights on [-1, 1] along an edge.
+        tan_half: tan(pi / N).
+    """
+
+    name: str
+    subsamples: int
+    contour: bool
+    quad_s: np.ndarray
+    quad_t: np.ndarray
+    tan_half: float
+
+    @classmethod
+    def from_config(cls, config: RotorConfig) -> Scheme:
+        """The scheme of a run configuration (``numerics`` section)."""
+        num = config.numerics
+        sub = num.samples_per_axis(config.grid.dx, config.geometry.smoothing)
+        contour = num.scheme == "consistent"
+        if contour:
+            quad_s = np.stack(sech2_gauss(num.band_nodes))
+            quad_t = np.stack(np.polynomial.legendre.leggauss(num.contour_nodes))
+        else:
+            quad_s = np.zeros((2, 1))
+            quad_t = np.zeros((2, 1))
+        return cls(
+            name=num.scheme,
+            subsamples=sub,
+            contour=contour,
+            quad_s=np.ascontiguousarray(quad_s),
+            quad_t=np.ascontiguousarray(quad_t),
+            tan_half=math.tan(math.pi / config.geometry.n_corners),
+        )
+
+    def as_array(self) -> np.ndarray:
+        """Pack for the kernels: [samples per axis, contour form (0/1), tan(pi/N)]."""
+        return np.array([self.subsamples, float(self.contour), self.tan_half])
+
+    @property
+    def n_contour_nodes(self) -> int:
+        """Nodes of the contour torque per plate edge (0 for the area form)."""
+        return self.quad_s.shape[1] * self.quad_t.shape[1] if self.contour else 0
+
+
+def keys_weights(t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Weights of the taps at -1, 0, 1, 2 of Keys' cubic convolution (a = -1/2), t in [0, 1)."""
+    t2, t3 = t * t, t * t * t
+    return (
+        -0.5 * t3 + t2 - 0.5 * t,
+        1.5 * t3 - 2.5 * t2 + 1.0,
+        -1.5 * t3 + 2.0 * t2 + 0.5 * t,
+        0.5 * t3 - 0.5 * t2,
+    )
+
+
+def interpolate_bicubic(
+    field: np.ndarray, x0: float, dx: float, x: np.ndarray, y: np.ndarray
+) -> np.ndarray:
+    """Bicubic Catmull-Rom interpolant of a grid field at points (numpy reference).
+
+    Args:
+        field: (n, n) values at the cell centres x0 + i dx (axis 0: x, axis 1: y).
+        x0: coordinate of cell 0's centre.
+        dx: grid spacing.
+        x, y: points (same shape), each with its 4 x 4 taps inside the grid.
+    """
+    fx = (x - x0) / dx
+    fy = (y - x0) / dx
+    i = np.floor(fx).astype(int)
+    j = np.floor(fy).astype(int)
+    wx = keys_weights(fx - i)
+    wy = keys_weights(fy - j)
+    out = np.zeros(np.shape(x))
+    for a in range(4):
+        for b in range(4):
+            out += wx[a] * wy[b] * field[i - 1 + a, j - 1 + b]
+    return out
+
+
+def contour_cross_grad(
+    c: np.ndarray,
+    x0: float,
+    dx: float,
+    scheme: Scheme,
+    normal_angles: np.ndarray,
+    apothem: float,
+    smoothing: float,
+) -> float:
+    """int F r x grad c dA in the contour form of the ``consistent`` scheme (numpy reference).
+
+    Args:
+        c: (n, n) concentration at the cell centres.
+        x0: coordinate of cell 0's centre.
+        dx: grid spacing.
+        scheme: a scheme with ``contour`` set (its quadrature rules).
+        normal_angles: angles of the edge normals e_j at the current phi.
+        apothem: R cos(pi/N).
+        smoothing: delta.
+    """
+    s_nodes, s_weights = scheme.quad_s
+    t_nodes, t_weights = scheme.quad_t
+    h = apothem - smoothing * s_nodes
+    half = h * scheme.tan_half
+    t = half[:, None] * t_nodes[None, :]
+    ex = np.cos(normal_angles)[:, None, None]
+    ey = np.sin(normal_angles)[:, None, None]
+    x = h[None, :, None] * ex - t[None] * ey
+    y = h[None, :, None] * ey + t[None] * ex
+    values = interpolate_bicubic(c, x0, dx, x, y)
+    weights = s_weights[:, None] * t_weights[None, :] * half[:, None] * t
+    return float(-np.sum(weights[None] * values))
