@@ -63,6 +63,7 @@ class Core(NamedTuple):
     rotor_table: Callable
     plate_cell: Callable
     pill_cell: Callable
+    rate_coefficients: Callable
     cell_rates: Callable
     cell_integrals: Callable
     interpolate: Callable
@@ -162,12 +163,29 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         return g
 
     @jit
-    def cell_rates(buf, o, sx, sy, nn, f, g, omega, x, y, par, flow, plate):
+    def rate_coefficients(par):
+        """(1/dx^2, 1/(2 dx), D, a, s0/(pi rho^2), eta, eta_b, D_eta) for :func:`cell_rates`,
+        computed once per sweep so that the cell loop holds no division."""
+        dx = par[P_DX]
+        return (
+            1.0 / (dx * dx),
+            0.5 / dx,
+            par[P_D],
+            par[P_A],
+            par[P_SRC],
+            par[P_ETA],
+            par[P_ETAB],
+            par[P_DETA],
+        )
+
+    @jit
+    def cell_rates(buf, o, sx, sy, nn, f, g, omega, x, y, coef, flow, plate):
         """Right-hand sides of Eqs. (eqc) and (eqv) at cell offset `o`.
 
         dc/dt = D lap c - div(c v) - a (1 - F) c + s0 / (pi rho^2) G,
         dv/dt = eta F (omega (-y, x) - v) - eta_b v + D_eta lap v,
-        5-point Laplacian and central divergence, all at the old time level. `sx`, `sy`
+        5-point Laplacian and central divergence, all at the old time level; `coef` is
+        :func:`rate_coefficients` of the parameter vector. `sx`, `sy`
         are the offsets of the x and y neighbours (n and 1), `nn` that of the next field;
         all three of the caller's integer type (unsigned on the CPU, so that no index
         needs a negative-wraparound check). With `plate` False the cell lies outside the
@@ -177,9 +195,7 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         Returns:
             (rate of c, rate of v_x, rate of v_y).
         """
-        dx = par[P_DX]
-        inv_dx2 = 1.0 / (dx * dx)
-        diff, evap, src = par[P_D], par[P_A], par[P_SRC]
+        inv_dx2, inv_2dx, diff, evap, src, eta, eta_b, d_eta = coef
         cc = buf[o]
         lap_c = buf[o + sx] + buf[o - sx] + buf[o + sy] + buf[o - sy]
         if not flow:
@@ -187,8 +203,6 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
             if plate:
                 rate_c += evap * f * cc + src * g
             return rate_c, 0.0, 0.0
-        inv_2dx = 0.5 / dx
-        eta, eta_b, d_eta = par[P_ETA], par[P_ETAB], par[P_DETA]
         ox = o + nn
         oy = ox + nn
         ux = buf[ox]
@@ -294,6 +308,7 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         rotor_table=rotor_table,
         plate_cell=plate_cell,
         pill_cell=pill_cell,
+        rate_coefficients=rate_coefficients,
         cell_rates=cell_rates,
         cell_integrals=cell_integrals,
         interpolate=interpolate,

@@ -53,6 +53,7 @@ _rotor_table = CPU.rotor_table
 _plate_cell = CPU.plate_cell
 _pill_cell = CPU.pill_cell
 _cell_rates = CPU.cell_rates
+_rate_coefficients = CPU.rate_coefficients
 _cell_integrals = CPU.cell_integrals
 _contour_node = CPU.contour_node
 
@@ -84,25 +85,28 @@ def update_indicators(F, G, coords, slo, shi, shape, tab, sub, phi):
 
 
 @nb.njit(cache=True, nogil=True, fastmath=_FAST, inline="always")
-def _euler_row(cur, nxt, F, G, y_of, par, omega, x, base, sx, nn, j0, j1, flow, plate):
+def _euler_row(cur, nxt, F, G, y_of, coef, dt, omega, x, base, sx, nn, j0, j1, flow, plate):
     """Euler step of the cells [j0, j1) of one row (offset `base`) (compiled)."""
-    dt = par[P_DT]
     sy = np.uint64(1)
     f = 0.0
     g = 0.0
     for j in range(j0, j1):
         o = base + j
+        # loaded before any store, so that these are the loads cell_rates makes too
+        cc = cur[o]
+        ux = cur[o + nn] if flow else 0.0
+        uy = cur[o + nn + nn] if flow else 0.0
         if plate:
             f = F[o]
             g = G[o]
         rate_c, rate_x, rate_y = _cell_rates(
-            cur, o, sx, sy, nn, f, g, omega, x, y_of[j], par, flow, plate
+            cur, o, sx, sy, nn, f, g, omega, x, y_of[j], coef, flow, plate
         )
-        nxt[o] = cur[o] + dt * rate_c
+        nxt[o] = cc + dt * rate_c
         if flow:
             ox = o + nn
-            nxt[ox] = cur[ox] + dt * rate_x
-            nxt[ox + nn] = cur[ox + nn] + dt * rate_y
+            nxt[ox] = ux + dt * rate_x
+            nxt[ox + nn] = uy + dt * rate_y
 
 
 @nb.njit(cache=True, nogil=True, fastmath=_FAST)
@@ -120,20 +124,37 @@ def euler_fields(cur, nxt, F, G, coords, lo, hi, slo, shi, par, omega, flow):
         omega: plate angular velocity (0 during a stop).
         flow: whether v is advanced (False: v = 0, Fig. 8).
     """
+    if flow:  # two loops, so that `flow` is a compile-time constant of each
+        _euler_rows(cur, nxt, F, G, coords, lo, hi, slo, shi, par, omega, True)
+    else:
+        _euler_rows(cur, nxt, F, G, coords, lo, hi, slo, shi, par, omega, False)
+
+
+@nb.njit(cache=True, nogil=True, fastmath=_FAST, inline="always")
+def _euler_rows(cur, nxt, F, G, coords, lo, hi, slo, shi, par, omega, flow):
+    """The rows of :func:`euler_fields`, each split into off-support and support cells."""
     n = coords.size
     sx = np.uint64(n)
     nn = np.uint64(n * n)
+    coef = _rate_coefficients(par)
+    dt = par[P_DT]
     for i in range(n):
         x = coords[i]
         base = np.uint64(i * n)
         j0, j1 = np.uint64(lo[i]), np.uint64(hi[i])
         if shi[i] > slo[i]:
             s0, s1 = np.uint64(slo[i]), np.uint64(shi[i])
-            _euler_row(cur, nxt, F, G, coords, par, omega, x, base, sx, nn, j0, s0, flow, False)
-            _euler_row(cur, nxt, F, G, coords, par, omega, x, base, sx, nn, s0, s1, flow, True)
-            _euler_row(cur, nxt, F, G, coords, par, omega, x, base, sx, nn, s1, j1, flow, False)
+            _euler_row(
+                cur, nxt, F, G, coords, coef, dt, omega, x, base, sx, nn, j0, s0, flow, False
+            )
+            _euler_row(cur, nxt, F, G, coords, coef, dt, omega, x, base, sx, nn, s0, s1, flow, True)
+            _euler_row(
+                cur, nxt, F, G, coords, coef, dt, omega, x, base, sx, nn, s1, j1, flow, False
+            )
         else:
-            _euler_row(cur, nxt, F, G, coords, par, omega, x, base, sx, nn, j0, j1, flow, False)
+            _euler_row(
+                cur, nxt, F, G, coords, coef, dt, omega, x, base, sx, nn, j0, j1, flow, False
+            )
 
 
 @nb.njit(cache=True, nogil=True)

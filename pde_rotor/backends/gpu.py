@@ -114,6 +114,7 @@ _rotor_table = GPU.rotor_table
 _plate_cell = GPU.plate_cell
 _pill_cell = GPU.pill_cell
 _cell_rates = GPU.cell_rates
+_rate_coefficients = GPU.rate_coefficients
 _cell_integrals = GPU.cell_integrals
 _contour_node = GPU.contour_node
 
@@ -180,6 +181,7 @@ def _advance(
     rot = cuda.shared.array(6, float64)  # phi, omega, torque, friction, stopped, failed
 
     pm = par[m]
+    coef = _rate_coefficients(pm)
     dt, dx = pm[P_DT], pm[P_DX]
     inv_2dx = 0.5 / dx
     area = dx * dx
@@ -254,7 +256,7 @@ def _advance(
                         moment += mom
                         cross_v += vel
                 rate_c, rate_x, rate_y = _cell_rates(
-                    buf, o, n, 1, nn, f, g, omega, x, y, pm, flow, on_support
+                    buf, o, n, 1, nn, f, g, omega, x, y, coef, flow, on_support
                 )
                 o_new = nxt + i * n + j
                 new_c = buf[o] + dt * rate_c
