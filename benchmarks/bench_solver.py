@@ -6,9 +6,11 @@ inside the disk of radius 3):
 (a) ms/step of the fused kernel (pde_rotor.solver), single thread, full physics;
 (b) ms/step of RotorPDE.make_operator_stepper, the equations composed from py-pde's
     compiled operators (grid.make_operator) with F and G evaluated on the whole grid;
-their ratio, the largest relative difference of the two states after the same steps, and
-the steady angular velocity omega(t = 8) without noise (paper: ~176; an independent
-implementation: 176.06) with its wall time.
+their ratio, the largest relative difference of the two states after the same steps;
+(c) ms/step of the fused kernel with the ``consistent`` scheme (numerics.scheme) and its
+ratio to (a), timed in the same run; and the steady angular velocity omega(t = 8)
+without noise for each scheme (paper: ~176; an independent implementation: 176.06) with
+its wall time.
 
 Run:  python benchmarks/bench_solver.py [--steps 4000] [--skip-steady]
 """
@@ -71,14 +73,22 @@ def main() -> None:
     print(f"(b) py-pde operators    : {operator * 1e3:8.4f} ms/step")
     print(f"speed-up (b)/(a)        : {operator / fused:8.2f}x")
     print(f"max rel. difference a-b : {deviation:.2e} after {args.operator_steps} steps")
+    consistent = config.model_copy(
+        update={"numerics": config.numerics.model_copy(update={"scheme": "consistent"})}
+    )
+    fused_consistent = time_fused(Simulation(consistent), args.steps)
+    print(f"(c) fused, consistent   : {fused_consistent * 1e3:8.4f} ms/step")
+    print(f"ratio (c)/(a)           : {fused_consistent / fused:8.2f}")
     if not args.skip_steady:
-        sim = Simulation(config)
-        start = time.perf_counter()
-        sim.run(8.0)
-        wall = time.perf_counter() - start
-        per_step = wall / round(8.0 / config.grid.dt) * 1e3
-        print(f"omega(t=8), no noise    : {sim.rotor.omega:.4f}")
-        print(f"wall time of that run   : {wall:.1f} s ({per_step:.4f} ms/step incl. compile)")
+        for cfg in (config, consistent):
+            sim = Simulation(cfg)
+            start = time.perf_counter()
+            sim.run(8.0)
+            wall = time.perf_counter() - start
+            per_step = wall / round(8.0 / cfg.grid.dt) * 1e3
+            scheme = cfg.numerics.scheme
+            print(f"omega(t=8), {scheme:>10} : {sim.rotor.omega:.4f}")
+            print(f"wall time of that run   : {wall:.1f} s ({per_step:.4f} ms/step incl. compile)")
 
 
 if __name__ == "__main__":

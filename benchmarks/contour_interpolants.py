@@ -5,9 +5,10 @@ a contour integral whose nodes turn with the plate, so its lattice torque comes 
 c is interpolated between cell centres (and from the discrete c itself). This script
 holds the steady c of a stopped symmetric plate (sparse solve, :mod:`pde_rotor.analysis`)
 at `--angles` angles over one period pi/6 and evaluates the contour torque with:
-the scheme's own Catmull-Rom interpolant (``cr``), tensor-product Lagrange interpolants
+a Catmull-Rom interpolant (``cr``, the scheme's first version), tensor-product Lagrange interpolants
 on 4, 6 and 8 points (``lag4`` ...) and interpolating cubic and quintic splines
-(scipy's RectBivariateSpline, ``spl3``, ``spl5``). It prints the rms and max lattice
+(scipy's RectBivariateSpline, ``spl3``, ``spl5``; the scheme now uses the cubic
+one). It prints the rms and max lattice
 torque of each. Evidence for the next lever of docs/model.md, "Schemes".
 
 Run:  python benchmarks/contour_interpolants.py [--dx 0.05 0.025] [--angles 24]
@@ -25,9 +26,31 @@ from pde_rotor import RotorConfig
 from pde_rotor.analysis import stopped_concentration
 from pde_rotor.geometry import edge_normal_angles
 from pde_rotor.model import RotorPDE
-from pde_rotor.schemes import Scheme, interpolate_bicubic
+from pde_rotor.schemes import Scheme
 
 Interpolant = Callable[[np.ndarray, float, float, np.ndarray, np.ndarray], np.ndarray]
+
+
+def catmull_rom(field: np.ndarray, x0: float, dx: float, x: np.ndarray, y: np.ndarray):
+    """Bicubic Catmull-Rom (Keys' cubic convolution, a = -1/2): local, C^1, third order."""
+    fx, fy = (x - x0) / dx, (y - x0) / dx
+    i, j = np.floor(fx).astype(int), np.floor(fy).astype(int)
+
+    def weights(t: np.ndarray) -> tuple[np.ndarray, ...]:
+        t2, t3 = t * t, t * t * t
+        return (
+            -0.5 * t3 + t2 - 0.5 * t,
+            1.5 * t3 - 2.5 * t2 + 1.0,
+            -1.5 * t3 + 2.0 * t2 + 0.5 * t,
+            0.5 * t3 - 0.5 * t2,
+        )
+
+    wx, wy = weights(fx - i), weights(fy - j)
+    out = np.zeros(np.shape(x))
+    for a in range(4):
+        for b in range(4):
+            out += wx[a] * wy[b] * field[i - 1 + a, j - 1 + b]
+    return out
 
 
 def lagrange(points: int) -> Interpolant:
@@ -102,7 +125,7 @@ def main() -> None:
             c = stopped_concentration(pde, float(phi))
             splines = {k: RectBivariateSpline(coords, coords, c, kx=k, ky=k, s=0) for k in (3, 5)}
             interpolants: dict[str, Interpolant] = {
-                "cr": interpolate_bicubic,
+                "cr": catmull_rom,
                 "lag4": lagrange(4),
                 "lag6": lagrange(6),
                 "lag8": lagrange(8),

@@ -30,7 +30,8 @@ Physics (section "Model" of Koyano et al., Chaos 2020):
 * :func:`cell_integrals`: one cell's share of the integrals of Eq. (eq_motion):
   F r x grad c (area form of the torque, Eq. (torque)), F |r|^2 and F r x v;
 * :func:`contour_node`: one node of the contour form of the same torque integral
-  (scheme ``consistent``, see :mod:`pde_rotor.schemes`).
+  (scheme ``consistent``, see :mod:`pde_rotor.schemes`), with c from its interpolating
+  cubic spline (:func:`spline_line`, :func:`interpolate`).
 """
 
 from __future__ import annotations
@@ -44,6 +45,12 @@ import numba as nb
 X_SATURATION = 20.0
 """|x| beyond which float64 1/2 (1 + tanh(x)) is exactly 1 (1 - tanh(20) = 8.5e-18 < 2^-54)
 and below 4.3e-18; F and G are evaluated only where some sample point lies within it."""
+
+SPLINE_POLE = math.sqrt(3.0) - 2.0
+"""Pole of the cubic B-spline prefilter (Unser, IEEE Signal Process. Mag. 1999)."""
+
+SPLINE_MARGIN = 24
+"""Cells the spline window extends beyond the contour's taps: |pole|^24 = 2e-14."""
 
 HALF_DIAGONAL = 0.5 * math.sqrt(2.0)
 """Distance from a cell's centre to its corners, in units of dx."""
@@ -66,6 +73,7 @@ class Core(NamedTuple):
     rate_coefficients: Callable
     cell_rates: Callable
     cell_integrals: Callable
+    spline_line: Callable
     interpolate: Callable
     contour_node: Callable
 
@@ -240,21 +248,43 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         return f * (x * dcdy - y * dcdx), f * (x * x + y * y), cross_v
 
     @jit
-    def cubic_weight(t, a):
-        """Weight of the tap at distance `a - t` (a = -1, 0, 1, 2) of Keys' cubic
-        convolution kernel (parameter -1/2, Catmull-Rom): C^1, third-order accurate."""
+    def spline_line(buf, o, stride, count):
+        """Cubic B-spline prefilter, in place, of `count` samples buf[o + k stride].
+
+        Turns samples into the coefficients of the interpolating cubic spline (Unser's
+        recursive filter, pole z = sqrt(3) - 2), taking the samples beyond both ends as 0:
+        a coefficient then errs by |z|^k = 0.268^k times the values k cells beyond the
+        line's ends, so lines cut from a larger field need a margin.
+        """
+        z = SPLINE_POLE
+        prev = buf[o]
+        for k in range(1, count):
+            prev = buf[o + k * stride] + z * prev
+            buf[o + k * stride] = prev
+        last = o + (count - 1) * stride
+        nxt = -z / (1.0 - z * z) * buf[last]
+        buf[last] = 6.0 * nxt
+        for k in range(count - 2, -1, -1):
+            nxt = z * (nxt - buf[o + k * stride])
+            buf[o + k * stride] = 6.0 * nxt
+
+    @jit
+    def bspline_weight(t, a):
+        """Cubic B-spline basis at distance |t - a| (a = -1, 0, 1, 2; t in [0, 1))."""
         s = abs(t - a)
         if s < 1.0:
-            return (1.5 * s - 2.5) * s * s + 1.0
+            return (0.5 * s - 1.0) * s * s + 2.0 / 3.0
         if s < 2.0:
-            return ((-0.5 * s + 2.5) * s - 4.0) * s + 2.0
+            u = 2.0 - s
+            return u * u * u / 6.0
         return 0.0
 
     @jit
-    def interpolate(buf, o0, n, x0, inv_dx, x, y):
-        """Bicubic (Catmull-Rom) interpolant at (x, y) of the n x n field at offset o0.
+    def interpolate(coef, o0, n, x0, inv_dx, x, y):
+        """Cubic spline at (x, y) from the n x n B-spline coefficients at offset o0.
 
-        x0 is the coordinate of cell 0's centre; the 4 x 4 taps must be grid cells.
+        x0 is the coordinate of cell 0's centre; the 4 x 4 taps must lie in the
+        prefiltered window (:func:`spline_line` along both axes).
         """
         fx = (x - x0) * inv_dx
         fy = (y - x0) * inv_dx
@@ -262,19 +292,19 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         j = math.floor(fy)
         tx = fx - i
         ty = fy - j
-        wy0 = cubic_weight(ty, -1.0)
-        wy1 = cubic_weight(ty, 0.0)
-        wy2 = cubic_weight(ty, 1.0)
-        wy3 = cubic_weight(ty, 2.0)
+        wy0 = bspline_weight(ty, -1.0)
+        wy1 = bspline_weight(ty, 0.0)
+        wy2 = bspline_weight(ty, 1.0)
+        wy3 = bspline_weight(ty, 2.0)
         acc = 0.0
         for a in range(4):
             row = o0 + (i - 1 + a) * n + j - 1
-            line = wy0 * buf[row] + wy1 * buf[row + 1] + wy2 * buf[row + 2] + wy3 * buf[row + 3]
-            acc += cubic_weight(tx, a - 1.0) * line
+            line = wy0 * coef[row] + wy1 * coef[row + 1] + wy2 * coef[row + 2] + wy3 * coef[row + 3]
+            acc += bspline_weight(tx, a - 1.0) * line
         return acc
 
     @jit
-    def contour_node(buf, o0, n, x0, inv_dx, tab, apothem, delta, tan_half, quad_s, quad_t, q):
+    def contour_node(coef, o0, n, x0, inv_dx, tab, apothem, delta, tan_half, quad_s, quad_t, q):
         """Node q of the contour form of int F r x grad c dA (see :mod:`pde_rotor.schemes`).
 
         With h(r) = max_j r . e_j the level sets of F are N-gons, and
@@ -285,7 +315,7 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         +pi/2, t in [-h tan(pi/N), h tan(pi/N)]. `quad_s` (2, M) holds the nodes s_m and
         weights of a Gauss rule for the weight 1/2 sech^2(s), `quad_t` (2, L) the
         Gauss-Legendre nodes and weights on [-1, 1]. Node q enumerates (edge j, m, l) as
-        q = (j M + m) L + l.
+        q = (j M + m) L + l. `coef` holds the B-spline coefficients of c (:func:`interpolate`).
 
         Returns:
             the node's weighted contribution to int F r x grad c dA.
@@ -300,7 +330,7 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         t = half * quad_t[0, k_t]
         ex = tab[0, j]
         ey = tab[1, j]
-        c = interpolate(buf, o0, n, x0, inv_dx, h * ex - t * ey, h * ey + t * ex)
+        c = interpolate(coef, o0, n, x0, inv_dx, h * ex - t * ey, h * ey + t * ex)
         return -quad_s[1, m] * quad_t[1, k_t] * half * t * c
 
     return Core(
@@ -311,6 +341,7 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         rate_coefficients=rate_coefficients,
         cell_rates=cell_rates,
         cell_integrals=cell_integrals,
+        spline_line=spline_line,
         interpolate=interpolate,
         contour_node=contour_node,
     )

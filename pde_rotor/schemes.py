@@ -28,11 +28,11 @@ its angle (docs/model.md). Two schemes are offered (``numerics.scheme``):
       the same continuum torque. It is evaluated with a Gauss rule for the weight
       1/2 sech^2(s) (:func:`sech2_gauss`, ``numerics.band_nodes`` nodes) across the
       edge and Gauss-Legendre (``numerics.contour_nodes`` per edge) along it, with c
-      from the bicubic interpolant (:func:`pde_rotor.core.make_core`, ``interpolate``).
-      Every quadrature node turns with the plate, so only the interpolation error of
-      c, O(dx^3), still sees the lattice. With the Catmull-Rom interpolant that error is
-      still larger than the paper scheme's lattice torque (docs/model.md, "Schemes"):
-      the scheme is in development and not the default.
+      from its interpolating cubic spline (:mod:`pde_rotor.core`: ``spline_line``,
+      ``interpolate``). Every quadrature node turns with the plate, so only the
+      interpolation error of c, O(dx^4), and the lattice error of c itself still see
+      the lattice (docs/model.md, "Schemes": the scheme is in development and not yet
+      the default).
 
 The per-cell work of both schemes is in :mod:`pde_rotor.core`; this module only builds
 the numbers the kernels need.
@@ -45,8 +45,10 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
+from scipy.ndimage import map_coordinates
 
 from .config import RotorConfig
+from .core import SPLINE_MARGIN
 
 
 @lru_cache(maxsize=32)
@@ -95,6 +97,9 @@ class Scheme:
         quad_s: (2, M) nodes and weights across the edge (weight 1/2 sech^2).
         quad_t: (2, L) Gauss-Legendre nodes and weights on [-1, 1] along an edge.
         tan_half: tan(pi / N).
+        window: cell range [lo, hi), along both axes, whose c is turned into cubic
+            spline coefficients each step: the contour's 4 x 4 taps plus
+            :data:`~pde_rotor.core.SPLINE_MARGIN` cells.
     """
 
     name: str
@@ -103,6 +108,7 @@ class Scheme:
     quad_s: np.ndarray
     quad_t: np.ndarray
     tan_half: float
+    window: tuple[int, int]
 
     @classmethod
     def from_config(cls, config: RotorConfig) -> Scheme:
@@ -110,9 +116,18 @@ class Scheme:
         num = config.numerics
         sub = num.samples_per_axis(config.grid.dx, config.geometry.smoothing)
         contour = num.scheme == "consistent"
+        n_cells = 2 * math.ceil(config.grid.domain_radius / config.grid.dx - 1e-9) + 2
+        window = (0, 0)
         if contour:
             quad_s = np.stack(sech2_gauss(num.band_nodes))
             quad_t = np.stack(np.polynomial.legendre.leggauss(num.contour_nodes))
+            geo = config.geometry
+            apothem = geo.radius * math.cos(math.pi / geo.n_corners)
+            reach = (apothem + geo.smoothing * np.abs(quad_s[0]).max()) / math.cos(
+                math.pi / geo.n_corners
+            )
+            half = math.ceil(reach / config.grid.dx) + 2 + SPLINE_MARGIN
+            window = (max(1, n_cells // 2 - half), min(n_cells - 1, n_cells // 2 + half))
         else:
             quad_s = np.zeros((2, 1))
             quad_t = np.zeros((2, 1))
@@ -123,11 +138,13 @@ class Scheme:
             quad_s=np.ascontiguousarray(quad_s),
             quad_t=np.ascontiguousarray(quad_t),
             tan_half=math.tan(math.pi / config.geometry.n_corners),
+            window=window,
         )
 
     def as_array(self) -> np.ndarray:
-        """Pack for the kernels: [samples per axis, contour form (0/1), tan(pi/N)]."""
-        return np.array([self.subsamples, float(self.contour), self.tan_half])
+        """Pack for the kernels: [samples per axis, contour form (0/1), tan(pi/N),
+        spline window lo, hi]."""
+        return np.array([self.subsamples, float(self.contour), self.tan_half, *self.window])
 
     @property
     def n_contour_nodes(self) -> int:
@@ -135,39 +152,22 @@ class Scheme:
         return self.quad_s.shape[1] * self.quad_t.shape[1] if self.contour else 0
 
 
-def keys_weights(t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """Weights of the taps at -1, 0, 1, 2 of Keys' cubic convolution (a = -1/2), t in [0, 1)."""
-    t2, t3 = t * t, t * t * t
-    return (
-        -0.5 * t3 + t2 - 0.5 * t,
-        1.5 * t3 - 2.5 * t2 + 1.0,
-        -1.5 * t3 + 2.0 * t2 + 0.5 * t,
-        0.5 * t3 - 0.5 * t2,
-    )
-
-
-def interpolate_bicubic(
+def interpolate_spline(
     field: np.ndarray, x0: float, dx: float, x: np.ndarray, y: np.ndarray
 ) -> np.ndarray:
-    """Bicubic Catmull-Rom interpolant of a grid field at points (numpy reference).
+    """Interpolating cubic spline of a grid field at points (numpy/scipy reference).
+
+    scipy's ``map_coordinates`` with its own prefilter over the whole grid and zero
+    values beyond it (c = 0 on and outside the circle, so this is exact).
 
     Args:
         field: (n, n) values at the cell centres x0 + i dx (axis 0: x, axis 1: y).
         x0: coordinate of cell 0's centre.
         dx: grid spacing.
-        x, y: points (same shape), each with its 4 x 4 taps inside the grid.
+        x, y: points (same shape).
     """
-    fx = (x - x0) / dx
-    fy = (y - x0) / dx
-    i = np.floor(fx).astype(int)
-    j = np.floor(fy).astype(int)
-    wx = keys_weights(fx - i)
-    wy = keys_weights(fy - j)
-    out = np.zeros(np.shape(x))
-    for a in range(4):
-        for b in range(4):
-            out += wx[a] * wy[b] * field[i - 1 + a, j - 1 + b]
-    return out
+    points = np.stack([(np.asarray(x) - x0) / dx, (np.asarray(y) - x0) / dx])
+    return map_coordinates(field, points, order=3, mode="grid-constant", cval=0.0)
 
 
 def contour_cross_grad(
@@ -199,6 +199,6 @@ def contour_cross_grad(
     ey = np.sin(normal_angles)[:, None, None]
     x = h[None, :, None] * ex - t[None] * ey
     y = h[None, :, None] * ey + t[None] * ex
-    values = interpolate_bicubic(c, x0, dx, x, y)
+    values = interpolate_spline(c, x0, dx, x, y)
     weights = s_weights[:, None] * t_weights[None, :] * half[:, None] * t
     return float(-np.sum(weights[None] * values))

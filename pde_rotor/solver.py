@@ -56,6 +56,7 @@ _cell_rates = CPU.cell_rates
 _rate_coefficients = CPU.rate_coefficients
 _cell_integrals = CPU.cell_integrals
 _contour_node = CPU.contour_node
+_spline_line = CPU.spline_line
 
 _FAST = {"contract", "arcp", "nsz"}
 
@@ -158,11 +159,24 @@ def _euler_rows(cur, nxt, F, G, coords, lo, hi, slo, shi, par, omega, flow):
 
 
 @nb.njit(cache=True, nogil=True)
-def rotor_integrals(cur, F, coords, slo, shi, shape, tab, num, quad_s, quad_t, flow):
+def spline_window(cur, coef, n, lo, hi):
+    """coef[window] = cubic B-spline coefficients of c (cur[:n^2]) on rows, columns [lo, hi)."""
+    for i in range(lo, hi):
+        for j in range(lo, hi):
+            coef[i * n + j] = cur[i * n + j]
+    for i in range(lo, hi):
+        _spline_line(coef, i * n + lo, 1, hi - lo)
+    for j in range(lo, hi):
+        _spline_line(coef, lo * n + j, n, hi - lo)
+
+
+@nb.njit(cache=True, nogil=True)
+def rotor_integrals(cur, F, coords, slo, shi, shape, tab, num, quad_s, quad_t, flow, coef):
     """The integrals of Eq. (eq_motion) over the plate (compiled).
 
     `tab` must hold the rotor table of the current angle (:func:`update_indicators`).
-    `num` is [samples, contour, tan(pi/N)] of :class:`~pde_rotor.schemes.Scheme`.
+    `num` is :meth:`~pde_rotor.schemes.Scheme.as_array`; `coef` (n^2) is scratch for the
+    spline coefficients of the contour form.
 
     Returns:
         (int F r x grad c dA, int F |r|^2 dA, int F r x v dA); the first in area form
@@ -189,12 +203,13 @@ def rotor_integrals(cur, F, coords, slo, shi, shape, tab, num, quad_s, quad_t, f
             cross_v += vel
     area = dx * dx
     if contour:
+        spline_window(cur, coef, n, int(num[3]), int(num[4]))
         cross_grad = 0.0
         n_nodes = int(shape[S_N]) * quad_s.shape[1] * quad_t.shape[1]
         apothem, delta = shape[S_APOTHEM], shape[S_DELTA]
         for q in range(n_nodes):
             cross_grad += _contour_node(
-                cur, 0, n, coords[0], 1.0 / dx, tab, apothem, delta, num[2], quad_s, quad_t, q
+                coef, 0, n, coords[0], 1.0 / dx, tab, apothem, delta, num[2], quad_s, quad_t, q
             )
         return cross_grad, moment * area, cross_v * area
     return cross_grad * area, moment * area, cross_v * area
@@ -253,6 +268,7 @@ def advance(
     nxt = spare
     nn = coords.size * coords.size
     tab = np.empty((4, int(shape[S_N])))
+    coef = np.zeros(nn) if num[1] != 0.0 else np.zeros(0)
     sub = int(num[0])
     phi_f = math.nan
     noisy = kicks.size > 0
@@ -267,7 +283,7 @@ def advance(
             update_indicators(F, G, coords, slo, shi, shape, tab, sub, phi)
             phi_f = phi
         cross_grad, moment, cross_v = rotor_integrals(
-            cur, F, coords, slo, shi, shape, tab, num, quad_s, quad_t, flow
+            cur, F, coords, slo, shi, shape, tab, num, quad_s, quad_t, flow, coef
         )
         torque = tsign_k * cross_grad
         friction = -mu * (moment * omega - cross_v)

@@ -117,6 +117,7 @@ _cell_rates = GPU.cell_rates
 _rate_coefficients = GPU.rate_coefficients
 _cell_integrals = GPU.cell_integrals
 _contour_node = GPU.contour_node
+_spline_line = GPU.spline_line
 
 
 def _advance(
@@ -136,6 +137,7 @@ def _advance(
     kicks,
     records,
     status,
+    coef,
     step0,
     n_steps,
     parity0,
@@ -155,7 +157,7 @@ def _advance(
             (inside the interior ranges).
         par: (E, N_PAR) float parameters, the P_* layout of :mod:`pde_rotor.core`.
         shape: (E, 6) :meth:`RotorShape.as_array` per member.
-        num: (E, 3) :meth:`Scheme.as_array` per member.
+        num: (E, 5) :meth:`Scheme.as_array` per member.
         quad_s, quad_t: the common quadrature rules of the contour torque.
         sched: (E, 4) :meth:`StopSchedule.as_array` per member.
         flags: (E, 2) flow enabled, noise on.
@@ -165,6 +167,7 @@ def _advance(
             `record_every`, at row (step + 1) // record_every - record0.
         status: (E,) -1, or the step at which the member's state stopped being finite
             (the member is then left at the start of that step and not advanced again).
+        coef: (E n^2) scratch for the spline coefficients of c (contour form only).
         step0: global index of the first step.
         n_steps: number of steps.
         parity0: buffer holding the state at step0.
@@ -181,7 +184,7 @@ def _advance(
     rot = cuda.shared.array(6, float64)  # phi, omega, torque, friction, stopped, failed
 
     pm = par[m]
-    coef = _rate_coefficients(pm)
+    rates = _rate_coefficients(pm)
     dt, dx = pm[P_DT], pm[P_DX]
     inv_2dx = 0.5 / dx
     area = dx * dx
@@ -195,6 +198,8 @@ def _advance(
     sub = int(num[m, 0])
     contour = num[m, 1] != 0.0
     tan_half = num[m, 2]
+    w_lo = int(num[m, 3])
+    width = int(num[m, 4]) - w_lo
     n_nodes = n_corners * quad_s.shape[1] * quad_t.shape[1] if contour else 0
     n_ini, n_stop, n_period, n_cycles = sched[m, 0], sched[m, 1], sched[m, 2], sched[m, 3]
     flow = flags[m, FLAG_FLOW] != 0
@@ -256,7 +261,7 @@ def _advance(
                         moment += mom
                         cross_v += vel
                 rate_c, rate_x, rate_y = _cell_rates(
-                    buf, o, n, 1, nn, f, g, omega, x, y, coef, flow, on_support
+                    buf, o, n, 1, nn, f, g, omega, x, y, rates, flow, on_support
                 )
                 o_new = nxt + i * n + j
                 new_c = buf[o] + dt * rate_c
@@ -271,10 +276,22 @@ def _advance(
                     if not (math.isfinite(new_x) and math.isfinite(new_y)):
                         bad = True
         if contour:  # the contour form replaces the area form of int F r x grad c dA
+            o_coef = m * nn
+            for q in range(tid, width * width, n_threads):
+                i = w_lo + q // width
+                j = w_lo + q % width
+                coef[o_coef + i * n + j] = buf[cur + i * n + j]
+            cuda.syncthreads()
+            for q in range(tid, width, n_threads):
+                _spline_line(coef, o_coef + (w_lo + q) * n + w_lo, 1, width)
+            cuda.syncthreads()
+            for q in range(tid, width, n_threads):
+                _spline_line(coef, o_coef + w_lo * n + w_lo + q, n, width)
+            cuda.syncthreads()
             cross_grad = 0.0
             for q in range(tid, n_nodes, n_threads):
                 cross_grad += _contour_node(
-                    buf, cur, n, x0, inv_dx, tab, apothem, delta, tan_half, quad_s, quad_t, q
+                    coef, o_coef, n, x0, inv_dx, tab, apothem, delta, tan_half, quad_s, quad_t, q
                 )
 
         # block reduction of the rotor integrals in a fixed order
@@ -357,7 +374,7 @@ def _member_arrays(plan: EnsemblePlan) -> dict[str, np.ndarray]:
     n_members = plan.n_members
     par = np.empty((n_members, N_PAR))
     shape = np.empty((n_members, 6))
-    num = np.empty((n_members, 3))
+    num = np.empty((n_members, 5))
     sched = np.empty((n_members, 4), dtype=np.int64)
     flags = np.zeros((n_members, 2), dtype=np.int64)
     support = np.empty((n_members, 2, n), dtype=np.int64)
@@ -494,6 +511,8 @@ def run_ensemble(
     d_host = {key: cuda.to_device(value) for key, value in host.items()}
     d_rotor = cuda.to_device(state.rotor.copy())
     d_status = cuda.to_device(np.full(n_members, -1, dtype=np.int64))
+    contour = host["num"][:, 1] != 0.0
+    d_coef = cuda.device_array(n_members * dom.coords.size**2 if contour.any() else 1)
     records = np.full((n_members, plan.record_steps.size, 5), np.nan)
     records[:, 0] = state.rotor
     if min_blocks_per_sm is None:
@@ -526,6 +545,7 @@ def run_ensemble(
             cuda.to_device(kicks),
             d_records,
             d_status,
+            d_coef,
             step,
             n_steps,
             parity,
