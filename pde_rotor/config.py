@@ -451,7 +451,12 @@ def read_config_data(path: str | Path) -> dict[str, Any]:
         raise ConfigError(msg) from None
     data = parse_yaml(text, source=str(path))
     if data is None:
-        data = {}
+        msg = (
+            f"{path}: the file is empty or holds only comments; a config names at least one "
+            "section (e.g. protocol: {t_stop: 1.0}); write {} to run every default (the "
+            "paper's grid and 100 stop-and-release cycles)"
+        )
+        raise ConfigError(msg)
     if not isinstance(data, dict):
         msg = (
             f"{path}: the top level must be a mapping of sections "

@@ -101,6 +101,8 @@ BAD_INPUTS: dict[str, tuple[str | None, list[str], str, str]] = {
     "tab in YAML": ("protocol:\n\tt_stop: 1\n", [], "invalid YAML", "line 2"),
     "duplicate key": ("protocol:\n  t_stop: 1\n  t_stop: 2\n", [], "duplicate key", "t_stop"),
     "top level is a list": ("- 1\n- 2\n", [], "top level", "geometry"),
+    "empty file": ("", [], "empty", "write {}"),
+    "only comments": ("# all defaults?\n\n", [], "only comments", "write {}"),
 }
 
 
@@ -125,6 +127,12 @@ def test_bad_input_gives_one_line_naming_key_and_allowed(tmp_path, case):
     assert "\n" not in message
     assert key in message
     assert allowed in message
+
+
+def test_explicit_empty_mapping_is_every_default(tmp_path):
+    """An empty file is refused (above); ``{}`` asks for the paper's defaults on purpose."""
+    path = write_config(tmp_path, "{}  # every default\n")
+    assert load_config(path) == RotorConfig()
 
 
 def test_missing_file(tmp_path):
