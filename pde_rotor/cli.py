@@ -19,6 +19,7 @@ from .api import BackendError, RunResult, resolve_backend, versions
 from .cli_gallery import register as register_gallery_commands
 from .cli_sweep import register as register_sweep_commands
 from .config import ConfigError, dump_config, load_config
+from .cost import estimate_run
 from .output import OutputError, RunDirectory
 
 app = typer.Typer(
@@ -89,7 +90,9 @@ def run(
 
     from .api import run as run_config
 
-    typer.echo(f"pde-rotor: running {config} -> {run_dir}")
+    estimate = estimate_run(cfg, movie)
+    long_run = f"long run, {estimate.describe()}: " if estimate.long else ""
+    typer.echo(f"pde-rotor: {long_run}running {config} -> {run_dir}")
     try:
         result = run_config(
             cfg,
@@ -175,7 +178,8 @@ def check(
     typer.echo(dump_config(cfg), nl=False)
     typer.echo(
         f"# ok: t_end = {cfg.protocol.t_end:g} ({steps} steps), dt limit "
-        f"{cfg.dt_limit():.4g}, config hash {cfg.config_hash()}"
+        f"{cfg.dt_limit():.4g}, config hash {cfg.config_hash()}; run time "
+        f"{estimate_run(cfg).describe()}"
     )
 
 

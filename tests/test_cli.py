@@ -19,7 +19,7 @@ import pde_rotor
 from pde_rotor import api
 from pde_rotor.cli import app
 from pde_rotor.config import load_config
-from pde_rotor.output import PART_SUFFIX, RunDirectory
+from pde_rotor.output import PART_SUFFIX, OutputError, RunDirectory
 from pde_rotor.solver import SimulationDivergedError
 from pde_rotor.trackers import EVENT_COLUMNS, TIMESERIES_VARIABLES
 
@@ -205,6 +205,26 @@ def test_bad_input_exits_2_with_one_line(tmp_path, case):
     assert key in result.stderr and allowed in result.stderr
     assert "Traceback" not in result.output
     assert not (tmp_path / "out").exists()
+
+
+def test_long_run_announces_its_estimate_in_the_first_line(tmp_path, monkeypatch):
+    """``{}`` is the paper's 10.6 M steps with a movie: the estimate comes before anything."""
+
+    def not_run(*args, **kwargs):
+        raise OutputError("stopped where the run would start")
+
+    monkeypatch.setattr(api, "run", not_run)
+    first_lines = []
+    for name, text in (("defaults.yaml", "{}\n"), ("tiny.yaml", TINY_YAML)):
+        path = tmp_path / name
+        path.write_text(text)
+        result = invoke("run", path, "--out", tmp_path / f"out-{name}", "--quiet")
+        assert "stopped where the run would start" in result.stderr
+        first_lines.append(result.stdout.splitlines()[0])
+    assert first_lines[0].startswith("pde-rotor: long run, about ")
+    assert "10.6 M steps" in first_lines[0] and "movie frames" in first_lines[0]
+    assert "estimate" in first_lines[0]
+    assert first_lines[1].startswith("pde-rotor: running ")
 
 
 def test_missing_config_file_exits_2(tmp_path):
