@@ -81,7 +81,10 @@ class GeometryConfig(_Section):
         0.05, description="p: extra inward shift of the pills, Eq. (rc)"
     )
     asymmetry: FiniteFloat = Field(
-        0.0, description="Delta: angular shift of every pill from its corner [rad], Eq. (rj)"
+        0.0,
+        description=(
+            "Delta: angular shift of every pill from its corner [rad], Eq. (rj); |Delta| < pi/N"
+        ),
     )
     smoothing: PositiveFloat = Field(0.025, description="delta: width of the tanh edges of F and G")
 
@@ -111,6 +114,14 @@ class GeometryConfig(_Section):
 
     @model_validator(mode="after")
     def _pills_inside_plate(self) -> GeometryConfig:
+        half = math.pi / self.n_corners
+        if abs(self.asymmetry) >= half:
+            msg = (
+                f"a shift of pi/N or more moves each pill past the middle of its edge, nearer "
+                f"the next corner (Delta and Delta - 2 pi/N are the same rotor); allowed: "
+                f"|asymmetry| < pi/N = {half:.4g} rad for n_corners = {self.n_corners}"
+            )
+            raise FieldError("asymmetry", self.asymmetry, msg)
         r_c = self.pill_distance
         if r_c <= 0:
             rho_max = (self.radius - self.pill_inset) * math.cos(math.pi / self.n_corners)
@@ -184,6 +195,12 @@ configs/sweeps/calibration.yaml measured P against sigma (docs/statistics.md, 95
 0 to about 1e-7). The paper-resolution configs (configs/paper_fig*.yaml,
 configs/sweeps/base/paper.yaml) carry this value; tests/test_config.py keeps them equal.
 """
+
+
+PAPER_STEADY_OMEGA = 176.06
+"""Steady angular velocity of the noise-free rotor at the paper's parameters and grid
+(docs/model.md: 176.0626; the paper: "~176"): the scale of the rotation against which
+:class:`RotorConfig` judges the noise."""
 
 
 class NoiseConfig(_Section):
@@ -335,6 +352,16 @@ class RotorConfig(_Section):
             msg = f"above the explicit stability limit (allowed: dt <= {limit:.4g} for this dx)"
             raise FieldError("grid.dt", self.grid.dt, msg)
         dt = self.grid.dt
+        kick = math.sqrt(2 * dt) * self.noise.sigma / self.rotor.inertia
+        if kick >= PAPER_STEADY_OMEGA:
+            limit = PAPER_STEADY_OMEGA * self.rotor.inertia / math.sqrt(2 * dt)
+            msg = (
+                f"kicks omega by sqrt(2 dt) sigma / I = {kick:.3g} per step, more than the "
+                f"steady rotation omega = {PAPER_STEADY_OMEGA:g} at the paper's parameters: "
+                f"the rotor would not rotate (allowed: sigma < {limit:.3g} for dt = {dt:g}, "
+                f"I = {self.rotor.inertia:g}; calibrated: {CALIBRATED_SIGMA:g})"
+            )
+            raise FieldError("noise.sigma", self.noise.sigma, msg)
         for key in TIME_KEYS:
             value = self.get(key)
             if value is None:

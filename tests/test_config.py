@@ -10,6 +10,7 @@ import yaml
 
 from pde_rotor.config import (
     CALIBRATED_SIGMA,
+    PAPER_STEADY_OMEGA,
     ConfigError,
     RotorConfig,
     apply_overrides,
@@ -79,6 +80,19 @@ BAD_INPUTS: dict[str, tuple[str | None, list[str], str, str]] = {
     ),
     "negative seed": (None, ["noise.seed=-1"], "noise.seed", "seed >= 0"),
     "negative sigma": (None, ["noise.sigma=-0.1"], "noise.sigma", "sigma >= 0"),
+    "sigma that drowns the rotation": (None, ["noise.sigma=1e300"], "noise.sigma", "per step"),
+    "asymmetry of astronomic size": (
+        None,
+        ["geometry.asymmetry=1e300"],
+        "geometry.asymmetry",
+        "|asymmetry| < pi/N = 0.5236",
+    ),
+    "asymmetry of a whole period": (
+        None,
+        ["geometry.asymmetry=1.0471975511965976"],
+        "geometry.asymmetry",
+        "pi/N",
+    ),
     "unknown backend": (None, ["solver.backend=tpu"], "solver.backend", "cpu, gpu, auto"),
     "unknown torque convention": (None, ["rotor.torque=mine"], "rotor.torque", "physical"),
     "zero inertia": (None, ["rotor.inertia=0"], "rotor.inertia", "inertia > 0"),
@@ -269,6 +283,28 @@ def test_pill_asymmetry_limit_is_sharp():
     validate_config({"geometry": {"asymmetry": 0.999 * limit}})
     with pytest.raises(ConfigError, match=r"geometry\.asymmetry"):
         validate_config({"geometry": {"asymmetry": -1.001 * limit}})
+
+
+def test_noise_limit_is_a_kick_of_the_steady_omega():
+    """sigma is refused where its kick per step, sqrt(2 dt) sigma / I, reaches the steady
+    omega; the paper's sigma = 0.1 passes at dt = 1e-4 (kick 141), not at dt = 4e-4 (283)."""
+    config = RotorConfig()
+    limit = PAPER_STEADY_OMEGA * config.rotor.inertia / math.sqrt(2 * config.grid.dt)
+    validate_config({"noise": {"sigma": 0.999 * limit}})
+    with pytest.raises(ConfigError, match=r"noise\.sigma = .*sqrt\(2 dt\) sigma / I"):
+        validate_config({"noise": {"sigma": 1.001 * limit}})
+    validate_config({"noise": {"sigma": 0.1}})
+    coarse = {"grid": {"dx": 0.05, "dt": 4e-4}, "geometry": {"smoothing": 0.05}}
+    with pytest.raises(ConfigError, match=r"allowed: sigma < 0\.0622"):
+        validate_config({**coarse, "noise": {"sigma": 0.1}})
+
+
+def test_asymmetry_limit_is_half_a_period_for_any_corner_count():
+    """|Delta| < pi/N even where the pills would still fit (small pills near the centre, N = 3)."""
+    small = {"n_corners": 3, "pill_radius": 0.02, "pill_inset": 0.36}  # pills near the centre
+    validate_config({"geometry": {**small, "asymmetry": 0.999 * math.pi / 3}})
+    with pytest.raises(ConfigError, match=r"pi/N = 1\.047"):
+        validate_config({"geometry": {**small, "asymmetry": -math.pi / 3}})
 
 
 def test_usage_doc_lists_every_key():
