@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import csv
 import math
+import sys
+import types
 from pathlib import Path
 
 import imageio_ffmpeg
@@ -177,6 +179,26 @@ def test_info_names_versions_and_threads():
     assert result.exit_code == 0
     for word in ("pde_rotor", "py-pde", "numba", "numpy", "threads", "backend"):
         assert word in result.stdout
+
+
+def _numba_without_cuda_core(allow_simulator: bool = False) -> str | None:
+    """numba's deprecated numba.cuda imports, numba-cuda's numba.cuda.core does not."""
+    raise ModuleNotFoundError("No module named 'numba.cuda.core'", name="numba.cuda.core")
+
+
+@pytest.mark.parametrize("installed", ["numba.cuda only", "nothing"])
+def test_info_without_gpu_support_says_what_to_install(monkeypatch, installed):
+    """A plain install (no numba-cuda) gets an install hint, not a raw import error."""
+    fake = None
+    if installed == "numba.cuda only":
+        fake = types.ModuleType("pde_rotor.backends.gpu")
+        fake.unavailable_reason = _numba_without_cuda_core
+    monkeypatch.setitem(sys.modules, "pde_rotor.backends.gpu", fake)
+    result = invoke("info")
+    assert result.exit_code == 0
+    (line,) = [line for line in result.stdout.splitlines() if line.startswith("gpu")]
+    assert "pip install 'numba-cuda[cu12]'" in line and "not installed" in line
+    assert "ModuleNotFoundError" not in line and "numba.cuda.core" not in line
 
 
 def test_check_prints_a_loadable_config(tmp_path):
