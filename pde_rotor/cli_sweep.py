@@ -48,7 +48,7 @@ def register(app: typer.Typer) -> None:
         quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
     ) -> None:
         """Run SWEEP on dask (resumable: finished runs are skipped), then write the report."""
-        from .sweep import Sweep, SweepError, report, run_sweep, usable_cores
+        from .sweep import Sweep, SweepError, finished, report, run_sweep, usable_cores
 
         try:
             spec = Sweep.load(sweep)
@@ -71,7 +71,12 @@ def register(app: typer.Typer) -> None:
                 spec, sweep_dir, scheduler=scheduler, workers=workers, progress=not quiet
             )
         except KeyboardInterrupt:
-            typer.echo("interrupted: finished runs are kept; rerun to resume", err=True)
+            kept = len(finished(sweep_dir, spec.runs()))
+            typer.echo(
+                f"interrupted: {kept} of {n_runs} runs are kept in {sweep_dir}; rerun the same "
+                "command to resume",
+                err=True,
+            )
             raise typer.Exit(130) from None
         finally:
             signal.signal(signal.SIGTERM, previous)

@@ -57,7 +57,9 @@ import itertools
 import json
 import math
 import os
+import signal
 import tempfile
+import threading
 import time
 from collections import OrderedDict
 from collections.abc import Iterator, Mapping, Sequence
@@ -797,13 +799,23 @@ def _start_client(scheduler: str | None, workers: int | None) -> tuple[Any, Any]
     if scheduler:
         return Client(scheduler), None
     n = workers or usable_cores()
-    cluster = LocalCluster(
-        n_workers=n,
-        threads_per_worker=1,
-        processes=True,
-        dashboard_address=":0",  # any free port: several sweeps may run side by side
-        silence_logs=40,
-    )
+    # Ctrl-C in a terminal signals the whole process group. The worker processes inherit
+    # an ignored SIGINT (an ignored signal stays ignored across exec, and Python then
+    # installs no KeyboardInterrupt handler), so only this process handles it: it closes
+    # the cluster, which ends the workers quietly instead of with a traceback each.
+    ignore = threading.current_thread() is threading.main_thread()
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN) if ignore else None
+    try:
+        cluster = LocalCluster(
+            n_workers=n,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=":0",  # any free port: several sweeps may run side by side
+            silence_logs=40,
+        )
+    finally:
+        if ignore:
+            signal.signal(signal.SIGINT, previous if previous is not None else signal.SIG_DFL)
     return Client(cluster), cluster
 
 

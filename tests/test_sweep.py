@@ -395,16 +395,21 @@ def test_cli_sweep_and_report(two_worker_sweep, tmp_path):
     assert result.exit_code == 2 and "not a sweep directory" in result.output
 
 
-def test_cli_sweep_stops_cleanly_on_sigterm(tmp_path):
-    """SIGTERM (a batch system ending the job) exits with 130, keeps finished runs and
-    leaves no worker process behind."""
+@pytest.mark.parametrize("how", ["SIGTERM to the process", "Ctrl-C to the process group"])
+def test_cli_sweep_stops_cleanly_on_sigterm_and_ctrl_c(tmp_path, how):
+    """SIGTERM (a batch system ending the job) or Ctrl-C (SIGINT to the terminal's whole
+    process group, dask's worker processes included) exits with 130, keeps finished runs,
+    leaves no worker process behind and says in one line how many runs are kept: no
+    worker prints a traceback."""
     import psutil
 
     path = write_sweep(tmp_path / "tiny.yaml", TINY_SWEEP)
     out = tmp_path / "out"
     command = [sys.executable, "-c", "from pde_rotor.cli import app; app()"]
     args = ["sweep", str(path), "-o", str(out), "--workers", "1", "-q"]
-    proc = subprocess.Popen([*command, *args], start_new_session=True)
+    proc = subprocess.Popen(
+        [*command, *args], start_new_session=True, stderr=subprocess.PIPE, text=True
+    )
     runs_dir = out / RUNS_DIR
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline and proc.poll() is None:
@@ -413,13 +418,24 @@ def test_cli_sweep_stops_cleanly_on_sigterm(tmp_path):
         time.sleep(0.05)
     children = psutil.Process(proc.pid).children(recursive=True)
     assert children, "the LocalCluster started no worker process"
-    proc.send_signal(signal.SIGTERM)
+    if how.startswith("SIGTERM"):
+        proc.send_signal(signal.SIGTERM)
+    else:
+        os.killpg(proc.pid, signal.SIGINT)
     try:
-        code = proc.wait(timeout=60)
+        _, stderr = proc.communicate(timeout=60)
     finally:
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)
-    assert code == 130
+    assert proc.returncode == 130
     _, alive = psutil.wait_procs(children, timeout=30)
     assert not alive
-    assert 2 <= len(list(runs_dir.glob("*.json"))) < 12
+    kept = len(list(runs_dir.glob("*.json")))
+    assert 2 <= kept < 12
+    assert "Traceback" not in stderr
+    lines = stderr.splitlines()
+    assert len(lines) == 2, stderr
+    assert lines[0].startswith("pde-rotor: sweep ")
+    assert lines[1] == (
+        f"interrupted: {kept} of 12 runs are kept in {out}; rerun the same command to resume"
+    )
