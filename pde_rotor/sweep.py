@@ -927,12 +927,26 @@ def _dim_names(keys: Sequence[str]) -> dict[str, str]:
     }
 
 
+P_ESTIMATORS: dict[str, str] = {
+    "protocol": "inversions / M of the paper's protocol runs, all their stops pooled",
+    "restart": (
+        "two-state chain 2 a b / (a + b) of a = P_ccw, b = P_cw: the long-run fraction of "
+        "inversions in M stops in a row (the paper's P), not the pooled inversions / stops"
+    ),
+}
+"""What P is for each estimator (the bank estimator's P is the restart one's)."""
+
 _VARIABLES: dict[str, tuple[str, str]] = {
-    "P": ("inversion probability (paper: inversions / M)", "1"),
+    "P": ("inversion probability", "1"),  # + P_ESTIMATORS[estimator] in gather()
     "P_low": ("lower bound of the 95 % interval of P", "1"),
     "P_high": ("upper bound of the 95 % interval of P", "1"),
-    "inversions": ("inversions counted", "1"),
-    "stops": ("stop-and-release operations counted", "1"),
+    "P_pooled": (
+        "pooled fraction inversions / stops of both directions (protocol: equals P; "
+        "restart, bank: weighs the directions by their numbers of stops, not the paper's P)",
+        "1",
+    ),
+    "inversions": ("inversions counted, both directions", "1"),
+    "stops": ("stop-and-release operations counted, both directions", "1"),
     "P_ccw": ("P(inversion | CCW rotation before the stop)", "1"),
     "P_ccw_low": ("Wilson 95 % lower bound of P_ccw", "1"),
     "P_ccw_high": ("Wilson 95 % upper bound of P_ccw", "1"),
@@ -991,6 +1005,7 @@ def _point_statistics(sweep: Sweep, contents: Sequence[dict[str, Any]], expected
         "P": p,
         "P_low": lo,
         "P_high": hi,
+        "P_pooled": total.p,
         "inversions": total.k,
         "stops": total.n,
         "pi_ccw": pi,
@@ -1046,7 +1061,11 @@ def gather(sweep: Sweep, sweep_dir: str | Path) -> xr.Dataset:
         coords[dims[key]] = xr.Variable(dims[key], values, attrs={"config_key": key})
     dim_list = [dims[k] for k in keys]
     data_vars = {}
+    kind = sweep.spec.estimator.kind
+    p_is = P_ESTIMATORS[_p_estimator(kind)]
     for name, (long_name, units) in _VARIABLES.items():
+        if name in ("P", "P_low", "P_high"):
+            long_name = f"{long_name} ({kind} estimator: {p_is})"
         arr = arrays[name]
         if name in ("inversions", "stops", "runs_done", "runs_expected", "uncommitted") or (
             name.startswith(("inversions_", "stops_"))
@@ -1064,7 +1083,7 @@ def gather(sweep: Sweep, sweep_dir: str | Path) -> xr.Dataset:
         "seed": spec.seed,
         "confidence": CONFIDENCE,
         "interval": (
-            "protocol: Wilson score interval of inversions / M; restart: two-state chain "
+            "protocol: Wilson score interval of inversions / M; restart, bank: two-state chain "
             "2 a b / (a + b) of the Bonferroni (97.5 %) Wilson bounds of a = P_ccw, b = P_cw"
         ),
         "base_config": json.dumps(sweep.base, sort_keys=True),
@@ -1102,11 +1121,37 @@ def report(sweep_dir: str | Path, out: str | Path | None = None, echo: bool = Tr
     return ds
 
 
+def _p_estimator(kind: str) -> str:
+    """The key of :data:`P_ESTIMATORS` for an estimator kind (bank: as restart)."""
+    return "protocol" if kind == "protocol" else "restart"
+
+
+TABLE_LEGENDS: dict[str, tuple[str, str]] = {
+    "protocol": (
+        "P=inv/M",
+        "P=inv/M: inversions / stops of all protocol runs (the paper's estimator); "
+        "inv|CCW, inv|CW: by the direction before the stop",
+    ),
+    "restart": (
+        "P chain",
+        "P chain: 2ab/(a+b), a = P(inv|CCW), b = P(inv|CW): the inversion fraction of M "
+        "stops in a row (the paper's P); pooled: all stops together, not the paper's P",
+    ),
+}
+"""Header of the P column and the legend line of :func:`format_table`, by estimator."""
+
+
 def format_table(ds: xr.Dataset) -> str:
-    """One row per point: axis values, P [95 % interval], conditionals, counts, mean |omega|."""
+    """One row per point: axis values, P [95 % interval], conditionals, pooled, mean |omega|.
+
+    The P column is named after its estimator (the chain value of the restart and bank
+    estimators, inversions / M of the protocol one) and a legend line says what it is;
+    the pooled fraction inversions / stops stands beside it.
+    """
     dims = list(ds.sizes)
     rows = []
-    header = [*dims, "P", "95% CI", "P|CCW", "P|CW", "inv/stops", "mean|w|", "runs"]
+    p_header, legend = TABLE_LEGENDS[_p_estimator(str(ds.attrs.get("estimator", "")))]
+    header = [*dims, p_header, "95% CI", "inv|CCW", "inv|CW", "pooled", "mean|omega|", "runs"]
     flat = ds.stack(point=dims) if dims else ds.expand_dims(point=[0])
     for i in range(flat.sizes["point"]):
         row = flat.isel(point=i)
@@ -1116,12 +1161,13 @@ def format_table(ds: xr.Dataset) -> str:
             value = float(row[name])
             return "nan" if math.isnan(value) else f"{value:.3f}"
 
+        k, n = int(row["inversions"]), int(row["stops"])
         cells += [
             fmt("P"),
             f"[{fmt('P_low')}, {fmt('P_high')}]",
             f"{int(row['inversions_ccw'])}/{int(row['stops_ccw'])}",
             f"{int(row['inversions_cw'])}/{int(row['stops_cw'])}",
-            f"{int(row['inversions'])}/{int(row['stops'])}",
+            f"{k}/{n} = {k / n:.3f}" if n else f"{k}/{n}",
             f"{float(row['mean_abs_omega']):.1f}",
             f"{int(row['runs_done'])}/{int(row['runs_expected'])}",
         ]
@@ -1130,6 +1176,7 @@ def format_table(ds: xr.Dataset) -> str:
     lines = [
         f"{ds.attrs.get('sweep', '')} ({ds.attrs.get('estimator', '')} estimator, "
         f"dx = {ds.attrs.get('grid_dx')}, dt = {ds.attrs.get('grid_dt')})",
+        legend,
         "  ".join(h.rjust(w) for h, w in zip(header, widths, strict=True)),
     ]
     lines += ["  ".join(c.rjust(w) for c, w in zip(r, widths, strict=True)) for r in rows]

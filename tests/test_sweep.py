@@ -278,7 +278,59 @@ def test_report_of_a_tiny_sweep(two_worker_sweep, capsys):
     report(sweep_dir)
     table = capsys.readouterr().out
     assert table == format_table(ds) + "\n"
-    assert len(table.splitlines()) == 2 + 2
+    assert len(table.splitlines()) == 3 + 2  # title, legend, header, one row per point
+
+
+def fake_restarts(sweep_dir: Path, sweep: Sweep, inverted: dict[int, int]) -> None:
+    """Run files of every run of `sweep`: the first inverted[direction] samples of each
+    direction inverted, the others not."""
+    (sweep_dir / RUNS_DIR).mkdir(parents=True)
+    for run in sweep.runs():
+        after = -run.direction if run.sample < inverted[run.direction] else run.direction
+        result = {
+            "direction_before": run.direction,
+            "direction_after": after,
+            "omega_before": 170.0 * run.direction,
+            "committed": True,
+            "t_commit": 0.8,
+        }
+        content = {"key": run.key, "result": result}
+        run_path(sweep_dir, run.key).write_text(json.dumps(content), encoding="utf-8")
+
+
+def test_report_names_the_estimator_of_p_and_shows_the_pooled_fraction(tmp_path):
+    """No flow, Delta = 1e-4: 7/10 inversions from CCW, 0/10 from CW. The chain value is
+    P = 0 (the rotor ends up turning CW for good); the pooled 7/20 is not P, and the
+    table and the long names say which is which."""
+    sweep = tiny_sweep(samples=10, axes={})
+    fake_restarts(tmp_path, sweep, {CCW: 7, CW: 0})
+    ds = gather(sweep, tmp_path)
+    assert float(ds["P"]) == 0.0
+    assert float(ds["P_pooled"]) == pytest.approx(0.35)
+    assert "restart estimator: two-state chain" in ds["P"].attrs["long_name"]
+    assert "not the pooled" in ds["P"].attrs["long_name"]
+    assert "two-state chain" in ds["P_high"].attrs["long_name"]
+    assert "not the paper's P" in ds["P_pooled"].attrs["long_name"]
+    title, legend, header, row = format_table(ds).splitlines()
+    assert "(restart estimator" in title
+    assert header.split()[:2] == ["P", "chain"] and "pooled" in header
+    assert legend.startswith("P chain: 2ab/(a+b), a = P(inv|CCW)")
+    assert row.split()[0] == "0.000" and "7/20 = 0.350" in row
+
+
+def test_protocol_report_says_p_is_inversions_over_m(tmp_path):
+    sweep = tiny_sweep(samples=2, axes={}, estimator={"kind": "protocol"})
+    (tmp_path / RUNS_DIR).mkdir(parents=True)
+    for run in sweep.runs():
+        counts = {"inversions_ccw": 2, "n_ccw": 2, "inversions_cw": 1, "n_cw": 1}
+        content = {"key": run.key, "result": {**counts, "omegas": [170.0, -170.0, 170.0, -1]}}
+        run_path(tmp_path, run.key).write_text(json.dumps(content), encoding="utf-8")
+    ds = gather(sweep, tmp_path)
+    assert float(ds["P"]) == float(ds["P_pooled"]) == 1.0
+    assert "protocol estimator: inversions / M" in ds["P"].attrs["long_name"]
+    _, legend, header, row = format_table(ds).splitlines()
+    assert header.split()[0] == "P=inv/M" and legend.startswith("P=inv/M: ")
+    assert "6/6 = 1.000" in row
 
 
 def test_one_worker_gives_the_same_dataset_as_two(two_worker_sweep, tmp_path):
