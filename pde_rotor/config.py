@@ -193,7 +193,7 @@ CALIBRATED_SIGMA = 2.0e-8
 With it the Delta = 2e-5 plateau at t_stop = 3 is the paper's 0.2 (Fig. 7b);
 configs/sweeps/calibration.yaml measured P against sigma (docs/statistics.md, 95 % range
 0 to about 1e-7). The paper-resolution configs (configs/paper_fig*.yaml,
-configs/sweeps/base/paper.yaml) carry this value; tests/test_config.py keeps them equal.
+pde_rotor/bases/paper.yaml) carry this value; tests/test_config.py keeps them equal.
 """
 
 

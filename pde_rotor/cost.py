@@ -22,10 +22,15 @@ other machines, and a loaded one, differ by their speed.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from .config import RotorConfig
 from .geometry import RotorShape
+
+if TYPE_CHECKING:
+    from .sweep import Run
 
 SECONDS_PER_CELL_STEP = 2.0e-9
 """Wall time of one step per interior cell (field update of Eqs. (eqc), (eqv))."""
@@ -106,6 +111,80 @@ def estimate_run(config: RotorConfig, movie: bool | None = None) -> RunEstimate:
     frames = frames if movie else 0
     seconds = n * step_seconds(config) + frames * SECONDS_PER_MOVIE_FRAME
     return RunEstimate(n, cell_counts(config)[0], frames, seconds)
+
+
+@dataclass(frozen=True)
+class SweepEstimate:
+    """Estimated cost of the runs of a sweep still to compute.
+
+    Attributes:
+        runs: runs to compute.
+        core_seconds: their estimated compute time on one core, spin-ups included.
+        workers: worker processes they are spread over (None: unknown, a scheduler's).
+    """
+
+    runs: int
+    core_seconds: float
+    workers: int | None
+
+    def describe(self) -> str:
+        """``about 52 min of one core, 26 min on 2 workers (...)``."""
+        text = f"about {format_duration(self.core_seconds)} of one core"
+        if self.workers and self.runs:
+            wall = self.core_seconds / min(self.workers, self.runs)
+            text += f", {format_duration(wall)} on {self.workers} workers"
+        return (
+            f"{text} (an estimate from measured costs per step; restarts assumed to commit "
+            f"{COMMIT_TIME:g} time unit after their release)"
+        )
+
+
+def estimate_sweep(runs: Sequence[Run], workers: int | None) -> SweepEstimate:
+    """Estimated cost of computing `runs` of one sweep (no trackers, no movie).
+
+    * protocol estimator: t_end of each run;
+    * restart: the stop and a release of :data:`COMMIT_TIME` (at most the release cap)
+      per run, plus the noise-free spin-up (``warmup``) that each worker computes once
+      per spin-up state it meets (:func:`pde_rotor.sweep.warm_key`);
+    * bank: as restart, with one stop per group of runs that share it.
+
+    Args:
+        runs: the runs to compute (:meth:`pde_rotor.sweep.Sweep.runs`, finished ones
+            left out).
+        workers: worker processes (None: unknown; spin-ups are counted once).
+    """
+    from .sweep import RestartEstimator, stop_group, warm_key
+
+    points: dict[tuple[tuple[int, ...], int], tuple[RotorConfig, float, str | None, float]] = {}
+    stops: set[str] = set()
+    warm: dict[str, int] = {}
+    total = 0.0
+    for run in runs:
+        # the runs of a point and direction differ only in their noise seed
+        if (run.point, run.direction) not in points:
+            config = RotorConfig.model_validate(run.config)
+            per_step = step_seconds(config)
+            if run.estimator["kind"] == "protocol":
+                points[run.point, run.direction] = (config, per_step, None, 0.0)
+            else:
+                estimator = RestartEstimator.model_validate({**run.estimator, "kind": "restart"})
+                spin_up = warm_key(config, estimator, run.direction)
+                cap = estimator.release_cap or config.protocol.t_release
+                release = steps(min(cap, COMMIT_TIME), config) * per_step
+                points[run.point, run.direction] = (config, per_step, spin_up, release)
+        config, per_step, spin_up, release = points[run.point, run.direction]
+        if spin_up is None:  # protocol estimator: one run of the whole protocol
+            total += steps(config.protocol.t_end, config) * per_step
+            continue
+        total += release
+        group = stop_group(run)
+        if group not in stops:
+            stops.add(group)
+            total += steps(config.protocol.t_stop, config) * per_step
+        warm[spin_up] = warm.get(spin_up, 0) + 1
+        if warm[spin_up] <= (workers or 1):
+            total += steps(run.estimator["warmup"], config) * per_step
+    return SweepEstimate(len(runs), total, workers)
 
 
 def format_duration(seconds: float) -> str:

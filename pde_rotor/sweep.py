@@ -3,7 +3,8 @@
 A sweep is a YAML file (:class:`SweepSpec`)::
 
     name: fig5_quick
-    base: base/coarse.yaml          # a config file (relative to this file) or an inline mapping
+    base: coarse                    # a shipped base (coarse, paper), a config file
+                                    # (relative to this file) or an inline mapping
     set: {noise.sigma: 2.0e-6}      # optional dotted-key overrides of the base
     axes:                           # any dotted config key: a list or a range
       protocol.t_stop: {start: 0.5, stop: 3.0, step: 0.5}
@@ -57,12 +58,13 @@ import itertools
 import json
 import math
 import os
+import re
 import signal
 import tempfile
 import threading
 import time
 from collections import OrderedDict
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Annotated, Any, Literal
@@ -72,7 +74,14 @@ import xarray as xr
 import yaml
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
-from .config import ConfigError, RotorConfig, parse_yaml, read_config_data, validate_config
+from .config import (
+    ConfigError,
+    RotorConfig,
+    parse_override,
+    parse_yaml,
+    read_config_data,
+    validate_config,
+)
 from .simulation import Simulation
 from .stats import (
     CCW,
@@ -93,6 +102,16 @@ REPORT_FILE = "report.nc"
 """NetCDF file written by :func:`report`."""
 SCHEMA_VERSION = 1
 """Version of the run-file layout; part of every run hash."""
+BASES_DIR = Path(__file__).resolve().parent / "bases"
+"""Base configurations shipped with the package; a sweep file names them by stem."""
+SWEEP_FORMAT = (
+    "a sweep file has base (a shipped base: coarse, paper; a config file; or a mapping), "
+    "axes ({config.key: [values]}), estimator, samples and seed, e.g. "
+    "configs/sweeps/fig5_quick.yaml"
+)
+"""What a sweep file looks like, for error messages."""
+SWEEP_KEYS = "name, description, base, set.KEY, axes.KEY, estimator.KEY, samples, seed"
+"""The keys ``pde-rotor sweep --set`` can change (KEY: a dotted config key)."""
 
 
 class SweepError(ValueError):
@@ -195,7 +214,9 @@ class SweepSpec(_Strict):
     name: str = Field("sweep", description="name shown in the progress bar and the report")
     description: str = ""
     base: str | dict[str, Any] = Field(
-        default_factory=dict, description="config file (relative to the sweep file) or mapping"
+        default_factory=dict,
+        description="shipped base (coarse, paper), config file (relative to the sweep file) "
+        "or mapping",
     )
     set: dict[str, Any] = Field(
         default_factory=dict, description="dotted-key overrides applied to the base"
@@ -236,7 +257,89 @@ def _spec_error(err: ValidationError) -> str:
     parts = [str(p) for p in first["loc"]]
     loc = ".".join(p for p in parts if p not in _UNION_TAGS and "[" not in p)
     message = first["msg"].removeprefix("Value error, ")
+    if first["type"] == "missing":
+        message = f"missing ({SWEEP_FORMAT})"
     return f"{loc or 'top level'}: {message}"
+
+
+def shipped_bases() -> list[str]:
+    """Names of the base configurations shipped with the package."""
+    return sorted(path.stem for path in BASES_DIR.glob("*.yaml"))
+
+
+def shipped_base(name: str) -> Path:
+    """The file of the shipped base `name` (e.g. "paper").
+
+    Raises:
+        SweepError: no shipped base has that name.
+    """
+    path = BASES_DIR / f"{name}.yaml"
+    if not path.is_file():
+        msg = (
+            f"base: {name!r} is not a shipped base (shipped: {', '.join(shipped_bases())}); "
+            "a config file is named with its .yaml suffix"
+        )
+        raise SweepError(msg)
+    return path
+
+
+def _read_base(base: str, root: Path | None) -> dict[str, Any]:
+    """The config mapping a sweep's ``base`` string names: a shipped base by its name
+    (``paper``), else a YAML file, relative to the sweep file's directory `root`."""
+    if re.fullmatch(r"[A-Za-z0-9_-]+", base):
+        path = shipped_base(base)
+    else:
+        path = Path(base)
+        if not path.is_absolute() and root is not None:
+            path = root / path
+    try:
+        return read_config_data(path)
+    except ConfigError as err:
+        msg = f"base: {err} (shipped bases are named without a path: {', '.join(shipped_bases())})"
+        raise SweepError(msg) from None
+
+
+def apply_sweep_overrides(data: Mapping[str, Any], overrides: Iterable[str]) -> dict[str, Any]:
+    """A copy of the sweep file's mapping with ``--set KEY=VALUE`` overrides applied.
+
+    KEY is one of :data:`SWEEP_KEYS`: a top-level key (``samples=10``, ``base=coarse``),
+    ``estimator.KEY``, ``set.CONFIG.KEY`` (an override of the base config) or
+    ``axes.CONFIG.KEY`` (the axis values; null removes the axis). VALUE is YAML.
+
+    Raises:
+        SweepError: one line naming the override and the keys allowed.
+    """
+    result = copy.deepcopy(dict(data))
+    for text in overrides:
+        try:
+            path, value = parse_override(text)
+        except ConfigError as err:
+            raise SweepError(str(err)) from None
+        head, rest = path[0], ".".join(path[1:])
+        nested = head in ("set", "axes") or (head == "estimator" and len(path) == 2)
+        if rest and nested:
+            section = result.get(head) or {}
+            if not isinstance(section, dict):
+                msg = f"--set {text!r}: {head} of the sweep file is not a mapping"
+                raise SweepError(msg)
+            section = dict(section)
+            if head == "axes" and value is None:
+                section.pop(rest, None)
+            else:
+                section[rest] = value
+            result[head] = section
+        elif not rest and head in SweepSpec.model_fields and head not in ("set", "axes"):
+            result[head] = value
+        else:
+            hint = f"; the base config's keys: set.{rest}=VALUE" if head == "base" else ""
+            msg = f"--set {text!r}: not a key of the sweep file (allowed: {SWEEP_KEYS}){hint}"
+            raise SweepError(msg)
+    return result
+
+
+def _looks_like_run_config(data: Any) -> bool:
+    """Whether `data` is a mapping of run-config sections and nothing a sweep file has."""
+    return isinstance(data, dict) and bool(data) and set(data) <= set(RotorConfig.model_fields)
 
 
 def _set_key(data: dict[str, Any], key: str, value: Any) -> None:
@@ -305,13 +408,7 @@ class Sweep:
             SweepError: one line naming the problem (unknown key, invalid value, file).
         """
         if isinstance(spec.base, str):
-            path = Path(spec.base)
-            if not path.is_absolute() and root is not None:
-                path = root / path
-            try:
-                base = read_config_data(path)
-            except ConfigError as err:
-                raise SweepError(f"base: {err}") from None
+            base = _read_base(spec.base, root)
         else:
             base = copy.deepcopy(spec.base)
         for key, value in spec.set.items():
@@ -323,8 +420,14 @@ class Sweep:
         return sweep
 
     @classmethod
-    def load(cls, path: str | Path) -> Sweep:
-        """Read and validate a sweep YAML file (a sweep directory: its sweep.yaml)."""
+    def load(cls, path: str | Path, overrides: Iterable[str] = ()) -> Sweep:
+        """Read and validate a sweep YAML file (a sweep directory: its sweep.yaml).
+
+        Args:
+            path: the sweep file or directory.
+            overrides: ``KEY=VALUE`` changes of the file's keys
+                (:func:`apply_sweep_overrides`).
+        """
         path = Path(path)
         if path.is_dir():
             path = path / SPEC_FILE
@@ -335,6 +438,16 @@ class Sweep:
             raise SweepError(msg) from None
         except ConfigError as err:
             raise SweepError(str(err)) from None
+        if _looks_like_run_config(data):
+            msg = (
+                f"{path} is a run config (sections {', '.join(data)}), not a sweep file: "
+                f"{SWEEP_FORMAT}; `pde-rotor run` runs a config"
+            )
+            raise SweepError(msg)
+        if not isinstance(data, dict):
+            msg = f"{path}: expected a sweep file, got {type(data).__name__}: {SWEEP_FORMAT}"
+            raise SweepError(msg)
+        data = apply_sweep_overrides(data, overrides)
         try:
             spec = SweepSpec.model_validate(data)
         except ValidationError as err:
@@ -440,6 +553,23 @@ _WARM: OrderedDict[str, Simulation] = OrderedDict()
 _WARM_MAX = 8
 
 
+def _spin_up(
+    config: RotorConfig, estimator: RestartEstimator, direction: int
+) -> tuple[str, dict[str, Any]]:
+    """The spin-up configuration of `config` in `direction` and its hash (the cache key)."""
+    data = config.model_dump(mode="json")
+    data["protocol"].update(t_ini=estimator.warmup, cycles=0)
+    data["noise"].update(sigma=0.0, seed=0)
+    data["rotor"]["omega0"] = direction * estimator.spinup_omega
+    data.pop("output", None)
+    return hashlib.sha256(json.dumps(data, sort_keys=True).encode()).hexdigest(), data
+
+
+def warm_key(config: RotorConfig, estimator: RestartEstimator, direction: int) -> str:
+    """Runs with equal keys share the spin-up of :func:`warm_state` (in one process)."""
+    return _spin_up(config, estimator, direction)[0]
+
+
 def warm_state(config: RotorConfig, estimator: RestartEstimator, direction: int) -> Simulation:
     """The steady rotating state for `config` and `direction`, computed once per process.
 
@@ -449,12 +579,7 @@ def warm_state(config: RotorConfig, estimator: RestartEstimator, direction: int)
     Raises:
         RuntimeError: the rotor does not rotate in the requested direction after warmup.
     """
-    data = config.model_dump(mode="json")
-    data["protocol"].update(t_ini=estimator.warmup, cycles=0)
-    data["noise"].update(sigma=0.0, seed=0)
-    data["rotor"]["omega0"] = direction * estimator.spinup_omega
-    data.pop("output", None)
-    key = hashlib.sha256(json.dumps(data, sort_keys=True).encode()).hexdigest()
+    key, data = _spin_up(config, estimator, direction)
     if key in _WARM:
         _WARM.move_to_end(key)
         return _WARM[key]

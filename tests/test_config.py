@@ -20,6 +20,7 @@ from pde_rotor.config import (
     validate_config,
 )
 from pde_rotor.protocol import StopSchedule
+from pde_rotor.sweep import shipped_base
 
 CONFIGS = sorted((Path(__file__).parent.parent / "configs").glob("*.yaml"))
 COARSE_YAML = "grid: {dx: 0.05, dt: 4.0e-4}\ngeometry: {smoothing: 0.05}\n"
@@ -170,7 +171,7 @@ def test_shipped_configs_round_trip(path, tmp_path):
 def test_paper_resolution_configs_carry_the_calibrated_noise():
     """One value: every config at the paper's grid uses CALIBRATED_SIGMA, coarse ones do not."""
     root = Path(__file__).resolve().parents[1] / "configs"
-    paper = [*sorted(root.glob("paper_fig*.yaml")), root / "sweeps" / "base" / "paper.yaml"]
+    paper = [*sorted(root.glob("paper_fig*.yaml")), shipped_base("paper")]
     for path in paper:
         config = load_config(path)
         assert (config.grid.dx, config.grid.dt) == (0.025, 1e-4), path

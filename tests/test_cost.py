@@ -6,15 +6,18 @@ import pytest
 
 from pde_rotor.config import validate_config
 from pde_rotor.cost import (
+    COMMIT_TIME,
     LONG_RUN_SECONDS,
     cell_counts,
     estimate_run,
+    estimate_sweep,
     format_count,
     format_duration,
     step_seconds,
 )
 from pde_rotor.domain import make_domain
 from pde_rotor.geometry import RotorShape
+from pde_rotor.sweep import Sweep, SweepSpec
 
 PAPER = {}
 COARSE = {"grid": {"dx": 0.05, "dt": 4e-4}, "geometry": {"smoothing": 0.05}}
@@ -69,3 +72,43 @@ def test_durations_and_counts_read_naturally():
         "10.6 M",
         "1 M",
     ]
+
+
+def sweep_of(estimator: dict, axes: dict, samples: int = 3) -> Sweep:
+    base = {**COARSE, "protocol": {"t_ini": 2.0, "t_stop": 0.4, "t_release": 2.0, "cycles": 4}}
+    spec = {"base": base, "axes": axes, "estimator": estimator, "samples": samples, "seed": 1}
+    return Sweep.from_spec(SweepSpec.model_validate(spec))
+
+
+@pytest.mark.parametrize("workers", [1, 2])
+def test_restart_sweep_costs_stops_releases_and_one_spin_up_per_worker(workers):
+    """3 samples per direction at 2 points: 12 stops and releases of COMMIT_TIME; every
+    worker spins up each point's rotor in both directions once."""
+    sweep = sweep_of({"kind": "restart", "warmup": 2.0}, {"protocol.t_stop": [0.4, 0.8]})
+    config = validate_config(sweep.base)
+    per_step, dt = step_seconds(config), config.grid.dt
+    release = round(COMMIT_TIME / dt)
+    expected = 6 * (round(0.4 / dt) + release) + 6 * (round(0.8 / dt) + release)
+    expected += 2 * 2 * workers * round(2.0 / dt)
+    estimate = estimate_sweep(sweep.runs(), workers)
+    assert estimate.core_seconds == pytest.approx(expected * per_step)
+    assert estimate.runs == 12
+    assert f"on {workers} workers" in estimate.describe()
+
+
+def test_bank_sweep_shares_the_stop_across_the_noise_axis():
+    bank = sweep_of({"kind": "bank", "warmup": 2.0}, {"noise.sigma": [0.0, 1e-6, 1e-5]}, 2)
+    restart = sweep_of({"kind": "restart", "warmup": 2.0}, {"noise.sigma": [0.0, 1e-6, 1e-5]}, 2)
+    config = validate_config(bank.base)
+    stops_saved = (12 - 4) * round(0.4 / config.grid.dt) * step_seconds(config)
+    difference = (
+        estimate_sweep(restart.runs(), 1).core_seconds - estimate_sweep(bank.runs(), 1).core_seconds
+    )
+    assert difference == pytest.approx(stops_saved)
+
+
+def test_protocol_sweep_costs_whole_protocol_runs():
+    sweep = sweep_of({"kind": "protocol"}, {}, samples=5)
+    config = validate_config(sweep.base)
+    expected = 5 * round(config.protocol.t_end / config.grid.dt) * step_seconds(config)
+    assert estimate_sweep(sweep.runs(), None).core_seconds == pytest.approx(expected)

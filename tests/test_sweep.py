@@ -20,6 +20,7 @@ import pytest
 import xarray as xr
 import yaml
 
+import pde_rotor
 from pde_rotor.config import RotorConfig
 from pde_rotor.stats import CCW, CW
 from pde_rotor.sweep import (
@@ -38,6 +39,7 @@ from pde_rotor.sweep import (
     run_path,
     run_seed,
     run_sweep,
+    shipped_base,
     stop_group,
 )
 
@@ -130,6 +132,75 @@ def test_base_from_a_file_and_set_overrides(tmp_path):
     assert sweep.base["geometry"]["asymmetry"] == 2e-5
     inline = tiny_sweep(set={"geometry.asymmetry": 2e-5})
     assert [r.key for r in sweep.runs()] == [r.key for r in inline.runs()]
+
+
+def test_set_changes_the_sweep_files_own_keys(tmp_path):
+    """--set shrinks a sweep: samples, axis values, a dropped axis, the base's keys, the
+    estimator; the runs it keeps are runs of the full sweep (same files, resumable)."""
+    data = {**TINY_SWEEP, "axes": {"protocol.t_stop": [0.2, 1.2], "geometry.asymmetry": [0, 1e-4]}}
+    path = write_sweep(tmp_path / "s.yaml", data)
+    full = Sweep.load(path)
+    small = Sweep.load(
+        path,
+        [
+            "samples=1",
+            "axes.protocol.t_stop=[1.2]",
+            "axes.geometry.asymmetry=null",
+            "set.geometry.asymmetry=1.0e-4",
+            "estimator.release_cap=1.2",
+            "seed=7",
+        ],
+    )
+    assert small.spec.samples == 1
+    assert small.axes == {"protocol.t_stop": [1.2]}
+    assert small.base["geometry"]["asymmetry"] == 1e-4
+    assert small.spec.estimator.release_cap == 1.2
+    assert len(small.runs()) == 2
+    same_estimator = Sweep.load(
+        path, ["samples=1", "axes.protocol.t_stop=[1.2]", "axes.geometry.asymmetry=[1.0e-4]"]
+    )
+    assert {r.key for r in same_estimator.runs()} < {r.key for r in full.runs()}
+
+
+@pytest.mark.parametrize(
+    ("override", "message"),
+    [
+        ("sample=3", "not a key of the sweep file (allowed: name, description, base, set.KEY"),
+        ("base.grid.dx=0.05", "the base config's keys: set.grid.dx=VALUE"),
+        ("axes=[1]", "not a key of the sweep file"),
+        ("samples", "KEY.PATH=VALUE"),
+        ("samples=0", "samples"),
+        ("axes.protocol.t_stopp=[1.0]", "t_stopp"),
+        ("base=papr", "'papr' is not a shipped base (shipped: coarse, paper)"),
+    ],
+)
+def test_bad_set_of_a_sweep_is_one_line(tmp_path, override, message):
+    path = write_sweep(tmp_path / "s.yaml", TINY_SWEEP)
+    with pytest.raises(SweepError) as err:
+        Sweep.load(path, [override])
+    assert message in str(err.value)
+    assert "\n" not in str(err.value)
+
+
+def test_a_copied_sweep_file_finds_its_shipped_base(tmp_path):
+    """base: paper / coarse name configs shipped in the package, wherever the file is."""
+    copy = tmp_path / "elsewhere" / "fig5_quick.yaml"
+    copy.parent.mkdir()
+    copy.write_text((SWEEPS / "fig5_quick.yaml").read_text())
+    original = Sweep.load(SWEEPS / "fig5_quick.yaml")
+    assert yaml.safe_load(copy.read_text())["base"] == "coarse"
+    assert [r.key for r in Sweep.load(copy).runs()] == [r.key for r in original.runs()]
+    assert shipped_base("paper").parent.parent == Path(pde_rotor.__file__).parent
+
+
+def test_a_run_config_given_as_sweep_says_what_a_sweep_file_is(tmp_path):
+    path = tmp_path / "run.yaml"
+    path.write_text(yaml.safe_dump(TINY_BASE))
+    with pytest.raises(SweepError, match=r"is a run config .* not a sweep file: a sweep file has"):
+        Sweep.load(path)
+    path.write_text(yaml.safe_dump({k: v for k, v in TINY_SWEEP.items() if k != "samples"}))
+    with pytest.raises(SweepError, match=r"samples: missing \(a sweep file has base"):
+        Sweep.load(path)
 
 
 def test_seeds_depend_only_on_the_run_itself():
@@ -420,6 +491,27 @@ def test_figure_sweeps_have_a_quick_coarse_and_a_full_paper_variant(name):
     assert full.spec.estimator.kind == quick.spec.estimator.kind == "restart"
     # the paper counts M = 100 stops per point; the full variants at least as many
     assert 2 * full.spec.samples >= paper.protocol.cycles
+
+
+def test_cli_dry_run_counts_runs_and_estimates_the_cost(two_worker_sweep, tmp_path):
+    """--dry-run computes nothing and creates nothing; it counts what a rerun would do."""
+    from typer.testing import CliRunner
+
+    from pde_rotor.cli import app
+
+    sweep_dir, _ = two_worker_sweep
+    path = write_sweep(tmp_path / "tiny.yaml", TINY_SWEEP)
+    runner = CliRunner()
+    args = ["sweep", str(path), "--dry-run", "--workers", "2", "-o"]
+    fresh = runner.invoke(app, [*args, str(tmp_path / "new"), "--set", "samples=2"])
+    assert fresh.exit_code == 0, fresh.output
+    assert "2 points x 4 runs = 8 runs, 0 already done" in fresh.stdout
+    assert "to compute: 8 runs on a LocalCluster of 2 worker processes" in fresh.stdout
+    assert "estimated cost: about " in fresh.stdout and "estimate" in fresh.stdout
+    assert not (tmp_path / "new").exists()
+    grown = runner.invoke(app, [*args, str(sweep_dir), "--set", "samples=4"])
+    assert grown.exit_code == 0, grown.output
+    assert "16 runs, 12 already done" in grown.stdout and "to compute: 4 runs" in grown.stdout
 
 
 def test_cli_sweep_and_report(two_worker_sweep, tmp_path):
