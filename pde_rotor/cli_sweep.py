@@ -28,12 +28,14 @@ def register(app: typer.Typer) -> None:
 
     @app.command("sweep")
     def sweep_command(
-        sweep: Annotated[Path, typer.Argument(help="Sweep YAML file (see configs/sweeps/).")],
+        sweep: Annotated[
+            Path, typer.Argument(metavar="SWEEP", help="Sweep YAML file (see configs/sweeps/).")
+        ],
         scheduler: Annotated[
             str | None,
             typer.Option(
                 help="Address of a running dask scheduler, e.g. tcp://node:8786 "
-                "(default: start a LocalCluster here)."
+                "[default: start a LocalCluster here]."
             ),
         ] = None,
         workers: Annotated[
@@ -52,6 +54,7 @@ def register(app: typer.Typer) -> None:
             typer.Option(
                 "--set",
                 metavar="KEY=VALUE",
+                show_default=False,
                 help="Change a key of the sweep file (repeatable): samples=5, seed=1, "
                 "axes.protocol.t_stop=[0.5,3], axes.KEY=null (drop the axis), "
                 "set.noise.sigma=0 (base config), estimator.release_cap=5, base=coarse.",
@@ -125,7 +128,10 @@ def register(app: typer.Typer) -> None:
 
     @app.command("report")
     def report_command(
-        sweep_dir: Annotated[Path, typer.Argument(help="Directory written by `pde-rotor sweep`.")],
+        sweep_dir: Annotated[
+            Path,
+            typer.Argument(metavar="SWEEP_DIR", help="Directory written by `pde-rotor sweep`."),
+        ],
         out: Annotated[
             Path | None,
             typer.Option("--out", "-o", help="NetCDF file [default: SWEEP_DIR/report.nc]."),

@@ -505,6 +505,12 @@ def load_config(path: str | Path, overrides: Iterable[str] = ()) -> RotorConfig:
         ConfigError: one line naming the file or key path and the allowed values.
     """
     data = read_config_data(path)
+    if {"axes", "samples"} & set(data) and not set(RotorConfig.model_fields) & set(data):
+        msg = (
+            f"{path} is a sweep file (keys {', '.join(data)}), not a run config: "
+            "`pde-rotor sweep FILE --dry-run` checks it"
+        )
+        raise ConfigError(msg)
     data = apply_overrides(data, overrides)
     return validate_config(data)
 

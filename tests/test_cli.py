@@ -348,8 +348,55 @@ def test_show_during_a_run_reads_events_csv(tiny_run, tmp_path):
     assert invoke("show", running).exit_code == 0
 
 
+COMMANDS = ("run", "show", "check", "info", "sweep", "report", "gallery")
+
+
 def test_help_lists_the_commands():
     result = invoke("--help")
     assert result.exit_code == 0
-    for command in ("run", "show", "check", "info", "sweep", "report"):
+    for command in COMMANDS:
         assert command in result.stdout
+
+
+@pytest.mark.parametrize("command", COMMANDS)
+def test_help_shows_defaults_and_no_bool_types(command):
+    """Defaults written as [default: ...] survive (rich markup used to eat them and leave a
+    bare "."), and flags are not labelled <bool>."""
+    result = runner.invoke(app, [command, "--help"], env={"COLUMNS": "100"})
+    assert result.exit_code == 0
+    assert "<bool>" not in result.stdout
+    text = " ".join(result.stdout.split())
+    assert " ." not in text
+    if command in ("run", "show", "sweep", "report", "gallery"):
+        assert "[default: " in text
+
+
+def test_usage_doc_synopsis_names_every_command():
+    """docs/usage.md's CLI synopsis has a line for every command of the app."""
+    doc = (Path(__file__).parent.parent / "docs" / "usage.md").read_text()
+    synopsis = doc.split("## The CLI", 1)[1].split("```text", 1)[1].split("```", 1)[0]
+    named = {line.split()[1] for line in synopsis.splitlines() if line.startswith("pde-rotor ")}
+    registered = {c.name or c.callback.__name__ for c in app.registered_commands}
+    assert named == registered
+    assert named == set(COMMANDS)
+
+
+def test_check_takes_several_files(tmp_path):
+    """`check configs/*.yaml`: one line per file, every bad one named, exit 2 if any."""
+    good = tmp_path / "good.yaml"
+    good.write_text(COARSE_YAML)
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("protocol: {t_stp: 1.0}\n")
+    sweep = tmp_path / "sweep.yaml"
+    sweep.write_text("name: s\naxes: {protocol.t_stop: [1.0]}\nsamples: 2\nseed: 1\n")
+    result = invoke("check", good, bad, sweep, good)
+    assert result.exit_code == 2
+    assert result.stdout.splitlines() == [
+        line for line in result.stdout.splitlines() if line.startswith(f"ok: {good}: t_end = ")
+    ]
+    assert len(result.stdout.splitlines()) == 2
+    errors = result.stderr.splitlines()
+    assert errors[0].startswith(f"error: {bad}: protocol.t_stp: unknown key")
+    assert errors[1].startswith(f"error: {sweep} is a sweep file")
+    assert len(errors) == 2
+    assert invoke("check", good, good).exit_code == 0

@@ -117,6 +117,12 @@ BAD_INPUTS: dict[str, tuple[str | None, list[str], str, str]] = {
     "duplicate key": ("protocol:\n  t_stop: 1\n  t_stop: 2\n", [], "duplicate key", "t_stop"),
     "top level is a list": ("- 1\n- 2\n", [], "top level", "geometry"),
     "empty file": ("", [], "empty", "write {}"),
+    "a sweep file": (
+        "name: s\nbase: coarse\naxes: {protocol.t_stop: [1.0]}\nsamples: 2\nseed: 1\n",
+        [],
+        "is a sweep file",
+        "pde-rotor sweep FILE --dry-run",
+    ),
     "only comments": ("# all defaults?\n\n", [], "only comments", "write {}"),
 }
 
