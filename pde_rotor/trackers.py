@@ -51,6 +51,14 @@ if TYPE_CHECKING:
 
 _logger = logging.getLogger(__name__)
 
+TIME_UNITS = "1/a"
+"""Unit of every time in the outputs: the paper's dimensionless time, in units of 1/a
+(a: the evaporation rate of camphor)."""
+OMEGA_UNITS = f"rad per {TIME_UNITS}"
+"""Unit of the angular velocity omega."""
+LENGTH_UNITS = "sqrt(D/a)"
+"""Unit of every length: the diffusion length of camphor."""
+
 TIMESERIES_VARIABLES: dict[str, dict[str, str]] = {
     "phi": {
         "long_name": "rotor angle phi",
@@ -59,7 +67,7 @@ TIMESERIES_VARIABLES: dict[str, dict[str, str]] = {
     },
     "omega": {
         "long_name": "angular velocity dphi/dt",
-        "units": "rad per time unit 1/a",
+        "units": OMEGA_UNITS,
         "equation": "Eq. (eq_motion)",
     },
     "torque": {
@@ -104,14 +112,14 @@ EVENT_COLUMNS = (
 """Columns of events.csv / variables of events.nc (see module docstring)."""
 
 EVENT_ATTRS: dict[str, dict[str, str]] = {
-    "t_stop": {"long_name": "start time of the stop", "units": "1/a"},
-    "omega_before": {"long_name": "omega just before the stop", "units": "rad per 1/a"},
+    "t_stop": {"long_name": "start time of the stop", "units": TIME_UNITS},
+    "omega_before": {"long_name": "omega just before the stop", "units": OMEGA_UNITS},
     "direction_before": {"long_name": "sign of omega_before (+1: counterclockwise)"},
     "direction_after": {"long_name": "sign of omega at commit (or end of release)"},
     "inverted": {"long_name": "direction_after == -direction_before"},
     "committed": {"long_name": "|omega| reached commit_fraction |omega_before| after release"},
-    "time_to_commit": {"long_name": "commit time minus release time", "units": "1/a"},
-    "omega_after": {"long_name": "omega at commit (or end of release)", "units": "rad per 1/a"},
+    "time_to_commit": {"long_name": "commit time minus release time", "units": TIME_UNITS},
+    "omega_after": {"long_name": "omega at commit (or end of release)", "units": OMEGA_UNITS},
 }
 
 
@@ -325,7 +333,7 @@ class TimeSeriesTracker(_RotorTracker):
         for name, attrs in TIMESERIES_VARIABLES.items():
             dtype = np.int64 if name in ("stopped", "cycle") else np.float64
             data_vars[name] = ("time", np.asarray(self.rows[name], dtype=dtype), attrs)
-        coords = {"time": ("time", np.asarray(self.rows["time"]), {"units": "1/a"})}
+        coords = {"time": ("time", np.asarray(self.rows["time"]), {"units": TIME_UNITS})}
         ds = xr.Dataset(data_vars, coords=coords)
         ds.attrs.update(self.attrs)
         ds.attrs["sample_interval"] = self.interval
