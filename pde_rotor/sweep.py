@@ -104,12 +104,6 @@ SCHEMA_VERSION = 1
 """Version of the run-file layout; part of every run hash."""
 BASES_DIR = Path(__file__).resolve().parent / "bases"
 """Base configurations shipped with the package; a sweep file names them by stem."""
-SWEEP_FORMAT = (
-    "a sweep file has base (a shipped base: coarse, paper; a config file; or a mapping), "
-    "axes ({config.key: [values]}), estimator, samples and seed, e.g. "
-    "configs/sweeps/fig5_quick.yaml"
-)
-"""What a sweep file looks like, for error messages."""
 SWEEP_KEYS = "name, description, base, set.KEY, axes.KEY, estimator.KEY, samples, seed"
 """The keys ``pde-rotor sweep --set`` can change (KEY: a dotted config key)."""
 
@@ -258,13 +252,22 @@ def _spec_error(err: ValidationError) -> str:
     loc = ".".join(p for p in parts if p not in _UNION_TAGS and "[" not in p)
     message = first["msg"].removeprefix("Value error, ")
     if first["type"] == "missing":
-        message = f"missing ({SWEEP_FORMAT})"
+        message = f"missing ({sweep_format()})"
     return f"{loc or 'top level'}: {message}"
 
 
 def shipped_bases() -> list[str]:
     """Names of the base configurations shipped with the package."""
     return sorted(path.stem for path in BASES_DIR.glob("*.yaml"))
+
+
+def sweep_format() -> str:
+    """What a sweep file looks like, for error messages."""
+    return (
+        f"a sweep file has base (a shipped base: {', '.join(shipped_bases())}; a config file; "
+        "or a mapping), axes ({config.key: [values]}), estimator, samples and seed, e.g. "
+        "configs/sweeps/fig5_quick.yaml"
+    )
 
 
 def shipped_base(name: str) -> Path:
@@ -441,11 +444,11 @@ class Sweep:
         if _looks_like_run_config(data):
             msg = (
                 f"{path} is a run config (sections {', '.join(data)}), not a sweep file: "
-                f"{SWEEP_FORMAT}; `pde-rotor run` runs a config"
+                f"{sweep_format()}; `pde-rotor run` runs a config"
             )
             raise SweepError(msg)
         if not isinstance(data, dict):
-            msg = f"{path}: expected a sweep file, got {type(data).__name__}: {SWEEP_FORMAT}"
+            msg = f"{path}: expected a sweep file, got {type(data).__name__}: {sweep_format()}"
             raise SweepError(msg)
         data = apply_sweep_overrides(data, overrides)
         try:
