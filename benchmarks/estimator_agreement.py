@@ -8,7 +8,7 @@ P(inversion | CW) of the two estimators with Fisher's exact test (Holm-corrected
 the protocol's inversions / M with the restarts' two-state-chain combination by the
 overlap of their 95 % intervals (pde_rotor.stats.compare_estimators).
 
-Default case: coarse grid (configs/sweeps/base/coarse.yaml), Delta = 1e-4 and
+Default case: coarse grid (the shipped base pde_rotor/bases/coarse.yaml), Delta = 1e-4 and
 t_stop = 3, where the two conditional probabilities differ (Delta > 0 favours CW), so
 that the chain combination is tested, not only a single proportion. About 20 minutes on
 2 cores (the protocol runs dominate: 3.25e6 steps each).
@@ -24,10 +24,10 @@ from pathlib import Path
 import yaml
 
 from pde_rotor.stats import DirectionCounts, Proportion, compare_estimators
-from pde_rotor.sweep import Sweep, SweepSpec, gather, run_sweep
+from pde_rotor.sweep import Sweep, SweepSpec, gather, run_sweep, shipped_base
 
 ROOT = Path(__file__).resolve().parents[1]
-BASE = ROOT / "configs" / "sweeps" / "base" / "coarse.yaml"
+BASE = shipped_base("coarse")
 
 
 def counts_of(ds) -> DirectionCounts:

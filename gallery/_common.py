@@ -32,6 +32,7 @@ from matplotlib.figure import Figure
 
 from pde_rotor.config import CALIBRATED_SIGMA, RotorConfig, load_config, read_config_data
 from pde_rotor.stats import wilson_interval
+from pde_rotor.trackers import OMEGA_UNITS, TIME_UNITS
 
 GALLERY = Path(__file__).resolve().parent
 """The gallery directory (scripts, committed PNGs, README)."""
@@ -222,7 +223,17 @@ def fidelity_label(
     return "; ".join(parts)
 
 
-def add_footer(fig: Figure, text: str, fontsize: float = 7.0) -> None:
+FOOTER_FONTSIZE = 9.0
+"""Font size of the fidelity footers: readable at 100 % (7 was not)."""
+
+
+def count_range(values: Any) -> str:
+    """``60`` if every value is 60, else ``40-60``."""
+    low, high = int(np.min(values)), int(np.max(values))
+    return f"{low}" if low == high else f"{low}-{high}"
+
+
+def add_footer(fig: Figure, text: str, fontsize: float = FOOTER_FONTSIZE) -> None:
     """Write the fidelity footer at the bottom of `fig`, wrapped, with room reserved for it.
 
     Each line of `text` is a paragraph, wrapped to the figure width; the constrained layout
@@ -283,12 +294,7 @@ class SweepData:
     def label(self) -> str:
         """Fidelity of the report: estimator, samples, grid."""
         attrs = self.report.attrs
-        stops = self.report["stops"].values
-        n = (
-            f"{int(np.min(stops))}"
-            if np.min(stops) == np.max(stops)
-            else (f"{int(np.min(stops))}-{int(np.max(stops))}")
-        )
+        n = count_range(self.report["stops"].values)
         base = attrs.get("base_config", "{}")
         sigma = _base_value(base, ("noise", "sigma"), 0.0)
         smoothing = _base_value(base, ("geometry", "smoothing"), math.nan)
@@ -464,6 +470,12 @@ def print_points(prefix: str, x_name: str, x: np.ndarray, ds: xr.Dataset) -> Non
         print(f"{prefix}{x_name} = {xv:g}: P = {p:.3f} [{lo:.3f}, {hi:.3f}] ({int(n)} stops)")
 
 
+STOP_LABEL = f"stop duration t_stop [{TIME_UNITS}]"
+"""Axis label of t_stop."""
+ASYMMETRY_LABEL = "asymmetry \u0394 [rad]"
+"""Axis label of Delta."""
+
+
 def probability_axes(ax: Any, xlabel: str) -> None:
     """Axis styling shared by the probability figures."""
     ax.set_ylim(-0.05, 1.05)
@@ -542,7 +554,7 @@ def timeseries_figure(
         )
         lines.append(summary)
         for row, (name, label) in enumerate(
-            (("phi", "angle \u03c6 [rad]"), ("omega", "angular velocity d\u03c6/dt"))
+            (("phi", "angle \u03c6 [rad]"), ("omega", f"angular velocity \u03c9 [{OMEGA_UNITS}]"))
         ):
             ax = axes[row, col]
             for a, b in stop_intervals(config, float(t[-1]) if t.size else None):
@@ -556,7 +568,7 @@ def timeseries_figure(
             f"{k}/{n} inverted",
             fontsize=10,
         )
-        axes[1, col].set_xlabel("time t (stops shaded)")
+        axes[1, col].set_xlabel(f"time t [{TIME_UNITS}] (stops shaded)")
         if result.status != "completed":
             axes[0, col].text(
                 0.02, 0.95, f"run {result.status}", transform=axes[0, col].transAxes, color="r"
@@ -747,12 +759,11 @@ def draw_paper_points(
     kwargs.update(style or {})
     errorbar_p(ax, x, pts, **kwargs)
     print_points(f"{prefix}paper resolution: ", x_dim, x, pts)
-    names = ", ".join(sorted(set(pts["report"].values.tolist())))
-    n = f"{int(pts['stops'].min())}-{int(pts['stops'].max())}"
+    files = ", ".join(f"data/{name}.nc" for name in sorted(set(pts["report"].values.tolist())))
     return (
         f"Diamonds: paper resolution dx = \u03b4 = 0.025, dt = 1e-4, bank estimator, "
-        f"\u03c3 = {fixed['sigma']:g} (calibrated), {n} stops per point; stored: "
-        f"data/{{{names}}}.nc"
+        f"\u03c3 = {fixed['sigma']:g} (calibrated), {count_range(pts['stops'].values)} stops per "
+        f"point; stored: {files}"
     )
 
 

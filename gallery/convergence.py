@@ -53,6 +53,7 @@ from _common import (
 from pde_rotor.analysis import stopped_torque
 from pde_rotor.config import CALIBRATED_SIGMA, RotorConfig
 from pde_rotor.simulation import Simulation
+from pde_rotor.trackers import OMEGA_UNITS
 
 NAME = "convergence"
 PAPER_PAIRS = ((0.05, 4e-4), (1 / 30, 2e-4), (0.025, 1e-4), (1 / 60, 4e-5))
@@ -335,7 +336,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
         )
     ax_w.axhline(PAPER_OMEGA, color="0.5", ls=":", label="paper: \u223c176")
     ax_w.set_xlabel("dx (= \u03b4)")
-    ax_w.set_ylabel(f"\u03c9 at t = {p.t_omega:g}")
+    ax_w.set_ylabel(f"\u03c9 at t = {p.t_omega:g} [{OMEGA_UNITS}]")
     ax_w.set_title("(a) steady angular velocity", fontsize=10)
     ax_w.legend(fontsize=8)
     ax_w.grid(alpha=0.3)

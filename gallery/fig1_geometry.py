@@ -33,6 +33,7 @@ from pde_rotor.geometry import (
     pill_indicator,
     plate_indicator,
 )
+from pde_rotor.trackers import LENGTH_UNITS
 
 NAME = "fig1_geometry"
 CONFIG = CONFIGS / "paper_fig6a.yaml"
@@ -86,8 +87,8 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
         f"\u03c6 = {phi:g}",
         fontsize=9,
     )
-    ax_a.set_xlabel("x")
-    ax_a.set_ylabel("y")
+    ax_a.set_xlabel(f"x [{LENGTH_UNITS}]")
+    ax_a.set_ylabel(f"y [{LENGTH_UNITS}]")
 
     # (b) the corner j = N (angle phi) magnified, with Delta exaggerated
     drawn = dataclasses.replace(shape, asymmetry=DELTA_DRAWN)
@@ -149,8 +150,8 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
         f"tanh edges of width \u03b4 = {shape.smoothing:g}; red: pill G = 1/2",
         fontsize=9,
     )
-    ax_b.set_xlabel("x")
-    ax_b.set_ylabel("y")
+    ax_b.set_xlabel(f"x [{LENGTH_UNITS}]")
+    ax_b.set_ylabel(f"y [{LENGTH_UNITS}]")
     fig.suptitle(
         "Fig. 1: hexagonal rotor from the model's F and G (pills at the corners)", fontsize=11
     )

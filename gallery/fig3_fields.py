@@ -22,6 +22,7 @@ from matplotlib.patches import Circle, Polygon
 from pde_rotor.geometry import RotorShape, pill_centres
 from pde_rotor.plotting import plate_corners
 from pde_rotor.simulation import Simulation
+from pde_rotor.trackers import LENGTH_UNITS, OMEGA_UNITS, TIME_UNITS
 
 NAME = "fig3_fields"
 HALF_WIDTH = 1.5
@@ -90,12 +91,13 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
         ax.set_xlim(extent[:2])
         ax.set_ylim(extent[2:])
         ax.set_aspect("equal")
-        ax.set_xlabel("x")
-        ax.set_ylabel("y")
+        ax.set_xlabel(f"x [{LENGTH_UNITS}]")
+        ax.set_ylabel(f"y [{LENGTH_UNITS}]")
     direction = "counter-clockwise" if omega > 0 else "clockwise"
     fig.suptitle(
         f"Fig. 3: steady {direction} rotation, \u0394 = {config.geometry.asymmetry:g}: "
-        f"\u03c9 = {omega:.2f} at t = {sim.t:g}; max c = {float(c.max()):.3f}, "
+        f"\u03c9 = {omega:.2f} {OMEGA_UNITS} at t = {sim.t:g} {TIME_UNITS};\nmax c = "
+        f"{float(c.max()):.3f}, "
         f"max |v| = {v_max:.2f}",
         fontsize=11,
     )

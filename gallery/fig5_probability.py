@@ -15,6 +15,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from _common import (
+    STOP_LABEL,
     add_footer,
     curve,
     draw_conditionals,
@@ -47,7 +48,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     draw_conditionals(ax, x, ds)
     paper = draw_paper_points(ax, f"{NAME}: ", "t_stop", asymmetry=0.0, enabled=1.0)
     ax.axvline(PAPER_DECAY, color="0.6", ls="--", lw=0.8, label="paper: decay near 1.4")
-    probability_axes(ax, "stop duration t_stop")
+    probability_axes(ax, STOP_LABEL)
     ax.legend(fontsize=8)
     ax.set_title(
         "Fig. 5: symmetric rotor (\u0394 = 0); paper: P = 1 for small t_stop, "

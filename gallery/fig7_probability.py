@@ -18,6 +18,8 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from _common import (
+    ASYMMETRY_LABEL,
+    STOP_LABEL,
     add_footer,
     curve,
     draw_conditionals,
@@ -57,7 +59,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
         draw_conditionals(ax, x, ds)
         prefix = f"{NAME} {sweep}: "
         paper = draw_paper_points(ax, prefix, x_dim, enabled=1.0, **fixed) or paper
-        probability_axes(ax, "stop duration t_stop" if x_dim == "t_stop" else "asymmetry \u0394")
+        probability_axes(ax, STOP_LABEL if x_dim == "t_stop" else ASYMMETRY_LABEL)
         if x_dim == "asymmetry":
             ax.ticklabel_format(axis="x", style="sci", scilimits=(0, 0))
         ax.set_title(title, fontsize=10)
@@ -66,7 +68,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
         print_points(f"{NAME} {sweep}: ", x_dim, x, ds)
     fig.suptitle("Fig. 7: inversion probability of asymmetric rotors", fontsize=11)
     # one footer paragraph per panel: the three sweeps may come at different fidelities
-    add_footer(fig, "\n".join(filter(None, [*footers, paper])), fontsize=6.5)
+    add_footer(fig, "\n".join(filter(None, [*footers, paper])))
     return save(fig, args.out, NAME)
 
 

@@ -17,6 +17,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from _common import (
+    STOP_LABEL,
     add_footer,
     curve,
     draw_paper_points,
@@ -66,7 +67,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
             enabled=0.0,
         )
         paper = found or paper
-    probability_axes(ax, "stop duration t_stop")
+    probability_axes(ax, STOP_LABEL)
     if paper:
         ax.plot([], [], "D", color="0.5", mec="k", label="paper resolution (diamonds)")
     ax.legend(fontsize=8)

@@ -16,7 +16,16 @@ from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
-from _common import add_footer, new_figure, parse_args, probability_footer, save, sweep_data
+from _common import (
+    ASYMMETRY_LABEL,
+    STOP_LABEL,
+    add_footer,
+    new_figure,
+    parse_args,
+    probability_footer,
+    save,
+    sweep_data,
+)
 
 NAME = "fig9_map"
 SWEEP = "fig9"
@@ -69,8 +78,8 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
         (ax_w, "(b) uncertainty: P_high \u2212 P_low"),
     ):
         ax.set_yticks(rows, [f"{d:g}" for d in delta])
-        ax.set_xlabel("stop duration t_stop")
-        ax.set_ylabel("asymmetry \u0394")
+        ax.set_xlabel(STOP_LABEL)
+        ax.set_ylabel(ASYMMETRY_LABEL)
         ax.set_title(title, fontsize=10)
     fig.suptitle("Fig. 9: inversion probability against t_stop and \u0394", fontsize=11)
     add_footer(fig, probability_footer(args.fidelity, data))

@@ -30,6 +30,7 @@ from matplotlib.figure import Figure
 from pde_rotor.geometry import RotorShape
 from pde_rotor.plotting import RotorFrame
 from pde_rotor.simulation import Simulation
+from pde_rotor.trackers import OMEGA_UNITS, TIME_UNITS
 
 NAME = "movie_inversion"
 T_STOP = 0.5
@@ -95,8 +96,8 @@ class MovieFigure:
         (self.dot,) = self.ax_w.plot([], [], "o", color="tab:blue", ms=5)
         self.ax_w.set_xlim(*t_range)
         self.ax_w.set_ylim(-1.15 * w_max, 1.15 * w_max)
-        self.ax_w.set_xlabel("time t (stop shaded)")
-        self.ax_w.set_ylabel("angular velocity d\u03c6/dt")
+        self.ax_w.set_xlabel(f"time t [{TIME_UNITS}] (stop shaded)")
+        self.ax_w.set_ylabel(f"angular velocity \u03c9 [{OMEGA_UNITS}]")
         self.ax_w.grid(alpha=0.3)
         self.ax_w.set_title("+: counter-clockwise, \u2212: clockwise", fontsize=9)
 
@@ -194,7 +195,10 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
         sim.run(float(t))
         ts.append(sim.t)
         ws.append(sim.rotor.omega)
-        title = f"t = {sim.t:7.3f}  \u03c9 = {sim.rotor.omega:+7.1f}  ({phase(sim.t, config)})"
+        title = (
+            f"t = {sim.t:.3f} [{TIME_UNITS}],  \u03c9 = {sim.rotor.omega:+.1f} [{OMEGA_UNITS}]\n"
+            f"{phase(sim.t, config)}"
+        )
         frames.append(movie.draw(sim.state.data, sim.rotor.phi, title, ts, ws))
         for label, t_mark in marks.items():
             if label not in story and sim.t >= t_mark - 1e-9:
@@ -218,22 +222,26 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     fig = new_figure(13.0, 4.4)
     axes = fig.subplots(1, 4, width_ratios=[1, 1, 1, 1.2])
     coords = sim.pde.domain.coords
-    # one colour scale and one arrow scale for the three panels
+    # one colour scale for the three panels; arrows scaled per panel (key: |v|), so that
+    # the flow left over during the stop shows
     c_max = max(float(d[0].max()) for _, d, _, _ in story.values())
-    v_max = max(float(np.hypot(d[1], d[2]).max()) for _, d, _, _ in story.values())
     for ax, (label, (t, data, phi, omega)) in zip(axes[:3], story.items(), strict=False):
         frame = RotorFrame(
-            RotorShape.from_config(config.geometry), coords, 1.5, ax=ax, colorbar=False
+            RotorShape.from_config(config.geometry), coords, 1.5, ax=ax, colorbar=None
         )
-        frame.c_max, frame.v_max = c_max, v_max
-        frame.update(data, phi, title=f"{label}: t = {t:.3f}, \u03c9 = {omega:+.1f}")
+        frame.c_max = c_max
+        frame.update(
+            data,
+            phi,
+            title=f"{label}\nt = {t:.2f} [{TIME_UNITS}], \u03c9 = {omega:+.1f} [{OMEGA_UNITS}]",
+        )
         ax.title.set_fontsize(9)
     ax_w = axes[3]
     ax_w.axvspan(p.t_ini, p.t_ini + p.t_stop, color="tab:red", alpha=0.2, lw=0)
     ax_w.plot(ts, ws, color="k", lw=1.2)
     ax_w.axhline(0, color="0.5", lw=0.7)
-    ax_w.set_xlabel("time t (stop shaded)")
-    ax_w.set_ylabel("d\u03c6/dt")
+    ax_w.set_xlabel(f"time t [{TIME_UNITS}] (stop shaded)")
+    ax_w.set_ylabel(f"\u03c9 [{OMEGA_UNITS}]")
     ax_w.grid(alpha=0.3)
     ax_w.set_title(
         f"\u03c9: {omega_before:+.1f} before, {omega_after:+.1f} after "
@@ -242,8 +250,8 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     )
     fig.suptitle(
         f"One inversion: steady rotation, a stop of t_stop = {p.t_stop:g}, release "
-        f"(frames of {NAME}.mp4 / .gif)\nc from 0 to {c_max:.2f}, arrows scaled to "
-        f"max |v| = {v_max:.2f} in all three panels",
+        f"(frames of {NAME}.mp4 / .gif)\nc from 0 to {c_max:.2f} in all three panels; "
+        "arrows scaled per panel, the key gives |v|",
         fontsize=11,
     )
     add_footer(

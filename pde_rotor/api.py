@@ -324,7 +324,10 @@ def run(
         "seed": int(cfg.noise.seed),
         "backend": backend,
         "config": dump_config(cfg),
-        "units": "lengths in sqrt(D/a), times in 1/a (the paper's dimensionless units)",
+        "units": (
+            f"lengths in {tr.LENGTH_UNITS}, times in {tr.TIME_UNITS} (the paper's "
+            "dimensionless units)"
+        ),
     }
     log_handler = None
     if run_dir is not None:

@@ -19,6 +19,7 @@ from .api import BackendError, RunResult, resolve_backend, versions
 from .cli_gallery import register as register_gallery_commands
 from .cli_sweep import register as register_sweep_commands
 from .config import ConfigError, dump_config, load_config
+from .cost import estimate_run
 from .output import OutputError, RunDirectory
 
 app = typer.Typer(
@@ -27,6 +28,8 @@ app = typer.Typer(
     add_completion=False,
     no_args_is_help=True,
     pretty_exceptions_enable=False,
+    # plain help: rich markup would eat "[default: ...]" and label every flag <bool>
+    rich_markup_mode=None,
 )
 
 EXIT_BAD_INPUT = 2
@@ -45,13 +48,16 @@ SetOption = Annotated[
         "--set",
         metavar="KEY.PATH=VALUE",
         help="Override one config value, e.g. --set protocol.t_stop=1.5 (repeatable).",
+        show_default=False,
     ),
 ]
 
 
 @app.command()
 def run(
-    config: Annotated[Path, typer.Argument(help="YAML config file (see configs/).")],
+    config: Annotated[
+        Path, typer.Argument(metavar="CONFIG", help="YAML config file (see configs/).")
+    ],
     set_: SetOption = None,
     out: Annotated[
         Path | None,
@@ -89,7 +95,9 @@ def run(
 
     from .api import run as run_config
 
-    typer.echo(f"pde-rotor: running {config} -> {run_dir}")
+    estimate = estimate_run(cfg, movie)
+    long_run = f"long run, {estimate.describe()}: " if estimate.long else ""
+    typer.echo(f"pde-rotor: {long_run}running {config} -> {run_dir}")
     try:
         result = run_config(
             cfg,
@@ -121,7 +129,9 @@ def _report(result: RunResult) -> None:
 
 @app.command()
 def show(
-    run_dir: Annotated[Path, typer.Argument(help="Run directory written by `pde-rotor run`.")],
+    run_dir: Annotated[
+        Path, typer.Argument(metavar="RUN_DIR", help="Run directory written by `pde-rotor run`.")
+    ],
     out: Annotated[
         Path | None, typer.Option("--out", "-o", help="Image file [default: RUN_DIR/summary.png].")
     ] = None,
@@ -163,20 +173,34 @@ def show(
 
 @app.command()
 def check(
-    config: Annotated[Path, typer.Argument(help="YAML config file.")],
+    configs: Annotated[
+        list[Path],
+        typer.Argument(metavar="CONFIG", help="YAML config files (e.g. configs/*.yaml)."),
+    ],
     set_: SetOption = None,
 ) -> None:
-    """Validate CONFIG (with overrides) and print the fully resolved configuration."""
-    try:
-        cfg = load_config(config, set_ or [])
-    except ConfigError as err:
-        _fail(str(err))
-    steps = round(cfg.protocol.t_end / cfg.grid.dt)
-    typer.echo(dump_config(cfg), nl=False)
-    typer.echo(
-        f"# ok: t_end = {cfg.protocol.t_end:g} ({steps} steps), dt limit "
-        f"{cfg.dt_limit():.4g}, config hash {cfg.config_hash()}"
-    )
+    """Validate CONFIG (with overrides); print it fully resolved, or one line per file."""
+    failed = 0
+    for config in configs:
+        try:
+            cfg = load_config(config, set_ or [])
+        except ConfigError as err:
+            where = "" if len(configs) == 1 or str(config) in str(err) else f"{config}: "
+            typer.echo(f"error: {where}{err}", err=True)
+            failed += 1
+            continue
+        steps = round(cfg.protocol.t_end / cfg.grid.dt)
+        summary = (
+            f"t_end = {cfg.protocol.t_end:g} ({steps} steps), dt limit {cfg.dt_limit():.4g}, "
+            f"config hash {cfg.config_hash()}; run time {estimate_run(cfg).describe()}"
+        )
+        if len(configs) == 1:
+            typer.echo(dump_config(cfg), nl=False)
+            typer.echo(f"# ok: {summary}")
+        else:
+            typer.echo(f"ok: {config}: {summary}")
+    if failed:
+        raise typer.Exit(EXIT_BAD_INPUT)
 
 
 @app.command()

@@ -30,12 +30,13 @@ def register(app: typer.Typer) -> None:
                 "--only",
                 metavar="NAME",
                 help="Run only these scripts, by name or prefix, e.g. --only fig5 --only movie "
-                "(repeatable; commas also separate).",
+                "(repeatable; commas also separate) [default: all].",
+                show_default=False,
             ),
         ] = None,
         out: Annotated[
             Path | None,
-            typer.Option("--out", "-o", help="Output directory (default: gallery/output)."),
+            typer.Option("--out", "-o", help="Output directory [default: gallery/output]."),
         ] = None,
         scheduler: Annotated[
             str | None,
@@ -48,7 +49,7 @@ def register(app: typer.Typer) -> None:
             ),
         ] = False,
     ) -> None:
-        """Reproduce the paper's Figs. 1, 3-9, the inversion movie and the convergence page."""
+        """Reproduce the paper's figures 1 and 3-9, the inversion movie and the convergence page."""
         from .gallery import GalleryError, gallery_dir, run_gallery
 
         names = [n.strip() for item in only or [] for n in item.split(",") if n.strip()]

@@ -8,6 +8,7 @@ or SIGTERM (finished runs are kept; rerun to resume).
 
 from __future__ import annotations
 
+import math
 import signal
 from pathlib import Path
 from typing import Annotated
@@ -27,12 +28,14 @@ def register(app: typer.Typer) -> None:
 
     @app.command("sweep")
     def sweep_command(
-        sweep: Annotated[Path, typer.Argument(help="Sweep YAML file (see configs/sweeps/).")],
+        sweep: Annotated[
+            Path, typer.Argument(metavar="SWEEP", help="Sweep YAML file (see configs/sweeps/).")
+        ],
         scheduler: Annotated[
             str | None,
             typer.Option(
                 help="Address of a running dask scheduler, e.g. tcp://node:8786 "
-                "(default: start a LocalCluster here)."
+                "[default: start a LocalCluster here]."
             ),
         ] = None,
         workers: Annotated[
@@ -46,22 +49,54 @@ def register(app: typer.Typer) -> None:
             ),
         ] = None,
         quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
+        set_: Annotated[
+            list[str] | None,
+            typer.Option(
+                "--set",
+                metavar="KEY=VALUE",
+                show_default=False,
+                help="Change a key of the sweep file (repeatable): samples=5, seed=1, "
+                "axes.protocol.t_stop=[0.5,3], axes.KEY=null (drop the axis), "
+                "set.noise.sigma=0 (base config), estimator.release_cap=5, base=coarse.",
+            ),
+        ] = None,
+        dry_run: Annotated[
+            bool,
+            typer.Option(
+                "--dry-run",
+                help="Print the number of runs and the estimated cost, compute nothing.",
+            ),
+        ] = False,
     ) -> None:
         """Run SWEEP on dask (resumable: finished runs are skipped), then write the report."""
-        from .sweep import Sweep, SweepError, report, run_sweep, usable_cores
+        from .cost import estimate_sweep
+        from .sweep import Sweep, SweepError, finished, report, run_sweep, usable_cores
 
         try:
-            spec = Sweep.load(sweep)
+            spec = Sweep.load(sweep, set_ or [])
         except SweepError as err:
             typer.echo(f"error: {err}", err=True)
             raise typer.Exit(2) from None
         sweep_dir = out if out is not None else DEFAULT_ROOT / sweep.stem
-        n_runs = len(spec.runs())
+        runs = spec.runs()
+        n_runs = len(runs)
+        n = None if scheduler else workers or usable_cores()
         if scheduler:
             where = f"the dask scheduler at {scheduler}"
         else:
-            n = workers or usable_cores()
-            where = f"a LocalCluster of {n} worker process{'es' if n > 1 else ''}"
+            where = f"a LocalCluster of {n} worker process{'es' if n != 1 else ''}"
+        if dry_run:
+            done = finished(sweep_dir, runs) if sweep_dir.is_dir() else set()
+            todo = [run for run in runs if run.key not in done]
+            points = math.prod(spec.shape)
+            typer.echo(
+                f"dry run: sweep {spec.spec.name}, {spec.spec.estimator.kind} estimator: "
+                f"{points} point{'s' if points != 1 else ''} x {n_runs // points} runs = "
+                f"{n_runs} runs, {len(done)} already done in {sweep_dir}"
+            )
+            typer.echo(f"to compute: {len(todo)} runs on {where}")
+            typer.echo(f"estimated cost: {estimate_sweep(todo, n).describe()}")
+            return
         typer.echo(f"pde-rotor: sweep {sweep} ({n_runs} runs) on {where} -> {sweep_dir}", err=True)
         # SIGTERM (a batch system ending the job, kill PID) stops like Ctrl-C: the
         # cluster is closed and every finished run is kept
@@ -71,7 +106,12 @@ def register(app: typer.Typer) -> None:
                 spec, sweep_dir, scheduler=scheduler, workers=workers, progress=not quiet
             )
         except KeyboardInterrupt:
-            typer.echo("interrupted: finished runs are kept; rerun to resume", err=True)
+            kept = len(finished(sweep_dir, spec.runs()))
+            typer.echo(
+                f"interrupted: {kept} of {n_runs} runs are kept in {sweep_dir}; rerun the same "
+                "command to resume",
+                err=True,
+            )
             raise typer.Exit(130) from None
         finally:
             signal.signal(signal.SIGTERM, previous)
@@ -88,7 +128,10 @@ def register(app: typer.Typer) -> None:
 
     @app.command("report")
     def report_command(
-        sweep_dir: Annotated[Path, typer.Argument(help="Directory written by `pde-rotor sweep`.")],
+        sweep_dir: Annotated[
+            Path,
+            typer.Argument(metavar="SWEEP_DIR", help="Directory written by `pde-rotor sweep`."),
+        ],
         out: Annotated[
             Path | None,
             typer.Option("--out", "-o", help="NetCDF file [default: SWEEP_DIR/report.nc]."),

@@ -81,7 +81,10 @@ class GeometryConfig(_Section):
         0.05, description="p: extra inward shift of the pills, Eq. (rc)"
     )
     asymmetry: FiniteFloat = Field(
-        0.0, description="Delta: angular shift of every pill from its corner [rad], Eq. (rj)"
+        0.0,
+        description=(
+            "Delta: angular shift of every pill from its corner [rad], Eq. (rj); |Delta| < pi/N"
+        ),
     )
     smoothing: PositiveFloat = Field(0.025, description="delta: width of the tanh edges of F and G")
 
@@ -111,6 +114,14 @@ class GeometryConfig(_Section):
 
     @model_validator(mode="after")
     def _pills_inside_plate(self) -> GeometryConfig:
+        half = math.pi / self.n_corners
+        if abs(self.asymmetry) >= half:
+            msg = (
+                f"a shift of pi/N or more moves each pill past the middle of its edge, nearer "
+                f"the next corner (Delta and Delta - 2 pi/N are the same rotor); allowed: "
+                f"|asymmetry| < pi/N = {half:.4g} rad for n_corners = {self.n_corners}"
+            )
+            raise FieldError("asymmetry", self.asymmetry, msg)
         r_c = self.pill_distance
         if r_c <= 0:
             rho_max = (self.radius - self.pill_inset) * math.cos(math.pi / self.n_corners)
@@ -182,8 +193,14 @@ CALIBRATED_SIGMA = 2.0e-8
 With it the Delta = 2e-5 plateau at t_stop = 3 is the paper's 0.2 (Fig. 7b);
 configs/sweeps/calibration.yaml measured P against sigma (docs/statistics.md, 95 % range
 0 to about 1e-7). The paper-resolution configs (configs/paper_fig*.yaml,
-configs/sweeps/base/paper.yaml) carry this value; tests/test_config.py keeps them equal.
+pde_rotor/bases/paper.yaml) carry this value; tests/test_config.py keeps them equal.
 """
+
+
+PAPER_STEADY_OMEGA = 176.06
+"""Steady angular velocity of the noise-free rotor at the paper's parameters and grid
+(docs/model.md: 176.0626; the paper: "~176"): the scale of the rotation against which
+:class:`RotorConfig` judges the noise."""
 
 
 class NoiseConfig(_Section):
@@ -375,6 +392,16 @@ class RotorConfig(_Section):
             msg = f"above the explicit stability limit (allowed: dt <= {limit:.4g} for this dx)"
             raise FieldError("grid.dt", self.grid.dt, msg)
         dt = self.grid.dt
+        kick = math.sqrt(2 * dt) * self.noise.sigma / self.rotor.inertia
+        if kick >= PAPER_STEADY_OMEGA:
+            limit = PAPER_STEADY_OMEGA * self.rotor.inertia / math.sqrt(2 * dt)
+            msg = (
+                f"kicks omega by sqrt(2 dt) sigma / I = {kick:.3g} per step, more than the "
+                f"steady rotation omega = {PAPER_STEADY_OMEGA:g} at the paper's parameters: "
+                f"the rotor would not rotate (allowed: sigma < {limit:.3g} for dt = {dt:g}, "
+                f"I = {self.rotor.inertia:g}; calibrated: {CALIBRATED_SIGMA:g})"
+            )
+            raise FieldError("noise.sigma", self.noise.sigma, msg)
         for key in TIME_KEYS:
             value = self.get(key)
             if value is None:
@@ -491,7 +518,12 @@ def read_config_data(path: str | Path) -> dict[str, Any]:
         raise ConfigError(msg) from None
     data = parse_yaml(text, source=str(path))
     if data is None:
-        data = {}
+        msg = (
+            f"{path}: the file is empty or holds only comments; a config names at least one "
+            "section (e.g. protocol: {t_stop: 1.0}); write {} to run every default (the "
+            "paper's grid and 100 stop-and-release cycles)"
+        )
+        raise ConfigError(msg)
     if not isinstance(data, dict):
         msg = (
             f"{path}: the top level must be a mapping of sections "
@@ -513,6 +545,12 @@ def load_config(path: str | Path, overrides: Iterable[str] = ()) -> RotorConfig:
         ConfigError: one line naming the file or key path and the allowed values.
     """
     data = read_config_data(path)
+    if {"axes", "samples"} & set(data) and not set(RotorConfig.model_fields) & set(data):
+        msg = (
+            f"{path} is a sweep file (keys {', '.join(data)}), not a run config: "
+            "`pde-rotor sweep FILE --dry-run` checks it"
+        )
+        raise ConfigError(msg)
     data = apply_overrides(data, overrides)
     return validate_config(data)
 

@@ -3,7 +3,8 @@
 A sweep is a YAML file (:class:`SweepSpec`)::
 
     name: fig5_quick
-    base: base/coarse.yaml          # a config file (relative to this file) or an inline mapping
+    base: coarse                    # a shipped base (coarse, paper), a config file
+                                    # (relative to this file) or an inline mapping
     set: {noise.sigma: 2.0e-6}      # optional dotted-key overrides of the base
     axes:                           # any dotted config key: a list or a range
       protocol.t_stop: {start: 0.5, stop: 3.0, step: 0.5}
@@ -57,10 +58,13 @@ import itertools
 import json
 import math
 import os
+import re
+import signal
 import tempfile
+import threading
 import time
 from collections import OrderedDict
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Annotated, Any, Literal
@@ -70,7 +74,14 @@ import xarray as xr
 import yaml
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
-from .config import ConfigError, RotorConfig, parse_yaml, read_config_data, validate_config
+from .config import (
+    ConfigError,
+    RotorConfig,
+    parse_override,
+    parse_yaml,
+    read_config_data,
+    validate_config,
+)
 from .simulation import Simulation
 from .stats import (
     CCW,
@@ -91,6 +102,10 @@ REPORT_FILE = "report.nc"
 """NetCDF file written by :func:`report`."""
 SCHEMA_VERSION = 1
 """Version of the run-file layout; part of every run hash."""
+BASES_DIR = Path(__file__).resolve().parent / "bases"
+"""Base configurations shipped with the package; a sweep file names them by stem."""
+SWEEP_KEYS = "name, description, base, set.KEY, axes.KEY, estimator.KEY, samples, seed"
+"""The keys ``pde-rotor sweep --set`` can change (KEY: a dotted config key)."""
 
 
 class SweepError(ValueError):
@@ -193,7 +208,9 @@ class SweepSpec(_Strict):
     name: str = Field("sweep", description="name shown in the progress bar and the report")
     description: str = ""
     base: str | dict[str, Any] = Field(
-        default_factory=dict, description="config file (relative to the sweep file) or mapping"
+        default_factory=dict,
+        description="shipped base (coarse, paper), config file (relative to the sweep file) "
+        "or mapping",
     )
     set: dict[str, Any] = Field(
         default_factory=dict, description="dotted-key overrides applied to the base"
@@ -234,7 +251,98 @@ def _spec_error(err: ValidationError) -> str:
     parts = [str(p) for p in first["loc"]]
     loc = ".".join(p for p in parts if p not in _UNION_TAGS and "[" not in p)
     message = first["msg"].removeprefix("Value error, ")
+    if first["type"] == "missing":
+        message = f"missing ({sweep_format()})"
     return f"{loc or 'top level'}: {message}"
+
+
+def shipped_bases() -> list[str]:
+    """Names of the base configurations shipped with the package."""
+    return sorted(path.stem for path in BASES_DIR.glob("*.yaml"))
+
+
+def sweep_format() -> str:
+    """What a sweep file looks like, for error messages."""
+    return (
+        f"a sweep file has base (a shipped base: {', '.join(shipped_bases())}; a config file; "
+        "or a mapping), axes ({config.key: [values]}), estimator, samples and seed, e.g. "
+        "configs/sweeps/fig5_quick.yaml"
+    )
+
+
+def shipped_base(name: str) -> Path:
+    """The file of the shipped base `name` (e.g. "paper").
+
+    Raises:
+        SweepError: no shipped base has that name.
+    """
+    path = BASES_DIR / f"{name}.yaml"
+    if not path.is_file():
+        msg = (
+            f"base: {name!r} is not a shipped base (shipped: {', '.join(shipped_bases())}); "
+            "a config file is named with its .yaml suffix"
+        )
+        raise SweepError(msg)
+    return path
+
+
+def _read_base(base: str, root: Path | None) -> dict[str, Any]:
+    """The config mapping a sweep's ``base`` string names: a shipped base by its name
+    (``paper``), else a YAML file, relative to the sweep file's directory `root`."""
+    if re.fullmatch(r"[A-Za-z0-9_-]+", base):
+        path = shipped_base(base)
+    else:
+        path = Path(base)
+        if not path.is_absolute() and root is not None:
+            path = root / path
+    try:
+        return read_config_data(path)
+    except ConfigError as err:
+        msg = f"base: {err} (shipped bases are named without a path: {', '.join(shipped_bases())})"
+        raise SweepError(msg) from None
+
+
+def apply_sweep_overrides(data: Mapping[str, Any], overrides: Iterable[str]) -> dict[str, Any]:
+    """A copy of the sweep file's mapping with ``--set KEY=VALUE`` overrides applied.
+
+    KEY is one of :data:`SWEEP_KEYS`: a top-level key (``samples=10``, ``base=coarse``),
+    ``estimator.KEY``, ``set.CONFIG.KEY`` (an override of the base config) or
+    ``axes.CONFIG.KEY`` (the axis values; null removes the axis). VALUE is YAML.
+
+    Raises:
+        SweepError: one line naming the override and the keys allowed.
+    """
+    result = copy.deepcopy(dict(data))
+    for text in overrides:
+        try:
+            path, value = parse_override(text)
+        except ConfigError as err:
+            raise SweepError(str(err)) from None
+        head, rest = path[0], ".".join(path[1:])
+        nested = head in ("set", "axes") or (head == "estimator" and len(path) == 2)
+        if rest and nested:
+            section = result.get(head) or {}
+            if not isinstance(section, dict):
+                msg = f"--set {text!r}: {head} of the sweep file is not a mapping"
+                raise SweepError(msg)
+            section = dict(section)
+            if head == "axes" and value is None:
+                section.pop(rest, None)
+            else:
+                section[rest] = value
+            result[head] = section
+        elif not rest and head in SweepSpec.model_fields and head not in ("set", "axes"):
+            result[head] = value
+        else:
+            hint = f"; the base config's keys: set.{rest}=VALUE" if head == "base" else ""
+            msg = f"--set {text!r}: not a key of the sweep file (allowed: {SWEEP_KEYS}){hint}"
+            raise SweepError(msg)
+    return result
+
+
+def _looks_like_run_config(data: Any) -> bool:
+    """Whether `data` is a mapping of run-config sections and nothing a sweep file has."""
+    return isinstance(data, dict) and bool(data) and set(data) <= set(RotorConfig.model_fields)
 
 
 def _set_key(data: dict[str, Any], key: str, value: Any) -> None:
@@ -303,13 +411,7 @@ class Sweep:
             SweepError: one line naming the problem (unknown key, invalid value, file).
         """
         if isinstance(spec.base, str):
-            path = Path(spec.base)
-            if not path.is_absolute() and root is not None:
-                path = root / path
-            try:
-                base = read_config_data(path)
-            except ConfigError as err:
-                raise SweepError(f"base: {err}") from None
+            base = _read_base(spec.base, root)
         else:
             base = copy.deepcopy(spec.base)
         for key, value in spec.set.items():
@@ -321,8 +423,14 @@ class Sweep:
         return sweep
 
     @classmethod
-    def load(cls, path: str | Path) -> Sweep:
-        """Read and validate a sweep YAML file (a sweep directory: its sweep.yaml)."""
+    def load(cls, path: str | Path, overrides: Iterable[str] = ()) -> Sweep:
+        """Read and validate a sweep YAML file (a sweep directory: its sweep.yaml).
+
+        Args:
+            path: the sweep file or directory.
+            overrides: ``KEY=VALUE`` changes of the file's keys
+                (:func:`apply_sweep_overrides`).
+        """
         path = Path(path)
         if path.is_dir():
             path = path / SPEC_FILE
@@ -333,6 +441,16 @@ class Sweep:
             raise SweepError(msg) from None
         except ConfigError as err:
             raise SweepError(str(err)) from None
+        if _looks_like_run_config(data):
+            msg = (
+                f"{path} is a run config (sections {', '.join(data)}), not a sweep file: "
+                f"{sweep_format()}; `pde-rotor run` runs a config"
+            )
+            raise SweepError(msg)
+        if not isinstance(data, dict):
+            msg = f"{path}: expected a sweep file, got {type(data).__name__}: {sweep_format()}"
+            raise SweepError(msg)
+        data = apply_sweep_overrides(data, overrides)
         try:
             spec = SweepSpec.model_validate(data)
         except ValidationError as err:
@@ -438,6 +556,23 @@ _WARM: OrderedDict[str, Simulation] = OrderedDict()
 _WARM_MAX = 8
 
 
+def _spin_up(
+    config: RotorConfig, estimator: RestartEstimator, direction: int
+) -> tuple[str, dict[str, Any]]:
+    """The spin-up configuration of `config` in `direction` and its hash (the cache key)."""
+    data = config.model_dump(mode="json")
+    data["protocol"].update(t_ini=estimator.warmup, cycles=0)
+    data["noise"].update(sigma=0.0, seed=0)
+    data["rotor"]["omega0"] = direction * estimator.spinup_omega
+    data.pop("output", None)
+    return hashlib.sha256(json.dumps(data, sort_keys=True).encode()).hexdigest(), data
+
+
+def warm_key(config: RotorConfig, estimator: RestartEstimator, direction: int) -> str:
+    """Runs with equal keys share the spin-up of :func:`warm_state` (in one process)."""
+    return _spin_up(config, estimator, direction)[0]
+
+
 def warm_state(config: RotorConfig, estimator: RestartEstimator, direction: int) -> Simulation:
     """The steady rotating state for `config` and `direction`, computed once per process.
 
@@ -447,12 +582,7 @@ def warm_state(config: RotorConfig, estimator: RestartEstimator, direction: int)
     Raises:
         RuntimeError: the rotor does not rotate in the requested direction after warmup.
     """
-    data = config.model_dump(mode="json")
-    data["protocol"].update(t_ini=estimator.warmup, cycles=0)
-    data["noise"].update(sigma=0.0, seed=0)
-    data["rotor"]["omega0"] = direction * estimator.spinup_omega
-    data.pop("output", None)
-    key = hashlib.sha256(json.dumps(data, sort_keys=True).encode()).hexdigest()
+    key, data = _spin_up(config, estimator, direction)
     if key in _WARM:
         _WARM.move_to_end(key)
         return _WARM[key]
@@ -797,13 +927,23 @@ def _start_client(scheduler: str | None, workers: int | None) -> tuple[Any, Any]
     if scheduler:
         return Client(scheduler), None
     n = workers or usable_cores()
-    cluster = LocalCluster(
-        n_workers=n,
-        threads_per_worker=1,
-        processes=True,
-        dashboard_address=":0",  # any free port: several sweeps may run side by side
-        silence_logs=40,
-    )
+    # Ctrl-C in a terminal signals the whole process group. The worker processes inherit
+    # an ignored SIGINT (an ignored signal stays ignored across exec, and Python then
+    # installs no KeyboardInterrupt handler), so only this process handles it: it closes
+    # the cluster, which ends the workers quietly instead of with a traceback each.
+    ignore = threading.current_thread() is threading.main_thread()
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN) if ignore else None
+    try:
+        cluster = LocalCluster(
+            n_workers=n,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=":0",  # any free port: several sweeps may run side by side
+            silence_logs=40,
+        )
+    finally:
+        if ignore:
+            signal.signal(signal.SIGINT, previous if previous is not None else signal.SIG_DFL)
     return Client(cluster), cluster
 
 
@@ -915,12 +1055,26 @@ def _dim_names(keys: Sequence[str]) -> dict[str, str]:
     }
 
 
+P_ESTIMATORS: dict[str, str] = {
+    "protocol": "inversions / M of the paper's protocol runs, all their stops pooled",
+    "restart": (
+        "two-state chain 2 a b / (a + b) of a = P_ccw, b = P_cw: the long-run fraction of "
+        "inversions in M stops in a row (the paper's P), not the pooled inversions / stops"
+    ),
+}
+"""What P is for each estimator (the bank estimator's P is the restart one's)."""
+
 _VARIABLES: dict[str, tuple[str, str]] = {
-    "P": ("inversion probability (paper: inversions / M)", "1"),
+    "P": ("inversion probability", "1"),  # + P_ESTIMATORS[estimator] in gather()
     "P_low": ("lower bound of the 95 % interval of P", "1"),
     "P_high": ("upper bound of the 95 % interval of P", "1"),
-    "inversions": ("inversions counted", "1"),
-    "stops": ("stop-and-release operations counted", "1"),
+    "P_pooled": (
+        "pooled fraction inversions / stops of both directions (protocol: equals P; "
+        "restart, bank: weighs the directions by their numbers of stops, not the paper's P)",
+        "1",
+    ),
+    "inversions": ("inversions counted, both directions", "1"),
+    "stops": ("stop-and-release operations counted, both directions", "1"),
     "P_ccw": ("P(inversion | CCW rotation before the stop)", "1"),
     "P_ccw_low": ("Wilson 95 % lower bound of P_ccw", "1"),
     "P_ccw_high": ("Wilson 95 % upper bound of P_ccw", "1"),
@@ -979,6 +1133,7 @@ def _point_statistics(sweep: Sweep, contents: Sequence[dict[str, Any]], expected
         "P": p,
         "P_low": lo,
         "P_high": hi,
+        "P_pooled": total.p,
         "inversions": total.k,
         "stops": total.n,
         "pi_ccw": pi,
@@ -1034,7 +1189,11 @@ def gather(sweep: Sweep, sweep_dir: str | Path) -> xr.Dataset:
         coords[dims[key]] = xr.Variable(dims[key], values, attrs={"config_key": key})
     dim_list = [dims[k] for k in keys]
     data_vars = {}
+    kind = sweep.spec.estimator.kind
+    p_is = P_ESTIMATORS[_p_estimator(kind)]
     for name, (long_name, units) in _VARIABLES.items():
+        if name in ("P", "P_low", "P_high"):
+            long_name = f"{long_name} ({kind} estimator: {p_is})"
         arr = arrays[name]
         if name in ("inversions", "stops", "runs_done", "runs_expected", "uncommitted") or (
             name.startswith(("inversions_", "stops_"))
@@ -1052,7 +1211,7 @@ def gather(sweep: Sweep, sweep_dir: str | Path) -> xr.Dataset:
         "seed": spec.seed,
         "confidence": CONFIDENCE,
         "interval": (
-            "protocol: Wilson score interval of inversions / M; restart: two-state chain "
+            "protocol: Wilson score interval of inversions / M; restart, bank: two-state chain "
             "2 a b / (a + b) of the Bonferroni (97.5 %) Wilson bounds of a = P_ccw, b = P_cw"
         ),
         "base_config": json.dumps(sweep.base, sort_keys=True),
@@ -1090,11 +1249,37 @@ def report(sweep_dir: str | Path, out: str | Path | None = None, echo: bool = Tr
     return ds
 
 
+def _p_estimator(kind: str) -> str:
+    """The key of :data:`P_ESTIMATORS` for an estimator kind (bank: as restart)."""
+    return "protocol" if kind == "protocol" else "restart"
+
+
+TABLE_LEGENDS: dict[str, tuple[str, str]] = {
+    "protocol": (
+        "P=inv/M",
+        "P=inv/M: inversions / stops of all protocol runs (the paper's estimator); "
+        "inv|CCW, inv|CW: by the direction before the stop",
+    ),
+    "restart": (
+        "P chain",
+        "P chain: 2ab/(a+b), a = P(inv|CCW), b = P(inv|CW): the inversion fraction of M "
+        "stops in a row (the paper's P); pooled: all stops together, not the paper's P",
+    ),
+}
+"""Header of the P column and the legend line of :func:`format_table`, by estimator."""
+
+
 def format_table(ds: xr.Dataset) -> str:
-    """One row per point: axis values, P [95 % interval], conditionals, counts, mean |omega|."""
+    """One row per point: axis values, P [95 % interval], conditionals, pooled, mean |omega|.
+
+    The P column is named after its estimator (the chain value of the restart and bank
+    estimators, inversions / M of the protocol one) and a legend line says what it is;
+    the pooled fraction inversions / stops stands beside it.
+    """
     dims = list(ds.sizes)
     rows = []
-    header = [*dims, "P", "95% CI", "P|CCW", "P|CW", "inv/stops", "mean|w|", "runs"]
+    p_header, legend = TABLE_LEGENDS[_p_estimator(str(ds.attrs.get("estimator", "")))]
+    header = [*dims, p_header, "95% CI", "inv|CCW", "inv|CW", "pooled", "mean|omega|", "runs"]
     flat = ds.stack(point=dims) if dims else ds.expand_dims(point=[0])
     for i in range(flat.sizes["point"]):
         row = flat.isel(point=i)
@@ -1104,12 +1289,13 @@ def format_table(ds: xr.Dataset) -> str:
             value = float(row[name])
             return "nan" if math.isnan(value) else f"{value:.3f}"
 
+        k, n = int(row["inversions"]), int(row["stops"])
         cells += [
             fmt("P"),
             f"[{fmt('P_low')}, {fmt('P_high')}]",
             f"{int(row['inversions_ccw'])}/{int(row['stops_ccw'])}",
             f"{int(row['inversions_cw'])}/{int(row['stops_cw'])}",
-            f"{int(row['inversions'])}/{int(row['stops'])}",
+            f"{k}/{n} = {k / n:.3f}" if n else f"{k}/{n}",
             f"{float(row['mean_abs_omega']):.1f}",
             f"{int(row['runs_done'])}/{int(row['runs_expected'])}",
         ]
@@ -1118,6 +1304,7 @@ def format_table(ds: xr.Dataset) -> str:
     lines = [
         f"{ds.attrs.get('sweep', '')} ({ds.attrs.get('estimator', '')} estimator, "
         f"dx = {ds.attrs.get('grid_dx')}, dt = {ds.attrs.get('grid_dt')})",
+        legend,
         "  ".join(h.rjust(w) for h, w in zip(header, widths, strict=True)),
     ]
     lines += ["  ".join(c.rjust(w) for c, w in zip(r, widths, strict=True)) for r in rows]

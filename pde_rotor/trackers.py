@@ -29,6 +29,7 @@ from __future__ import annotations
 import logging
 import math
 import time
+from collections.abc import Callable
 from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -50,6 +51,14 @@ if TYPE_CHECKING:
 
 _logger = logging.getLogger(__name__)
 
+TIME_UNITS = "1/a"
+"""Unit of every time in the outputs: the paper's dimensionless time, in units of 1/a
+(a: the evaporation rate of camphor)."""
+OMEGA_UNITS = f"rad per {TIME_UNITS}"
+"""Unit of the angular velocity omega."""
+LENGTH_UNITS = "sqrt(D/a)"
+"""Unit of every length: the diffusion length of camphor."""
+
 TIMESERIES_VARIABLES: dict[str, dict[str, str]] = {
     "phi": {
         "long_name": "rotor angle phi",
@@ -58,7 +67,7 @@ TIMESERIES_VARIABLES: dict[str, dict[str, str]] = {
     },
     "omega": {
         "long_name": "angular velocity dphi/dt",
-        "units": "rad per time unit 1/a",
+        "units": OMEGA_UNITS,
         "equation": "Eq. (eq_motion)",
     },
     "torque": {
@@ -103,14 +112,14 @@ EVENT_COLUMNS = (
 """Columns of events.csv / variables of events.nc (see module docstring)."""
 
 EVENT_ATTRS: dict[str, dict[str, str]] = {
-    "t_stop": {"long_name": "start time of the stop", "units": "1/a"},
-    "omega_before": {"long_name": "omega just before the stop", "units": "rad per 1/a"},
+    "t_stop": {"long_name": "start time of the stop", "units": TIME_UNITS},
+    "omega_before": {"long_name": "omega just before the stop", "units": OMEGA_UNITS},
     "direction_before": {"long_name": "sign of omega_before (+1: counterclockwise)"},
     "direction_after": {"long_name": "sign of omega at commit (or end of release)"},
     "inverted": {"long_name": "direction_after == -direction_before"},
     "committed": {"long_name": "|omega| reached commit_fraction |omega_before| after release"},
-    "time_to_commit": {"long_name": "commit time minus release time", "units": "1/a"},
-    "omega_after": {"long_name": "omega at commit (or end of release)", "units": "rad per 1/a"},
+    "time_to_commit": {"long_name": "commit time minus release time", "units": TIME_UNITS},
+    "omega_after": {"long_name": "omega at commit (or end of release)", "units": OMEGA_UNITS},
 }
 
 
@@ -171,47 +180,82 @@ def _run_status(info: InfoDict | None) -> dict[str, Any]:
 
 
 class ProgressBarTracker(_RotorTracker):
-    """tqdm progress bar: simulated time, ETA, current omega and protocol phase."""
+    """tqdm progress bar: simulated time, ETA, current omega and protocol phase.
 
-    def __init__(self, sim: Simulation, refresh_seconds: float = 0.5, *, leave: bool = True):
+    Until the first steps have run (the first run compiles the solver, about 10 s) the
+    bar says so instead of an ETA. The ETA is then the remaining simulated time over the
+    rate measured since the first interrupt after those steps, so the compile time does
+    not inflate it (tqdm's own rate would count it).
+    """
+
+    COMPILING = "compiling the solver (first run only)"
+    """Shown until the first steps have run."""
+
+    def __init__(
+        self,
+        sim: Simulation,
+        refresh_seconds: float = 0.5,
+        *,
+        leave: bool = True,
+        clock: Callable[[], float] = time.monotonic,
+    ):
         """
         Args:
             sim: the simulation.
             refresh_seconds: wall-clock time between updates.
             leave: keep the bar on screen when the run ends.
+            clock: wall clock in seconds (for tests).
         """
         super().__init__(
             sim, RealtimeInterrupts(duration=refresh_seconds, dt_initial=100 * sim.config.grid.dt)
         )
         self.leave = leave
+        self.clock = clock
         self.bar: tqdm | None = None
+        self._t_start = 0.0
+        self._measured_from: tuple[float, float] | None = None
 
     def initialize(self, field: FieldCollection, info: InfoDict | None = None) -> float:
         """Open the bar over [t_start, t_end] of the controller."""
         t_first = super().initialize(field, info)
         controller = (info or {}).get("controller", {})
-        t_start = float(controller.get("t_start", 0.0))
+        self._t_start = float(controller.get("t_start", 0.0))
         t_end = float(controller.get("t_end", self.sim.config.protocol.t_end))
+        self._measured_from = None
         self.bar = tqdm(
             total=round(t_end, 6),
-            initial=round(t_start, 6),
+            initial=round(self._t_start, 6),
             unit="t",
             leave=self.leave,
             dynamic_ncols=True,
-            bar_format="{l_bar}{bar}| t={n:.2f}/{total:.2f} [{elapsed}<{remaining}{postfix}]",
+            bar_format="{l_bar}{bar}| t={n:.2f}/{total:.2f} [{elapsed}{postfix}]",
+            postfix=self.COMPILING,
         )
         return t_first
 
+    def eta(self, t: float) -> str:
+        """The postfix's first part: compiling, measuring, or ``ETA 12:34``."""
+        now = self.clock()
+        if t <= self._t_start:
+            return self.COMPILING
+        if self._measured_from is None:
+            self._measured_from = (t, now)
+        t0, wall0 = self._measured_from
+        if t <= t0 or now <= wall0:
+            return "ETA measuring"
+        remaining = (self.bar.total - t) * (now - wall0) / (t - t0) if self.bar else math.nan
+        return f"ETA {tqdm.format_interval(max(remaining, 0.0))}"
+
     def handle(self, field: FieldCollection, t: float) -> None:
-        """Advance the bar to t and show omega, phase and cycle."""
+        """Advance the bar to t and show the ETA, omega, phase and cycle."""
         if self.bar is None:
             return
         rotor = self.sim.rotor
         cycle = self.schedule.cycle(max(self.step_of(t) - 1, 0))
         self.bar.n = round(min(t, self.bar.total), 6)
         self.bar.set_postfix_str(
-            f"omega={rotor.omega:+.1f} {'stopped' if rotor.stopped else 'running'} "
-            f"cycle {cycle}/{self.schedule.cycles}",
+            f"{self.eta(t)}, omega={rotor.omega:+.1f} "
+            f"{'stopped' if rotor.stopped else 'running'} cycle {cycle}/{self.schedule.cycles}",
             refresh=False,
         )
         self.bar.refresh()
@@ -289,7 +333,7 @@ class TimeSeriesTracker(_RotorTracker):
         for name, attrs in TIMESERIES_VARIABLES.items():
             dtype = np.int64 if name in ("stopped", "cycle") else np.float64
             data_vars[name] = ("time", np.asarray(self.rows[name], dtype=dtype), attrs)
-        coords = {"time": ("time", np.asarray(self.rows["time"]), {"units": "1/a"})}
+        coords = {"time": ("time", np.asarray(self.rows["time"]), {"units": TIME_UNITS})}
         ds = xr.Dataset(data_vars, coords=coords)
         ds.attrs.update(self.attrs)
         ds.attrs["sample_interval"] = self.interval

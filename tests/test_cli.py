@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import csv
 import math
+import sys
+import types
 from pathlib import Path
 
 import imageio_ffmpeg
@@ -19,7 +21,7 @@ import pde_rotor
 from pde_rotor import api
 from pde_rotor.cli import app
 from pde_rotor.config import load_config
-from pde_rotor.output import PART_SUFFIX, RunDirectory
+from pde_rotor.output import PART_SUFFIX, OutputError, RunDirectory
 from pde_rotor.solver import SimulationDivergedError
 from pde_rotor.trackers import EVENT_COLUMNS, TIMESERIES_VARIABLES
 
@@ -179,6 +181,26 @@ def test_info_names_versions_and_threads():
         assert word in result.stdout
 
 
+def _numba_without_cuda_core(allow_simulator: bool = False) -> str | None:
+    """numba's deprecated numba.cuda imports, numba-cuda's numba.cuda.core does not."""
+    raise ModuleNotFoundError("No module named 'numba.cuda.core'", name="numba.cuda.core")
+
+
+@pytest.mark.parametrize("installed", ["numba.cuda only", "nothing"])
+def test_info_without_gpu_support_says_what_to_install(monkeypatch, installed):
+    """A plain install (no numba-cuda) gets an install hint, not a raw import error."""
+    fake = None
+    if installed == "numba.cuda only":
+        fake = types.ModuleType("pde_rotor.backends.gpu")
+        fake.unavailable_reason = _numba_without_cuda_core
+    monkeypatch.setitem(sys.modules, "pde_rotor.backends.gpu", fake)
+    result = invoke("info")
+    assert result.exit_code == 0
+    (line,) = [line for line in result.stdout.splitlines() if line.startswith("gpu")]
+    assert "pip install 'numba-cuda[cu12]'" in line and "not installed" in line
+    assert "ModuleNotFoundError" not in line and "numba.cuda.core" not in line
+
+
 def test_check_prints_a_loadable_config(tmp_path):
     path = tmp_path / "c.yaml"
     path.write_text(COARSE_YAML)
@@ -205,6 +227,26 @@ def test_bad_input_exits_2_with_one_line(tmp_path, case):
     assert key in result.stderr and allowed in result.stderr
     assert "Traceback" not in result.output
     assert not (tmp_path / "out").exists()
+
+
+def test_long_run_announces_its_estimate_in_the_first_line(tmp_path, monkeypatch):
+    """``{}`` is the paper's 10.6 M steps with a movie: the estimate comes before anything."""
+
+    def not_run(*args, **kwargs):
+        raise OutputError("stopped where the run would start")
+
+    monkeypatch.setattr(api, "run", not_run)
+    first_lines = []
+    for name, text in (("defaults.yaml", "{}\n"), ("tiny.yaml", TINY_YAML)):
+        path = tmp_path / name
+        path.write_text(text)
+        result = invoke("run", path, "--out", tmp_path / f"out-{name}", "--quiet")
+        assert "stopped where the run would start" in result.stderr
+        first_lines.append(result.stdout.splitlines()[0])
+    assert first_lines[0].startswith("pde-rotor: long run, about ")
+    assert "10.6 M steps" in first_lines[0] and "movie frames" in first_lines[0]
+    assert "estimate" in first_lines[0]
+    assert first_lines[1].startswith("pde-rotor: running ")
 
 
 def test_missing_config_file_exits_2(tmp_path):
@@ -306,8 +348,55 @@ def test_show_during_a_run_reads_events_csv(tiny_run, tmp_path):
     assert invoke("show", running).exit_code == 0
 
 
+COMMANDS = ("run", "show", "check", "info", "sweep", "report", "gallery")
+
+
 def test_help_lists_the_commands():
     result = invoke("--help")
     assert result.exit_code == 0
-    for command in ("run", "show", "check", "info", "sweep", "report"):
+    for command in COMMANDS:
         assert command in result.stdout
+
+
+@pytest.mark.parametrize("command", COMMANDS)
+def test_help_shows_defaults_and_no_bool_types(command):
+    """Defaults written as [default: ...] survive (rich markup used to eat them and leave a
+    bare "."), and flags are not labelled <bool>."""
+    result = runner.invoke(app, [command, "--help"], env={"COLUMNS": "100"})
+    assert result.exit_code == 0
+    assert "<bool>" not in result.stdout
+    text = " ".join(result.stdout.split())
+    assert " ." not in text
+    if command in ("run", "show", "sweep", "report", "gallery"):
+        assert "[default: " in text
+
+
+def test_usage_doc_synopsis_names_every_command():
+    """docs/usage.md's CLI synopsis has a line for every command of the app."""
+    doc = (Path(__file__).parent.parent / "docs" / "usage.md").read_text()
+    synopsis = doc.split("## The CLI", 1)[1].split("```text", 1)[1].split("```", 1)[0]
+    named = {line.split()[1] for line in synopsis.splitlines() if line.startswith("pde-rotor ")}
+    registered = {c.name or c.callback.__name__ for c in app.registered_commands}
+    assert named == registered
+    assert named == set(COMMANDS)
+
+
+def test_check_takes_several_files(tmp_path):
+    """`check configs/*.yaml`: one line per file, every bad one named, exit 2 if any."""
+    good = tmp_path / "good.yaml"
+    good.write_text(COARSE_YAML)
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("protocol: {t_stp: 1.0}\n")
+    sweep = tmp_path / "sweep.yaml"
+    sweep.write_text("name: s\naxes: {protocol.t_stop: [1.0]}\nsamples: 2\nseed: 1\n")
+    result = invoke("check", good, bad, sweep, good)
+    assert result.exit_code == 2
+    assert result.stdout.splitlines() == [
+        line for line in result.stdout.splitlines() if line.startswith(f"ok: {good}: t_end = ")
+    ]
+    assert len(result.stdout.splitlines()) == 2
+    errors = result.stderr.splitlines()
+    assert errors[0].startswith(f"error: {bad}: protocol.t_stp: unknown key")
+    assert errors[1].startswith(f"error: {sweep} is a sweep file")
+    assert len(errors) == 2
+    assert invoke("check", good, good).exit_code == 0

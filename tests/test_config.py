@@ -10,6 +10,7 @@ import yaml
 
 from pde_rotor.config import (
     CALIBRATED_SIGMA,
+    PAPER_STEADY_OMEGA,
     ConfigError,
     RotorConfig,
     apply_overrides,
@@ -19,6 +20,7 @@ from pde_rotor.config import (
     validate_config,
 )
 from pde_rotor.protocol import StopSchedule
+from pde_rotor.sweep import shipped_base
 
 CONFIGS = sorted((Path(__file__).parent.parent / "configs").glob("*.yaml"))
 COARSE_YAML = "grid: {dx: 0.05, dt: 4.0e-4}\ngeometry: {smoothing: 0.05}\n"
@@ -79,6 +81,19 @@ BAD_INPUTS: dict[str, tuple[str | None, list[str], str, str]] = {
     ),
     "negative seed": (None, ["noise.seed=-1"], "noise.seed", "seed >= 0"),
     "negative sigma": (None, ["noise.sigma=-0.1"], "noise.sigma", "sigma >= 0"),
+    "sigma that drowns the rotation": (None, ["noise.sigma=1e300"], "noise.sigma", "per step"),
+    "asymmetry of astronomic size": (
+        None,
+        ["geometry.asymmetry=1e300"],
+        "geometry.asymmetry",
+        "|asymmetry| < pi/N = 0.5236",
+    ),
+    "asymmetry of a whole period": (
+        None,
+        ["geometry.asymmetry=1.0471975511965976"],
+        "geometry.asymmetry",
+        "pi/N",
+    ),
     "unknown backend": (None, ["solver.backend=tpu"], "solver.backend", "cpu, gpu, auto"),
     "unknown torque convention": (None, ["rotor.torque=mine"], "rotor.torque", "physical"),
     "zero inertia": (None, ["rotor.inertia=0"], "rotor.inertia", "inertia > 0"),
@@ -101,6 +116,14 @@ BAD_INPUTS: dict[str, tuple[str | None, list[str], str, str]] = {
     "tab in YAML": ("protocol:\n\tt_stop: 1\n", [], "invalid YAML", "line 2"),
     "duplicate key": ("protocol:\n  t_stop: 1\n  t_stop: 2\n", [], "duplicate key", "t_stop"),
     "top level is a list": ("- 1\n- 2\n", [], "top level", "geometry"),
+    "empty file": ("", [], "empty", "write {}"),
+    "a sweep file": (
+        "name: s\nbase: coarse\naxes: {protocol.t_stop: [1.0]}\nsamples: 2\nseed: 1\n",
+        [],
+        "is a sweep file",
+        "pde-rotor sweep FILE --dry-run",
+    ),
+    "only comments": ("# all defaults?\n\n", [], "only comments", "write {}"),
 }
 
 
@@ -127,6 +150,12 @@ def test_bad_input_gives_one_line_naming_key_and_allowed(tmp_path, case):
     assert allowed in message
 
 
+def test_explicit_empty_mapping_is_every_default(tmp_path):
+    """An empty file is refused (above); ``{}`` asks for the paper's defaults on purpose."""
+    path = write_config(tmp_path, "{}  # every default\n")
+    assert load_config(path) == RotorConfig()
+
+
 def test_missing_file(tmp_path):
     with pytest.raises(ConfigError, match="not found"):
         load_config(tmp_path / "nope.yaml")
@@ -148,7 +177,7 @@ def test_shipped_configs_round_trip(path, tmp_path):
 def test_paper_resolution_configs_carry_the_calibrated_noise():
     """One value: every config at the paper's grid uses CALIBRATED_SIGMA, coarse ones do not."""
     root = Path(__file__).resolve().parents[1] / "configs"
-    paper = [*sorted(root.glob("paper_fig*.yaml")), root / "sweeps" / "base" / "paper.yaml"]
+    paper = [*sorted(root.glob("paper_fig*.yaml")), shipped_base("paper")]
     for path in paper:
         config = load_config(path)
         assert (config.grid.dx, config.grid.dt) == (0.025, 1e-4), path
@@ -261,6 +290,28 @@ def test_pill_asymmetry_limit_is_sharp():
     validate_config({"geometry": {"asymmetry": 0.999 * limit}})
     with pytest.raises(ConfigError, match=r"geometry\.asymmetry"):
         validate_config({"geometry": {"asymmetry": -1.001 * limit}})
+
+
+def test_noise_limit_is_a_kick_of_the_steady_omega():
+    """sigma is refused where its kick per step, sqrt(2 dt) sigma / I, reaches the steady
+    omega; the paper's sigma = 0.1 passes at dt = 1e-4 (kick 141), not at dt = 4e-4 (283)."""
+    config = RotorConfig()
+    limit = PAPER_STEADY_OMEGA * config.rotor.inertia / math.sqrt(2 * config.grid.dt)
+    validate_config({"noise": {"sigma": 0.999 * limit}})
+    with pytest.raises(ConfigError, match=r"noise\.sigma = .*sqrt\(2 dt\) sigma / I"):
+        validate_config({"noise": {"sigma": 1.001 * limit}})
+    validate_config({"noise": {"sigma": 0.1}})
+    coarse = {"grid": {"dx": 0.05, "dt": 4e-4}, "geometry": {"smoothing": 0.05}}
+    with pytest.raises(ConfigError, match=r"allowed: sigma < 0\.0622"):
+        validate_config({**coarse, "noise": {"sigma": 0.1}})
+
+
+def test_asymmetry_limit_is_half_a_period_for_any_corner_count():
+    """|Delta| < pi/N even where the pills would still fit (small pills near the centre, N = 3)."""
+    small = {"n_corners": 3, "pill_radius": 0.02, "pill_inset": 0.36}  # pills near the centre
+    validate_config({"geometry": {**small, "asymmetry": 0.999 * math.pi / 3}})
+    with pytest.raises(ConfigError, match=r"pi/N = 1\.047"):
+        validate_config({"geometry": {**small, "asymmetry": -math.pi / 3}})
 
 
 def test_usage_doc_lists_every_key():

@@ -230,3 +230,37 @@ def test_paper_points_combine_stored_reports_on_one_curve(tmp_path, monkeypatch)
     assert across["P"].values.tolist() == [0.7, 0.2, 0.7]
     assert across["report"].values.tolist() == ["predictions", "calibration", "predictions"]
     assert common.paper_points("t_stop", asymmetry=0.0, sigma=5e-8, enabled=1.0) is None
+
+
+def test_paper_points_footer_names_its_files_and_stop_counts(tmp_path, monkeypatch, capsys):
+    """One stored report: "data/predictions.nc" and "60 stops per point" (the footer said
+    "data/{predictions}.nc" and "60-60"); two reports: both files."""
+    from matplotlib.figure import Figure
+
+    load_script(gallery_dir() / "fig1_geometry.py")
+    common = sys.modules["_common"]
+    monkeypatch.setattr(common, "DATA", tmp_path)
+    sigma = {"sigma": [0.0, 2e-8]}
+    _report({"asymmetry": [0.0, 1e-4], "t_stop": [0.5, 3.0], **sigma}, {}, 0.7).to_netcdf(
+        tmp_path / "predictions.nc", engine="h5netcdf"
+    )
+    ax = Figure().add_subplot()
+    one = common.draw_paper_points(ax, "", "t_stop", asymmetry=0.0, enabled=1.0)
+    assert one.endswith("60 stops per point; stored: data/predictions.nc")
+    report = _report({"t_stop": [3.0], **sigma}, {"geometry": {"asymmetry": 2e-5}}, 0.2)
+    report["stops"][:] = 120
+    report.to_netcdf(tmp_path / "calibration.nc", engine="h5netcdf")
+    two = common.draw_paper_points(ax, "", "asymmetry", t_stop=3.0, enabled=1.0)
+    assert two.endswith("60-120 stops per point; stored: data/calibration.nc, data/predictions.nc")
+    capsys.readouterr()
+
+
+def test_footers_are_readable_at_100_percent():
+    """Footers at 9 pt or more (7 pt was too small to read)."""
+    from matplotlib.figure import Figure
+
+    load_script(gallery_dir() / "fig1_geometry.py")
+    common = sys.modules["_common"]
+    fig = Figure(figsize=(6, 4), layout="constrained")
+    common.add_footer(fig, "pde_rotor, full fidelity")
+    assert min(text.get_fontsize() for text in fig.texts) >= 9

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import xarray as xr
+from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.path import Path as MplPath
 
 from pde_rotor.config import RotorConfig, validate_config
@@ -13,10 +14,13 @@ from pde_rotor.plotting import (
     FieldView,
     RotorFrame,
     Snapshot,
+    frame_title,
+    nice_ceiling,
     plate_corners,
     stop_intervals,
     summary_figure,
 )
+from pde_rotor.trackers import OMEGA_UNITS, TIME_UNITS
 
 
 @pytest.mark.parametrize("phi", [0.0, 1.0, -2.5])
@@ -80,11 +84,47 @@ def test_frame_draws_the_state_at_the_rotor_angle():
         [p.center for p in frame.pills], pill_centres(shape, 0.3), atol=1e-12
     )
     speeds = np.hypot(frame.quiver.U, frame.quiver.V)
-    assert speeds.max() == pytest.approx(1.0)  # the fastest arrow spans the spacing
+    # the fastest arrow is at most the key's arrow (0.9 of the spacing), at least half of it
+    assert 0.5 < speeds.max() <= 1.0
     # colour scale never shrinks: frames stay comparable
     frame.update(0.5 * data, 0.4)
     assert frame.image.get_clim()[1] == data[0][sel, sel].max()
     assert frame.ax.get_title() == ""
+
+
+def test_flow_arrows_keep_their_size_after_a_stop_and_the_key_says_how_large():
+    """The flow left over after a stop is 1/20 of a turning plate's: per-frame arrows with
+    a key that names the speed of its arrow keep it visible (a running maximum shrank it
+    to nothing)."""
+    shape = RotorShape.from_config(RotorConfig().geometry)
+    coords = (np.arange(80) - 39.5) * 0.05
+    frame = RotorFrame(shape, coords, 1.5)
+    x, y = np.meshgrid(coords, coords, indexing="ij")
+    swirl = np.stack([np.exp(-(x**2) - y**2), -y, x])  # |v| up to about 2.7 in view
+    lengths = {}
+    for name, factor in (("turning", 1.0), ("stopped", 0.05)):
+        data = swirl * np.array([1.0, factor, factor])[:, None, None]
+        frame.update(data, 0.0)
+        speed = np.hypot(data[1], data[2])[frame.view.sel, frame.view.sel]
+        in_view = float(speed[np.ix_(frame.view.arrows, frame.view.arrows)].max())
+        assert frame.key.text.get_text() == f"|v| = {nice_ceiling(in_view):.2g}"
+        lengths[name] = float(np.hypot(frame.quiver.U, frame.quiver.V).max())
+    assert lengths["stopped"] > 0.5 * lengths["turning"]
+    assert frame.key.U == 1.0  # the key's arrow is the arrow of its speed
+
+
+@pytest.mark.parametrize(
+    ("value", "nice"), [(0.078, 0.1), (1.93, 2.0), (2.0, 2.0), (3.1, 5.0), (7e-4, 1e-3)]
+)
+def test_nice_ceiling(value, nice):
+    assert nice_ceiling(value) == pytest.approx(nice)
+
+
+def test_frame_title_has_symbols_and_units():
+    title = frame_title(12.5, -171.96, False, 2, 3)
+    assert f"t = 12.50 [{TIME_UNITS}]" in title
+    assert f"\u03c9 = -172.0 [{OMEGA_UNITS}]" in title
+    assert "omega" not in title and "released, cycle 2/3" in title
 
 
 def synthetic_run(config: RotorConfig) -> tuple[xr.Dataset, xr.Dataset]:
@@ -127,6 +167,57 @@ def test_summary_figure_has_series_table_and_snapshot():
     rows = {key[0] for key in table.get_celld()}
     assert len(rows) == 8 + 2  # header, 7 first rows, "...", the last row
     fig.canvas.draw()
+
+
+def all_text(fig) -> str:
+    """Every text of a figure: titles, labels, table cells, texts."""
+    found = []
+    for ax in fig.get_axes():
+        found += [ax.get_title(), ax.get_xlabel(), ax.get_ylabel()]
+        found += [t.get_text() for t in ax.texts]
+        for table in ax.tables:
+            found += [cell.get_text().get_text() for cell in table.get_celld().values()]
+    return "\n".join(found)
+
+
+def test_summary_figure_speaks_in_symbols_and_units():
+    """phi, omega, Delta as symbols; time and omega in the units the files carry."""
+    config = validate_config({"protocol": {"cycles": 3}, "geometry": {"asymmetry": 1e-4}})
+    ts, ev = synthetic_run(config)
+    ts["time"].attrs["units"] = TIME_UNITS
+    ts["omega"].attrs["units"] = OMEGA_UNITS
+    snap = Snapshot(t=5.0, data=np.ones((3, 40, 40)), phi=0.2, coords=(np.arange(40) - 19.5) / 10)
+    text = all_text(summary_figure(config, ts, ev, snap))
+    for expected in (
+        f"time t [{TIME_UNITS}]",
+        f"angular velocity \u03c9 [{OMEGA_UNITS}]",
+        "angle \u03c6 [rad]",
+        "\u0394 = 0.0001",
+        "\u03c9 before",
+    ):
+        assert expected in text
+    for ascii_name in ("omega", "Delta", "phi", "dphi"):
+        assert ascii_name not in text
+
+
+def test_summary_table_leaves_no_empty_panel():
+    """The table takes the height of its rows (or the room the snapshot leaves) and the
+    snapshot follows right under it: no empty panel in between."""
+    config = validate_config({"protocol": {"cycles": 3}})
+    ts, ev = synthetic_run(config)
+    snap = Snapshot(t=5.0, data=np.ones((3, 40, 40)), phi=0.2, coords=(np.arange(40) - 19.5) / 10)
+    fig = summary_figure(config, ts, ev, snap)
+    canvas = FigureCanvasAgg(fig)
+    canvas.draw()
+    ax_table = next(ax for ax in fig.get_axes() if ax.tables)
+    ax_snap = next(ax for ax in fig.get_axes() if ax.images)
+    renderer = canvas.get_renderer()
+    table_box = ax_table.tables[0].get_window_extent(renderer)
+    axes_box = ax_table.get_window_extent(renderer)
+    assert table_box.height == pytest.approx(axes_box.height, rel=0.02)  # cells fill it
+    snap_top = ax_snap.get_tightbbox(renderer).y1  # the snapshot's title included
+    gap_inches = (table_box.y0 - snap_top) / fig.dpi
+    assert 0 <= gap_inches < 0.6
 
 
 def test_summary_figure_without_snapshot_or_events():

@@ -20,6 +20,7 @@ import pytest
 import xarray as xr
 import yaml
 
+import pde_rotor
 from pde_rotor.config import RotorConfig
 from pde_rotor.stats import CCW, CW
 from pde_rotor.sweep import (
@@ -38,6 +39,7 @@ from pde_rotor.sweep import (
     run_path,
     run_seed,
     run_sweep,
+    shipped_base,
     stop_group,
 )
 
@@ -130,6 +132,75 @@ def test_base_from_a_file_and_set_overrides(tmp_path):
     assert sweep.base["geometry"]["asymmetry"] == 2e-5
     inline = tiny_sweep(set={"geometry.asymmetry": 2e-5})
     assert [r.key for r in sweep.runs()] == [r.key for r in inline.runs()]
+
+
+def test_set_changes_the_sweep_files_own_keys(tmp_path):
+    """--set shrinks a sweep: samples, axis values, a dropped axis, the base's keys, the
+    estimator; the runs it keeps are runs of the full sweep (same files, resumable)."""
+    data = {**TINY_SWEEP, "axes": {"protocol.t_stop": [0.2, 1.2], "geometry.asymmetry": [0, 1e-4]}}
+    path = write_sweep(tmp_path / "s.yaml", data)
+    full = Sweep.load(path)
+    small = Sweep.load(
+        path,
+        [
+            "samples=1",
+            "axes.protocol.t_stop=[1.2]",
+            "axes.geometry.asymmetry=null",
+            "set.geometry.asymmetry=1.0e-4",
+            "estimator.release_cap=1.2",
+            "seed=7",
+        ],
+    )
+    assert small.spec.samples == 1
+    assert small.axes == {"protocol.t_stop": [1.2]}
+    assert small.base["geometry"]["asymmetry"] == 1e-4
+    assert small.spec.estimator.release_cap == 1.2
+    assert len(small.runs()) == 2
+    same_estimator = Sweep.load(
+        path, ["samples=1", "axes.protocol.t_stop=[1.2]", "axes.geometry.asymmetry=[1.0e-4]"]
+    )
+    assert {r.key for r in same_estimator.runs()} < {r.key for r in full.runs()}
+
+
+@pytest.mark.parametrize(
+    ("override", "message"),
+    [
+        ("sample=3", "not a key of the sweep file (allowed: name, description, base, set.KEY"),
+        ("base.grid.dx=0.05", "the base config's keys: set.grid.dx=VALUE"),
+        ("axes=[1]", "not a key of the sweep file"),
+        ("samples", "KEY.PATH=VALUE"),
+        ("samples=0", "samples"),
+        ("axes.protocol.t_stopp=[1.0]", "t_stopp"),
+        ("base=papr", "'papr' is not a shipped base (shipped: coarse, paper)"),
+    ],
+)
+def test_bad_set_of_a_sweep_is_one_line(tmp_path, override, message):
+    path = write_sweep(tmp_path / "s.yaml", TINY_SWEEP)
+    with pytest.raises(SweepError) as err:
+        Sweep.load(path, [override])
+    assert message in str(err.value)
+    assert "\n" not in str(err.value)
+
+
+def test_a_copied_sweep_file_finds_its_shipped_base(tmp_path):
+    """base: paper / coarse name configs shipped in the package, wherever the file is."""
+    copy = tmp_path / "elsewhere" / "fig5_quick.yaml"
+    copy.parent.mkdir()
+    copy.write_text((SWEEPS / "fig5_quick.yaml").read_text())
+    original = Sweep.load(SWEEPS / "fig5_quick.yaml")
+    assert yaml.safe_load(copy.read_text())["base"] == "coarse"
+    assert [r.key for r in Sweep.load(copy).runs()] == [r.key for r in original.runs()]
+    assert shipped_base("paper").parent.parent == Path(pde_rotor.__file__).parent
+
+
+def test_a_run_config_given_as_sweep_says_what_a_sweep_file_is(tmp_path):
+    path = tmp_path / "run.yaml"
+    path.write_text(yaml.safe_dump(TINY_BASE))
+    with pytest.raises(SweepError, match=r"is a run config .* not a sweep file: a sweep file has"):
+        Sweep.load(path)
+    path.write_text(yaml.safe_dump({k: v for k, v in TINY_SWEEP.items() if k != "samples"}))
+    with pytest.raises(SweepError, match=r"samples: missing \(a sweep file has base"):
+        Sweep.load(path)
 
 
 def test_seeds_depend_only_on_the_run_itself():
@@ -278,7 +349,59 @@ def test_report_of_a_tiny_sweep(two_worker_sweep, capsys):
     report(sweep_dir)
     table = capsys.readouterr().out
     assert table == format_table(ds) + "\n"
-    assert len(table.splitlines()) == 2 + 2
+    assert len(table.splitlines()) == 3 + 2  # title, legend, header, one row per point
+
+
+def fake_restarts(sweep_dir: Path, sweep: Sweep, inverted: dict[int, int]) -> None:
+    """Run files of every run of `sweep`: the first inverted[direction] samples of each
+    direction inverted, the others not."""
+    (sweep_dir / RUNS_DIR).mkdir(parents=True)
+    for run in sweep.runs():
+        after = -run.direction if run.sample < inverted[run.direction] else run.direction
+        result = {
+            "direction_before": run.direction,
+            "direction_after": after,
+            "omega_before": 170.0 * run.direction,
+            "committed": True,
+            "t_commit": 0.8,
+        }
+        content = {"key": run.key, "result": result}
+        run_path(sweep_dir, run.key).write_text(json.dumps(content), encoding="utf-8")
+
+
+def test_report_names_the_estimator_of_p_and_shows_the_pooled_fraction(tmp_path):
+    """No flow, Delta = 1e-4: 7/10 inversions from CCW, 0/10 from CW. The chain value is
+    P = 0 (the rotor ends up turning CW for good); the pooled 7/20 is not P, and the
+    table and the long names say which is which."""
+    sweep = tiny_sweep(samples=10, axes={})
+    fake_restarts(tmp_path, sweep, {CCW: 7, CW: 0})
+    ds = gather(sweep, tmp_path)
+    assert float(ds["P"]) == 0.0
+    assert float(ds["P_pooled"]) == pytest.approx(0.35)
+    assert "restart estimator: two-state chain" in ds["P"].attrs["long_name"]
+    assert "not the pooled" in ds["P"].attrs["long_name"]
+    assert "two-state chain" in ds["P_high"].attrs["long_name"]
+    assert "not the paper's P" in ds["P_pooled"].attrs["long_name"]
+    title, legend, header, row = format_table(ds).splitlines()
+    assert "(restart estimator" in title
+    assert header.split()[:2] == ["P", "chain"] and "pooled" in header
+    assert legend.startswith("P chain: 2ab/(a+b), a = P(inv|CCW)")
+    assert row.split()[0] == "0.000" and "7/20 = 0.350" in row
+
+
+def test_protocol_report_says_p_is_inversions_over_m(tmp_path):
+    sweep = tiny_sweep(samples=2, axes={}, estimator={"kind": "protocol"})
+    (tmp_path / RUNS_DIR).mkdir(parents=True)
+    for run in sweep.runs():
+        counts = {"inversions_ccw": 2, "n_ccw": 2, "inversions_cw": 1, "n_cw": 1}
+        content = {"key": run.key, "result": {**counts, "omegas": [170.0, -170.0, 170.0, -1]}}
+        run_path(tmp_path, run.key).write_text(json.dumps(content), encoding="utf-8")
+    ds = gather(sweep, tmp_path)
+    assert float(ds["P"]) == float(ds["P_pooled"]) == 1.0
+    assert "protocol estimator: inversions / M" in ds["P"].attrs["long_name"]
+    _, legend, header, row = format_table(ds).splitlines()
+    assert header.split()[0] == "P=inv/M" and legend.startswith("P=inv/M: ")
+    assert "6/6 = 1.000" in row
 
 
 def test_one_worker_gives_the_same_dataset_as_two(two_worker_sweep, tmp_path):
@@ -370,6 +493,27 @@ def test_figure_sweeps_have_a_quick_coarse_and_a_full_paper_variant(name):
     assert 2 * full.spec.samples >= paper.protocol.cycles
 
 
+def test_cli_dry_run_counts_runs_and_estimates_the_cost(two_worker_sweep, tmp_path):
+    """--dry-run computes nothing and creates nothing; it counts what a rerun would do."""
+    from typer.testing import CliRunner
+
+    from pde_rotor.cli import app
+
+    sweep_dir, _ = two_worker_sweep
+    path = write_sweep(tmp_path / "tiny.yaml", TINY_SWEEP)
+    runner = CliRunner()
+    args = ["sweep", str(path), "--dry-run", "--workers", "2", "-o"]
+    fresh = runner.invoke(app, [*args, str(tmp_path / "new"), "--set", "samples=2"])
+    assert fresh.exit_code == 0, fresh.output
+    assert "2 points x 4 runs = 8 runs, 0 already done" in fresh.stdout
+    assert "to compute: 8 runs on a LocalCluster of 2 worker processes" in fresh.stdout
+    assert "estimated cost: about " in fresh.stdout and "estimate" in fresh.stdout
+    assert not (tmp_path / "new").exists()
+    grown = runner.invoke(app, [*args, str(sweep_dir), "--set", "samples=4"])
+    assert grown.exit_code == 0, grown.output
+    assert "16 runs, 12 already done" in grown.stdout and "to compute: 4 runs" in grown.stdout
+
+
 def test_cli_sweep_and_report(two_worker_sweep, tmp_path):
     from typer.testing import CliRunner
 
@@ -395,16 +539,21 @@ def test_cli_sweep_and_report(two_worker_sweep, tmp_path):
     assert result.exit_code == 2 and "not a sweep directory" in result.output
 
 
-def test_cli_sweep_stops_cleanly_on_sigterm(tmp_path):
-    """SIGTERM (a batch system ending the job) exits with 130, keeps finished runs and
-    leaves no worker process behind."""
+@pytest.mark.parametrize("how", ["SIGTERM to the process", "Ctrl-C to the process group"])
+def test_cli_sweep_stops_cleanly_on_sigterm_and_ctrl_c(tmp_path, how):
+    """SIGTERM (a batch system ending the job) or Ctrl-C (SIGINT to the terminal's whole
+    process group, dask's worker processes included) exits with 130, keeps finished runs,
+    leaves no worker process behind and says in one line how many runs are kept: no
+    worker prints a traceback."""
     import psutil
 
     path = write_sweep(tmp_path / "tiny.yaml", TINY_SWEEP)
     out = tmp_path / "out"
     command = [sys.executable, "-c", "from pde_rotor.cli import app; app()"]
     args = ["sweep", str(path), "-o", str(out), "--workers", "1", "-q"]
-    proc = subprocess.Popen([*command, *args], start_new_session=True)
+    proc = subprocess.Popen(
+        [*command, *args], start_new_session=True, stderr=subprocess.PIPE, text=True
+    )
     runs_dir = out / RUNS_DIR
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline and proc.poll() is None:
@@ -413,13 +562,24 @@ def test_cli_sweep_stops_cleanly_on_sigterm(tmp_path):
         time.sleep(0.05)
     children = psutil.Process(proc.pid).children(recursive=True)
     assert children, "the LocalCluster started no worker process"
-    proc.send_signal(signal.SIGTERM)
+    if how.startswith("SIGTERM"):
+        proc.send_signal(signal.SIGTERM)
+    else:
+        os.killpg(proc.pid, signal.SIGINT)
     try:
-        code = proc.wait(timeout=60)
+        _, stderr = proc.communicate(timeout=60)
     finally:
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)
-    assert code == 130
+    assert proc.returncode == 130
     _, alive = psutil.wait_procs(children, timeout=30)
     assert not alive
-    assert 2 <= len(list(runs_dir.glob("*.json"))) < 12
+    kept = len(list(runs_dir.glob("*.json")))
+    assert 2 <= kept < 12
+    assert "Traceback" not in stderr
+    lines = stderr.splitlines()
+    assert len(lines) == 2, stderr
+    assert lines[0].startswith("pde-rotor: sweep ")
+    assert lines[1] == (
+        f"interrupted: {kept} of 12 runs are kept in {out}; rerun the same command to resume"
+    )

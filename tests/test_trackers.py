@@ -9,6 +9,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 from pde.storage import FileStorage
+from tqdm.auto import tqdm
 
 from pde_rotor.config import RotorConfig
 from pde_rotor.model import RotorState
@@ -241,6 +242,29 @@ def test_progress_bar_shows_time_and_omega(capsys):
     assert "omega=-123.4" in err
     assert f"t={t_end:.2f}/{t_end:.2f}" in err  # completed runs end at 100 %
     assert bar.bar.disable  # closed
+
+
+def test_progress_bar_says_compiling_then_measures_the_eta(capsys):
+    """Before the first steps: "compiling"; the ETA is the rate of the steps measured after
+    the first interrupt, so 10 s of compiling do not enter it."""
+    config = RotorConfig.model_validate(TINY)
+    sim = FakeSimulation(config)
+    wall = iter([0.0, 10.0, 10.4, 10.8])  # compiling takes 10 s, then 0.04 per 0.4 s
+    bar = ProgressBarTracker(sim, clock=lambda: next(wall))
+    t_end = config.protocol.t_end
+    bar.initialize(None, {"controller": {"t_start": 0.0, "t_end": t_end}})
+    assert ProgressBarTracker.COMPILING in bar.bar.postfix
+    postfixes = []
+    for t in (0.0, 0.04, 0.08, 0.12):
+        bar.handle(None, t)
+        postfixes.append(bar.bar.postfix)
+    assert postfixes[0].startswith(ProgressBarTracker.COMPILING)
+    assert postfixes[1].startswith("ETA measuring")
+    for t, wall_time, postfix in ((0.08, 0.4, postfixes[2]), (0.12, 0.8, postfixes[3])):
+        remaining = (t_end - t) * wall_time / (t - 0.04)
+        assert postfix.startswith(f"ETA {tqdm.format_interval(remaining)},")
+    bar.finalize({"controller": {"successful": True, "t_final": t_end}})
+    assert "compiling" in capsys.readouterr().err
 
 
 def test_timeseries_checkpoints_during_the_run(tmp_path):

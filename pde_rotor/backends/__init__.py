@@ -28,6 +28,7 @@ from ..config import RotorConfig
 from .ensemble import EnsembleResult, EnsembleState
 
 __all__ = [
+    "GPU_INSTALL_HINT",
     "EnsembleResult",
     "EnsembleState",
     "gpu_available",
@@ -37,8 +38,20 @@ __all__ = [
 ]
 
 
+GPU_INSTALL_HINT = (
+    "GPU support is not installed: it needs the optional package numba-cuda, "
+    "pip install 'numba-cuda[cu12]' (the gpu extra; in a clone: pip install -e '.[gpu]'), "
+    "and an NVIDIA GPU with its driver"
+)
+"""What a plain install (without numba-cuda) says instead of a raw import error."""
+
+
 def gpu_unavailable_reason(allow_simulator: bool = False) -> str | None:
     """Why the GPU backend cannot run here, or None when it can.
+
+    Without numba-cuda, numba's own deprecated ``numba.cuda`` may import, and the check
+    then fails on a module it lacks (``numba.cuda.core``): both mean the same, the
+    optional package is missing, and say so (:data:`GPU_INSTALL_HINT`).
 
     Args:
         allow_simulator: count numba's CUDA simulator (``NUMBA_ENABLE_CUDASIM=1``) as
@@ -46,10 +59,12 @@ def gpu_unavailable_reason(allow_simulator: bool = False) -> str | None:
     """
     try:
         gpu = importlib.import_module("pde_rotor.backends.gpu")
-    except Exception as err:  # ImportError (no numba-cuda) or a CUDA error at import
+        return gpu.unavailable_reason(allow_simulator=allow_simulator)
+    except ImportError:
+        return GPU_INSTALL_HINT
+    except Exception as err:  # a CUDA error at import
         detail = str(err).splitlines()[0] if str(err) else type(err).__name__
-        return f"numba-cuda is not usable ({detail}); install the gpu extra: pip install '.[gpu]'"
-    return gpu.unavailable_reason(allow_simulator=allow_simulator)
+        return f"numba-cuda is installed but not usable ({type(err).__name__}: {detail})"
 
 
 def gpu_available(allow_simulator: bool = False) -> bool:

@@ -1,0 +1,64 @@
+"""Measure the constants of the cost estimate (pde_rotor.cost) on this machine.
+
+Times the fused solver on the paper's grid (dx = delta = 0.025) and on the coarse grid
+(dx = delta = 0.05) of a turning rotor, fits the cost per interior cell and per support
+cell of one step to the two, checks the fit on a third grid (dx = delta = 1/30), and
+times the movie frames of configs/quickstart.yaml. pde_rotor/cost.py holds the constants
+fitted to the README's 0.29 ms/step on the paper's grid and the coarse/paper ratio this
+script measures (0.44-0.50); a machine that is faster or slower scales both.
+
+Run:  python benchmarks/bench_cost.py [--steps 3000]
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from pathlib import Path
+
+import numpy as np
+
+from pde_rotor import Simulation, run
+from pde_rotor.config import load_config, validate_config
+from pde_rotor.cost import SECONDS_PER_CELL_STEP, SECONDS_PER_SUPPORT_CELL_STEP, cell_counts
+
+GRIDS = {"paper": (0.025, 1e-4), "coarse": (0.05, 4e-4), "third": (1 / 30, 2e-4)}
+QUICKSTART = Path(__file__).resolve().parents[1] / "configs" / "quickstart.yaml"
+
+
+def ms_per_step(dx: float, dt: float, n_steps: int) -> tuple[float, tuple[int, int]]:
+    """Milliseconds per step of a rotating plate on the grid, and its cell counts."""
+    config = validate_config(
+        {"grid": {"dx": dx, "dt": dt}, "geometry": {"smoothing": dx}, "protocol": {"cycles": 0}}
+    )
+    sim = Simulation(config)
+    sim.run(50 * dt)  # compile, or load the cached kernel
+    start = time.perf_counter()
+    sim.run(sim.t + n_steps * dt)
+    return 1e3 * (time.perf_counter() - start) / n_steps, cell_counts(config)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--steps", type=int, default=3000)
+    args = parser.parse_args()
+    measured = {name: ms_per_step(dx, dt, args.steps) for name, (dx, dt) in GRIDS.items()}
+    for name, (ms, (interior, support)) in measured.items():
+        print(f"{name:<7} {interior:6d} interior, {support:5d} support cells: {ms:.3f} ms/step")
+    rows = [measured["paper"], measured["coarse"]]
+    matrix = np.array([cells for _, cells in rows], dtype=float)
+    per_cell, per_support = np.linalg.solve(matrix, [1e-3 * ms for ms, _ in rows])
+    print(f"fit: {per_cell:.3g} s per interior cell-step, {per_support:.3g} s per support one")
+    print(f"pde_rotor.cost: {SECONDS_PER_CELL_STEP:.3g} and {SECONDS_PER_SUPPORT_CELL_STEP:.3g}")
+    ms, (interior, support) = measured["third"]
+    predicted = 1e3 * (interior * per_cell + support * per_support)
+    print(f"third grid: predicted {predicted:.3f} ms/step, measured {ms:.3f}")
+    config = load_config(QUICKSTART, ["output.progress=false"])
+    with_movie = run(config, "runs/bench_cost", movie=True, overwrite=True).wall_time
+    without = run(config, "runs/bench_cost", movie=False, overwrite=True).wall_time
+    frames = round(config.protocol.t_end / config.output.movie_interval) + 1
+    print(f"movie: {(with_movie - without) / frames * 1e3:.0f} ms per frame ({frames} frames)")
+
+
+if __name__ == "__main__":
+    main()
