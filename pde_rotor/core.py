@@ -66,7 +66,6 @@ S_N, S_APOTHEM, S_RHO, S_RC, S_ASYM, S_DELTA = range(6)
 class Core(NamedTuple):
     """The compiled physics functions for one target (see the module docstring)."""
 
-    logistic: Callable
     rotor_table: Callable
     plate_cell: Callable
     pill_cell: Callable
@@ -334,7 +333,6 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         return -quad_s[1, m] * quad_t[1, k_t] * half * t * c
 
     return Core(
-        logistic=logistic,
         rotor_table=rotor_table,
         plate_cell=plate_cell,
         pill_cell=pill_cell,

@@ -146,11 +146,6 @@ class Scheme:
         spline window lo, hi]."""
         return np.array([self.subsamples, float(self.contour), self.tan_half, *self.window])
 
-    @property
-    def n_contour_nodes(self) -> int:
-        """Nodes of the contour torque per plate edge (0 for the area form)."""
-        return self.quad_s.shape[1] * self.quad_t.shape[1] if self.contour else 0
-
 
 def interpolate_spline(
     field: np.ndarray, x0: float, dx: float, x: np.ndarray, y: np.ndarray
