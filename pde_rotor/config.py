@@ -258,18 +258,21 @@ class NumericsConfig(_Section):
         "paper",
         description=(
             "paper: point values of F and G and the area-form torque with central "
-            "differences, as in the paper; consistent: cell-averaged F and G and the "
-            "torque in contour form (in development: docs/model.md, Schemes)"
+            "differences, as in the paper; consistent: F and G through an isotropic "
+            "Gaussian prefilter and the torque in contour form (docs/model.md, Schemes)"
         ),
     )
-    subsamples: Int | None = Field(
-        None,
-        ge=1,
-        le=8,
+    filter_width: float = Field(
+        0.7,
+        ge=0.25,
+        le=2.0,
         description=(
-            "consistent scheme: sample points per cell axis for the cell averages of F "
-            "and G [default: ceil(2 dx / delta)]"
+            "consistent scheme: width eps of the isotropic Gaussian prefilter of F and G, "
+            "in units of dx (docs/model.md, Schemes)"
         ),
+    )
+    table_refinement: Int = Field(
+        8, ge=4, le=32, description="consistent scheme: nodes per dx of the plate's F table"
     )
     contour_nodes: Int = Field(
         32, ge=4, le=256, description="consistent scheme: Gauss-Legendre nodes per plate edge"
@@ -280,14 +283,6 @@ class NumericsConfig(_Section):
         le=24,
         description="consistent scheme: Gauss nodes across the smoothed plate edge",
     )
-
-    def samples_per_axis(self, dx: float, smoothing: float) -> int:
-        """Sample points per cell axis of F and G: 1 for the paper scheme."""
-        if self.scheme == "paper":
-            return 1
-        if self.subsamples is not None:
-            return self.subsamples
-        return max(1, math.ceil(2.0 * dx / smoothing - 1e-9))
 
 
 class SolverConfig(_Section):

@@ -23,8 +23,10 @@ Physics (section "Model" of Koyano et al., Chaos 2020):
   R_j = R_c e(phi + 2 pi j / N + Delta), Eq. (rc) with the pills at the corners
   (erratum of Eq. (rj), see :mod:`pde_rotor.geometry`);
 * :func:`plate_cell`, :func:`pill_cell`: the smoothed indicators F and G (the
-  equations after Eq. (rj)) of one cell, as point values (scheme ``paper``) or cell
-  averages over ``sub x sub`` sample points (scheme ``consistent``);
+  equations after Eq. (rj)) at one cell centre (scheme ``paper``);
+  :func:`filtered_plate`, :func:`filtered_pills`: the same after the isotropic
+  Gaussian prefilter of the scheme ``consistent``, from the tables of
+  :mod:`pde_rotor.filtering`;
 * :func:`cell_rates`: the right-hand sides of Eqs. (eqc) and (eqv) of one cell
   (5-point Laplacian, central divergence);
 * :func:`cell_integrals`: one cell's share of the integrals of Eq. (eq_motion):
@@ -52,12 +54,23 @@ SPLINE_POLE = math.sqrt(3.0) - 2.0
 SPLINE_MARGIN = 24
 """Cells the spline window extends beyond the contour's taps: |pole|^24 = 2e-14."""
 
-HALF_DIAGONAL = 0.5 * math.sqrt(2.0)
-"""Distance from a cell's centre to its corners, in units of dx."""
-
 # indices into the float parameter vector of the kernels
 P_DT, P_DX, P_D, P_A, P_SRC, P_K, P_ETA, P_ETAB, P_DETA, P_I, P_MU, P_TSIGN = range(12)
 N_PAR = 12
+
+# indices into the scheme vector of the kernels (schemes.Scheme.as_array)
+(
+    M_CONTOUR,
+    M_TAN_HALF,
+    M_WINDOW_LO,
+    M_WINDOW_HI,
+    M_FILTERED,
+    M_TABLE_N,
+    M_TABLE_X0,
+    M_TABLE_INV_STEP,
+    M_PROFILE_INV_STEP,
+) = range(9)
+N_SCHEME = 9
 
 # indices into the shape vector of the kernels (geometry.RotorShape.as_array)
 S_N, S_APOTHEM, S_RHO, S_RC, S_ASYM, S_DELTA = range(6)
@@ -69,6 +82,8 @@ class Core(NamedTuple):
     rotor_table: Callable
     plate_cell: Callable
     pill_cell: Callable
+    filtered_plate: Callable
+    filtered_pills: Callable
     rate_coefficients: Callable
     cell_rates: Callable
     cell_integrals: Callable
@@ -113,8 +128,8 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         return proj
 
     @jit
-    def plate_point(x, y, tab, n_corners, apothem, inv_delta):
-        """F at one point: 1/2 [1 + tanh((R cos(pi/N) - h(r)) / delta)]."""
+    def plate_cell(x, y, tab, n_corners, apothem, inv_delta):
+        """F at the cell centre (x, y): 1/2 [1 + tanh((R cos(pi/N) - h(r)) / delta)]."""
         arg = (apothem - gauge(x, y, tab, n_corners)) * inv_delta
         if arg >= X_SATURATION:
             return 1.0
@@ -123,50 +138,15 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         return logistic(arg)
 
     @jit
-    def plate_cell(x, y, tab, n_corners, apothem, inv_delta, sub, dx):
-        """F of the cell centred at (x, y): the point value (sub = 1) or the mean of
-        sub x sub points on the cell's regular sub-lattice (a cell average)."""
-        if sub == 1:
-            return plate_point(x, y, tab, n_corners, apothem, inv_delta)
-        arg = (apothem - gauge(x, y, tab, n_corners)) * inv_delta
-        if abs(arg) > X_SATURATION + HALF_DIAGONAL * dx * inv_delta:
-            # h is 1-Lipschitz: every sample point is saturated alike
-            return 1.0 if arg > 0.0 else 0.0
-        step = dx / sub
-        first = 0.5 * step - 0.5 * dx
-        acc = 0.0
-        for p in range(sub):
-            xs = x + first + p * step
-            for q in range(sub):
-                acc += plate_point(xs, y + first + q * step, tab, n_corners, apothem, inv_delta)
-        return acc / (sub * sub)
-
-    @jit
-    def pill_cell(x, y, tab, n_corners, rho, inv_delta, sub, dx):
-        """G of the cell centred at (x, y): sum over the pills of
-        1/2 [1 + tanh((rho - |r - R_j|) / delta)], point value or sub x sub cell mean."""
+    def pill_cell(x, y, tab, n_corners, rho, inv_delta):
+        """G at the cell centre (x, y): sum over the pills of
+        1/2 [1 + tanh((rho - |r - R_j|) / delta)]."""
         reach = rho + X_SATURATION / inv_delta
         g = 0.0
-        if sub == 1:
-            for k in range(n_corners):
-                d2 = (x - tab[2, k]) ** 2 + (y - tab[3, k]) ** 2
-                if d2 < reach * reach:
-                    g += logistic((rho - math.sqrt(d2)) * inv_delta)
-            return g
-        near = reach + HALF_DIAGONAL * dx
-        step = dx / sub
-        first = 0.5 * step - 0.5 * dx
         for k in range(n_corners):
-            px = tab[2, k]
-            py = tab[3, k]
-            if (x - px) ** 2 + (y - py) ** 2 < near * near:
-                acc = 0.0
-                for p in range(sub):
-                    ddx = x + first + p * step - px
-                    for q in range(sub):
-                        ddy = y + first + q * step - py
-                        acc += logistic((rho - math.sqrt(ddx * ddx + ddy * ddy)) * inv_delta)
-                g += acc / (sub * sub)
+            d2 = (x - tab[2, k]) ** 2 + (y - tab[3, k]) ** 2
+            if d2 < reach * reach:
+                g += logistic((rho - math.sqrt(d2)) * inv_delta)
         return g
 
     @jit
@@ -303,6 +283,44 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         return acc
 
     @jit
+    def filtered_plate(x, y, tab, n_corners, coef, n_t, x0_t, inv_step):
+        """F_eps of the cell centred at (x, y) (scheme ``consistent``, :mod:`pde_rotor.filtering`).
+
+        The point is written in the frame of its nearest edge j (the one maximising
+        r . e_j): (r . e_j, r . tau_j), tau_j = e_j turned by +pi/2; F_eps is taken there
+        from the cubic spline of the plate table (`coef`, n_t x n_t coefficients on the
+        nodes x0_t + k / inv_step, tabulated with edge 0's normal along +x), so that it
+        has the hexagon's symmetry exactly. 0 where the spline's taps leave the table
+        (beyond F's support).
+        """
+        best = 0
+        proj = x * tab[0, 0] + y * tab[1, 0]
+        for k in range(1, n_corners):
+            p = x * tab[0, k] + y * tab[1, k]
+            if p > proj:
+                proj = p
+                best = k
+        along = y * tab[0, best] - x * tab[1, best]
+        fx = (proj - x0_t) * inv_step
+        fy = (along - x0_t) * inv_step
+        if fx < 1.0 or fy < 1.0 or fx >= n_t - 2.0 or fy >= n_t - 2.0:
+            return 0.0
+        return interpolate(coef, 0, n_t, x0_t, inv_step, proj, along)
+
+    @jit
+    def filtered_pills(x, y, tab, n_corners, profile, inv_step):
+        """G_eps of the cell centred at (x, y): sum_j g_eps(|r - R_j|), the radial profile
+        `profile` (spacing 1 / inv_step) interpolated linearly, 0 beyond its end."""
+        g = 0.0
+        last = profile.size - 1
+        for k in range(n_corners):
+            u = math.sqrt((x - tab[2, k]) ** 2 + (y - tab[3, k]) ** 2) * inv_step
+            i = int(u)
+            if i < last:
+                g += profile[i] + (u - i) * (profile[i + 1] - profile[i])
+        return g
+
+    @jit
     def contour_node(coef, o0, n, x0, inv_dx, tab, apothem, delta, tan_half, quad_s, quad_t, q):
         """Node q of the contour form of int F r x grad c dA (see :mod:`pde_rotor.schemes`).
 
@@ -336,6 +354,8 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         rotor_table=rotor_table,
         plate_cell=plate_cell,
         pill_cell=pill_cell,
+        filtered_plate=filtered_plate,
+        filtered_pills=filtered_pills,
         rate_coefficients=rate_coefficients,
         cell_rates=cell_rates,
         cell_integrals=cell_integrals,

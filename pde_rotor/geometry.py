@@ -17,14 +17,13 @@ Eq. (rj)). Both are 1/2 (1 + tanh(x)) of a signed distance x in units of delta. 
 |x| >= X_SATURATION they equal 0 or 1 to within exp(-2 X_SATURATION) = 4e-18, so the
 kernels (:mod:`pde_rotor.core`) evaluate them only inside the disk of radius
 R + X_SATURATION delta / cos(pi/N) (F) and within rho + X_SATURATION delta of each pill
-(G). This module holds the numpy reference versions (point values; cell averages of
-the ``consistent`` scheme in :func:`cell_averaged`).
+(G). This module holds the numpy reference versions (point values; the filtered fields of
+the ``consistent`` scheme are in :mod:`pde_rotor.filtering`).
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -127,29 +126,6 @@ def pill_indicator(x: np.ndarray, y: np.ndarray, shape: RotorShape, phi: float) 
         dist = np.hypot(x - px, y - py)
         out += 0.5 * (1.0 + np.tanh((shape.pill_radius - dist) / shape.smoothing))
     return out
-
-
-def cell_averaged(
-    indicator: Callable[[np.ndarray, np.ndarray, RotorShape, float], np.ndarray],
-    x: np.ndarray,
-    y: np.ndarray,
-    shape: RotorShape,
-    phi: float,
-    dx: float,
-    samples: int,
-) -> np.ndarray:
-    """Mean of `indicator` over samples x samples points of each cell (numpy reference).
-
-    The points sit at the centres of a regular samples x samples division of the cell of
-    side dx centred at (x, y); samples = 1 gives the point value at the centre. This is
-    how the ``consistent`` scheme (:mod:`pde_rotor.schemes`) turns F and G into cell
-    averages.
-    """
-    if samples == 1:
-        return indicator(x, y, shape, phi)
-    offsets = (np.arange(samples) + 0.5) * dx / samples - 0.5 * dx
-    total = sum(indicator(x + a, y + b, shape, phi) for a in offsets for b in offsets)
-    return total / samples**2
 
 
 def support_rows(coords: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray]:

@@ -35,9 +35,9 @@ from pde.pdes.base import PDEBase
 
 from .config import RotorConfig
 from .domain import Domain, make_domain
+from .filtering import filtered_indicators
 from .geometry import (
     RotorShape,
-    cell_averaged,
     edge_normal_angles,
     pill_indicator,
     plate_indicator,
@@ -143,15 +143,15 @@ class RotorPDE(PDEBase):
     def indicators(self, phi: float) -> tuple[np.ndarray, np.ndarray]:
         """F and G of every cell with numpy (reference for the compiled update).
 
-        Point values at the cell centres (scheme ``paper``) or cell averages (scheme
-        ``consistent``), see :mod:`pde_rotor.schemes`.
+        Point values at the cell centres (scheme ``paper``) or the Gaussian-filtered
+        fields of scheme ``consistent`` (:mod:`pde_rotor.filtering`), the latter from
+        the filter tables with scipy's spline and numpy's linear interpolation.
         """
         x, y = self.cell_coordinates()
-        dx, sub = self.domain.dx, self.scheme.subsamples
-        return (
-            cell_averaged(plate_indicator, x, y, self.shape, phi, dx, sub),
-            cell_averaged(pill_indicator, x, y, self.shape, phi, dx, sub),
-        )
+        tables = self.scheme.tables
+        if tables is None:
+            return plate_indicator(x, y, self.shape, phi), pill_indicator(x, y, self.shape, phi)
+        return filtered_indicators(tables, self.shape, x, y, phi)
 
     def evolution_rate(self, state: FieldCollection, t: float = 0) -> FieldCollection:
         """Right-hand sides of Eqs. (eqc) and (eqv) at the current rotor state (numpy).

@@ -9,13 +9,12 @@ its angle (docs/model.md). Two schemes are offered (``numerics.scheme``):
     of Eq. (torque) in its area form, -k int F r x grad c dA, with central differences
     for grad c. The paper's "explicit method for the spatial derivative".
 
-``consistent`` (in development)
-    * F and G as cell averages over ``sub x sub`` regularly spaced points per cell
-      (``numerics.subsamples``, default ceil(2 dx / delta)). This smooths the plate's
-      edge band; it does not make each pill's discrete mass exact, because the pill
-      profile tanh((rho - |r - R_j|) / delta) has a cusp at the pill's centre when
-      rho / delta is small (at delta = dx = 0.05: 6e-5 with 2 x 2 points, 3e-7 with
-      8 x 8; docs/model.md, "Schemes").
+``consistent``
+    * F and G through an isotropic Gaussian prefilter of width eps = kappa dx
+      (``numerics.filter_width`` = kappa, default 0.7), sampled at the cell centres:
+      the filtered fields turn rigidly with the plate and have almost no content near
+      the grid's Nyquist wavenumber, where the 5-point Laplacian is anisotropic
+      (:mod:`pde_rotor.filtering`; a change of the model of order dx^2).
     * The torque in contour form. F depends on r only through h(r) = max_j r . e_j,
       whose level sets are regular N-gons, so integrating by parts and by level sets
       (coarea formula, |grad h| = 1)
@@ -31,8 +30,8 @@ its angle (docs/model.md). Two schemes are offered (``numerics.scheme``):
       from its interpolating cubic spline (:mod:`pde_rotor.core`: ``spline_line``,
       ``interpolate``). Every quadrature node turns with the plate, so only the
       interpolation error of c, O(dx^4), and the lattice error of c itself still see
-      the lattice (docs/model.md, "Schemes": the scheme is in development and not yet
-      the default).
+      the lattice; the torque integrates the model's own F (unfiltered), the field
+      equations see F_eps and G_eps (docs/model.md, "Schemes").
 
 The per-cell work of both schemes is in :mod:`pde_rotor.core`; this module only builds
 the numbers the kernels need.
@@ -41,14 +40,28 @@ the numbers the kernels need.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import lru_cache
 
 import numpy as np
 from scipy.ndimage import map_coordinates
 
 from .config import RotorConfig
-from .core import SPLINE_MARGIN
+from .core import (
+    M_CONTOUR,
+    M_FILTERED,
+    M_PROFILE_INV_STEP,
+    M_TABLE_INV_STEP,
+    M_TABLE_N,
+    M_TABLE_X0,
+    M_TAN_HALF,
+    M_WINDOW_HI,
+    M_WINDOW_LO,
+    N_SCHEME,
+    SPLINE_MARGIN,
+)
+from .filtering import FilterTables, make_tables
+from .geometry import RotorShape
 
 
 @lru_cache(maxsize=32)
@@ -92,7 +105,7 @@ class Scheme:
 
     Attributes:
         name: ``paper`` or ``consistent``.
-        subsamples: sample points per cell axis of F and G (1: point values).
+        tables: the filtered F and G (:mod:`pde_rotor.filtering`), None for point values.
         contour: whether the torque is taken in contour form (else area form).
         quad_s: (2, M) nodes and weights across the edge (weight 1/2 sech^2).
         quad_t: (2, L) Gauss-Legendre nodes and weights on [-1, 1] along an edge.
@@ -103,7 +116,7 @@ class Scheme:
     """
 
     name: str
-    subsamples: int
+    tables: FilterTables | None
     contour: bool
     quad_s: np.ndarray
     quad_t: np.ndarray
@@ -114,11 +127,11 @@ class Scheme:
     def from_config(cls, config: RotorConfig) -> Scheme:
         """The scheme of a run configuration (``numerics`` section)."""
         num = config.numerics
-        sub = num.samples_per_axis(config.grid.dx, config.geometry.smoothing)
-        contour = num.scheme == "consistent"
+        consistent = num.scheme == "consistent"
         n_cells = 2 * math.ceil(config.grid.domain_radius / config.grid.dx - 1e-9) + 2
         window = (0, 0)
-        if contour:
+        tables = None
+        if consistent:
             quad_s = np.stack(sech2_gauss(num.band_nodes))
             quad_t = np.stack(np.polynomial.legendre.leggauss(num.contour_nodes))
             geo = config.geometry
@@ -128,13 +141,20 @@ class Scheme:
             )
             half = math.ceil(reach / config.grid.dx) + 2 + SPLINE_MARGIN
             window = (max(1, n_cells // 2 - half), min(n_cells - 1, n_cells // 2 + half))
+            # F and G's profiles do not depend on Delta: one table for a sweep over it
+            tables = make_tables(
+                replace(RotorShape.from_config(geo), asymmetry=0.0),
+                config.grid.dx,
+                num.filter_width,
+                num.table_refinement,
+            )
         else:
             quad_s = np.zeros((2, 1))
             quad_t = np.zeros((2, 1))
         return cls(
             name=num.scheme,
-            subsamples=sub,
-            contour=contour,
+            tables=tables,
+            contour=consistent,
             quad_s=np.ascontiguousarray(quad_s),
             quad_t=np.ascontiguousarray(quad_t),
             tan_half=math.tan(math.pi / config.geometry.n_corners),
@@ -142,9 +162,25 @@ class Scheme:
         )
 
     def as_array(self) -> np.ndarray:
-        """Pack for the kernels: [samples per axis, contour form (0/1), tan(pi/N),
-        spline window lo, hi]."""
-        return np.array([self.subsamples, float(self.contour), self.tan_half, *self.window])
+        """Pack for the kernels, the M_* layout of :mod:`pde_rotor.core`."""
+        out = np.zeros(N_SCHEME)
+        out[M_CONTOUR] = float(self.contour)
+        out[M_TAN_HALF] = self.tan_half
+        out[M_WINDOW_LO], out[M_WINDOW_HI] = self.window
+        if self.tables is not None:
+            out[M_FILTERED] = 1.0
+            out[M_TABLE_N] = self.tables.plate_n
+            out[M_TABLE_X0] = self.tables.plate_x0
+            out[M_TABLE_INV_STEP] = 1.0 / self.tables.plate_step
+            out[M_PROFILE_INV_STEP] = 1.0 / self.tables.pill_step
+        return out
+
+    def table_arrays(self) -> tuple[np.ndarray, np.ndarray]:
+        """(plate spline coefficients, pill profile) for the kernels; (0,)-size dummies
+        of the same type for point values."""
+        if self.tables is None:
+            return np.zeros(1), np.zeros(1)
+        return self.tables.plate, self.tables.pill
 
 
 def interpolate_spline(

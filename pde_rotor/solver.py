@@ -34,6 +34,15 @@ from pde.solvers.base import SolverBase
 
 from .core import (
     CPU,
+    M_CONTOUR,
+    M_FILTERED,
+    M_PROFILE_INV_STEP,
+    M_TABLE_INV_STEP,
+    M_TABLE_N,
+    M_TABLE_X0,
+    M_TAN_HALF,
+    M_WINDOW_HI,
+    M_WINDOW_LO,
     P_DT,
     P_I,
     P_K,
@@ -52,6 +61,8 @@ from .protocol import StopSchedule, stopped_at
 _rotor_table = CPU.rotor_table
 _plate_cell = CPU.plate_cell
 _pill_cell = CPU.pill_cell
+_filtered_plate = CPU.filtered_plate
+_filtered_pills = CPU.filtered_pills
 _cell_rates = CPU.cell_rates
 _rate_coefficients = CPU.rate_coefficients
 _cell_integrals = CPU.cell_integrals
@@ -66,23 +77,31 @@ class SimulationDivergedError(FloatingPointError):
 
 
 @nb.njit(cache=True, nogil=True)
-def update_indicators(F, G, coords, slo, shi, shape, tab, sub, phi):
+def update_indicators(F, G, coords, slo, shi, shape, tab, num, plate_tab, pill_tab, phi):
     """Recompute F and G (flat n*n arrays) on the support cells for angle phi (compiled).
 
     Cells outside the support keep F = G = 0. `tab` (4, >= N) receives the edge normals
-    and pill centres; `sub` is the scheme's samples per cell axis.
+    and pill centres; `num` is :meth:`~pde_rotor.schemes.Scheme.as_array`: point values,
+    or (``consistent``) the filtered fields from `plate_tab` and `pill_tab`
+    (:meth:`~pde_rotor.schemes.Scheme.table_arrays`).
     """
     n_corners = int(shape[S_N])
     apothem, rho, inv_delta = shape[S_APOTHEM], shape[S_RHO], 1.0 / shape[S_DELTA]
     _rotor_table(phi, n_corners, shape[S_RC], shape[S_ASYM], tab)
+    filtered = num[M_FILTERED] != 0.0
+    t_n, t_x0, t_inv = int(num[M_TABLE_N]), num[M_TABLE_X0], num[M_TABLE_INV_STEP]
+    p_inv = num[M_PROFILE_INV_STEP]
     n = coords.size
-    dx = coords[1] - coords[0]
     for i in range(n):
         x = coords[i]
         for j in range(slo[i], shi[i]):
             y = coords[j]
-            F[i * n + j] = _plate_cell(x, y, tab, n_corners, apothem, inv_delta, sub, dx)
-            G[i * n + j] = _pill_cell(x, y, tab, n_corners, rho, inv_delta, sub, dx)
+            if filtered:
+                F[i * n + j] = _filtered_plate(x, y, tab, n_corners, plate_tab, t_n, t_x0, t_inv)
+                G[i * n + j] = _filtered_pills(x, y, tab, n_corners, pill_tab, p_inv)
+            else:
+                F[i * n + j] = _plate_cell(x, y, tab, n_corners, apothem, inv_delta)
+                G[i * n + j] = _pill_cell(x, y, tab, n_corners, rho, inv_delta)
 
 
 @nb.njit(cache=True, nogil=True, fastmath=_FAST, inline="always")
@@ -180,13 +199,13 @@ def rotor_integrals(cur, F, coords, slo, shi, shape, tab, num, quad_s, quad_t, f
 
     Returns:
         (int F r x grad c dA, int F |r|^2 dA, int F r x v dA); the first in area form
-        with central differences, or in contour form when num[1] != 0.
+        with central differences, or in contour form when num[M_CONTOUR] != 0.
     """
     n = coords.size
     dx = coords[1] - coords[0]
     inv_2dx = 0.5 / dx
     sx, nn = n, n * n
-    contour = num[1] != 0.0
+    contour = num[M_CONTOUR] != 0.0
     cross_grad = 0.0
     moment = 0.0
     cross_v = 0.0
@@ -203,13 +222,24 @@ def rotor_integrals(cur, F, coords, slo, shi, shape, tab, num, quad_s, quad_t, f
             cross_v += vel
     area = dx * dx
     if contour:
-        spline_window(cur, coef, n, int(num[3]), int(num[4]))
+        spline_window(cur, coef, n, int(num[M_WINDOW_LO]), int(num[M_WINDOW_HI]))
         cross_grad = 0.0
         n_nodes = int(shape[S_N]) * quad_s.shape[1] * quad_t.shape[1]
         apothem, delta = shape[S_APOTHEM], shape[S_DELTA]
         for q in range(n_nodes):
             cross_grad += _contour_node(
-                coef, 0, n, coords[0], 1.0 / dx, tab, apothem, delta, num[2], quad_s, quad_t, q
+                coef,
+                0,
+                n,
+                coords[0],
+                1.0 / dx,
+                tab,
+                apothem,
+                delta,
+                num[M_TAN_HALF],
+                quad_s,
+                quad_t,
+                q,
             )
         return cross_grad, moment * area, cross_v * area
     return cross_grad * area, moment * area, cross_v * area
@@ -231,6 +261,8 @@ def advance(
     num,
     quad_s,
     quad_t,
+    plate_tab,
+    pill_tab,
     flow,
     schedule,
     rotor,
@@ -249,8 +281,10 @@ def advance(
         slo, shi: support column ranges per row.
         shape: :meth:`RotorShape.as_array`.
         par: float parameters, indices P_* of :mod:`pde_rotor.core`.
-        num: [samples, contour, tan(pi/N)] of the scheme.
+        num: :meth:`~pde_rotor.schemes.Scheme.as_array`.
         quad_s, quad_t: the scheme's quadrature rules (:class:`~pde_rotor.schemes.Scheme`).
+        plate_tab, pill_tab: the scheme's filter tables
+            (:meth:`~pde_rotor.schemes.Scheme.table_arrays`).
         flow: whether the flow is on (False: v is set to 0 and stays 0, Fig. 8).
         schedule: :meth:`StopSchedule.as_array`.
         rotor: [phi, omega, torque, friction, stopped], updated in place.
@@ -268,8 +302,7 @@ def advance(
     nxt = spare
     nn = coords.size * coords.size
     tab = np.empty((4, int(shape[S_N])))
-    coef = np.zeros(nn) if num[1] != 0.0 else np.zeros(0)
-    sub = int(num[0])
+    coef = np.zeros(nn) if num[M_CONTOUR] != 0.0 else np.zeros(0)
     phi_f = math.nan
     noisy = kicks.size > 0
     if not flow:
@@ -280,7 +313,7 @@ def advance(
         if stopped:
             omega = 0.0
         if phi != phi_f:
-            update_indicators(F, G, coords, slo, shi, shape, tab, sub, phi)
+            update_indicators(F, G, coords, slo, shi, shape, tab, num, plate_tab, pill_tab, phi)
             phi_f = phi
         cross_grad, moment, cross_v = rotor_integrals(
             cur, F, coords, slo, shi, shape, tab, num, quad_s, quad_t, flow, coef
@@ -363,6 +396,7 @@ class FusedStepper:
             scheme.as_array(),
             scheme.quad_s,
             scheme.quad_t,
+            *scheme.table_arrays(),
             pde.config.flow.enabled,
             self.schedule.as_array(),
             rotor,

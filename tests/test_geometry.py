@@ -176,9 +176,10 @@ def test_support_restricted_update_equals_full_evaluation(
     """The compiled core's F and G on the support equal numpy F and G on the whole grid.
 
     tanh(x) is -1 to 4e-18 for x <= -20, so F and G vanish outside the support disk
-    (cell averages too: their sample points lie within dx / sqrt(2) <= sqrt(2) delta of
-    the centre); inside it the compiled and numpy versions agree to round-off. Checked
-    for several phi and Delta, with point values (paper) and cell averages (consistent).
+    (the Gaussian-filtered fields too: their tails keep the tanh's decay rate); inside
+    it the compiled and numpy versions agree to round-off. Checked for several phi and
+    Delta, with point values (paper) and the filter tables (consistent: the core's
+    spline and linear interpolation against scipy's and numpy's).
     """
     for asymmetry in (0.0, 0.07, -0.25):
         overrides = {"geometry": {"asymmetry": asymmetry}, "numerics": {"scheme": scheme}}
@@ -208,14 +209,15 @@ def test_support_restricted_update_equals_full_evaluation(
                 dom.support_hi,
                 pde.shape.as_array(),
                 tab,
-                pde.scheme.subsamples,
+                pde.scheme.as_array(),
+                *pde.scheme.table_arrays(),
                 phi,
             )
             np.testing.assert_allclose(F, F_full, rtol=0, atol=2e-15)
             np.testing.assert_allclose(G, G_full, rtol=0, atol=2e-15)
             # the plate and the pills are really there (the comparison is not vacuous)
             assert F.max() > 0.99
-            assert G.max() > 0.9
+            assert G.max() > 0.8
 
 
 @pytest.mark.parametrize("phi", [0.0, 0.3, 1.0])

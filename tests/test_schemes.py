@@ -3,8 +3,7 @@
 Checked against analysis, not against earlier runs: the Gauss rule for the edge profile
 reproduces the moments of 1/2 sech^2; the contour form of int F r x grad c dA equals the
 area form with the exact gradient of an analytic field; the compiled contour torque
-equals the numpy reference; the cell averages of the ``consistent`` scheme give every
-pill its continuum mass at any angle (point values do not); and the stopped plate's
+equals the numpy reference; and the stopped plate's
 torque of both schemes has the symmetries of grid and hexagon: mirror T(-phi) = -T(phi),
 the hexagon's period T(phi + pi/3) = T(phi) and the lattice's T(phi + pi/2) = T(phi).
 """
@@ -103,10 +102,8 @@ def test_contour_form_equals_area_form(phi: float) -> None:
     pde = RotorPDE(cfg)
     x, y = pde.cell_coordinates()
     c, dcdx, dcdy = analytic_field(x, y)
-    fine = RotorPDE(
-        cfg.model_copy(update={"numerics": cfg.numerics.model_copy(update={"subsamples": 8})})
-    )
-    F, _ = fine.indicators(phi)
+    offsets = (np.arange(8) + 0.5) * pde.domain.dx / 8 - 0.5 * pde.domain.dx
+    F = sum(plate_indicator(x + a, y + b, pde.shape, phi) for a in offsets for b in offsets) / 64
     integrand = F * (x * dcdy - y * dcdx)
     area_form = integrand.sum() * pde.domain.cell_area
     contour = contour_cross_grad(
@@ -147,7 +144,8 @@ def test_compiled_contour_torque_equals_numpy_reference(
         dom.support_hi,
         pde.shape.as_array(),
         tab,
-        pde.scheme.subsamples,
+        pde.scheme.as_array(),
+        *pde.scheme.table_arrays(),
         phi,
     )
     scheme = pde.scheme
@@ -208,14 +206,15 @@ def test_stopped_torque_has_mirror_hexagon_and_lattice_symmetry(
 
 
 def test_stopped_concentration_is_scheme_aware(coarse_config: Callable[..., RotorConfig]) -> None:
-    """The steady state of the stopped plate uses the scheme's cell-averaged G."""
+    """The steady state of the stopped plate uses the scheme's filtered G."""
     paper = RotorPDE(coarse_config())
     consistent = RotorPDE(coarse_config({"numerics": {"scheme": "consistent"}}))
     c_paper = stopped_concentration(paper, 0.2)
     c_cons = stopped_concentration(consistent, 0.2)
     assert 0 < np.abs(c_paper - c_cons).max() < 0.05 * c_paper.max()
-    # and the plate indicator differs only by the cell averaging
-    x, y = paper.cell_coordinates()
-    F_point = plate_indicator(x, y, paper.shape, 0.2)
-    F_avg, _ = consistent.indicators(0.2)
-    assert np.abs(F_avg.sum() - F_point.sum()) * paper.domain.cell_area < 1e-3
+    # and the filtered plate keeps the mass of F, N tan(pi/N) (a^2 + pi^2 delta^2 / 12)
+    geo = consistent.config.geometry
+    t = math.tan(math.pi / geo.n_corners)
+    mass = geo.n_corners * t * (consistent.shape.apothem**2 + math.pi**2 * geo.smoothing**2 / 12)
+    F_filtered, _ = consistent.indicators(0.2)
+    assert F_filtered.sum() * paper.domain.cell_area == pytest.approx(mass, rel=2e-5)

@@ -5,7 +5,9 @@ the same source: the kernel below only maps cells to threads and calls the CUDA 
 of the physics core (:mod:`pde_rotor.core`, compiled here as device functions):
 
 * F and G of the member's scheme at the angle phi of the step's start, computed on the
-  fly on the support cells (``plate_cell``, ``pill_cell``);
+  fly on the support cells (``plate_cell``, ``pill_cell``, or ``filtered_plate``,
+  ``filtered_pills`` from the filter tables of the ``consistent`` scheme, shared by all
+  members);
 * the rotor integrals of Eqs. (eq_motion) and (torque) (``cell_integrals``, or
   ``contour_node`` for the contour-form torque of the ``consistent`` scheme);
 * one forward Euler step of Eqs. (eqc) and (eqv) on the interior cells
@@ -44,7 +46,17 @@ from numba import cuda, float64
 
 from ..config import RotorConfig
 from ..core import (
+    M_CONTOUR,
+    M_FILTERED,
+    M_PROFILE_INV_STEP,
+    M_TABLE_INV_STEP,
+    M_TABLE_N,
+    M_TABLE_X0,
+    M_TAN_HALF,
+    M_WINDOW_HI,
+    M_WINDOW_LO,
     N_PAR,
+    N_SCHEME,
     P_DT,
     P_DX,
     P_I,
@@ -113,6 +125,8 @@ GPU: Core = make_core(_gpu_jit)
 _rotor_table = GPU.rotor_table
 _plate_cell = GPU.plate_cell
 _pill_cell = GPU.pill_cell
+_filtered_plate = GPU.filtered_plate
+_filtered_pills = GPU.filtered_pills
 _cell_rates = GPU.cell_rates
 _rate_coefficients = GPU.rate_coefficients
 _cell_integrals = GPU.cell_integrals
@@ -131,6 +145,8 @@ def _advance(
     num,
     quad_s,
     quad_t,
+    plate_tab,
+    pill_tab,
     sched,
     flags,
     rotor,
@@ -157,8 +173,9 @@ def _advance(
             (inside the interior ranges).
         par: (E, N_PAR) float parameters, the P_* layout of :mod:`pde_rotor.core`.
         shape: (E, 6) :meth:`RotorShape.as_array` per member.
-        num: (E, 5) :meth:`Scheme.as_array` per member.
+        num: (E, N_SCHEME) :meth:`Scheme.as_array` per member.
         quad_s, quad_t: the common quadrature rules of the contour torque.
+        plate_tab, pill_tab: the common filter tables (:meth:`Scheme.table_arrays`).
         sched: (E, 4) :meth:`StopSchedule.as_array` per member.
         flags: (E, 2) flow enabled, noise on.
         rotor: (E, 5) [phi, omega, torque, friction, stopped], updated.
@@ -195,11 +212,13 @@ def _advance(
     apothem, rho, r_c = shape[m, S_APOTHEM], shape[m, S_RHO], shape[m, S_RC]
     asym, delta = shape[m, S_ASYM], shape[m, S_DELTA]
     inv_delta = 1.0 / delta
-    sub = int(num[m, 0])
-    contour = num[m, 1] != 0.0
-    tan_half = num[m, 2]
-    w_lo = int(num[m, 3])
-    width = int(num[m, 4]) - w_lo
+    filtered = num[m, M_FILTERED] != 0.0
+    t_n, t_x0 = int(num[m, M_TABLE_N]), num[m, M_TABLE_X0]
+    t_inv, p_inv = num[m, M_TABLE_INV_STEP], num[m, M_PROFILE_INV_STEP]
+    contour = num[m, M_CONTOUR] != 0.0
+    tan_half = num[m, M_TAN_HALF]
+    w_lo = int(num[m, M_WINDOW_LO])
+    width = int(num[m, M_WINDOW_HI]) - w_lo
     n_nodes = n_corners * quad_s.shape[1] * quad_t.shape[1] if contour else 0
     n_ini, n_stop, n_period, n_cycles = sched[m, 0], sched[m, 1], sched[m, 2], sched[m, 3]
     flow = flags[m, FLAG_FLOW] != 0
@@ -253,8 +272,12 @@ def _advance(
                 f = 0.0
                 g = 0.0
                 if on_support:
-                    f = _plate_cell(x, y, tab, n_corners, apothem, inv_delta, sub, dx)
-                    g = _pill_cell(x, y, tab, n_corners, rho, inv_delta, sub, dx)
+                    if filtered:
+                        f = _filtered_plate(x, y, tab, n_corners, plate_tab, t_n, t_x0, t_inv)
+                        g = _filtered_pills(x, y, tab, n_corners, pill_tab, p_inv)
+                    else:
+                        f = _plate_cell(x, y, tab, n_corners, apothem, inv_delta)
+                        g = _pill_cell(x, y, tab, n_corners, rho, inv_delta)
                     if f != 0.0:
                         grad, mom, vel = _cell_integrals(buf, o, n, 1, nn, f, x, y, inv_2dx, flow)
                         cross_grad += grad
@@ -374,7 +397,7 @@ def _member_arrays(plan: EnsemblePlan) -> dict[str, np.ndarray]:
     n_members = plan.n_members
     par = np.empty((n_members, N_PAR))
     shape = np.empty((n_members, 6))
-    num = np.empty((n_members, 5))
+    num = np.empty((n_members, N_SCHEME))
     sched = np.empty((n_members, 4), dtype=np.int64)
     flags = np.zeros((n_members, 2), dtype=np.int64)
     support = np.empty((n_members, 2, n), dtype=np.int64)
@@ -388,6 +411,16 @@ def _member_arrays(plan: EnsemblePlan) -> dict[str, np.ndarray]:
         shape[m] = pde.shape.as_array()
         num[m] = pde.scheme.as_array()
         quad = (pde.scheme.quad_s, pde.scheme.quad_t)
+        tables = pde.scheme.table_arrays()
+        if m == 0:
+            first_tables = tables
+        elif not all(np.array_equal(a, b) for a, b in zip(tables, first_tables, strict=True)):
+            msg = (
+                f"member {m}: its F and G filter tables differ from member 0's; the "
+                "consistent scheme on the GPU needs one geometry (radius, n_corners, "
+                "pill_radius, smoothing) for all members (only asymmetry may differ)"
+            )
+            raise ValueError(msg)
         sched[m] = StopSchedule.from_config(cfg.protocol, plan.dt).as_array()
         flags[m, FLAG_FLOW] = int(cfg.flow.enabled)
         flags[m, FLAG_NOISY] = int(cfg.noise.sigma != 0)
@@ -402,6 +435,8 @@ def _member_arrays(plan: EnsemblePlan) -> dict[str, np.ndarray]:
         "num": num,
         "quad_s": quad[0],
         "quad_t": quad[1],
+        "plate_tab": first_tables[0],
+        "pill_tab": first_tables[1],
         "sched": sched,
         "flags": flags,
         "support": support,
@@ -511,7 +546,7 @@ def run_ensemble(
     d_host = {key: cuda.to_device(value) for key, value in host.items()}
     d_rotor = cuda.to_device(state.rotor.copy())
     d_status = cuda.to_device(np.full(n_members, -1, dtype=np.int64))
-    contour = host["num"][:, 1] != 0.0
+    contour = host["num"][:, M_CONTOUR] != 0.0
     d_coef = cuda.device_array(n_members * dom.coords.size**2 if contour.any() else 1)
     records = np.full((n_members, plan.record_steps.size, 5), np.nan)
     records[:, 0] = state.rotor
@@ -539,6 +574,8 @@ def run_ensemble(
             d_host["num"],
             d_host["quad_s"],
             d_host["quad_t"],
+            d_host["plate_tab"],
+            d_host["pill_tab"],
             d_host["sched"],
             d_host["flags"],
             d_rotor,

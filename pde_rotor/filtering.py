@@ -1,0 +1,189 @@
+"""Isotropic prefilter of F and G for the ``consistent`` scheme (tables built once per run).
+
+Sampling F and G (the equations after Eq. (rj)) at the cell centres aliases the part of
+their spectrum beyond the grid's Nyquist wavenumber pi/dx, and the 5-point Laplacian
+treats what remains near it anisotropically: at the paper's dx = delta the pills' and the
+plate's tanh edges are one cell wide, and the steady c of a stopped plate inherits a
+pattern of the lattice that exerts a torque (docs/model.md, "Schemes"). The remedy of
+sampling theory is to low-pass filter before sampling; a Gaussian filter of width
+eps = kappa dx (``numerics.filter_width`` = kappa) is the isotropic choice, so the filtered
+fields still turn rigidly with the plate:
+
+    F_eps = F * N_eps,   G_eps = G * N_eps,   N_eps(r) = exp(-|r|^2 / (2 eps^2)) / (2 pi eps^2).
+
+The filter keeps every integral of F and G (their masses) and adds 2 eps^2 to their second
+moments about any point, a change of the model of order dx^2 that vanishes with the grid:
+both schemes converge to the same continuum.
+
+* The plate: F_eps in the frame of edge 0 (its normal along +x) on a table of spacing
+  dx / ``numerics.table_refinement``, filtered by :func:`scipy.ndimage.gaussian_filter`
+  and stored as cubic B-spline coefficients; the kernels write each cell centre in the
+  frame of its nearest edge and interpolate (:mod:`pde_rotor.core`, ``filtered_plate``),
+  so that F_eps has the hexagon's rotation and mirror symmetries exactly.
+* The pills: G is a sum of radial profiles g(|r - R_j|), so G_eps = sum_j g_eps(|r - R_j|)
+  with the radial convolution
+
+      g_eps(d) = int_0^inf g(s) (s / eps^2) exp(-(d - s)^2 / (2 eps^2)) I0e(d s / eps^2) ds,
+
+  tabulated on d with spacing dx / 256 and interpolated linearly
+  (:mod:`pde_rotor.core`, ``filtered_pills``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+from scipy.ndimage import gaussian_filter, map_coordinates, spline_filter
+from scipy.special import i0e
+
+from .core import X_SATURATION
+from .geometry import RotorShape, edge_normal_angles, pill_centres, plate_indicator
+
+PROFILE_REFINEMENT = 256
+"""Points of the pill profile table per dx (linear interpolation error < 1e-5 of G)."""
+
+GAUSS_TRUNCATE = 8.0
+"""Gaussian kernels are cut at this many widths (relative weight exp(-32) = 1.3e-14)."""
+
+
+@dataclass(frozen=True)
+class FilterTables:
+    """The filtered F and G of one rotor shape, as the kernels read them.
+
+    Attributes:
+        plate_values: (n, n) F_eps at the table's nodes (for the numpy reference).
+        plate: (n * n,) cubic B-spline coefficients of F_eps in the plate frame, on the
+            square table of cell centres x0 + k step (k = 0 .. n - 1) along both axes.
+        plate_n: n.
+        plate_x0: coordinate of the table's first node.
+        plate_step: table spacing.
+        pill: g_eps(k pill_step), k = 0, 1, ...; 0 beyond its end.
+        pill_step: spacing of the pill profile.
+        width: eps.
+    """
+
+    plate_values: np.ndarray
+    plate: np.ndarray
+    plate_n: int
+    plate_x0: float
+    plate_step: float
+    pill: np.ndarray
+    pill_step: float
+    width: float
+
+
+def filtered_plate(shape: RotorShape, width: float, step: float) -> tuple[np.ndarray, float]:
+    """F_eps = F * N_eps, edge 0's normal along +x, on a square table of spacing `step`.
+
+    The table covers the support disk of F (:attr:`RotorShape.support_radius`) plus the
+    spline's taps; F is sampled on the table's nodes and filtered there (the sampled
+    Gaussian, normalised, is the trapezoidal rule of the convolution: with eps >= 4 step
+    it is exact to far below the tolerances of the scheme).
+
+    Args:
+        shape: the rotor (its asymmetry plays no part: F has none).
+        width: eps.
+        step: table spacing.
+
+    Returns:
+        (values (n, n), x0): F_eps at the nodes x0 + k step along both axes.
+    """
+    half = shape.support_radius + 4.0 * step
+    count = math.ceil(half / step)
+    axis = step * np.arange(-count, count + 1)
+    pad = math.ceil(GAUSS_TRUNCATE * width / step)
+    padded = step * np.arange(-count - pad, count + pad + 1)
+    x, y = np.meshgrid(padded, padded, indexing="ij")
+    values = plate_indicator(x, y, shape, -math.pi / shape.n_corners)
+    values = gaussian_filter(values, sigma=width / step, mode="constant", truncate=GAUSS_TRUNCATE)
+    return np.ascontiguousarray(values[pad:-pad, pad:-pad]), float(axis[0])
+
+
+def filtered_pill_profile(shape: RotorShape, width: float, step: float) -> np.ndarray:
+    """g_eps(k step), k = 0, 1, ...: one pill's profile convolved with N_eps (module doc).
+
+    The radial integral uses the trapezoidal rule with spacing h = min(delta, eps) / 64 up
+    to rho + X_SATURATION delta, where g = 1/2 (1 + tanh((rho - s) / delta)) vanishes, with
+    the Euler-Maclaurin end correction at s = 0: the integrand starts linearly, with
+    slope g(0) exp(-d^2 / (2 eps^2)) / eps^2, which alone would cost O(h^2) = 2e-5.
+
+    Args:
+        shape: the rotor (pill radius rho and edge width delta).
+        width: eps.
+        step: spacing of the table in d.
+
+    Returns:
+        The profile, ending where it falls below 1e-17.
+    """
+    rho, delta = shape.pill_radius, shape.smoothing
+    s_end = rho + X_SATURATION * delta
+    ds = min(delta, width) / 64.0
+    s = np.arange(0.0, s_end + ds, ds)
+    g = 0.5 * (1.0 + np.tanh((rho - s) / delta))
+    weights = np.full(s.size, ds)
+    weights[0] = weights[-1] = 0.5 * ds
+    d = np.arange(0.0, s_end + GAUSS_TRUNCATE * width + step, step)
+    inv_var = 1.0 / (width * width)
+    profile = np.empty(d.size)
+    for lo in range(0, d.size, 256):
+        dd = d[lo : lo + 256, None]
+        kernel = s * inv_var * np.exp(-0.5 * (dd - s) ** 2 * inv_var) * i0e(dd * s * inv_var)
+        profile[lo : lo + 256] = kernel @ (g * weights)
+    profile += ds * ds / 12.0 * g[0] * np.exp(-0.5 * d * d * inv_var) * inv_var
+    keep = np.nonzero(profile > 1e-17)[0]
+    return np.ascontiguousarray(profile[: keep[-1] + 2])
+
+
+@lru_cache(maxsize=8)
+def make_tables(shape: RotorShape, dx: float, kappa: float, refinement: int) -> FilterTables:
+    """The filter tables of one rotor shape on a grid of spacing dx (cached: the members
+    of a sweep share them).
+
+    Args:
+        shape: the rotor.
+        dx: grid spacing.
+        kappa: filter width in units of dx (eps = kappa dx).
+        refinement: plate table nodes per dx.
+    """
+    width = kappa * dx
+    step = dx / refinement
+    values, x0 = filtered_plate(shape, width, step)
+    coef = spline_filter(values, order=3, mode="grid-constant")
+    pill_step = dx / PROFILE_REFINEMENT
+    return FilterTables(
+        plate_values=values,
+        plate=np.ascontiguousarray(coef.reshape(-1)),
+        plate_n=values.shape[0],
+        plate_x0=x0,
+        plate_step=step,
+        pill=filtered_pill_profile(shape, width, pill_step),
+        pill_step=pill_step,
+        width=width,
+    )
+
+
+def filtered_indicators(
+    tables: FilterTables, shape: RotorShape, x: np.ndarray, y: np.ndarray, phi: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """F_eps and G_eps at the points (x, y) for the plate at angle phi (numpy reference).
+
+    F_eps by scipy's cubic spline of the table values (its own prefilter) in the frame of
+    the nearest edge, G_eps by numpy's linear interpolation of the pill profile:
+    independent of the kernels' code.
+    """
+    normals = edge_normal_angles(shape.n_corners, phi)
+    proj = np.stack([x * math.cos(a) + y * math.sin(a) for a in normals])
+    nearest = normals[np.argmax(proj, axis=0)]
+    xb = np.max(proj, axis=0)
+    yb = y * np.cos(nearest) - x * np.sin(nearest)
+    inv = 1.0 / tables.plate_step
+    points = np.stack([(xb - tables.plate_x0) * inv, (yb - tables.plate_x0) * inv])
+    F = map_coordinates(tables.plate_values, points, order=3, mode="grid-constant", cval=0.0)
+    d = np.arange(tables.pill.size) * tables.pill_step
+    G = np.zeros(np.broadcast(x, y).shape)
+    for px, py in pill_centres(shape, phi):
+        G += np.interp(np.hypot(x - px, y - py), d, tables.pill, right=0.0)
+    return F, G

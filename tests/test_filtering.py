@@ -1,0 +1,164 @@
+"""The isotropic prefilter of F and G (pde_rotor.filtering), the consistent scheme's core.
+
+Checked against analysis, never against earlier runs:
+
+* the tables equal the Gaussian convolution computed independently, by tensor
+  Gauss-Hermite quadrature of the analytic F and G at scattered points;
+* the filter keeps the masses of F and G (their layer-cake values) and adds exactly
+  2 eps^2 to their second moments, at any angle: the filtered fields on the grid are
+  the model's fields blurred isotropically, whatever the lattice phase;
+* the lattice torque of a stopped symmetric plate meets the bounds of docs/model.md
+  (rms <= 1e-6 at dx = delta = 0.05, <= 1e-7 at dx = delta = 0.025) where the paper
+  scheme's is several times larger.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from pde_rotor.analysis import stopped_torque
+from pde_rotor.config import RotorConfig
+from pde_rotor.filtering import filtered_indicators
+from pde_rotor.geometry import pill_indicator, plate_indicator
+from pde_rotor.model import RotorPDE
+
+
+def consistent(dx: float, smoothing: float, **numerics: float) -> RotorConfig:
+    """The paper's rotor on a grid of spacing dx with the consistent scheme."""
+    return RotorConfig.model_validate(
+        {
+            "grid": {"dx": dx, "dt": min(1e-4, 0.2 * dx * dx)},
+            "geometry": {"smoothing": smoothing},
+            "numerics": {"scheme": "consistent", **numerics},
+        }
+    )
+
+
+def gauss_hermite_blur(func, x: np.ndarray, y: np.ndarray, eps: float) -> np.ndarray:
+    """(func * N_eps)(x, y) by a 48 x 48 tensor Gauss-Hermite rule (independent reference)."""
+    nodes, weights = np.polynomial.hermite_e.hermegauss(48)
+    weights = weights / weights.sum()
+    out = np.zeros(x.shape)
+    for a, wa in zip(nodes, weights, strict=True):
+        for b, wb in zip(nodes, weights, strict=True):
+            out += wa * wb * func(x - eps * a, y - eps * b)
+    return out
+
+
+@pytest.mark.parametrize("phi", [0.0, 0.41])
+def test_tables_equal_the_gaussian_convolution(phi: float) -> None:
+    """F_eps and G_eps from the tables equal direct quadrature of F * N_eps, G * N_eps.
+
+    The points cover the plate's edges and the pills, where the profiles are steepest;
+    the corners, where F has a crease along the bisectors that Gauss-Hermite quadrature
+    resolves poorly, have a test of their own. The reference itself errs by ~3e-6 (the
+    tanh edges are analytic only within pi delta / 2 of the real axis), hence 1e-5; a
+    wrong width, frame or rotation sense misses by > 1e-3.
+    """
+    pde = RotorPDE(consistent(0.025, 0.025))
+    tables = pde.scheme.tables
+    assert tables is not None
+    shape = pde.shape
+    rng = np.random.default_rng(5)
+    radius = rng.uniform(0.25, 0.55, 300)
+    angle = rng.uniform(0, 2 * np.pi, 300)
+    x, y = radius * np.cos(angle), radius * np.sin(angle)
+    corners = shape.radius * np.exp(1j * (phi + np.pi / 3 * np.arange(6)))
+    far = np.abs((x + 1j * y)[:, None] - corners[None]).min(axis=1) > 0.1
+    F, G = filtered_indicators(tables, shape, x, y, phi)
+    F_ref = gauss_hermite_blur(lambda a, b: plate_indicator(a, b, shape, phi), x, y, tables.width)
+    G_ref = gauss_hermite_blur(lambda a, b: pill_indicator(a, b, shape, phi), x, y, tables.width)
+    assert far.sum() > 200
+    assert np.abs(F - F_ref)[far].max() < 1e-5
+    assert np.abs(G - G_ref).max() < 1e-5
+    # the filter acts: the unfiltered fields differ by far more
+    assert np.abs(plate_indicator(x, y, shape, phi) - F_ref).max() > 1e-2
+    assert np.abs(pill_indicator(x, y, shape, phi) - G_ref).max() > 1e-2
+
+
+def test_plate_table_converges_at_the_corners() -> None:
+    """At the corners (F's crease) the table converges at second order in its spacing.
+
+    The sampled Gaussian filter is the trapezoidal rule of the convolution, of second
+    order across a crease: refining the table from dx/8 to dx/16 shrinks the difference
+    to a dx/32 table about fourfold; at the default dx/8 it stays below 5e-4.
+    """
+    x = 0.5 + 0.02 * np.cos(np.linspace(0, 2 * np.pi, 40))
+    y = 0.02 * np.sin(np.linspace(0, 2 * np.pi, 40))
+    values = {}
+    for refinement in (8, 16, 32):
+        pde = RotorPDE(consistent(0.025, 0.025, table_refinement=refinement))
+        values[refinement], _ = filtered_indicators(pde.scheme.tables, pde.shape, x, y, 0.0)
+    coarse = np.abs(values[8] - values[32]).max()
+    finer = np.abs(values[16] - values[32]).max()
+    assert coarse < 5e-4
+    assert finer < 0.35 * coarse
+
+
+def radial_moments(rho: float, delta: float) -> tuple[float, float]:
+    """int g dA and int |s|^2 g dA of one pill, g = 1/2 (1 + tanh((rho - s) / delta))."""
+    s = np.linspace(0.0, rho + 40 * delta, 400_001)
+    g = 0.5 * (1 + np.tanh((rho - s) / delta))
+    return (
+        float(np.trapezoid(2 * np.pi * s * g, s)),
+        float(np.trapezoid(2 * np.pi * s**3 * g, s)),
+    )
+
+
+@pytest.mark.parametrize("phi", [0.0, 0.13, 0.5])
+def test_filter_keeps_masses_and_adds_two_eps_squared_to_second_moments(phi: float) -> None:
+    """sum F_eps dA, sum G_eps dA are the fields' masses; the second moments grow by 2 eps^2.
+
+    Plate: {F >= f(sigma)} is the N-gon of apothem a - sigma, whose polar moment is
+    N (t + t^3 / 3) (a - sigma)^4 / 2 (t = tan(pi/N)); averaging over the logistic
+    density of sigma (variance v = pi^2 delta^2 / 12, fourth moment 7 pi^4 delta^4 / 240)
+    gives int F |r|^2 dA, and int F dA = N t (a^2 + v). Pills: radial quadrature of one
+    profile, shifted to R_c. A Gaussian of width eps keeps every mass and adds
+    2 eps^2 x mass to every second moment about the origin. The plate table's
+    trapezoidal rule is of second order across F's corner creases (3e-6 of the mass at
+    its default spacing dx / 8, fourfold less per halving), hence 1e-5 for the plate.
+    """
+    cfg = consistent(0.025, 0.025)
+    pde = RotorPDE(cfg)
+    geo, shape = cfg.geometry, pde.shape
+    eps = pde.scheme.tables.width
+    F, G = pde.indicators(phi)
+    x, y = pde.cell_coordinates()
+    r2 = x * x + y * y
+    area = pde.domain.cell_area
+    n, t, a = geo.n_corners, math.tan(math.pi / geo.n_corners), shape.apothem
+    var = math.pi**2 * geo.smoothing**2 / 12
+    mu4 = 7 * math.pi**4 * geo.smoothing**4 / 240
+    plate_mass = n * t * (a * a + var)
+    plate_j = n * (t + t**3 / 3) / 2 * (a**4 + 6 * a * a * var + mu4)
+    assert F.sum() * area == pytest.approx(plate_mass, rel=1e-5)
+    assert (F * r2).sum() * area == pytest.approx(plate_j + 2 * eps**2 * plate_mass, rel=1e-5)
+    pill_mass, pill_j = radial_moments(geo.pill_radius, geo.smoothing)
+    r_c = shape.pill_distance
+    assert G.sum() * area == pytest.approx(n * pill_mass, rel=1e-6)
+    want = n * (pill_j + r_c**2 * pill_mass + 2 * eps**2 * pill_mass)
+    assert (G * r2).sum() * area == pytest.approx(want, rel=1e-6)
+    # the 2 eps^2 is resolved: without it the second moments would miss by far more
+    assert 2 * eps**2 * plate_mass > 1e-4 * plate_j
+
+
+@pytest.mark.parametrize(("dx", "bound"), [(0.05, 1e-6), (0.025, 1e-7)])
+def test_consistent_lattice_torque_meets_its_bound(dx: float, bound: float) -> None:
+    """rms lattice torque over 12 angles per pi/6, dx = delta: below the documented bound.
+
+    docs/model.md states the goals (rms <= 1e-6 at dx = delta = 0.05, <= 1e-7 at
+    dx = delta = 0.025, over 48 angles in benchmarks/lattice_torque.py); the paper
+    scheme on the same grids exceeds them four- and fivefold, so this also checks that
+    the filter and the contour form are in use.
+    """
+    phis = np.arange(12) * (np.pi / 6) / 12
+    torque = stopped_torque(consistent(dx, dx), phis)
+    paper = stopped_torque(
+        RotorConfig.model_validate({"grid": {"dx": dx}, "geometry": {"smoothing": dx}}), phis
+    )
+    rms = float(np.sqrt(np.mean(torque**2)))
+    assert rms <= bound
+    assert float(np.sqrt(np.mean(paper**2))) > 3 * bound
