@@ -69,8 +69,11 @@ N_PAR = 12
     M_TABLE_X0,
     M_TABLE_INV_STEP,
     M_PROFILE_INV_STEP,
-) = range(9)
-N_SCHEME = 9
+    M_CREASE,
+    M_EDGE_U0,
+    M_EDGE_INV_STEP,
+) = range(12)
+N_SCHEME = 12
 
 # indices into the shape vector of the kernels (geometry.RotorShape.as_array)
 S_N, S_APOTHEM, S_RHO, S_RC, S_ASYM, S_DELTA = range(6)
@@ -248,15 +251,16 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
             buf[o + k * stride] = 6.0 * nxt
 
     @jit
-    def bspline_weight(t, a):
-        """Cubic B-spline basis at distance |t - a| (a = -1, 0, 1, 2; t in [0, 1))."""
-        s = abs(t - a)
-        if s < 1.0:
-            return (0.5 * s - 1.0) * s * s + 2.0 / 3.0
-        if s < 2.0:
-            u = 2.0 - s
-            return u * u * u / 6.0
-        return 0.0
+    def bspline_weights(t):
+        """The 4 cubic B-spline weights of the nodes -1, 0, 1, 2 at t in [0, 1)."""
+        u = 1.0 - t
+        t2 = t * t
+        return (
+            u * u * u / 6.0,
+            (t2 * (3.0 * t - 6.0) + 4.0) / 6.0,
+            (t * (t * (3.0 - 3.0 * t) + 3.0) + 1.0) / 6.0,
+            t2 * t / 6.0,
+        )
 
     @jit
     def interpolate(coef, o0, n, x0, inv_dx, x, y):
@@ -269,43 +273,62 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         fy = (y - x0) * inv_dx
         i = math.floor(fx)
         j = math.floor(fy)
-        tx = fx - i
-        ty = fy - j
-        wy0 = bspline_weight(ty, -1.0)
-        wy1 = bspline_weight(ty, 0.0)
-        wy2 = bspline_weight(ty, 1.0)
-        wy3 = bspline_weight(ty, 2.0)
-        acc = 0.0
-        for a in range(4):
-            row = o0 + (i - 1 + a) * n + j - 1
-            line = wy0 * coef[row] + wy1 * coef[row + 1] + wy2 * coef[row + 2] + wy3 * coef[row + 3]
-            acc += bspline_weight(tx, a - 1.0) * line
+        wx0, wx1, wx2, wx3 = bspline_weights(fx - i)
+        wy0, wy1, wy2, wy3 = bspline_weights(fy - j)
+        row = o0 + (i - 1) * n + j - 1
+        acc = wx0 * (
+            wy0 * coef[row] + wy1 * coef[row + 1] + wy2 * coef[row + 2] + wy3 * coef[row + 3]
+        )
+        row += n
+        acc += wx1 * (
+            wy0 * coef[row] + wy1 * coef[row + 1] + wy2 * coef[row + 2] + wy3 * coef[row + 3]
+        )
+        row += n
+        acc += wx2 * (
+            wy0 * coef[row] + wy1 * coef[row + 1] + wy2 * coef[row + 2] + wy3 * coef[row + 3]
+        )
+        row += n
+        acc += wx3 * (
+            wy0 * coef[row] + wy1 * coef[row + 1] + wy2 * coef[row + 2] + wy3 * coef[row + 3]
+        )
         return acc
 
     @jit
-    def filtered_plate(x, y, tab, n_corners, coef, n_t, x0_t, inv_step):
+    def filtered_plate(
+        x, y, tab, n_corners, apothem, tan_half, crease, edge, e_u0, e_inv, plate, t_n, t_x0, t_inv
+    ):
         """F_eps of the cell centred at (x, y) (scheme ``consistent``, :mod:`pde_rotor.filtering`).
 
         The point is written in the frame of its nearest edge j (the one maximising
-        r . e_j): (r . e_j, r . tau_j), tau_j = e_j turned by +pi/2; F_eps is taken there
-        from the cubic spline of the plate table (`coef`, n_t x n_t coefficients on the
-        nodes x0_t + k / inv_step, tabulated with edge 0's normal along +x), so that it
-        has the hexagon's symmetry exactly. 0 where the spline's taps leave the table
-        (beyond F's support).
+        r . e_j): h = r . e_j, q = r . tau_j, tau_j = e_j turned by +pi/2. Where
+        h tan(pi/N) - |q| > `crease` (that is, more than crease cos(pi/N) from the corner
+        bisectors), F_eps = f_eps(apothem - h) from the 1-D edge profile `edge` (first
+        node e_u0, 1 / spacing e_inv, linear); closer, from the cubic spline of the 2-D
+        `plate` table (t_n x t_n coefficients on the nodes t_x0 + k / t_inv, edge 0's
+        normal along +x), 0 where its taps leave the table. Either way F_eps has the
+        hexagon's symmetry exactly.
         """
         best = 0
-        proj = x * tab[0, 0] + y * tab[1, 0]
+        h = x * tab[0, 0] + y * tab[1, 0]
         for k in range(1, n_corners):
             p = x * tab[0, k] + y * tab[1, k]
-            if p > proj:
-                proj = p
+            if p > h:
+                h = p
                 best = k
-        along = y * tab[0, best] - x * tab[1, best]
-        fx = (proj - x0_t) * inv_step
-        fy = (along - x0_t) * inv_step
-        if fx < 1.0 or fy < 1.0 or fx >= n_t - 2.0 or fy >= n_t - 2.0:
+        q = y * tab[0, best] - x * tab[1, best]
+        if h * tan_half - abs(q) > crease:
+            u = (apothem - h - e_u0) * e_inv
+            if u <= 0.0:
+                return 0.0
+            i = int(u)
+            if i >= edge.size - 1:
+                return 1.0
+            return edge[i] + (u - i) * (edge[i + 1] - edge[i])
+        fx = (h - t_x0) * t_inv
+        fy = (q - t_x0) * t_inv
+        if fx < 1.0 or fy < 1.0 or fx >= t_n - 2.0 or fy >= t_n - 2.0:
             return 0.0
-        return interpolate(coef, 0, n_t, x0_t, inv_step, proj, along)
+        return interpolate(plate, 0, t_n, t_x0, t_inv, h, q)
 
     @jit
     def filtered_pills(x, y, tab, n_corners, profile, inv_step):
@@ -313,11 +336,14 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         `profile` (spacing 1 / inv_step) interpolated linearly, 0 beyond its end."""
         g = 0.0
         last = profile.size - 1
+        reach2 = (last / inv_step) ** 2
         for k in range(n_corners):
-            u = math.sqrt((x - tab[2, k]) ** 2 + (y - tab[3, k]) ** 2) * inv_step
-            i = int(u)
-            if i < last:
-                g += profile[i] + (u - i) * (profile[i + 1] - profile[i])
+            d2 = (x - tab[2, k]) ** 2 + (y - tab[3, k]) ** 2
+            if d2 < reach2:
+                u = math.sqrt(d2) * inv_step
+                i = int(u)
+                if i < last:
+                    g += profile[i] + (u - i) * (profile[i + 1] - profile[i])
         return g
 
     @jit

@@ -15,11 +15,16 @@ The filter keeps every integral of F and G (their masses) and adds 2 eps^2 to th
 moments about any point, a change of the model of order dx^2 that vanishes with the grid:
 both schemes converge to the same continuum.
 
-* The plate: F_eps in the frame of edge 0 (its normal along +x) on a table of spacing
-  dx / ``numerics.table_refinement``, filtered by :func:`scipy.ndimage.gaussian_filter`
-  and stored as cubic B-spline coefficients; the kernels write each cell centre in the
-  frame of its nearest edge and interpolate (:mod:`pde_rotor.core`, ``filtered_plate``),
-  so that F_eps has the hexagon's rotation and mirror symmetries exactly.
+* The plate: F = f(a - h(r)), f(u) = 1/2 (1 + tanh(u / delta)), a = R cos(pi/N). More
+  than CREASE_WIDTHS eps from the corner bisectors (the crease of h) the filter sees a
+  single straight edge, so there F_eps = f_eps(a - h) with the 1-D profile
+  f_eps = f * N_eps, tabulated with spacing dx / 1024 and interpolated linearly. Near
+  the bisectors F_eps is taken from a 2-D table in the frame of edge 0 (its normal
+  along +x), spacing dx / ``numerics.table_refinement``, filtered by
+  :func:`scipy.ndimage.gaussian_filter` and stored as cubic B-spline coefficients. The
+  kernels write each cell centre in the frame of its nearest edge
+  (:mod:`pde_rotor.core`, ``filtered_plate``), so F_eps has the hexagon's rotation and
+  mirror symmetries exactly.
 * The pills: G is a sum of radial profiles g(|r - R_j|), so G_eps = sum_j g_eps(|r - R_j|)
   with the radial convolution
 
@@ -36,7 +41,7 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
-from scipy.ndimage import gaussian_filter, map_coordinates, spline_filter
+from scipy.ndimage import gaussian_filter, gaussian_filter1d, map_coordinates, spline_filter
 from scipy.special import i0e
 
 from .core import X_SATURATION
@@ -47,6 +52,15 @@ PROFILE_REFINEMENT = 256
 
 GAUSS_TRUNCATE = 8.0
 """Gaussian kernels are cut at this many widths (relative weight exp(-32) = 1.3e-14)."""
+
+CREASE_WIDTHS = GAUSS_TRUNCATE
+"""Cells closer than this many eps to a corner bisector use the 2-D plate table."""
+
+EDGE_REFINEMENT = 1024
+"""Points of the 1-D edge profile per dx (linear interpolation error < 1e-7 of F)."""
+
+EDGE_OVERSAMPLING = 4
+"""The edge profile is filtered on nodes this many times coarser, then interpolated."""
 
 
 @dataclass(frozen=True)
@@ -62,6 +76,9 @@ class FilterTables:
         plate_step: table spacing.
         pill: g_eps(k pill_step), k = 0, 1, ...; 0 beyond its end.
         pill_step: spacing of the pill profile.
+        edge: f_eps(edge_u0 + k edge_step); 0 below its start, 1 beyond its end.
+        edge_u0: first node of the edge profile.
+        edge_step: spacing of the edge profile.
         width: eps.
     """
 
@@ -72,6 +89,9 @@ class FilterTables:
     plate_step: float
     pill: np.ndarray
     pill_step: float
+    edge: np.ndarray
+    edge_u0: float
+    edge_step: float
     width: float
 
 
@@ -100,6 +120,28 @@ def filtered_plate(shape: RotorShape, width: float, step: float) -> tuple[np.nda
     values = plate_indicator(x, y, shape, -math.pi / shape.n_corners)
     values = gaussian_filter(values, sigma=width / step, mode="constant", truncate=GAUSS_TRUNCATE)
     return np.ascontiguousarray(values[pad:-pad, pad:-pad]), float(axis[0])
+
+
+def filtered_edge_profile(shape: RotorShape, width: float, step: float) -> tuple[np.ndarray, float]:
+    """f_eps = f * N_eps, f(u) = 1/2 (1 + tanh(u / delta)), on u = u0 + k step.
+
+    The nodes span |u| <= X_SATURATION delta + GAUSS_TRUNCATE eps, beyond which f_eps is
+    0 or 1 to 1e-14. The convolution is the direct sum of the sampled kernel (the
+    trapezoidal rule, exact to round-off for the smooth f, and relative-accurate in the
+    exponential tails) on nodes EDGE_OVERSAMPLING times coarser, brought to `step` by
+    cubic spline interpolation (error ~ (step / eps)^4, far below 1e-10).
+
+    Returns:
+        (profile, u0).
+    """
+    coarse = step * EDGE_OVERSAMPLING
+    count = math.ceil((X_SATURATION * shape.smoothing + GAUSS_TRUNCATE * width) / coarse)
+    u = coarse * np.arange(-count, count + 1)
+    f = 0.5 * (1.0 + np.tanh(u / shape.smoothing))
+    blurred = gaussian_filter1d(f, sigma=width / coarse, mode="nearest", truncate=GAUSS_TRUNCATE)
+    fine = np.arange((u.size - 1) * EDGE_OVERSAMPLING + 1) / EDGE_OVERSAMPLING
+    profile = map_coordinates(blurred, fine[None], order=3, mode="nearest")
+    return np.ascontiguousarray(profile), float(u[0])
 
 
 def filtered_pill_profile(shape: RotorShape, width: float, step: float) -> np.ndarray:
@@ -153,6 +195,8 @@ def make_tables(shape: RotorShape, dx: float, kappa: float, refinement: int) -> 
     values, x0 = filtered_plate(shape, width, step)
     coef = spline_filter(values, order=3, mode="grid-constant")
     pill_step = dx / PROFILE_REFINEMENT
+    edge_step = dx / EDGE_REFINEMENT
+    edge, edge_u0 = filtered_edge_profile(shape, width, edge_step)
     return FilterTables(
         plate_values=values,
         plate=np.ascontiguousarray(coef.reshape(-1)),
@@ -161,6 +205,9 @@ def make_tables(shape: RotorShape, dx: float, kappa: float, refinement: int) -> 
         plate_step=step,
         pill=filtered_pill_profile(shape, width, pill_step),
         pill_step=pill_step,
+        edge=edge,
+        edge_u0=edge_u0,
+        edge_step=edge_step,
         width=width,
     )
 
@@ -170,18 +217,24 @@ def filtered_indicators(
 ) -> tuple[np.ndarray, np.ndarray]:
     """F_eps and G_eps at the points (x, y) for the plate at angle phi (numpy reference).
 
-    F_eps by scipy's cubic spline of the table values (its own prefilter) in the frame of
-    the nearest edge, G_eps by numpy's linear interpolation of the pill profile:
-    independent of the kernels' code.
+    F_eps by numpy's linear interpolation of the edge profile away from the corner
+    bisectors and by scipy's cubic spline of the table values (its own prefilter), in
+    the frame of the nearest edge, near them; G_eps by numpy's linear interpolation of
+    the pill profile: independent of the kernels' code.
     """
     normals = edge_normal_angles(shape.n_corners, phi)
     proj = np.stack([x * math.cos(a) + y * math.sin(a) for a in normals])
     nearest = normals[np.argmax(proj, axis=0)]
-    xb = np.max(proj, axis=0)
-    yb = y * np.cos(nearest) - x * np.sin(nearest)
+    h = np.max(proj, axis=0)
+    q = y * np.cos(nearest) - x * np.sin(nearest)
+    half = math.pi / shape.n_corners
+    near_crease = (h * math.tan(half) - np.abs(q)) * math.cos(half) <= CREASE_WIDTHS * tables.width
+    u = tables.edge_u0 + tables.edge_step * np.arange(tables.edge.size)
+    F = np.interp(shape.apothem - h, u, tables.edge, left=0.0, right=1.0)
     inv = 1.0 / tables.plate_step
-    points = np.stack([(xb - tables.plate_x0) * inv, (yb - tables.plate_x0) * inv])
-    F = map_coordinates(tables.plate_values, points, order=3, mode="grid-constant", cval=0.0)
+    points = np.stack([(h - tables.plate_x0) * inv, (q - tables.plate_x0) * inv])
+    table = map_coordinates(tables.plate_values, points, order=3, mode="grid-constant", cval=0.0)
+    F = np.where(near_crease, table, F)
     d = np.arange(tables.pill.size) * tables.pill_step
     G = np.zeros(np.broadcast(x, y).shape)
     for px, py in pill_centres(shape, phi):

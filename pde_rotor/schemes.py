@@ -49,6 +49,9 @@ from scipy.ndimage import map_coordinates
 from .config import RotorConfig
 from .core import (
     M_CONTOUR,
+    M_CREASE,
+    M_EDGE_INV_STEP,
+    M_EDGE_U0,
     M_FILTERED,
     M_PROFILE_INV_STEP,
     M_TABLE_INV_STEP,
@@ -60,7 +63,7 @@ from .core import (
     N_SCHEME,
     SPLINE_MARGIN,
 )
-from .filtering import FilterTables, make_tables
+from .filtering import CREASE_WIDTHS, FilterTables, make_tables
 from .geometry import RotorShape
 
 
@@ -173,14 +176,17 @@ class Scheme:
             out[M_TABLE_X0] = self.tables.plate_x0
             out[M_TABLE_INV_STEP] = 1.0 / self.tables.plate_step
             out[M_PROFILE_INV_STEP] = 1.0 / self.tables.pill_step
+            out[M_CREASE] = CREASE_WIDTHS * self.tables.width / math.cos(math.atan(self.tan_half))
+            out[M_EDGE_U0] = self.tables.edge_u0
+            out[M_EDGE_INV_STEP] = 1.0 / self.tables.edge_step
         return out
 
-    def table_arrays(self) -> tuple[np.ndarray, np.ndarray]:
-        """(plate spline coefficients, pill profile) for the kernels; (0,)-size dummies
-        of the same type for point values."""
+    def table_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(plate spline coefficients, edge profile, pill profile) for the kernels;
+        one-element dummies of the same type for point values."""
         if self.tables is None:
-            return np.zeros(1), np.zeros(1)
-        return self.tables.plate, self.tables.pill
+            return np.zeros(1), np.zeros(1), np.zeros(1)
+        return self.tables.plate, self.tables.edge, self.tables.pill
 
 
 def interpolate_spline(

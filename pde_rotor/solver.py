@@ -35,6 +35,9 @@ from pde.solvers.base import SolverBase
 from .core import (
     CPU,
     M_CONTOUR,
+    M_CREASE,
+    M_EDGE_INV_STEP,
+    M_EDGE_U0,
     M_FILTERED,
     M_PROFILE_INV_STEP,
     M_TABLE_INV_STEP,
@@ -77,12 +80,12 @@ class SimulationDivergedError(FloatingPointError):
 
 
 @nb.njit(cache=True, nogil=True)
-def update_indicators(F, G, coords, slo, shi, shape, tab, num, plate_tab, pill_tab, phi):
+def update_indicators(F, G, coords, slo, shi, shape, tab, num, plate_tab, edge_tab, pill_tab, phi):
     """Recompute F and G (flat n*n arrays) on the support cells for angle phi (compiled).
 
     Cells outside the support keep F = G = 0. `tab` (4, >= N) receives the edge normals
     and pill centres; `num` is :meth:`~pde_rotor.schemes.Scheme.as_array`: point values,
-    or (``consistent``) the filtered fields from `plate_tab` and `pill_tab`
+    or (``consistent``) the filtered fields from `plate_tab`, `edge_tab` and `pill_tab`
     (:meth:`~pde_rotor.schemes.Scheme.table_arrays`).
     """
     n_corners = int(shape[S_N])
@@ -91,13 +94,30 @@ def update_indicators(F, G, coords, slo, shi, shape, tab, num, plate_tab, pill_t
     filtered = num[M_FILTERED] != 0.0
     t_n, t_x0, t_inv = int(num[M_TABLE_N]), num[M_TABLE_X0], num[M_TABLE_INV_STEP]
     p_inv = num[M_PROFILE_INV_STEP]
+    tan_half, crease = num[M_TAN_HALF], num[M_CREASE]
+    e_u0, e_inv = num[M_EDGE_U0], num[M_EDGE_INV_STEP]
     n = coords.size
     for i in range(n):
         x = coords[i]
         for j in range(slo[i], shi[i]):
             y = coords[j]
             if filtered:
-                F[i * n + j] = _filtered_plate(x, y, tab, n_corners, plate_tab, t_n, t_x0, t_inv)
+                F[i * n + j] = _filtered_plate(
+                    x,
+                    y,
+                    tab,
+                    n_corners,
+                    apothem,
+                    tan_half,
+                    crease,
+                    edge_tab,
+                    e_u0,
+                    e_inv,
+                    plate_tab,
+                    t_n,
+                    t_x0,
+                    t_inv,
+                )
                 G[i * n + j] = _filtered_pills(x, y, tab, n_corners, pill_tab, p_inv)
             else:
                 F[i * n + j] = _plate_cell(x, y, tab, n_corners, apothem, inv_delta)
@@ -262,6 +282,7 @@ def advance(
     quad_s,
     quad_t,
     plate_tab,
+    edge_tab,
     pill_tab,
     flow,
     schedule,
@@ -283,7 +304,7 @@ def advance(
         par: float parameters, indices P_* of :mod:`pde_rotor.core`.
         num: :meth:`~pde_rotor.schemes.Scheme.as_array`.
         quad_s, quad_t: the scheme's quadrature rules (:class:`~pde_rotor.schemes.Scheme`).
-        plate_tab, pill_tab: the scheme's filter tables
+        plate_tab, edge_tab, pill_tab: the scheme's filter tables
             (:meth:`~pde_rotor.schemes.Scheme.table_arrays`).
         flow: whether the flow is on (False: v is set to 0 and stays 0, Fig. 8).
         schedule: :meth:`StopSchedule.as_array`.
@@ -313,7 +334,9 @@ def advance(
         if stopped:
             omega = 0.0
         if phi != phi_f:
-            update_indicators(F, G, coords, slo, shi, shape, tab, num, plate_tab, pill_tab, phi)
+            update_indicators(
+                F, G, coords, slo, shi, shape, tab, num, plate_tab, edge_tab, pill_tab, phi
+            )
             phi_f = phi
         cross_grad, moment, cross_v = rotor_integrals(
             cur, F, coords, slo, shi, shape, tab, num, quad_s, quad_t, flow, coef

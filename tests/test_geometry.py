@@ -213,8 +213,10 @@ def test_support_restricted_update_equals_full_evaluation(
                 *pde.scheme.table_arrays(),
                 phi,
             )
-            np.testing.assert_allclose(F, F_full, rtol=0, atol=2e-15)
-            np.testing.assert_allclose(G, G_full, rtol=0, atol=2e-15)
+            # the filtered fields sum 16 spline taps in another order than scipy
+            atol = 2e-15 if scheme == "paper" else 1e-14
+            np.testing.assert_allclose(F, F_full, rtol=0, atol=atol)
+            np.testing.assert_allclose(G, G_full, rtol=0, atol=atol)
             # the plate and the pills are really there (the comparison is not vacuous)
             assert F.max() > 0.99
             assert G.max() > 0.8

@@ -47,6 +47,9 @@ from numba import cuda, float64
 from ..config import RotorConfig
 from ..core import (
     M_CONTOUR,
+    M_CREASE,
+    M_EDGE_INV_STEP,
+    M_EDGE_U0,
     M_FILTERED,
     M_PROFILE_INV_STEP,
     M_TABLE_INV_STEP,
@@ -146,6 +149,7 @@ def _advance(
     quad_s,
     quad_t,
     plate_tab,
+    edge_tab,
     pill_tab,
     sched,
     flags,
@@ -175,7 +179,7 @@ def _advance(
         shape: (E, 6) :meth:`RotorShape.as_array` per member.
         num: (E, N_SCHEME) :meth:`Scheme.as_array` per member.
         quad_s, quad_t: the common quadrature rules of the contour torque.
-        plate_tab, pill_tab: the common filter tables (:meth:`Scheme.table_arrays`).
+        plate_tab, edge_tab, pill_tab: the common filter tables (:meth:`Scheme.table_arrays`).
         sched: (E, 4) :meth:`StopSchedule.as_array` per member.
         flags: (E, 2) flow enabled, noise on.
         rotor: (E, 5) [phi, omega, torque, friction, stopped], updated.
@@ -215,6 +219,7 @@ def _advance(
     filtered = num[m, M_FILTERED] != 0.0
     t_n, t_x0 = int(num[m, M_TABLE_N]), num[m, M_TABLE_X0]
     t_inv, p_inv = num[m, M_TABLE_INV_STEP], num[m, M_PROFILE_INV_STEP]
+    crease, e_u0, e_inv = num[m, M_CREASE], num[m, M_EDGE_U0], num[m, M_EDGE_INV_STEP]
     contour = num[m, M_CONTOUR] != 0.0
     tan_half = num[m, M_TAN_HALF]
     w_lo = int(num[m, M_WINDOW_LO])
@@ -273,7 +278,22 @@ def _advance(
                 g = 0.0
                 if on_support:
                     if filtered:
-                        f = _filtered_plate(x, y, tab, n_corners, plate_tab, t_n, t_x0, t_inv)
+                        f = _filtered_plate(
+                            x,
+                            y,
+                            tab,
+                            n_corners,
+                            apothem,
+                            tan_half,
+                            crease,
+                            edge_tab,
+                            e_u0,
+                            e_inv,
+                            plate_tab,
+                            t_n,
+                            t_x0,
+                            t_inv,
+                        )
                         g = _filtered_pills(x, y, tab, n_corners, pill_tab, p_inv)
                     else:
                         f = _plate_cell(x, y, tab, n_corners, apothem, inv_delta)
@@ -436,7 +456,8 @@ def _member_arrays(plan: EnsemblePlan) -> dict[str, np.ndarray]:
         "quad_s": quad[0],
         "quad_t": quad[1],
         "plate_tab": first_tables[0],
-        "pill_tab": first_tables[1],
+        "edge_tab": first_tables[1],
+        "pill_tab": first_tables[2],
         "sched": sched,
         "flags": flags,
         "support": support,
@@ -575,6 +596,7 @@ def run_ensemble(
             d_host["quad_s"],
             d_host["quad_t"],
             d_host["plate_tab"],
+            d_host["edge_tab"],
             d_host["pill_tab"],
             d_host["sched"],
             d_host["flags"],
