@@ -19,7 +19,6 @@ from __future__ import annotations
 import argparse
 import logging
 import math
-import os
 import textwrap
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -30,7 +29,14 @@ import numpy as np
 import xarray as xr
 from matplotlib.figure import Figure
 
-from pde_rotor.config import CALIBRATED_SIGMA, RotorConfig, load_config, read_config_data
+from pde_rotor.config import (
+    CALIBRATED_SIGMA,
+    RotorConfig,
+    load_config,
+    read_config_data,
+    set_key,
+)
+from pde_rotor.output import atomic_path
 from pde_rotor.stats import wilson_interval
 from pde_rotor.trackers import OMEGA_UNITS, TIME_UNITS
 
@@ -44,8 +50,9 @@ SWEEPS = CONFIGS / "sweeps"
 """Sweep specifications of the probability figures (``pde-rotor sweep``)."""
 DATA = ROOT / "data"
 """Stored sweep reports (NetCDF written by :func:`pde_rotor.sweep.report`)."""
-SWEEP_RUNS = ROOT / "runs" / "sweeps"
-"""Where sweeps run by the gallery keep their results (the CLI's default: resumable)."""
+SWEEP_RUNS = ROOT / "data" / "sweeps"
+"""Where sweeps run by the gallery keep their results (the CLI's default: resumable, and
+committed results travel with the repository)."""
 OUTPUT = GALLERY / "output"
 """Default output directory (gitignored)."""
 SCHEDULER: str | None = None
@@ -257,9 +264,8 @@ def save(fig: Figure, out: Path, name: str, dpi: int = 110) -> list[Path]:
     paths = []
     for suffix in ("png", "pdf"):
         path = out / f"{name}.{suffix}"
-        tmp = path.with_name(f".{path.name}.part")
-        fig.savefig(tmp, format=suffix, dpi=dpi)
-        os.replace(tmp, path)
+        with atomic_path(path) as tmp:
+            fig.savefig(tmp, format=suffix, dpi=dpi)
         paths.append(path)
         _logger.info("wrote %s", path)
     return paths
@@ -374,10 +380,10 @@ def tiny_sweep(spec_path: Path, work: Path) -> Any:
     base = dict(sweep.base)
     for text in tiny.grid:
         key, value = text.split("=")
-        _set(base, key, float(value))
-    _set(base, "protocol.t_ini", 1.0)
-    _set(base, "protocol.t_release", 1.0)
-    _set(base, "protocol.cycles", 2)
+        set_key(base, key, float(value))
+    set_key(base, "protocol.t_ini", 1.0)
+    set_key(base, "protocol.t_release", 1.0)
+    set_key(base, "protocol.cycles", 2)
     axes = {}
     for key, values in sweep.axes.items():
         picked = [values[0], values[-1]] if len(values) > 1 else list(values)
@@ -400,14 +406,6 @@ def tiny_sweep(spec_path: Path, work: Path) -> Any:
     return Sweep.from_spec(new)
 
 
-def _set(data: dict[str, Any], key: str, value: Any) -> None:
-    parts = key.split(".")
-    node = data
-    for part in parts[:-1]:
-        node = node.setdefault(part, {})
-    node[parts[-1]] = value
-
-
 def sweep_data(name: str, fid: Fidelity, out: Path) -> SweepData:
     """The report of sweep `name` (e.g. "fig5") at fidelity `fid`.
 
@@ -415,7 +413,7 @@ def sweep_data(name: str, fid: Fidelity, out: Path) -> SweepData:
       stored, which the footer names); otherwise the sweep configs/sweeps/<name>.yaml
       (full) or <name>_quick.yaml (quick, with at most ``fid.sweep_samples`` restarts per
       direction and point) is run through :func:`pde_rotor.sweep.run_sweep` into
-      runs/sweeps/<file stem> (resumable: a rerun continues where it stopped; the
+      data/sweeps/<file stem> (resumable: a rerun continues where it stopped; the
       directory ``pde-rotor sweep`` uses by default) and its report is written there;
     * tiny: a shrunken copy of the quick sweep (:func:`tiny_sweep`) run into
       `out`/sweeps/.
