@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -506,6 +507,26 @@ def test_resume_after_a_killed_sweep(two_worker_sweep, tmp_path):
     xr.testing.assert_identical(report(out, echo=False), reference)
     # a third call finds nothing to do
     assert run_sweep(sweep, out, progress=False).computed == 0
+
+
+def test_a_copied_store_resumes_elsewhere_with_nothing_recomputed(
+    two_worker_sweep, tmp_path, monkeypatch
+):
+    """The sweep directory moves as a clone moves it (copied to another path, new file
+    times): resuming there finds every run and gives the same report."""
+    from pde_rotor.sweep import execution
+
+    sweep_dir, reference = two_worker_sweep
+    moved = tmp_path / "clone" / "data" / "sweeps" / "tiny"
+    shutil.copytree(sweep_dir, moved)
+    (moved / "report.nc").unlink()
+    started: list[object] = []
+    monkeypatch.setattr(execution, "_start_client", lambda *args: started.append(args))
+    outcome = run_sweep(moved / "sweep.yaml", moved, progress=False)
+    assert (outcome.skipped, outcome.computed, started) == (12, 0, [])
+    xr.testing.assert_identical(report(moved, echo=False), reference)
+    keys = {r.key for r in Sweep.load(moved).runs()}
+    assert keys == {p.stem for p in (sweep_dir / RUNS_DIR).glob("*.json")}
 
 
 def test_unreadable_run_files_are_recomputed_and_foreign_files_ignored(tmp_path):

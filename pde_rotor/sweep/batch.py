@@ -46,15 +46,13 @@ def batches(runs: Sequence[Run], size: int) -> list[list[Run]]:
     return [group[i : i + size] for group in by_grid.values() for i in range(0, len(group), size)]
 
 
-def execute_batch(
-    runs: Sequence[Run], ensemble: EnsembleRunner, backend: str
-) -> list[dict[str, Any]]:
+def execute_batch(runs: Sequence[Run], ensemble: EnsembleRunner) -> list[dict[str, Any]]:
     """Compute protocol runs as one ensemble; their run-file contents.
 
     Args:
         runs: protocol runs sharing grid and numerics (:func:`batches`).
-        ensemble: the backend's ``run_ensemble``.
-        backend: the backend's name, recorded in each run file.
+        ensemble: the backend's ``run_ensemble``; the backend its result names is
+            recorded in each run file.
 
     Raises:
         ValueError: a run of another estimator, or a member whose state diverged.
@@ -84,5 +82,5 @@ def execute_batch(
             "inversions_cw": counts.cw.k,
             "n_cw": counts.cw.n,
         }
-        contents.append(run_content(run, outcome, share, backend))
+        contents.append(run_content(run, outcome, share, result.backend))
     return contents

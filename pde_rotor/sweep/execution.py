@@ -141,19 +141,20 @@ def run_sweep(
     """
     if not isinstance(sweep, Sweep):
         sweep = Sweep.load(sweep)
-    backend = "ensemble" if ensemble is not None else sweep_backend(sweep)
+    if ensemble is None and sweep_backend(sweep) == "gpu":
+        ensemble = partial(run_ensemble, backend="gpu")
+    if ensemble is not None and sweep.spec.estimator.kind not in BATCH_ESTIMATORS:
+        msg = f"estimator: {sweep.spec.estimator.kind} runs have no ensemble batches"
+        raise SweepError(msg)
     sweep_dir = prepare(sweep, sweep_dir)
     runs = sweep.runs()
     done = finished(sweep_dir, runs)
     todo = [run for run in runs if run.key not in done]
     # the runs of one spin-up state together, so that workers reuse warm states
     todo.sort(key=lambda r: (warm_group(r), r.point, r.sample))
-    if ensemble is None and backend == "gpu":
-        ensemble = partial(run_ensemble, backend="gpu")
     if ensemble is not None:
         groups = batches(todo, batch_size)
-        name = backend if backend != "ensemble" else getattr(ensemble, "__module__", backend)
-        submit = _in_process(partial(execute_batch, ensemble=ensemble, backend=name))
+        submit = _in_process(partial(execute_batch, ensemble=ensemble))
     else:
         by_stop: dict[str, list[Run]] = {}
         for run in todo:
