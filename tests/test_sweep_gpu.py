@@ -29,6 +29,7 @@ from pde_rotor.sweep import (
     Sweep,
     SweepError,
     SweepSpec,
+    batch,
     execution,
     gather,
     load_run,
@@ -122,14 +123,57 @@ def test_a_gpu_sweep_goes_to_the_ensemble_and_a_cpu_sweep_to_dask(tmp_path, monk
     assert (outcome.computed, calls) == (4, ["gpu"])
 
 
-def test_gpu_requests_that_cannot_run_are_one_line_before_anything_runs(tmp_path, monkeypatch):
-    monkeypatch.setattr(execution, "resolve_backend", lambda requested: "gpu")
-    restart = protocol_sweep("gpu", estimator={"kind": "restart", "warmup": 0.05})
-    with pytest.raises(SweepError, match=r"^base: solver.backend: gpu computes the protocol"):
-        run_sweep(restart, tmp_path / "never")
+def test_a_gpu_request_without_a_gpu_is_one_line_before_anything_runs(tmp_path, monkeypatch):
+    def no_gpu(requested: str) -> str:
+        raise RuntimeError("backend 'gpu' requested but no CUDA device was found")
+
+    monkeypatch.setattr(execution, "resolve_backend", no_gpu)
+    with pytest.raises(SweepError, match=r"^base: solver.backend: backend 'gpu' requested"):
+        run_sweep(protocol_sweep("gpu"), tmp_path / "never")
     assert not (tmp_path / "never").exists()
-    # auto runs the estimators without a batched form on the CPU
-    assert execution.sweep_backend(protocol_sweep("auto", estimator={"kind": "bank"})) == "cpu"
+
+
+RESTART = {
+    "kind": "restart",
+    "warmup": 0.1,
+    "check_interval": 0.005,
+    "release_cap": 0.1,
+    "commit_fraction": 0.02,  # the tiny plate turns slowly once released
+}
+
+
+@pytest.mark.parametrize(
+    ("estimator", "axes", "spin_ups"),
+    [
+        (RESTART, {"geometry.asymmetry": [0.0, 0.05]}, 4),
+        ({**RESTART, "kind": "bank"}, {"noise.sigma": [0.0, 1e-5]}, 2),
+    ],
+)
+def test_restart_and_bank_batches_read_the_runs_the_tasks_compute(
+    tmp_path, monkeypatch, estimator, axes, spin_ups
+):
+    """Restarts and bank releases computed as ensembles from the warm states (every step
+    recorded, the noise-free bank approach, the delayed release noise) give the results
+    of the per-run tasks: the same stop, outcome, commit time and end-of-stop torque."""
+    sweep = protocol_sweep(
+        estimator=estimator, axes=axes, samples=3, base={**TINY_GPU, "noise": {"sigma": 1e-5}}
+    )
+    run_sweep(sweep, tmp_path / "tasks", workers=1, progress=False)
+    recorder = Recorder()
+    monkeypatch.setattr(batch, "_WARM", {})  # no steady state kept from another test
+    outcome = run_sweep(sweep, tmp_path / "batch", ensemble=recorder, progress=False)
+    assert (outcome.computed, outcome.failed) == (12, [])
+    # one ensemble of the spin-ups (per configuration without noise, and direction)
+    assert recorder.batches[0] == spin_ups
+    for run in sweep.runs():
+        got = load_run(run_path(tmp_path / "batch", run.key))["result"]
+        want = load_run(run_path(tmp_path / "tasks", run.key))["result"]
+        assert got.keys() == want.keys()
+        for name, value in want.items():
+            assert got[name] == pytest.approx(value, rel=1e-9, nan_ok=True), name
+    results = [load_run(run_path(tmp_path / "tasks", r.key))["result"] for r in sweep.runs()]
+    assert len({r["extra_steps"] for r in results}) > 1  # the stops differ
+    assert any(r["committed"] for r in results)
 
 
 def test_a_tiny_sweep_runs_through_the_gpu_kernels(tmp_path, fast_simulator):

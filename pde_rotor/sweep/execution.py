@@ -19,7 +19,7 @@ from pathlib import Path
 from typing import Any
 
 from ..backends import resolve_backend, run_ensemble
-from .batch import BATCH_ESTIMATORS, EnsembleRunner, batches, execute_batch
+from .batch import EnsembleRunner, batches, execute_batch
 from .plan import Run, Sweep
 from .spec import SweepError
 from .store import finished, prepare, write_run
@@ -82,28 +82,16 @@ def sweep_backend(sweep: Sweep) -> str:
     """Where the runs of `sweep` are computed: ``cpu`` or ``gpu``.
 
     ``solver.backend`` of the base config, resolved on this machine
-    (:func:`pde_rotor.backends.resolve_backend`); ``auto`` runs on the GPU only the
-    estimators an ensemble computes in batches (:data:`.batch.BATCH_ESTIMATORS`).
+    (:func:`pde_rotor.backends.resolve_backend`).
 
     Raises:
-        SweepError: ``gpu`` is requested but there is no usable GPU, or the estimator
-            has no batched form (one line, before anything runs).
+        SweepError: ``gpu`` is requested but there is no usable GPU (one line, before
+            anything runs).
     """
-    requested = sweep.base.get("solver", {}).get("backend", "cpu")
-    kind = sweep.spec.estimator.kind
     try:
-        backend = resolve_backend(requested)
+        return resolve_backend(sweep.base.get("solver", {}).get("backend", "cpu"))
     except RuntimeError as err:
         raise SweepError(f"base: solver.backend: {err}") from None
-    if backend == "gpu" and kind not in BATCH_ESTIMATORS:
-        if requested == "auto":
-            return "cpu"
-        msg = (
-            f"base: solver.backend: gpu computes the {', '.join(BATCH_ESTIMATORS)} estimator "
-            f"in batches, not {kind} (use solver.backend: cpu or auto)"
-        )
-        raise SweepError(msg)
-    return backend
 
 
 def run_sweep(
@@ -143,9 +131,6 @@ def run_sweep(
         sweep = Sweep.load(sweep)
     if ensemble is None and sweep_backend(sweep) == "gpu":
         ensemble = partial(run_ensemble, backend="gpu")
-    if ensemble is not None and sweep.spec.estimator.kind not in BATCH_ESTIMATORS:
-        msg = f"estimator: {sweep.spec.estimator.kind} runs have no ensemble batches"
-        raise SweepError(msg)
     sweep_dir = prepare(sweep, sweep_dir)
     runs = sweep.runs()
     done = finished(sweep_dir, runs)

@@ -11,7 +11,7 @@ import json
 import math
 import time
 from collections import OrderedDict
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -28,7 +28,7 @@ _WARM: OrderedDict[str, Simulation] = OrderedDict()
 _WARM_MAX = 8
 
 
-def _spin_up(
+def spin_up(
     config: RotorConfig, estimator: RestartEstimator, direction: int
 ) -> tuple[str, dict[str, Any]]:
     """The spin-up configuration of `config` in `direction` and its hash (the cache key)."""
@@ -40,9 +40,24 @@ def _spin_up(
     return hashlib.sha256(json.dumps(data, sort_keys=True).encode()).hexdigest(), data
 
 
+def check_spin_up(omega: float, direction: int, estimator: RestartEstimator) -> None:
+    """Raise unless the spin-up ended rotating in `direction`.
+
+    Raises:
+        RuntimeError: omega after the warmup has the other sign (or none).
+    """
+    if np.sign(omega) != direction:
+        msg = (
+            f"spin-up from omega0 = {direction * estimator.spinup_omega:g} ended with omega = "
+            f"{omega:.4g} at t = {estimator.warmup:g}, not in the requested direction; "
+            "raise estimator.spinup_omega"
+        )
+        raise RuntimeError(msg)
+
+
 def warm_key(config: RotorConfig, estimator: RestartEstimator, direction: int) -> str:
     """Runs with equal keys share the spin-up of :func:`warm_state` (in one process)."""
-    return _spin_up(config, estimator, direction)[0]
+    return spin_up(config, estimator, direction)[0]
 
 
 def warm_state(config: RotorConfig, estimator: RestartEstimator, direction: int) -> Simulation:
@@ -54,19 +69,13 @@ def warm_state(config: RotorConfig, estimator: RestartEstimator, direction: int)
     Raises:
         RuntimeError: the rotor does not rotate in the requested direction after warmup.
     """
-    key, data = _spin_up(config, estimator, direction)
+    key, data = spin_up(config, estimator, direction)
     if key in _WARM:
         _WARM.move_to_end(key)
         return _WARM[key]
     sim = Simulation(RotorConfig.model_validate(data))
     sim.run(estimator.warmup)
-    if np.sign(sim.rotor.omega) != direction:
-        msg = (
-            f"spin-up from omega0 = {direction * estimator.spinup_omega:g} ended with omega = "
-            f"{sim.rotor.omega:.4g} at t = {sim.t:g}, not in the requested direction; "
-            "raise estimator.spinup_omega"
-        )
-        raise RuntimeError(msg)
+    check_spin_up(sim.rotor.omega, direction, estimator)
     _WARM[key] = sim
     while len(_WARM) > _WARM_MAX:
         _WARM.popitem(last=False)
@@ -84,8 +93,8 @@ def _steps(duration: float, dt: float) -> int:
 
 
 @dataclass(frozen=True)
-class _Timing:
-    """Step counts of one restart: steps before the stop, stop, release cap, check."""
+class Timing:
+    """Step counts of one restart: global step of the stop, stop, release cap, check."""
 
     n0: int
     n_stop: int
@@ -93,7 +102,8 @@ class _Timing:
     n_check: int
 
     @classmethod
-    def of(cls, config: RotorConfig, estimator: RestartEstimator, n0: int) -> _Timing:
+    def of(cls, config: RotorConfig, estimator: RestartEstimator, n0: int) -> Timing:
+        """The timing of a restart of `config` that stops after global step `n0`."""
         dt = config.grid.dt
         cap = estimator.release_cap
         cap = cap if cap is not None else config.protocol.t_release
@@ -103,6 +113,11 @@ class _Timing:
             _steps(cap, dt),
             max(1, _steps(estimator.check_interval, dt)),
         )
+
+    @property
+    def release(self) -> int:
+        """Global step at which the stop ends and the release begins."""
+        return self.n0 + self.n_stop
 
     def protocol(self, config: RotorConfig) -> RotorConfig:
         """`config` with the one-stop protocol of this restart."""
@@ -114,37 +129,66 @@ class _Timing:
         return RotorConfig.model_validate(data)
 
 
-def _period_steps(config: RotorConfig, warm: Simulation) -> int:
-    """Steps per period 2 pi / N of the stop angle at the warm state's angular velocity."""
+def period_steps(config: RotorConfig, omega: float) -> int:
+    """Steps per period 2 pi / N of the stop angle at the angular velocity `omega`."""
     period = 2 * math.pi / config.geometry.n_corners
-    return max(1, round(period / (abs(warm.rotor.omega) * config.grid.dt)))
+    return max(1, round(period / (abs(omega) * config.grid.dt)))
 
 
-def _release(
-    sim: Simulation, timing: _Timing, estimator: RestartEstimator, omega_before: float
+def release_outcome(
+    omega_at: Callable[[int], float],
+    timing: Timing,
+    estimator: RestartEstimator,
+    omega_before: float,
+    dt: float,
 ) -> dict:
-    """Release `sim` (at the end of its stop) until its direction is committed."""
-    dt = sim.config.grid.dt
+    """The commit rule of the restart and bank estimators, on any source of omega.
+
+    The released rotor has committed once |omega| >= commit_fraction |omega_before|,
+    checked every check_interval after the release, at most until the release cap; its
+    direction after the stop is then the sign of omega (0: not committed).
+
+    Args:
+        omega_at: omega after a global step (advances a simulation, or reads records).
+        timing: the restart's step counts.
+        estimator: commit fraction, check interval.
+        omega_before: omega just before the stop.
+        dt: time step.
+    """
     threshold = estimator.commit_fraction * abs(omega_before)
     n = 0
+    omega = omega_at(timing.release)
     committed = False
     while n < timing.n_cap:
         n = min(n + timing.n_check, timing.n_cap)
-        sim.run((timing.n0 + timing.n_stop + n) * dt)
-        if abs(sim.rotor.omega) >= threshold:
+        omega = omega_at(timing.release + n)
+        if abs(omega) >= threshold:
             committed = True
             break
     before = int(np.sign(omega_before))
-    after = int(np.sign(sim.rotor.omega)) if committed else 0
+    after = int(np.sign(omega)) if committed else 0
     return {
         "direction_before": before,
         "direction_after": after,
         "inverted": bool(after == -before),
         "committed": committed,
         "omega_before": float(omega_before),
-        "omega_end": float(sim.rotor.omega),
+        "omega_end": float(omega),
         "t_commit": float(n * dt) if committed else math.nan,
     }
+
+
+def _release(
+    sim: Simulation, timing: Timing, estimator: RestartEstimator, omega_before: float
+) -> dict:
+    """Release `sim` (at the end of its stop) until its direction is committed."""
+    dt = sim.config.grid.dt
+
+    def omega_at(step: int) -> float:
+        sim.run(step * dt)
+        return sim.rotor.omega
+
+    return release_outcome(omega_at, timing, estimator, omega_before, dt)
 
 
 def run_restart(config: RotorConfig, estimator: RestartEstimator, direction: int) -> dict:
@@ -162,8 +206,8 @@ def run_restart(config: RotorConfig, estimator: RestartEstimator, direction: int
     warm = warm_state(config, estimator, direction)
     dt = config.grid.dt
     rng = np.random.default_rng(config.noise.seed)
-    extra = int(rng.integers(0, _period_steps(config, warm)))
-    timing = _Timing.of(config, estimator, _steps(warm.t, dt) + extra)
+    extra = int(rng.integers(0, period_steps(config, warm.rotor.omega)))
+    timing = Timing.of(config, estimator, _steps(warm.t, dt) + extra)
     sim = warm.branch(timing.protocol(config), rng=rng)
     sim.run(timing.n0 * dt)
     omega_before, phi_stop = sim.rotor.omega, sim.rotor.phi
@@ -191,8 +235,9 @@ def run_bank(
     base = configs[0]
     warm = warm_state(base, estimator, direction)
     dt = base.grid.dt
-    extra = int(np.random.default_rng(stop_seed).integers(0, _period_steps(base, warm)))
-    timing = _Timing.of(base, estimator, _steps(warm.t, dt) + extra)
+    n_period = period_steps(base, warm.rotor.omega)
+    extra = int(np.random.default_rng(stop_seed).integers(0, n_period))
+    timing = Timing.of(base, estimator, _steps(warm.t, dt) + extra)
     quiet = timing.protocol(base)
     quiet.noise.sigma = 0.0
     stop = warm.branch(quiet)
