@@ -347,9 +347,8 @@ def sweep_data(name: str, fid: Fidelity, out: Path) -> SweepData:
 
     if not fid.is_tiny:
         for path in stored_reports(name):
-            with xr.open_dataset(path, engine="h5netcdf") as ds:
-                _logger.info("%s: stored report %s", name, path)
-                return SweepData(ds.load(), path, computed=False)
+            _logger.info("%s: stored report %s", name, path)
+            return SweepData(stored.load_report(path), path, computed=False)
     spec_path = sweep_file(name, fid)
     if fid.is_tiny:
         sweep: Any = tiny_sweep(spec_path, out)

@@ -445,6 +445,24 @@ def test_p_is_pooled_for_a_symmetric_rotor_and_the_chain_value_otherwise(tmp_pat
     assert rows[1].split()[1:3] == ["0.000", "chain"] and "7/20 = 0.350" in rows[1]
 
 
+def test_an_older_stored_report_is_read_with_the_current_rule(tmp_path):
+    """Reports written before the rule hold the chain value at Delta = 0 too; read
+    back, P there is the pooled fraction with its Wilson interval."""
+    from pde_rotor.sweep.stored import load_report
+
+    sweep = tiny_sweep(samples=10, axes={"geometry.asymmetry": [0.0, 1e-4]})
+    fake_restarts(tmp_path, sweep, {CCW: 7, CW: 0})
+    current = gather(sweep, tmp_path)
+    old = current.drop_vars(["P_estimator", "P_pooled_low", "P_pooled_high"])
+    for name in ("P", "P_low", "P_high"):
+        old[name] = current[name.replace("P", "P_chain", 1)]
+    old.to_netcdf(tmp_path / "old.nc", engine="h5netcdf")
+    read = load_report(tmp_path / "old.nc")
+    for name in ("P", "P_low", "P_high", "P_estimator"):
+        np.testing.assert_array_equal(read[name].values, current[name].values)
+    assert "Delta = 0: pooled" in read["P"].attrs["long_name"]
+
+
 def test_protocol_report_says_p_is_inversions_over_m(tmp_path):
     sweep = tiny_sweep(samples=2, axes={}, estimator={"kind": "protocol"})
     (tmp_path / RUNS_DIR).mkdir(parents=True)

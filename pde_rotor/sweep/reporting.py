@@ -31,7 +31,7 @@ P_RULE = {
 }
 """What P is, by estimator (the bank estimator's rule is the restart one's)."""
 
-_VARIABLES: dict[str, tuple[str, str]] = {
+VARIABLES: dict[str, tuple[str, str]] = {
     "P": ("inversion probability", "1"),  # + P_RULE[estimator] in gather()
     "P_low": ("lower bound of the 95 % interval of P", "1"),
     "P_high": ("upper bound of the 95 % interval of P", "1"),
@@ -65,6 +65,7 @@ _VARIABLES: dict[str, tuple[str, str]] = {
     "runs_done": ("runs with a result file", "1"),
     "runs_expected": ("runs of the sweep at this point", "1"),
 }
+"""Every variable of a report: long name and units."""
 _COUNTS = ("P_estimator", "inversions", "stops", "runs_done", "runs_expected", "uncommitted")
 
 
@@ -122,7 +123,7 @@ def gather(sweep: Sweep, sweep_dir: str | Path) -> xr.Dataset:
     for run in sweep.runs():
         by_point.setdefault(run.point, []).append(run)
     kind = sweep.spec.estimator.kind
-    arrays = {name: np.full(sweep.shape, np.nan) for name in _VARIABLES}
+    arrays = {name: np.full(sweep.shape, np.nan) for name in VARIABLES}
     outcomes: dict[tuple[int, ...], dict[Any, bool]] = {}
     for index, runs in by_point.items():
         contents = _stored(sweep_dir, runs)
@@ -141,7 +142,7 @@ def gather(sweep: Sweep, sweep_dir: str | Path) -> xr.Dataset:
     dim_list = [dims[k] for k in keys]
     rule = P_RULE["protocol" if kind == "protocol" else "restart"]
     data_vars = {}
-    for name, (long_name, units) in _VARIABLES.items():
+    for name, (long_name, units) in VARIABLES.items():
         if name == "P":
             long_name = f"{long_name} ({kind} estimator): {rule}"
         arr = arrays[name]

@@ -14,6 +14,9 @@ import xarray as xr
 
 from ..config import RotorConfig
 from ..figures import count_range
+from ..stats import wilson_interval
+from .estimates import CHAIN, POOLED
+from .reporting import P_RULE, VARIABLES
 
 
 @dataclass
@@ -54,6 +57,45 @@ def _base_value(base_json: str, keys: tuple[str, ...], default: float) -> float:
         return float(node)
     except (ValueError, KeyError, TypeError):
         return default
+
+
+def load_report(path: Path) -> xr.Dataset:
+    """A stored report, loaded into memory, with P by the current rule (:mod:`.estimates`).
+
+    A restart or bank report written before the rule (without ``P_estimator``) holds the
+    chain value 2ab/(a+b) in P at every Delta: where Delta = 0, P becomes the pooled
+    fraction inversions / stops with its Wilson interval, recomputed from the counts,
+    and ``P_estimator`` is added (the attribute ``P`` says so).
+    """
+    with xr.open_dataset(path, engine="h5netcdf") as stored:
+        ds = stored.load()
+    if "P_estimator" in ds or ds.attrs.get("estimator") == "protocol":
+        return ds
+    base = json.loads(ds.attrs.get("base_config", "{}"))
+    if "asymmetry" in ds.coords:
+        delta = ds["asymmetry"]
+    else:
+        delta = xr.DataArray(float(base.get("geometry", {}).get("asymmetry", 0.0)))
+    dims = ds["P"].dims
+    chain = (delta != 0).broadcast_like(ds["P"]).transpose(*dims).values
+    k = np.asarray(ds["inversions"].transpose(*dims).values, dtype=int)
+    n = np.asarray(ds["stops"].transpose(*dims).values, dtype=int)
+    pooled = np.where(n > 0, k / np.maximum(n, 1), np.nan)
+    bounds = np.vectorize(wilson_interval)(k, n)
+    for name, value in (("P", pooled), ("P_low", bounds[0]), ("P_high", bounds[1])):
+        new = np.where(chain, ds[name].transpose(*dims).values, value)
+        ds[name] = (dims, new, ds[name].attrs)
+    ds["P_estimator"] = (
+        dims,
+        np.where(chain, CHAIN, POOLED),
+        {"long_name": VARIABLES["P_estimator"][0]},
+    )
+    rule = P_RULE["restart"]
+    ds["P"].attrs["long_name"] = (
+        f"inversion probability ({ds.attrs.get('estimator')} estimator): {rule}"
+    )
+    ds.attrs["P"] = f"{rule} (P where Delta = 0 recomputed from the counts of an older report)"
+    return ds
 
 
 def stored_reports(name: str, data_dir: Path) -> list[Path]:
@@ -136,8 +178,7 @@ def paper_points(data_dir: Path, x_dim: str, **fixed: float) -> xr.Dataset | Non
         path = data_dir / f"{name}.nc"
         if not path.exists():
             continue
-        with xr.open_dataset(path, engine="h5netcdf") as stored:
-            ds = stored.load()
+        ds = load_report(path)
         config = RotorConfig.model_validate(json.loads(ds.attrs["base_config"]))
         index: dict[str, int] = {}
         for dim, value in fixed.items():
