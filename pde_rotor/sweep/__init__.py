@@ -24,7 +24,7 @@ One module per job:
 * :mod:`.spec`: the sweep file's schema, shipped bases, ``--set`` overrides;
 * :mod:`.plan`: points, runs, seeds and run keys (:class:`Sweep`, :class:`Run`);
 * :mod:`.tasks`: one run on a worker (restart, bank group, protocol run);
-* :mod:`.batch`: protocol runs in batches on an ensemble backend (GPU);
+* :mod:`.batch`: runs in batches on an ensemble backend (GPU);
 * :mod:`.store`: the run files of a sweep directory (default data/sweeps/<name>);
 * :mod:`.execution`: :func:`run_sweep`, the seam between dask on CPUs and GPU batches;
 * :mod:`.estimates`, :mod:`.reporting`: the statistics of a point and the report.
