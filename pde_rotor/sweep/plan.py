@@ -46,9 +46,11 @@ class Run:
         coords: the point's axis values by dotted key.
         sample: sample index at the point.
         direction: +1 (CCW) or -1 (CW) for restarts, 0 for protocol runs.
-        config: resolved configuration (JSON mapping, noise.seed set).
+        config: resolved physics configuration (JSON mapping, noise.seed set; without
+            the output and solver sections, which change no result).
         estimator: estimator settings (JSON mapping).
-        key: hash of config, estimator, direction and sample; the run file's name.
+        key: hash of config, estimator, direction, sample and stop seed
+            (:func:`run_key`); the run file's name.
         stop_seed: seed of the stop angle shared by a bank group (bank estimator only):
             derived from the sweep seed, the point's coordinates without its ``noise``
             axes, the sample and the direction.

@@ -69,7 +69,7 @@ def load_report(path: Path) -> xr.Dataset:
     """
     with xr.open_dataset(path, engine="h5netcdf") as stored:
         ds = stored.load()
-    if "P_estimator" in ds or ds.attrs.get("estimator") == "protocol":
+    if "P_estimator" in ds or ds.attrs.get("estimator") not in ("restart", "bank"):
         return ds
     base = json.loads(ds.attrs.get("base_config", "{}"))
     if "asymmetry" in ds.coords:
