@@ -1,9 +1,10 @@
 """Do the bank and restart estimators agree? (issue 5: an estimator is checked before use)
 
 The bank estimator (pde_rotor.sweep, ``kind: bank``) differs from the restart estimator
-in three ways that should not change the statistics: the stop angles follow a
-golden-ratio sequence instead of uniform random draws, the few steps before the stop
-are noise-free, and one stop is shared by all noise intensities. This script compares
+in ways that should not change the statistics: the few steps before the stop are
+noise-free and one stop is shared by all noise intensities (and in the stored bank
+reports, written before run-file version 2, the stop angles follow a golden-ratio
+sequence instead of uniform random draws). This script compares
 two stored reports on their common points: P(inv | CCW) and P(inv | CW) with Fisher's
 exact test, Holm-corrected over all tests (pde_rotor.stats.two_proportion_test).
 

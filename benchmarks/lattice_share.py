@@ -26,6 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from pde_rotor.stats import restart_counts, two_state_chain
+from pde_rotor.sweep import Sweep, load_run, run_path
 
 
 def main() -> None:
@@ -34,12 +35,14 @@ def main() -> None:
     args = parser.parse_args()
     for sweep_dir in args.sweep_dirs:
         points: dict[str, list[dict]] = defaultdict(list)
-        for path in sorted((sweep_dir / "runs").glob("*.json")):
-            content = json.loads(path.read_text(encoding="utf-8"))
-            if content["estimator"]["kind"] != "bank":
-                continue
-            config = content["config"]
-            if config["noise"]["sigma"] != 0:
+        sweep = Sweep.load(sweep_dir)
+        if sweep.spec.estimator.kind != "bank":
+            print(f"{sweep_dir}: not a bank sweep")
+            continue
+        for run in sweep.runs():
+            content = load_run(run_path(sweep_dir, run.key))
+            config = run.config
+            if content is None or config["noise"]["sigma"] != 0:
                 continue
             key = json.dumps(
                 {

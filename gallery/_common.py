@@ -18,9 +18,6 @@ from __future__ import annotations
 
 import argparse
 import logging
-import math
-import os
-import textwrap
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -30,9 +27,55 @@ import numpy as np
 import xarray as xr
 from matplotlib.figure import Figure
 
-from pde_rotor.config import CALIBRATED_SIGMA, RotorConfig, load_config, read_config_data
-from pde_rotor.stats import wilson_interval
+from pde_rotor.config import (
+    CALIBRATED_SIGMA,
+    RotorConfig,
+    load_config,
+    read_config_data,
+    set_key,
+)
+from pde_rotor.figures import (
+    FOOTER_FONTSIZE,
+    add_footer,
+    count_range,
+    draw_conditionals,
+    errorbar_p,
+    format_p,
+    grid_label,
+    new_figure,
+    probability_axes,
+    wilson_text,
+)
+from pde_rotor.figures import save_figure as save
+from pde_rotor.sweep import stored
+from pde_rotor.sweep.stored import PAPER_REPORTS, SweepData, curve
 from pde_rotor.trackers import OMEGA_UNITS, TIME_UNITS
+
+__all__ = [
+    "ASYMMETRY_LABEL",
+    "FOOTER_FONTSIZE",
+    "PAPER_REPORTS",
+    "STOP_LABEL",
+    "SweepData",
+    "add_footer",
+    "count_range",
+    "curve",
+    "draw_conditionals",
+    "draw_paper_points",
+    "errorbar_p",
+    "fidelity_label",
+    "format_p",
+    "grid_label",
+    "new_figure",
+    "parse_args",
+    "print_points",
+    "probability_axes",
+    "probability_footer",
+    "save",
+    "sweep_data",
+    "timeseries_main",
+    "wilson_text",
+]
 
 GALLERY = Path(__file__).resolve().parent
 """The gallery directory (scripts, committed PNGs, README)."""
@@ -44,8 +87,9 @@ SWEEPS = CONFIGS / "sweeps"
 """Sweep specifications of the probability figures (``pde-rotor sweep``)."""
 DATA = ROOT / "data"
 """Stored sweep reports (NetCDF written by :func:`pde_rotor.sweep.report`)."""
-SWEEP_RUNS = ROOT / "runs" / "sweeps"
-"""Where sweeps run by the gallery keep their results (the CLI's default: resumable)."""
+SWEEP_RUNS = ROOT / "data" / "sweeps"
+"""Where sweeps run by the gallery keep their results (the CLI's default: resumable, and
+committed results travel with the repository)."""
 OUTPUT = GALLERY / "output"
 """Default output directory (gitignored)."""
 SCHEDULER: str | None = None
@@ -195,15 +239,6 @@ def parse_args(
 # ---------------------------------------------------------------------------------------
 
 
-def grid_label(config: RotorConfig) -> str:
-    """``dx = 0.05, dt = 0.0004, delta = 0.05, L = 3``."""
-    g = config.grid
-    return (
-        f"dx = {g.dx:.4g}, dt = {g.dt:.3g}, \u03b4 = {config.geometry.smoothing:.4g}, "
-        f"L = {g.domain_radius:g}"
-    )
-
-
 CPU_BACKEND = "cpu (numba fused kernel)"
 """Backend label of everything the gallery computes (single runs and sweeps run on CPU)."""
 
@@ -223,100 +258,9 @@ def fidelity_label(
     return "; ".join(parts)
 
 
-FOOTER_FONTSIZE = 9.0
-"""Font size of the fidelity footers: readable at 100 % (7 was not)."""
-
-
-def count_range(values: Any) -> str:
-    """``60`` if every value is 60, else ``40-60``."""
-    low, high = int(np.min(values)), int(np.max(values))
-    return f"{low}" if low == high else f"{low}-{high}"
-
-
-def add_footer(fig: Figure, text: str, fontsize: float = FOOTER_FONTSIZE) -> None:
-    """Write the fidelity footer at the bottom of `fig`, wrapped, with room reserved for it.
-
-    Each line of `text` is a paragraph, wrapped to the figure width; the constrained layout
-    keeps the axes above the footer.
-    """
-    width = max(40, int(fig.get_figwidth() * 72 / (0.55 * fontsize)))
-    lines = [line for para in text.splitlines() for line in (textwrap.wrap(para, width) or [""])]
-    height = (len(lines) * 1.25 * fontsize / 72 + 0.08) / fig.get_figheight()
-    engine = fig.get_layout_engine()
-    if engine is not None:
-        engine.set(rect=(0, height, 1, 1 - height))
-    fig.text(0.5, 0.005, "\n".join(lines), ha="center", va="bottom", fontsize=fontsize, color="0.3")
-
-
-def save(fig: Figure, out: Path, name: str, dpi: int = 110) -> list[Path]:
-    """Write `fig` as out/name.png and out/name.pdf (atomically: temporary name, rename).
-
-    Returns:
-        The two paths.
-    """
-    paths = []
-    for suffix in ("png", "pdf"):
-        path = out / f"{name}.{suffix}"
-        tmp = path.with_name(f".{path.name}.part")
-        fig.savefig(tmp, format=suffix, dpi=dpi)
-        os.replace(tmp, path)
-        paths.append(path)
-        _logger.info("wrote %s", path)
-    return paths
-
-
-def new_figure(width: float, height: float) -> Figure:
-    """A pyplot-free Figure with constrained layout and room for the footer."""
-    fig = Figure(figsize=(width, height), layout="constrained")
-    fig.get_layout_engine().set(rect=(0, 0.03, 1, 0.97))
-    return fig
-
-
 # ---------------------------------------------------------------------------------------
 # sweeps and probabilities
 # ---------------------------------------------------------------------------------------
-
-
-@dataclass
-class SweepData:
-    """A sweep report and where it came from.
-
-    Attributes:
-        report: Dataset of :func:`pde_rotor.sweep.report` (P, P_low, P_high, stops, ...).
-        source: file or directory it was read from or computed into.
-        computed: whether the gallery ran the sweep (False: a stored report).
-    """
-
-    report: xr.Dataset
-    source: Path
-    computed: bool
-
-    def label(self) -> str:
-        """Fidelity of the report: estimator, samples, grid."""
-        attrs = self.report.attrs
-        n = count_range(self.report["stops"].values)
-        base = attrs.get("base_config", "{}")
-        sigma = _base_value(base, ("noise", "sigma"), 0.0)
-        smoothing = _base_value(base, ("geometry", "smoothing"), math.nan)
-        radius = _base_value(base, ("grid", "domain_radius"), 3.0)
-        return (
-            f"sweep {attrs.get('sweep', '?')}: {attrs.get('estimator', '?')} estimator, "
-            f"{n} stops per point; dx = {float(attrs.get('grid_dx', math.nan)):.4g}, "
-            f"dt = {float(attrs.get('grid_dt', math.nan)):.3g}, \u03b4 = {smoothing:.4g}, "
-            f"L = {radius:g}, \u03c3 = {sigma:g}"
-        )
-
-
-def _base_value(base_json: str, keys: tuple[str, ...], default: float) -> float:
-    import json
-
-    try:
-        node: Any = json.loads(base_json)
-        for key in keys:
-            node = node[key]
-        return float(node)
-    except (ValueError, KeyError, TypeError):
-        return default
 
 
 def sweep_file(name: str, fid: Fidelity) -> Path:
@@ -330,31 +274,6 @@ def sweep_file(name: str, fid: Fidelity) -> Path:
         msg = f"{path} not found: the sweeps of the probability figures live in {SWEEPS}"
         raise FileNotFoundError(msg)
     return path
-
-
-def stored_reports(name: str) -> list[Path]:
-    """Stored reports of sweep `name` under data/ (any variant), best fidelity first.
-
-    A report is a NetCDF file whose name (or directory name) is `name` or starts with
-    `name` followed by "_" or "-"; the finest grid is preferred, then more stops.
-    """
-    if not DATA.is_dir():
-        return []
-    found = []
-    for path in DATA.rglob("*.nc"):
-        label = path.stem if path.stem != "report" else path.parent.name
-        if label == name or label.startswith((f"{name}_", f"{name}-")):
-            found.append(path)
-
-    def rank(path: Path) -> tuple[float, float]:
-        """Finer grid first, then more stops per point."""
-        try:
-            with xr.open_dataset(path, engine="h5netcdf") as ds:
-                return (float(ds.attrs.get("grid_dx", math.inf)), -float(ds["stops"].min()))
-        except (OSError, ValueError, KeyError):
-            return (math.inf, 0.0)
-
-    return sorted(found, key=rank)
 
 
 def tiny_sweep(spec_path: Path, work: Path) -> Any:
@@ -374,10 +293,10 @@ def tiny_sweep(spec_path: Path, work: Path) -> Any:
     base = dict(sweep.base)
     for text in tiny.grid:
         key, value = text.split("=")
-        _set(base, key, float(value))
-    _set(base, "protocol.t_ini", 1.0)
-    _set(base, "protocol.t_release", 1.0)
-    _set(base, "protocol.cycles", 2)
+        set_key(base, key, float(value))
+    set_key(base, "protocol.t_ini", 1.0)
+    set_key(base, "protocol.t_release", 1.0)
+    set_key(base, "protocol.cycles", 2)
     axes = {}
     for key, values in sweep.axes.items():
         picked = [values[0], values[-1]] if len(values) > 1 else list(values)
@@ -400,12 +319,16 @@ def tiny_sweep(spec_path: Path, work: Path) -> Any:
     return Sweep.from_spec(new)
 
 
-def _set(data: dict[str, Any], key: str, value: Any) -> None:
-    parts = key.split(".")
-    node = data
-    for part in parts[:-1]:
-        node = node.setdefault(part, {})
-    node[parts[-1]] = value
+def stored_reports(name: str) -> list[Path]:
+    """Stored reports of sweep `name` under data/, best fidelity first
+    (:func:`pde_rotor.sweep.stored.stored_reports`)."""
+    return stored.stored_reports(name, DATA)
+
+
+def paper_points(x_dim: str, **fixed: float) -> xr.Dataset | None:
+    """The paper-resolution points of data/ on one curve
+    (:func:`pde_rotor.sweep.stored.paper_points`)."""
+    return stored.paper_points(DATA, x_dim, **fixed)
 
 
 def sweep_data(name: str, fid: Fidelity, out: Path) -> SweepData:
@@ -415,7 +338,7 @@ def sweep_data(name: str, fid: Fidelity, out: Path) -> SweepData:
       stored, which the footer names); otherwise the sweep configs/sweeps/<name>.yaml
       (full) or <name>_quick.yaml (quick, with at most ``fid.sweep_samples`` restarts per
       direction and point) is run through :func:`pde_rotor.sweep.run_sweep` into
-      runs/sweeps/<file stem> (resumable: a rerun continues where it stopped; the
+      data/sweeps/<file stem> (resumable: a rerun continues where it stopped; the
       directory ``pde-rotor sweep`` uses by default) and its report is written there;
     * tiny: a shrunken copy of the quick sweep (:func:`tiny_sweep`) run into
       `out`/sweeps/.
@@ -424,9 +347,8 @@ def sweep_data(name: str, fid: Fidelity, out: Path) -> SweepData:
 
     if not fid.is_tiny:
         for path in stored_reports(name):
-            with xr.open_dataset(path, engine="h5netcdf") as ds:
-                _logger.info("%s: stored report %s", name, path)
-                return SweepData(ds.load(), path, computed=False)
+            _logger.info("%s: stored report %s", name, path)
+            return SweepData(stored.load_report(path), path, computed=False)
     spec_path = sweep_file(name, fid)
     if fid.is_tiny:
         sweep: Any = tiny_sweep(spec_path, out)
@@ -453,15 +375,6 @@ def sweep_data(name: str, fid: Fidelity, out: Path) -> SweepData:
     return SweepData(ds, sweep_dir / REPORT_FILE, computed=True)
 
 
-def errorbar_p(ax: Any, x: np.ndarray, ds: xr.Dataset, **kwargs: Any) -> None:
-    """Plot P with its 95 % interval (P_low, P_high) as error bars against `x`."""
-    p = np.asarray(ds["P"].values, dtype=float)
-    lo = np.asarray(ds["P_low"].values, dtype=float)
-    hi = np.asarray(ds["P_high"].values, dtype=float)
-    yerr = np.vstack([np.clip(p - lo, 0, None), np.clip(hi - p, 0, None)])
-    ax.errorbar(x, p, yerr=yerr, capsize=3, **kwargs)
-
-
 def print_points(prefix: str, x_name: str, x: np.ndarray, ds: xr.Dataset) -> None:
     """Print ``PREFIX X_NAME = x: P = p [lo, hi] (n stops)`` for every point of a 1-D curve."""
     for xv, p, lo, hi, n in zip(
@@ -474,27 +387,6 @@ STOP_LABEL = f"stop duration t_stop [{TIME_UNITS}]"
 """Axis label of t_stop."""
 ASYMMETRY_LABEL = "asymmetry \u0394 [rad]"
 """Axis label of Delta."""
-
-
-def probability_axes(ax: Any, xlabel: str) -> None:
-    """Axis styling shared by the probability figures."""
-    ax.set_ylim(-0.05, 1.05)
-    ax.set_xlabel(xlabel)
-    ax.set_ylabel("inversion probability P")
-    ax.axhline(0.5, color="0.6", lw=0.7, ls=":")
-    ax.grid(alpha=0.3)
-
-
-def format_p(ds: xr.Dataset) -> str:
-    """``P = 0.83 [0.66, 0.93] (k/n)`` for a scalar (one-point) selection of a report."""
-    p, lo, hi = (float(ds[v]) for v in ("P", "P_low", "P_high"))
-    return f"P = {p:.2f} [{lo:.2f}, {hi:.2f}] ({int(ds['inversions'])}/{int(ds['stops'])})"
-
-
-def wilson_text(k: int, n: int) -> str:
-    """``k/n, 95 % CI [lo, hi]``."""
-    lo, hi = wilson_interval(k, n)
-    return f"{k}/{n}, 95 % CI [{lo:.2f}, {hi:.2f}]"
 
 
 # ---------------------------------------------------------------------------------------
@@ -608,43 +500,6 @@ def timeseries_main(
     return save(fig, args.out, name)
 
 
-def curve(ds: xr.Dataset, x_dim: str, **fixed: float) -> xr.Dataset:
-    """One curve of a report: every dimension but `x_dim` fixed.
-
-    Dimensions of length one are squeezed; others must be given in `fixed` (nearest value).
-
-    Raises:
-        ValueError: `x_dim` is missing or another dimension is left free.
-    """
-    if x_dim not in ds.dims:
-        msg = f"report has no dimension {x_dim!r} (dimensions: {', '.join(ds.dims) or 'none'})"
-        raise ValueError(msg)
-    if fixed:
-        ds = ds.sel(fixed, method="nearest")
-    extra = [d for d in ds.dims if d != x_dim]
-    free = [d for d in extra if ds.sizes[d] > 1]
-    if free:
-        msg = f"report dimension(s) {', '.join(free)} must be fixed to draw P against {x_dim}"
-        raise ValueError(msg)
-    return ds.squeeze(extra, drop=False) if extra else ds
-
-
-def draw_conditionals(ax: Any, x: np.ndarray, ds: xr.Dataset) -> None:
-    """Faint P(inversion | CCW) and P(inversion | CW): the two directions of the chain."""
-    for name, marker, label in (("P_ccw", "^", "from CCW"), ("P_cw", "v", "from CW")):
-        if name in ds and np.isfinite(ds[name].values).any():
-            ax.plot(
-                x,
-                ds[name].values,
-                marker,
-                ms=4,
-                ls="none",
-                alpha=0.45,
-                color="0.35",
-                label=f"P(inv | {label})",
-            )
-
-
 def probability_footer(fid: Fidelity, data: SweepData) -> str:
     """Footer of a probability figure: the report's fidelity and where it came from."""
     where = "computed now" if data.computed else f"stored: {_relative(data.source)}"
@@ -657,73 +512,6 @@ def probability_footer(fid: Fidelity, data: SweepData) -> str:
         f"pde_rotor, {fid.name} run of the gallery; {data.label()}; {where}; "
         f"95 % interval: {interval}; backend {CPU_BACKEND}"
     )
-
-
-PAPER_REPORTS = ("calibration", "predictions", "predictions_no_flow")
-"""Stored reports (data/<name>.nc) at the paper's resolution, drawn over the curves."""
-_BASE_KEYS = {
-    "sigma": "noise.sigma",
-    "asymmetry": "geometry.asymmetry",
-    "t_stop": "protocol.t_stop",
-    "enabled": "flow.enabled",
-}
-
-
-def _base_setting(config: RotorConfig, key: str) -> float:
-    section, name = key.split(".")
-    return float(getattr(getattr(config, section), name))
-
-
-def paper_points(x_dim: str, **fixed: float) -> xr.Dataset | None:
-    """Points of the stored paper-resolution reports (:data:`PAPER_REPORTS`) on one curve.
-
-    Args:
-        x_dim: the curve's variable ("t_stop" or "asymmetry").
-        fixed: the other settings by dimension name ("sigma", "asymmetry", "t_stop",
-            "enabled" for flow.enabled); a setting that is not an axis of a report is
-            read from its base config.
-
-    Returns:
-        P, P_low, P_high, stops and the report's name against `x_dim` (sorted), or None
-        if no stored report has such points.
-    """
-    import json
-
-    rows = []
-    for name in PAPER_REPORTS:
-        path = DATA / f"{name}.nc"
-        if not path.exists():
-            continue
-        with xr.open_dataset(path, engine="h5netcdf") as stored:
-            ds = stored.load()
-        config = RotorConfig.model_validate(json.loads(ds.attrs["base_config"]))
-        index: dict[str, int] = {}
-        for dim, value in fixed.items():
-            if dim in ds.dims:
-                match = np.isclose(ds[dim].values.astype(float), value, rtol=1e-6, atol=1e-12)
-                if not match.any():
-                    break
-                index[dim] = int(np.argmax(match))
-            elif not math.isclose(_base_setting(config, _BASE_KEYS[dim]), value, abs_tol=1e-12):
-                break
-        else:
-            sub = ds.isel(index)
-            if x_dim in sub.dims:
-                sub = sub.squeeze([d for d in sub.dims if d != x_dim], drop=True)
-                xs = sub[x_dim].values.astype(float)
-            else:
-                xs = np.array([_base_setting(config, _BASE_KEYS[x_dim])])
-                sub = sub.squeeze(drop=True).expand_dims(x_dim)
-            for k, x in enumerate(xs):
-                row = {v: float(np.ravel(sub[v].values)[k]) for v in ("P", "P_low", "P_high")}
-                rows.append((float(x), row, int(np.ravel(sub["stops"].values)[k]), name))
-    if not rows:
-        return None
-    rows.sort(key=lambda r: r[0])
-    data = {v: (x_dim, np.array([r[1][v] for r in rows])) for v in ("P", "P_low", "P_high")}
-    data["stops"] = (x_dim, np.array([r[2] for r in rows]))
-    data["report"] = (x_dim, np.array([r[3] for r in rows]))
-    return xr.Dataset(data, coords={x_dim: [r[0] for r in rows]})
 
 
 def draw_paper_points(

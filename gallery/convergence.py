@@ -30,7 +30,6 @@ from __future__ import annotations
 
 import csv
 import math
-import os
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -52,6 +51,7 @@ from _common import (
 
 from pde_rotor.analysis import stopped_torque
 from pde_rotor.config import CALIBRATED_SIGMA, RotorConfig
+from pde_rotor.output import atomic_path
 from pde_rotor.simulation import Simulation
 from pde_rotor.trackers import OMEGA_UNITS
 
@@ -409,14 +409,12 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     )
     written = save(fig, args.out, NAME)
     table = args.out / f"{NAME}.csv"
-    tmp = table.with_name(f".{table.name}.part")
-    with tmp.open("w", newline="", encoding="utf-8") as handle:
+    with atomic_path(table) as tmp, tmp.open("w", newline="", encoding="utf-8") as handle:
         writer = csv.DictWriter(
             handle, ["quantity", "dx", "dt", "value", "low", "high", "stops"], restval=""
         )
         writer.writeheader()
         writer.writerows(rows)
-    os.replace(tmp, table)
     return [*written, table]
 
 

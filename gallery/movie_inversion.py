@@ -16,7 +16,6 @@ Run: ``python gallery/movie_inversion.py [--quick | --tiny]``.
 
 from __future__ import annotations
 
-import os
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -28,6 +27,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from pde_rotor.geometry import RotorShape
+from pde_rotor.output import atomic_path
 from pde_rotor.plotting import RotorFrame
 from pde_rotor.simulation import Simulation
 from pde_rotor.trackers import OMEGA_UNITS, TIME_UNITS
@@ -130,17 +130,16 @@ def write_gif(frames: list[np.ndarray], times: np.ndarray, path: Path) -> None:
         height = round(image.height * GIF_WIDTH / image.width)
         image = image.resize((GIF_WIDTH, height), Image.LANCZOS)
         images.append(image.quantize(colors=GIF_COLORS, method=Image.Quantize.MEDIANCUT))
-    tmp = path.with_name(f".{path.name}.part")
-    images[0].save(
-        tmp,
-        format="GIF",
-        save_all=True,
-        append_images=images[1:],
-        duration=1000 // FPS,
-        loop=0,
-        optimize=True,
-    )
-    os.replace(tmp, path)
+    with atomic_path(path) as tmp:
+        images[0].save(
+            tmp,
+            format="GIF",
+            save_all=True,
+            append_images=images[1:],
+            duration=1000 // FPS,
+            loop=0,
+            optimize=True,
+        )
 
 
 def write_mp4(frames: list[np.ndarray], path: Path) -> None:
@@ -148,21 +147,20 @@ def write_mp4(frames: list[np.ndarray], path: Path) -> None:
     import imageio_ffmpeg
 
     height, width = frames[0].shape[:2]
-    tmp = path.with_name(f".{path.name}.part")
-    writer = imageio_ffmpeg.write_frames(
-        str(tmp),
-        (width, height),
-        fps=FPS,
-        codec="libx264",
-        output_params=["-f", "mp4"],
-        macro_block_size=1,
-        quality=7,
-    )
-    writer.send(None)
-    for frame in frames:
-        writer.send(np.ascontiguousarray(frame))
-    writer.close()
-    os.replace(tmp, path)
+    with atomic_path(path) as tmp:
+        writer = imageio_ffmpeg.write_frames(
+            str(tmp),
+            (width, height),
+            fps=FPS,
+            codec="libx264",
+            output_params=["-f", "mp4"],
+            macro_block_size=1,
+            quality=7,
+        )
+        writer.send(None)
+        for frame in frames:
+            writer.send(np.ascontiguousarray(frame))
+        writer.close()
 
 
 def main(argv: Sequence[str] | None = None) -> list[Path]:

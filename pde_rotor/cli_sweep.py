@@ -15,9 +15,6 @@ from typing import Annotated
 
 import typer
 
-DEFAULT_ROOT = Path("runs") / "sweeps"
-"""Sweep directories default to runs/sweeps/<name of the sweep file>."""
-
 
 def _interrupt(signum: int, frame: object) -> None:
     raise KeyboardInterrupt
@@ -45,7 +42,10 @@ def register(app: typer.Typer) -> None:
         out: Annotated[
             Path | None,
             typer.Option(
-                "--out", "-o", help="Sweep directory [default: runs/sweeps/<sweep file stem>]."
+                "--out",
+                "-o",
+                help="Sweep directory [default: data/sweeps/<sweep file stem>, in the repository: "
+                "commit it to resume elsewhere].",
             ),
         ] = None,
         quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
@@ -70,10 +70,20 @@ def register(app: typer.Typer) -> None:
     ) -> None:
         """Run SWEEP on dask (resumable: finished runs are skipped), then write the report."""
         from .cost import estimate_sweep
-        from .sweep import Sweep, SweepError, finished, report, run_sweep, usable_cores
+        from .sweep import (
+            DEFAULT_ROOT,
+            Sweep,
+            SweepError,
+            finished,
+            report,
+            run_sweep,
+            sweep_backend,
+            usable_cores,
+        )
 
         try:
             spec = Sweep.load(sweep, set_ or [])
+            backend = sweep_backend(spec)
         except SweepError as err:
             typer.echo(f"error: {err}", err=True)
             raise typer.Exit(2) from None
@@ -81,7 +91,9 @@ def register(app: typer.Typer) -> None:
         runs = spec.runs()
         n_runs = len(runs)
         n = None if scheduler else workers or usable_cores()
-        if scheduler:
+        if backend == "gpu":
+            where = "the GPU in ensemble batches"
+        elif scheduler:
             where = f"the dask scheduler at {scheduler}"
         else:
             where = f"a LocalCluster of {n} worker process{'es' if n != 1 else ''}"

@@ -578,6 +578,27 @@ def parse_override(text: str) -> tuple[list[str], Any]:
     return key.split("."), value
 
 
+def set_key(data: dict[str, Any], key: str, value: Any) -> None:
+    """Set the dotted key `key` (``protocol.t_stop``) of a nested mapping, creating sections.
+
+    The one dotted-key setter of the package: overrides, sweep axes and the gallery use it.
+
+    Raises:
+        ConfigError: a part of the key path holds a value, not a section (one line).
+    """
+    path = key.split(".")
+    node = data
+    for depth, part in enumerate(path[:-1]):
+        child = node.get(part)
+        if child is None:
+            child = node[part] = {}
+        if not isinstance(child, dict):
+            msg = f"{'.'.join(path[: depth + 1])} is a value, not a section"
+            raise ConfigError(msg)
+        node = child
+    node[path[-1]] = value
+
+
 def apply_overrides(data: Mapping[str, Any], overrides: Iterable[str]) -> dict[str, Any]:
     """Return a copy of `data` with every ``key.path=value`` override applied (in order).
 
@@ -587,17 +608,10 @@ def apply_overrides(data: Mapping[str, Any], overrides: Iterable[str]) -> dict[s
     result = json.loads(json.dumps(data, default=str)) if data else {}
     for text in overrides:
         path, value = parse_override(text)
-        node = result
-        for depth, part in enumerate(path[:-1]):
-            child = node.get(part)
-            if child is None:
-                child = node[part] = {}
-            if not isinstance(child, dict):
-                where = ".".join(path[: depth + 1])
-                msg = f"--set {text!r}: {where} is a value, not a section"
-                raise ConfigError(msg)
-            node = child
-        node[path[-1]] = value
+        try:
+            set_key(result, ".".join(path), value)
+        except ConfigError as err:
+            raise ConfigError(f"--set {text!r}: {err}") from None
     return result
 
 

@@ -10,6 +10,7 @@ computes, and writes a PNG and a PDF (and the movie an mp4 and a GIF).
 
 from __future__ import annotations
 
+import json
 import sys
 from pathlib import Path
 
@@ -80,29 +81,59 @@ def test_movie_writes_mp4_and_gif(tiny_gallery):
         assert gif.n_frames > 5
 
 
-def test_probability_reports_hold_intervals(tiny_gallery):
-    """The tiny sweeps give P inside its 95 % interval, with the stops counted."""
+def test_probability_reports_hold_the_estimates_they_name(tiny_gallery):
+    """Every tiny sweep report counts one stop per restart and holds in P what
+    P_estimator names: inversions / stops where Delta = 0, 2ab/(a+b) of the direction
+    fractions where Delta != 0, inside the interval of that definition."""
     reports = sorted((tiny_gallery.out / "sweeps").glob("*/report.nc"))
     names = {p.parent.name for p in reports}
     assert {"fig5_tiny", "fig7a_tiny", "fig7b_tiny", "fig7c_tiny", "fig8_tiny"} <= names
     assert "fig9_tiny" in names
     for path in reports:
-        with xr.open_dataset(path, engine="h5netcdf") as ds:
-            p, lo, hi = ds["P"].values, ds["P_low"].values, ds["P_high"].values
-            done = np.isfinite(p)
-            assert done.any()
-            assert np.all(lo[done] <= p[done] + 1e-12)
-            assert np.all(p[done] <= hi[done] + 1e-12)
-            assert np.all(ds["stops"].values > 0)
+        with xr.open_dataset(path, engine="h5netcdf") as stored:
+            ds = stored.load()
+        assert (ds["stops"] == ds["runs_done"]).all() and (ds["runs_done"] > 0).all()
+        base = json.loads(ds.attrs["base_config"])
+        delta = ds["asymmetry"] if "asymmetry" in ds.coords else base["geometry"]["asymmetry"]
+        a = ds["inversions_ccw"] / ds["stops_ccw"]
+        b = ds["inversions_cw"] / ds["stops_cw"]
+        chain = xr.where(a + b > 0, 2 * a * b / (a + b), 0.0)
+        expected = xr.where(delta != 0, chain, ds["inversions"] / ds["stops"])
+        expected = expected.transpose(*ds["P"].dims)
+        xr.testing.assert_allclose(
+            ds["P"].reset_coords(drop=True), expected.reset_coords(drop=True)
+        )
+        assert ((ds["P_estimator"] == 1) == (delta != 0)).all()
+        for kind in ("pooled", "chain"):
+            own = ds["P_estimator"] == (1 if kind == "chain" else 0)
+            assert (ds["P_low"] == ds[f"P_{kind}_low"]).where(own, True).all()
 
 
-def test_convergence_table(tiny_gallery):
-    """The convergence page writes its numbers; the lattice torque vanishes at phi = 0."""
+def test_convergence_table_and_the_lattice_torque_at_phi_0(tiny_gallery):
+    """The convergence page writes its numbers: omega of the CCW spin-up, and an
+    asymmetry torque that favours CW (Delta > 0) and grows linearly with Delta. The
+    lattice torque it plots vanishes at phi = 0 (the hexagon's mirror axis lies on the
+    grid axis) and is odd about the mirror angle pi/12 of its period pi/6."""
     rows = (tiny_gallery.out / "convergence.csv").read_text().splitlines()
     assert rows[0].startswith("quantity,dx,dt,value")
     omegas = [r for r in rows if r.startswith("omega")]
     assert len(omegas) >= 2
     assert all(float(r.split(",")[3]) > 0 for r in omegas)  # CCW spin-up from omega0 > 0
+    torque = {
+        (r.split(",")[0], r.split(",")[1]): float(r.split(",")[3])
+        for r in rows
+        if r.startswith("asymmetry torque")
+    }
+    for dx in {dx for _, dx in torque}:
+        small = torque[("asymmetry torque Delta=2e-05", dx)]
+        large = torque[("asymmetry torque Delta=0.0001", dx)]
+        assert small < 0 and large / small == pytest.approx(5.0, rel=0.02)
+    module = load_script(gallery_dir() / "convergence.py")
+    fid = sys.modules["_common"].fidelity("tiny")
+    phis = np.array([0.0, np.pi / 18, np.pi / 9])
+    lattice = module.lattice_torques(fid, 0.05, phis)["0"]
+    assert abs(lattice[0]) < 1e-9 * abs(lattice[1])
+    assert lattice[1] == pytest.approx(-lattice[2], rel=1e-9)
 
 
 def test_select_matches_prefixes_and_rejects_unknown_names():

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -19,28 +20,32 @@ import numpy as np
 import pytest
 import xarray as xr
 import yaml
+from scipy import stats
 
 import pde_rotor
 from pde_rotor.config import RotorConfig
-from pde_rotor.stats import CCW, CW
+from pde_rotor.stats import CCW, CW, wilson_interval
 from pde_rotor.sweep import (
+    CHAIN,
+    POOLED,
     RUNS_DIR,
     Run,
     Sweep,
     SweepError,
     SweepSpec,
-    bank_offset,
     execute,
     execute_group,
     finished,
     format_table,
     gather,
+    mcnemar_p,
     report,
     run_path,
     run_seed,
     run_sweep,
     shipped_base,
     stop_group,
+    warm_state,
 )
 
 TINY_BASE = {
@@ -249,31 +254,39 @@ def test_restart_run_is_reproducible_and_randomises_the_stop_angle():
     again = execute(runs[0])["result"]
     assert again == results[0]
     period = np.pi / 3
+    config = RotorConfig.model_validate(runs[0].config)
+    warm = warm_state(config, sweep.spec.estimator, CW)
     for res in results:
         assert res["direction_before"] == CW
-        assert res["committed"] and 0 < res["t_commit"] <= TINY_BASE["protocol"]["t_release"]
-        assert abs(res["omega_end"]) >= 0.5 * abs(res["omega_before"])
-        assert 0 <= res["phi_stop"] < period
+        # the stop is where the drawn extra steps of steady rotation take the rotor
+        expected = warm.rotor.phi + warm.rotor.omega * res["extra_steps"] * config.grid.dt
+        miss = (res["phi_stop"] - expected) % period
+        assert min(miss, period - miss) < 0.05 * period
+        # a short stop (t_stop = 0.2) inverts the rotation (paper, Figs. 4a and 5)
+        assert res["committed"] and res["direction_after"] == CCW
     assert len({res["extra_steps"] for res in results}) > 1
 
 
 BANK = {"kind": "bank", "warmup": 2.0}
 
 
-def test_bank_groups_share_a_stop_across_the_noise_axis_only():
+def test_bank_stops_are_shared_across_the_noise_axis_and_drawn_per_sample():
+    """Runs at the two noise levels of one sample share their stop (same angle, same
+    plate torque at its end); every sample, direction and point draws its own angle."""
     sweep = tiny_sweep(
-        estimator=BANK, samples=2, axes={"protocol.t_stop": [0.2, 1.2], "noise.sigma": [0, 1e-5]}
+        estimator=BANK, samples=3, axes={"protocol.t_stop": [0.2, 1.2], "noise.sigma": [0, 1e-5]}
     )
-    runs = sweep.runs()
     groups: dict[str, list[Run]] = {}
-    for run in runs:
+    for run in sweep.runs():
         groups.setdefault(stop_group(run), []).append(run)
-    # 2 stop durations x 2 directions x 2 samples, each released at both noise levels
-    assert len(groups) == 8
+    stops = []
     for group in groups.values():
-        assert sorted(r.coords["noise.sigma"] for r in group) == [0, 1e-5]
-        assert len({(r.coords["protocol.t_stop"], r.direction, r.sample) for r in group}) == 1
-        assert len({r.config["noise"]["seed"] for r in group}) == 2
+        results = [c["result"] for c in execute_group(group)]
+        assert [r.coords["noise.sigma"] for r in group] == [0, 1e-5]
+        assert len({(r["extra_steps"], r["phi_stop"], r["torque_end"]) for r in results}) == 1
+        stops.append(results[0]["extra_steps"])
+    # 2 stop durations x 2 directions x 3 samples: 12 stops, drawn independently
+    assert len(stops) == 12 and len(set(stops)) >= 8
     # the other estimators never group runs
     restart = tiny_sweep(samples=2, axes={"noise.sigma": [0, 1e-5]})
     assert len({stop_group(r) for r in restart.runs()}) == len(restart.runs())
@@ -297,17 +310,26 @@ def test_bank_releases_from_a_shared_stop_equal_separate_runs():
         assert res["committed"]
 
 
-@pytest.mark.parametrize("n_period", [7, 60])
-def test_bank_stop_angles_cover_the_period_evenly(n_period):
-    for n in range(1, 3 * n_period):
-        offsets = np.array([bank_offset(i, n_period) for i in range(n)])
-        assert ((offsets >= 0) & (offsets < n_period)).all()
-        # the golden-ratio sequence leaves no gap wider than 2.62 / n periods (+1 step)
-        x = np.sort(offsets) / n_period
-        gap = np.diff(np.r_[x, x[0] + 1.0]).max()
-        assert gap <= 2.62 / n + 1.0 / n_period
-        if n == n_period:
-            assert len(set(offsets.tolist())) >= 0.6 * n_period
+def test_bank_stop_angles_are_uniform_and_independent_of_the_sweep_layout():
+    """Stop seeds: one per (point without noise axes, direction, sample), unchanged when
+    axis values are added, and their angles fill the period like uniform draws."""
+    small = tiny_sweep(estimator=BANK, samples=50, axes={"noise.sigma": [0, 1e-5]})
+    seeds = {(r.direction, r.sample): r.stop_seed for r in small.runs()}
+    assert len(set(seeds.values())) == 100
+    large = tiny_sweep(estimator=BANK, samples=50, axes={"noise.sigma": [0, 1e-5, 1e-4]})
+    assert {(r.direction, r.sample): r.stop_seed for r in large.runs()} == seeds
+    fractions = [np.random.default_rng(s).integers(0, 1000) / 1000 for s in seeds.values()]
+    assert stats.kstest(fractions, "uniform").pvalue > 1e-3
+
+
+def test_mcnemar_counts_only_discordant_pairs():
+    same = {i: i % 2 == 0 for i in range(20)}
+    assert mcnemar_p(same, same) == 1.0
+    # 8 pairs inverted only at the first value, none only at the second: p = 2 / 2^8
+    first = {i: True for i in range(10)}
+    second = {i: i < 2 for i in range(10)}
+    assert mcnemar_p(first, second) == pytest.approx(2 / 2**8)
+    assert np.isnan(mcnemar_p(first, {}))
 
 
 def test_bank_sweep_report(tmp_path):
@@ -320,10 +342,37 @@ def test_bank_sweep_report(tmp_path):
     assert ds.attrs["estimator"] == "bank"
     assert (ds["runs_done"] == ds["runs_expected"]).all()
     assert (ds["stops_ccw"] == ds["stops_cw"]).all()
-    assert ((ds["P_low"] <= ds["P"]) & (ds["P"] <= ds["P_high"])).all()
+    assert ds["mcnemar_p_sigma"].dims == ("sigma", "sigma_ref")
+    assert "design: paired: the values of sigma share each stop" in format_table(ds)
     # a second call finds every run done
     again = run_sweep(path, tmp_path / "out", workers=1, progress=False)
     assert (again.skipped, again.computed) == (8, 0)
+
+
+def test_bank_report_pairs_the_noise_values_by_their_shared_stop(tmp_path):
+    """sigma = 0: every stop inverts; sigma = 1e-5: only samples 0 and 1 of each
+    direction. The 16 discordant pairs all lie on one side: McNemar p = 2 / 2^16."""
+    sweep = tiny_sweep(estimator=BANK, samples=10, axes={"noise.sigma": [0, 1e-5]})
+    (tmp_path / RUNS_DIR).mkdir(parents=True)
+    for run in sweep.runs():
+        flips = run.coords["noise.sigma"] == 0 or run.sample < 2
+        result = {
+            "direction_before": run.direction,
+            "direction_after": -run.direction if flips else run.direction,
+            "omega_before": 170.0 * run.direction,
+            "committed": True,
+            "t_commit": 0.8,
+        }
+        content = {"key": run.key, "direction": run.direction, "sample": run.sample}
+        run_path(tmp_path, run.key).write_text(json.dumps({**content, "result": result}))
+    ds = gather(sweep, tmp_path)
+    p = ds["mcnemar_p_sigma"]
+    assert float(p.sel(sigma=1e-5, sigma_ref=0)) == pytest.approx(2 / 2**16)
+    assert float(p.sel(sigma=0, sigma_ref=1e-5)) == pytest.approx(2 / 2**16)
+    assert float(p.sel(sigma=0, sigma_ref=0)) == 1.0
+    assert "paired design" in p.attrs["long_name"]
+    *_, first, second = format_table(ds).splitlines()
+    assert first.split()[-1] == "-" and second.split()[-1] == f"{2 / 2**16:.3g}"
 
 
 # ---------------------------------------------------------------------------------------
@@ -369,24 +418,49 @@ def fake_restarts(sweep_dir: Path, sweep: Sweep, inverted: dict[int, int]) -> No
         run_path(sweep_dir, run.key).write_text(json.dumps(content), encoding="utf-8")
 
 
-def test_report_names_the_estimator_of_p_and_shows_the_pooled_fraction(tmp_path):
-    """No flow, Delta = 1e-4: 7/10 inversions from CCW, 0/10 from CW. The chain value is
-    P = 0 (the rotor ends up turning CW for good); the pooled 7/20 is not P, and the
-    table and the long names say which is which."""
-    sweep = tiny_sweep(samples=10, axes={})
+def test_p_is_pooled_for_a_symmetric_rotor_and_the_chain_value_otherwise(tmp_path):
+    """7/10 inversions from CCW, 0/10 from CW. Delta = 0: both directions estimate one
+    probability, P = 7/20 pooled with its Wilson interval. Delta = 1e-4: the chain value
+    2ab/(a+b) = 0 (the rotor ends up turning CW for good). The dataset and the table say
+    which definition P holds at each point."""
+    sweep = tiny_sweep(samples=10, axes={"geometry.asymmetry": [0.0, 1e-4]})
     fake_restarts(tmp_path, sweep, {CCW: 7, CW: 0})
     ds = gather(sweep, tmp_path)
-    assert float(ds["P"]) == 0.0
-    assert float(ds["P_pooled"]) == pytest.approx(0.35)
-    assert "restart estimator: two-state chain" in ds["P"].attrs["long_name"]
-    assert "not the pooled" in ds["P"].attrs["long_name"]
-    assert "two-state chain" in ds["P_high"].attrs["long_name"]
-    assert "not the paper's P" in ds["P_pooled"].attrs["long_name"]
-    title, legend, header, row = format_table(ds).splitlines()
+    sym, asym = ds.sel(asymmetry=0.0), ds.sel(asymmetry=1e-4)
+    assert float(sym["P"]) == pytest.approx(0.35) == float(sym["P_pooled"])
+    assert (float(sym["P_low"]), float(sym["P_high"])) == wilson_interval(7, 20)
+    assert float(asym["P"]) == 0.0 == float(asym["P_chain"])
+    assert float(asym["P_pooled"]) == pytest.approx(0.35)
+    assert float(asym["P_low"]) == 0.0 < float(asym["P_high"])
+    assert [int(v) for v in ds["P_estimator"].values] == [POOLED, CHAIN]
+    long_name = ds["P"].attrs["long_name"]
+    assert "Delta = 0: pooled inversions / stops" in long_name
+    assert "Delta != 0: two-state chain 2ab/(a+b)" in long_name
+    assert "97.5 % Wilson bounds" in ds["P_estimator"].attrs["long_name"]
+    title, legend, header, *rows = format_table(ds).splitlines()
     assert "(restart estimator" in title
-    assert header.split()[:2] == ["P", "chain"] and "pooled" in header
-    assert legend.startswith("P chain: 2ab/(a+b), a = P(inv|CCW)")
-    assert row.split()[0] == "0.000" and "7/20 = 0.350" in row
+    assert header.split()[1:4] == ["P", "P", "is"]
+    assert legend.startswith("P: pooled = inversions / stops of both directions (Delta = 0")
+    assert rows[0].split()[1:3] == ["0.350", "pooled"] and "7/20 = 0.350" in rows[0]
+    assert rows[1].split()[1:3] == ["0.000", "chain"] and "7/20 = 0.350" in rows[1]
+
+
+def test_an_older_stored_report_is_read_with_the_current_rule(tmp_path):
+    """Reports written before the rule hold the chain value at Delta = 0 too; read
+    back, P there is the pooled fraction with its Wilson interval."""
+    from pde_rotor.sweep.stored import load_report
+
+    sweep = tiny_sweep(samples=10, axes={"geometry.asymmetry": [0.0, 1e-4]})
+    fake_restarts(tmp_path, sweep, {CCW: 7, CW: 0})
+    current = gather(sweep, tmp_path)
+    old = current.drop_vars(["P_estimator", "P_pooled_low", "P_pooled_high"])
+    for name in ("P", "P_low", "P_high"):
+        old[name] = current[name.replace("P", "P_chain", 1)]
+    old.to_netcdf(tmp_path / "old.nc", engine="h5netcdf")
+    read = load_report(tmp_path / "old.nc")
+    for name in ("P", "P_low", "P_high", "P_estimator"):
+        np.testing.assert_array_equal(read[name].values, current[name].values)
+    assert "Delta = 0: pooled" in read["P"].attrs["long_name"]
 
 
 def test_protocol_report_says_p_is_inversions_over_m(tmp_path):
@@ -398,9 +472,10 @@ def test_protocol_report_says_p_is_inversions_over_m(tmp_path):
         run_path(tmp_path, run.key).write_text(json.dumps(content), encoding="utf-8")
     ds = gather(sweep, tmp_path)
     assert float(ds["P"]) == float(ds["P_pooled"]) == 1.0
-    assert "protocol estimator: inversions / M" in ds["P"].attrs["long_name"]
+    assert "(protocol estimator): inversions / stops" in ds["P"].attrs["long_name"]
     _, legend, header, row = format_table(ds).splitlines()
-    assert header.split()[0] == "P=inv/M" and legend.startswith("P=inv/M: ")
+    assert header.split()[:3] == ["P", "P", "is"] and legend.startswith("P: inversions / stops")
+    assert row.split()[1] == "pooled"
     assert "6/6 = 1.000" in row
 
 
@@ -450,6 +525,26 @@ def test_resume_after_a_killed_sweep(two_worker_sweep, tmp_path):
     xr.testing.assert_identical(report(out, echo=False), reference)
     # a third call finds nothing to do
     assert run_sweep(sweep, out, progress=False).computed == 0
+
+
+def test_a_copied_store_resumes_elsewhere_with_nothing_recomputed(
+    two_worker_sweep, tmp_path, monkeypatch
+):
+    """The sweep directory moves as a clone moves it (copied to another path, new file
+    times): resuming there finds every run and gives the same report."""
+    from pde_rotor.sweep import execution
+
+    sweep_dir, reference = two_worker_sweep
+    moved = tmp_path / "clone" / "data" / "sweeps" / "tiny"
+    shutil.copytree(sweep_dir, moved)
+    (moved / "report.nc").unlink()
+    started: list[object] = []
+    monkeypatch.setattr(execution, "_start_client", lambda *args: started.append(args))
+    outcome = run_sweep(moved / "sweep.yaml", moved, progress=False)
+    assert (outcome.skipped, outcome.computed, started) == (12, 0, [])
+    xr.testing.assert_identical(report(moved, echo=False), reference)
+    keys = {r.key for r in Sweep.load(moved).runs()}
+    assert keys == {p.stem for p in (sweep_dir / RUNS_DIR).glob("*.json")}
 
 
 def test_unreadable_run_files_are_recomputed_and_foreign_files_ignored(tmp_path):

@@ -1,0 +1,226 @@
+"""Where a sweep's runs are computed: dask.distributed on CPUs, or ensemble batches on a GPU.
+
+:func:`run_sweep` is the one seam: it reads the finished runs from the store, picks the
+backend (:func:`sweep_backend`) and hands the unfinished runs to dask tasks
+(:func:`.tasks.execute_group`) or to ensemble batches (:func:`.batch.execute_batch`),
+writing each result to the store as it arrives.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import threading
+from collections.abc import Callable, Iterable, Sequence
+from concurrent.futures import Future
+from dataclasses import dataclass
+from functools import partial
+from pathlib import Path
+from typing import Any
+
+from ..backends import resolve_backend, run_ensemble
+from .batch import EnsembleRunner, batches, execute_batch
+from .plan import Run, Sweep
+from .spec import SweepError
+from .store import finished, prepare, write_run
+from .tasks import execute_group, stop_group, warm_group
+
+
+@dataclass
+class SweepOutcome:
+    """What :func:`run_sweep` did.
+
+    Attributes:
+        total: runs of the sweep.
+        skipped: runs already finished before this call.
+        computed: runs computed by this call.
+        failed: (run key, error message) of runs that raised.
+        sweep_dir: where results are.
+    """
+
+    total: int
+    skipped: int
+    computed: int
+    failed: list[tuple[str, str]]
+    sweep_dir: Path
+
+
+def usable_cores() -> int:
+    """CPU cores this process may run on (all cores where affinity is unknown)."""
+    affinity = getattr(os, "sched_getaffinity", None)
+    return len(affinity(0)) if affinity is not None else os.cpu_count() or 1
+
+
+def _start_client(scheduler: str | None, workers: int | None) -> tuple[Any, Any]:
+    """A dask Client on the given scheduler, or on a new LocalCluster of processes."""
+    from distributed import Client, LocalCluster
+
+    if scheduler:
+        return Client(scheduler), None
+    n = workers or usable_cores()
+    # Ctrl-C in a terminal signals the whole process group. The worker processes inherit
+    # an ignored SIGINT (an ignored signal stays ignored across exec, and Python then
+    # installs no KeyboardInterrupt handler), so only this process handles it: it closes
+    # the cluster, which ends the workers quietly instead of with a traceback each.
+    ignore = threading.current_thread() is threading.main_thread()
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN) if ignore else None
+    try:
+        cluster = LocalCluster(
+            n_workers=n,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=":0",  # any free port: several sweeps may run side by side
+            silence_logs=40,
+        )
+    finally:
+        if ignore:
+            signal.signal(signal.SIGINT, previous if previous is not None else signal.SIG_DFL)
+    return Client(cluster), cluster
+
+
+def sweep_backend(sweep: Sweep) -> str:
+    """Where the runs of `sweep` are computed: ``cpu`` or ``gpu``.
+
+    ``solver.backend`` of the base config, resolved on this machine
+    (:func:`pde_rotor.backends.resolve_backend`).
+
+    Raises:
+        SweepError: ``gpu`` is requested but there is no usable GPU (one line, before
+            anything runs).
+    """
+    try:
+        return resolve_backend(sweep.base.get("solver", {}).get("backend", "cpu"))
+    except RuntimeError as err:
+        raise SweepError(f"base: solver.backend: {err}") from None
+
+
+def run_sweep(
+    sweep: Sweep | str | Path,
+    sweep_dir: str | Path,
+    *,
+    scheduler: str | None = None,
+    workers: int | None = None,
+    progress: bool = True,
+    ensemble: EnsembleRunner | None = None,
+    batch_size: int = 256,
+) -> SweepOutcome:
+    """Run every unfinished run of a sweep and store its result.
+
+    The one seam between the sweep and the compute backends: on the CPU the runs are
+    tasks on dask.distributed (groups of :func:`.tasks.stop_group`); on the GPU
+    (:func:`sweep_backend`) they go to the ensemble backend in batches of `batch_size`
+    members (:func:`.batch.execute_batch`), computed in this process.
+
+    Args:
+        sweep: a :class:`Sweep` or the path of a sweep YAML file.
+        sweep_dir: directory of the results (created; reused to resume).
+        scheduler: address of a running dask scheduler (e.g. of a dask-jobqueue
+            SLURMCluster); None starts a LocalCluster of worker processes.
+        workers: number of LocalCluster workers (default: the usable CPU cores).
+        progress: show a tqdm bar counting finished runs.
+        ensemble: the batch runner (``run_ensemble`` of a backend); given, it computes
+            the runs whatever ``solver.backend`` says (default: the GPU backend when
+            :func:`sweep_backend` is ``gpu``, else dask).
+        batch_size: members per ensemble batch.
+
+    Returns:
+        Counts of skipped, computed and failed runs. Runs that raised are not stored
+        and are retried by the next call.
+    """
+    if not isinstance(sweep, Sweep):
+        sweep = Sweep.load(sweep)
+    if ensemble is None and sweep_backend(sweep) == "gpu":
+        ensemble = partial(run_ensemble, backend="gpu")
+    sweep_dir = prepare(sweep, sweep_dir)
+    runs = sweep.runs()
+    done = finished(sweep_dir, runs)
+    todo = [run for run in runs if run.key not in done]
+    # the runs of one spin-up state together, so that workers reuse warm states
+    todo.sort(key=lambda r: (warm_group(r), r.point, r.sample))
+    if ensemble is not None:
+        groups = batches(todo, batch_size)
+        submit = _in_process(partial(execute_batch, ensemble=ensemble))
+    else:
+        by_stop: dict[str, list[Run]] = {}
+        for run in todo:
+            by_stop.setdefault(stop_group(run), []).append(run)
+        groups = list(by_stop.values())
+        submit = None
+    outcome = SweepOutcome(len(runs), len(done), 0, [], sweep_dir)
+    if todo:
+        _compute(sweep, groups, outcome, submit, scheduler, workers, progress)
+    return outcome
+
+
+Task = Callable[[Sequence[Run]], list[dict[str, Any]]]
+
+
+def _in_process(task: Task) -> Callable[[list[Run]], Future]:
+    """Submit `task` by calling it here (a GPU batch is one process's work)."""
+
+    def submit(group: list[Run]) -> Future:
+        future: Future = Future()
+        try:
+            future.set_result(task(group))
+        except Exception as err:
+            future.set_exception(err)
+        return future
+
+    return submit
+
+
+def _compute(
+    sweep: Sweep,
+    groups: list[list[Run]],
+    outcome: SweepOutcome,
+    submit: Callable[[list[Run]], Future] | None,
+    scheduler: str | None,
+    workers: int | None,
+    progress: bool,
+) -> None:
+    """Compute `groups` (dask tasks, or `submit` in this process) and store each result."""
+    from tqdm.auto import tqdm
+
+    bar = tqdm(
+        total=outcome.total,
+        initial=outcome.skipped,
+        unit="run",
+        desc=sweep.spec.name,
+        disable=not progress,
+        dynamic_ncols=True,
+    )
+    client = cluster = None
+    try:
+        if submit is None:
+            from distributed import as_completed
+
+            client, cluster = _start_client(scheduler, workers)
+            futures = [
+                client.submit(execute_group, group, key=f"runs-{group[0].key}") for group in groups
+            ]
+            by_key = {f.key: g for f, g in zip(futures, groups, strict=True)}
+            done: Iterable[tuple[list[Run], Any]] = (
+                (by_key[f.key], f) for f in as_completed(futures)
+            )
+        else:
+            done = ((group, submit(group)) for group in groups)
+        for group, future in done:
+            try:
+                contents = future.result()
+            except Exception as err:
+                outcome.failed.extend((run.key, f"{type(err).__name__}: {err}") for run in group)
+                bar.set_postfix(failed=len(outcome.failed))
+                continue
+            finally:
+                if hasattr(future, "release"):
+                    future.release()
+            for content in contents:
+                write_run(outcome.sweep_dir, content)
+            outcome.computed += len(group)
+            bar.update(len(group))
+    finally:
+        bar.close()
+        if client is not None:
+            client.close()
+        if cluster is not None:
+            cluster.close()

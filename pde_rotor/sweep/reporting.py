@@ -1,0 +1,267 @@
+"""The report of a sweep: its run files gathered into an xarray Dataset and a table.
+
+Coordinates are the sweep axes; every variable carries its definition in ``long_name``
+(the definitions of P: :mod:`pde_rotor.sweep.estimates`).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from ..config import RotorConfig
+from ..output import write_netcdf_atomic
+from ..stats import CONFIDENCE
+from .estimates import CHAIN, P_DEFINITIONS, POOLED, inverted, mcnemar_p, point_statistics
+from .plan import Run, Sweep
+from .store import REPORT_FILE, load_run, run_path
+
+P_RULE = {
+    "protocol": "inversions / stops of all protocol runs (the paper's inversions / M), pooled",
+    "restart": (
+        f"where Delta = 0: {P_DEFINITIONS[POOLED]}; where Delta != 0: {P_DEFINITIONS[CHAIN]}; "
+        "P_estimator says which"
+    ),
+}
+"""What P is, by estimator (the bank estimator's rule is the restart one's)."""
+
+VARIABLES: dict[str, tuple[str, str]] = {
+    "P": ("inversion probability", "1"),  # + P_RULE[estimator] in gather()
+    "P_low": ("lower bound of the 95 % interval of P", "1"),
+    "P_high": ("upper bound of the 95 % interval of P", "1"),
+    "P_estimator": (
+        f"definition of P at this point: {POOLED} = {P_DEFINITIONS[POOLED]}; "
+        f"{CHAIN} = {P_DEFINITIONS[CHAIN]}",
+        "1",
+    ),
+    "P_pooled": (P_DEFINITIONS[POOLED].split(" (")[0], "1"),
+    "P_pooled_low": ("Wilson 95 % lower bound of P_pooled", "1"),
+    "P_pooled_high": ("Wilson 95 % upper bound of P_pooled", "1"),
+    "P_chain": ("two-state chain 2ab/(a+b), a = P_ccw, b = P_cw", "1"),
+    "P_chain_low": ("2ab/(a+b) at the 97.5 % Wilson lower bounds of a and b", "1"),
+    "P_chain_high": ("2ab/(a+b) at the 97.5 % Wilson upper bounds of a and b", "1"),
+    "inversions": ("inversions counted, both directions", "1"),
+    "stops": ("stop-and-release operations counted, both directions", "1"),
+    "P_ccw": ("P(inversion | CCW rotation before the stop)", "1"),
+    "P_ccw_low": ("Wilson 95 % lower bound of P_ccw", "1"),
+    "P_ccw_high": ("Wilson 95 % upper bound of P_ccw", "1"),
+    "inversions_ccw": ("inversions from CCW rotation", "1"),
+    "stops_ccw": ("stops from CCW rotation", "1"),
+    "P_cw": ("P(inversion | CW rotation before the stop)", "1"),
+    "P_cw_low": ("Wilson 95 % lower bound of P_cw", "1"),
+    "P_cw_high": ("Wilson 95 % upper bound of P_cw", "1"),
+    "inversions_cw": ("inversions from CW rotation", "1"),
+    "stops_cw": ("stops from CW rotation", "1"),
+    "pi_ccw": ("stationary fraction of CCW rotation of the two-state chain", "1"),
+    "mean_abs_omega": ("mean |omega| just before the stops", "1/time"),
+    "uncommitted": ("restarts without a committed direction at the release cap", "1"),
+    "mean_commit_time": ("mean release time until |omega| >= commit_fraction |omega0|", "time"),
+    "runs_done": ("runs with a result file", "1"),
+    "runs_expected": ("runs of the sweep at this point", "1"),
+}
+"""Every variable of a report: long name and units."""
+_COUNTS = ("P_estimator", "inversions", "stops", "runs_done", "runs_expected", "uncommitted")
+
+
+def _dim_names(keys: Sequence[str]) -> dict[str, str]:
+    """Short dimension names: the last part of each dotted key unless two collide."""
+    last = [k.rsplit(".", 1)[-1] for k in keys]
+    return {
+        k: (s if last.count(s) == 1 else k.replace(".", "_"))
+        for k, s in zip(keys, last, strict=True)
+    }
+
+
+def _stored(sweep_dir: Path, runs: Sequence[Run]) -> list[dict[str, Any]]:
+    contents = []
+    for run in runs:
+        content = load_run(run_path(sweep_dir, run.key))
+        if content is not None and content.get("key") == run.key:
+            contents.append(content)
+    return contents
+
+
+def paired_axes(sweep: Sweep) -> list[str]:
+    """Axes whose values share their stops (a paired design): noise axes of a bank sweep."""
+    if sweep.spec.estimator.kind != "bank":
+        return []
+    return [key for key in sweep.axes if key.startswith("noise.")]
+
+
+def _mcnemar(
+    sweep: Sweep, key: str, outcomes: dict[tuple[int, ...], dict[Any, bool]]
+) -> np.ndarray:
+    """McNemar p-values of every point against the points that differ only along `key`."""
+    axis = list(sweep.axes).index(key)
+    n = sweep.shape[axis]
+    values = np.full((*sweep.shape, n), np.nan)
+    for index, outcome in outcomes.items():
+        for ref in range(n):
+            other = (*index[:axis], ref, *index[axis + 1 :])
+            values[(*index, ref)] = mcnemar_p(outcome, outcomes.get(other, {}))
+    return values
+
+
+def gather(sweep: Sweep, sweep_dir: str | Path) -> xr.Dataset:
+    """Collect the run files of `sweep` from `sweep_dir` into a Dataset (no writing).
+
+    Coordinates are the sweep axes (dimension = last part of the dotted key, the full
+    key in the attribute ``config_key``); a sweep without axes gives scalar variables.
+    A bank sweep with a noise axis also gets ``mcnemar_p_<dim>``: the paired test of
+    every point against each value of that axis.
+    """
+    sweep_dir = Path(sweep_dir)
+    keys = list(sweep.axes)
+    dims = _dim_names(keys)
+    by_point: dict[tuple[int, ...], list[Run]] = {}
+    for run in sweep.runs():
+        by_point.setdefault(run.point, []).append(run)
+    kind = sweep.spec.estimator.kind
+    arrays = {name: np.full(sweep.shape, np.nan) for name in VARIABLES}
+    outcomes: dict[tuple[int, ...], dict[Any, bool]] = {}
+    for index, runs in by_point.items():
+        contents = _stored(sweep_dir, runs)
+        asymmetry = float(runs[0].config["geometry"]["asymmetry"])
+        stats = point_statistics(kind, asymmetry, contents, len(runs))
+        for name, value in stats.items():
+            arrays[name][index] = value
+        if kind == "bank":
+            outcomes[index] = {(c["direction"], c["sample"]): inverted(c) for c in contents}
+    coords = {}
+    for key in keys:
+        values = sweep.axes[key]
+        if all(isinstance(v, bool) for v in values):
+            values = [int(v) for v in values]
+        coords[dims[key]] = xr.Variable(dims[key], values, attrs={"config_key": key})
+    dim_list = [dims[k] for k in keys]
+    rule = P_RULE["protocol" if kind == "protocol" else "restart"]
+    data_vars = {}
+    for name, (long_name, units) in VARIABLES.items():
+        if name == "P":
+            long_name = f"{long_name} ({kind} estimator): {rule}"
+        arr = arrays[name]
+        if name in _COUNTS or name.startswith(("inversions_", "stops_")):
+            arr = arr.astype(np.int64)
+        data_vars[name] = xr.Variable(dim_list, arr, attrs={"long_name": long_name, "units": units})
+    paired = paired_axes(sweep)
+    for key in paired:
+        dim = dims[key]
+        coords[f"{dim}_ref"] = xr.Variable(f"{dim}_ref", coords[dim].values)
+        data_vars[f"mcnemar_p_{dim}"] = xr.Variable(
+            [*dim_list, f"{dim}_ref"],
+            _mcnemar(sweep, key, outcomes),
+            attrs={
+                "long_name": f"McNemar exact p-value of P here against P at {dim} = {dim}_ref "
+                f"(paired design: the {dim} values share their stops; two-sided binomial "
+                "test of the discordant pairs)",
+                "units": "1",
+            },
+        )
+    spec = sweep.spec
+    grid = sweep.base.get("grid", {})
+    attrs = {
+        "sweep": spec.name,
+        "description": spec.description,
+        "estimator": kind,
+        "estimator_settings": json.dumps(spec.estimator.model_dump(mode="json")),
+        "samples_per_point": spec.samples,
+        "seed": spec.seed,
+        "confidence": CONFIDENCE,
+        "P": rule,
+        "design": (
+            f"paired: the values of {', '.join(dims[k] for k in paired)} share each stop; "
+            "compare them with mcnemar_p_*, not with the intervals"
+            if paired
+            else "independent: every run has its own stop, at a uniformly random angle"
+        ),
+        "base_config": json.dumps(sweep.base, sort_keys=True),
+        "grid_dx": float(grid.get("dx", RotorConfig().grid.dx)),
+        "grid_dt": float(grid.get("dt", RotorConfig().grid.dt)),
+        "paper": "Koyano, Kitahata, Nakata, Gorecki, Chaos 30 (2020), Figs. 5, 7, 8, 9",
+    }
+    return xr.Dataset(data_vars, coords=coords, attrs=attrs)
+
+
+def report(sweep_dir: str | Path, out: str | Path | None = None, echo: bool = True) -> xr.Dataset:
+    """Gather a sweep directory into a Dataset, write it as NetCDF and print a table.
+
+    Args:
+        sweep_dir: directory written by :func:`~pde_rotor.sweep.run_sweep` (holds
+            sweep.yaml and runs/).
+        out: NetCDF path (default: SWEEP_DIR/report.nc); written atomically with the
+            h5netcdf engine.
+        echo: print the table (:func:`format_table`).
+    """
+    sweep_dir = Path(sweep_dir)
+    ds = gather(Sweep.load(sweep_dir), sweep_dir)
+    target = Path(out) if out is not None else sweep_dir / REPORT_FILE
+    target.parent.mkdir(parents=True, exist_ok=True)
+    write_netcdf_atomic(ds, target)
+    if echo:
+        print(format_table(ds))
+    return ds
+
+
+LEGENDS = {
+    "protocol": "P: inversions / stops of all protocol runs (the paper's inversions / M), "
+    "Wilson 95 % CI; inv|CCW, inv|CW: by the direction before the stop",
+    "restart": "P: pooled = inversions / stops of both directions (Delta = 0, Wilson 95 % CI); "
+    "chain = 2ab/(a+b), a = P(inv|CCW), b = P(inv|CW) (Delta != 0, CI: 2ab/(a+b) at the "
+    "97.5 % Wilson bounds of a and b); 'P is' says which",
+}
+"""The legend line of :func:`format_table`, by estimator (bank: as restart)."""
+
+
+def format_table(ds: xr.Dataset) -> str:
+    """One row per point: axis values, P, its definition and 95 % interval, the
+    conditionals, the pooled and chain values, mean |omega|, runs; for a paired design
+    the McNemar p-value against the previous value of each paired axis."""
+    dims = [d for d in ds.sizes if not d.endswith("_ref")]
+    kind = str(ds.attrs.get("estimator", ""))
+    paired = [d for d in dims if f"mcnemar_p_{d}" in ds]
+    header = [*dims, "P", "P is", "95% CI", "inv|CCW", "inv|CW", "pooled", "chain"]
+    header += ["mean|omega|", "runs", *(f"McNemar p vs prev {d}" for d in paired)]
+    flat = ds.stack(point=dims) if dims else ds.expand_dims(point=[0])
+    rows = []
+    for i in range(flat.sizes["point"]):
+        row = flat.isel(point=i)
+
+        def fmt(name: str, row: xr.Dataset = row) -> str:
+            value = float(row[name])
+            return "nan" if math.isnan(value) else f"{value:.3f}"
+
+        k, n = int(row["inversions"]), int(row["stops"])
+        cells = [f"{row[d].item():.6g}" for d in dims]
+        cells += [
+            fmt("P"),
+            "chain" if int(row["P_estimator"]) == CHAIN else "pooled",
+            f"[{fmt('P_low')}, {fmt('P_high')}]",
+            f"{int(row['inversions_ccw'])}/{int(row['stops_ccw'])}",
+            f"{int(row['inversions_cw'])}/{int(row['stops_cw'])}",
+            f"{k}/{n} = {k / n:.3f}" if n else f"{k}/{n}",
+            fmt("P_chain"),
+            f"{float(row['mean_abs_omega']):.1f}",
+            f"{int(row['runs_done'])}/{int(row['runs_expected'])}",
+        ]
+        for d in paired:
+            at = int(np.flatnonzero(ds[d].values == row[d].item())[0])
+            p = float(row[f"mcnemar_p_{d}"].isel({f"{d}_ref": at - 1})) if at else math.nan
+            cells.append("-" if math.isnan(p) else f"{p:.3g}")
+        rows.append(cells)
+    widths = [max(len(h), *(len(r[k]) for r in rows)) for k, h in enumerate(header)]
+    lines = [
+        f"{ds.attrs.get('sweep', '')} ({kind} estimator, "
+        f"dx = {ds.attrs.get('grid_dx')}, dt = {ds.attrs.get('grid_dt')})",
+        LEGENDS["protocol" if kind == "protocol" else "restart"],
+    ]
+    if paired:
+        lines.append(f"design: {ds.attrs['design']}")
+    lines.append("  ".join(h.rjust(w) for h, w in zip(header, widths, strict=True)))
+    lines += ["  ".join(c.rjust(w) for c, w in zip(r, widths, strict=True)) for r in rows]
+    return "\n".join(lines)

@@ -1,0 +1,209 @@
+"""Stored sweep reports: find them under a data directory, read their curves and the
+paper-resolution points that lie on a curve (the probability figures of the gallery)."""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from ..config import RotorConfig
+from ..figures import count_range
+from ..stats import wilson_interval
+from .estimates import CHAIN, POOLED
+from .reporting import P_RULE, VARIABLES
+
+
+@dataclass
+class SweepData:
+    """A sweep report and where it came from.
+
+    Attributes:
+        report: Dataset of :func:`pde_rotor.sweep.report` (P, P_low, P_high, stops, ...).
+        source: file or directory it was read from or computed into.
+        computed: whether the gallery ran the sweep (False: a stored report).
+    """
+
+    report: xr.Dataset
+    source: Path
+    computed: bool
+
+    def label(self) -> str:
+        """Fidelity of the report: estimator, samples, grid."""
+        attrs = self.report.attrs
+        n = count_range(self.report["stops"].values)
+        base = attrs.get("base_config", "{}")
+        sigma = _base_value(base, ("noise", "sigma"), 0.0)
+        smoothing = _base_value(base, ("geometry", "smoothing"), math.nan)
+        radius = _base_value(base, ("grid", "domain_radius"), 3.0)
+        return (
+            f"sweep {attrs.get('sweep', '?')}: {attrs.get('estimator', '?')} estimator, "
+            f"{n} stops per point; dx = {float(attrs.get('grid_dx', math.nan)):.4g}, "
+            f"dt = {float(attrs.get('grid_dt', math.nan)):.3g}, \u03b4 = {smoothing:.4g}, "
+            f"L = {radius:g}, \u03c3 = {sigma:g}"
+        )
+
+
+def _base_value(base_json: str, keys: tuple[str, ...], default: float) -> float:
+    try:
+        node: Any = json.loads(base_json)
+        for key in keys:
+            node = node[key]
+        return float(node)
+    except (ValueError, KeyError, TypeError):
+        return default
+
+
+def load_report(path: Path) -> xr.Dataset:
+    """A stored report, loaded into memory, with P by the current rule (:mod:`.estimates`).
+
+    A restart or bank report written before the rule (without ``P_estimator``) holds the
+    chain value 2ab/(a+b) in P at every Delta: where Delta = 0, P becomes the pooled
+    fraction inversions / stops with its Wilson interval, recomputed from the counts,
+    and ``P_estimator`` is added (the attribute ``P`` says so).
+    """
+    with xr.open_dataset(path, engine="h5netcdf") as stored:
+        ds = stored.load()
+    if "P_estimator" in ds or ds.attrs.get("estimator") not in ("restart", "bank"):
+        return ds
+    base = json.loads(ds.attrs.get("base_config", "{}"))
+    if "asymmetry" in ds.coords:
+        delta = ds["asymmetry"]
+    else:
+        delta = xr.DataArray(float(base.get("geometry", {}).get("asymmetry", 0.0)))
+    dims = ds["P"].dims
+    chain = (delta != 0).broadcast_like(ds["P"]).transpose(*dims).values
+    k = np.asarray(ds["inversions"].transpose(*dims).values, dtype=int)
+    n = np.asarray(ds["stops"].transpose(*dims).values, dtype=int)
+    pooled = np.where(n > 0, k / np.maximum(n, 1), np.nan)
+    bounds = np.vectorize(wilson_interval)(k, n)
+    for name, value in (("P", pooled), ("P_low", bounds[0]), ("P_high", bounds[1])):
+        new = np.where(chain, ds[name].transpose(*dims).values, value)
+        ds[name] = (dims, new, ds[name].attrs)
+    ds["P_estimator"] = (
+        dims,
+        np.where(chain, CHAIN, POOLED),
+        {"long_name": VARIABLES["P_estimator"][0]},
+    )
+    rule = P_RULE["restart"]
+    ds["P"].attrs["long_name"] = (
+        f"inversion probability ({ds.attrs.get('estimator')} estimator): {rule}"
+    )
+    ds.attrs["P"] = f"{rule} (P where Delta = 0 recomputed from the counts of an older report)"
+    return ds
+
+
+def stored_reports(name: str, data_dir: Path) -> list[Path]:
+    """Stored reports of sweep `name` under `data_dir` (any variant), best fidelity first.
+
+    A report is a NetCDF file whose name (or directory name) is `name` or starts with
+    `name` followed by "_" or "-"; the finest grid is preferred, then more stops.
+    """
+    if not data_dir.is_dir():
+        return []
+    found = []
+    for path in data_dir.rglob("*.nc"):
+        label = path.stem if path.stem != "report" else path.parent.name
+        if label == name or label.startswith((f"{name}_", f"{name}-")):
+            found.append(path)
+
+    def rank(path: Path) -> tuple[float, float]:
+        """Finer grid first, then more stops per point."""
+        try:
+            with xr.open_dataset(path, engine="h5netcdf") as ds:
+                return (float(ds.attrs.get("grid_dx", math.inf)), -float(ds["stops"].min()))
+        except (OSError, ValueError, KeyError):
+            return (math.inf, 0.0)
+
+    return sorted(found, key=rank)
+
+
+def curve(ds: xr.Dataset, x_dim: str, **fixed: float) -> xr.Dataset:
+    """One curve of a report: every dimension but `x_dim` fixed.
+
+    Dimensions of length one are squeezed; others must be given in `fixed` (nearest value).
+
+    Raises:
+        ValueError: `x_dim` is missing or another dimension is left free.
+    """
+    if x_dim not in ds.dims:
+        msg = f"report has no dimension {x_dim!r} (dimensions: {', '.join(ds.dims) or 'none'})"
+        raise ValueError(msg)
+    if fixed:
+        ds = ds.sel(fixed, method="nearest")
+    extra = [d for d in ds.dims if d != x_dim]
+    free = [d for d in extra if ds.sizes[d] > 1]
+    if free:
+        msg = f"report dimension(s) {', '.join(free)} must be fixed to draw P against {x_dim}"
+        raise ValueError(msg)
+    return ds.squeeze(extra, drop=False) if extra else ds
+
+
+PAPER_REPORTS = ("calibration", "predictions", "predictions_no_flow")
+"""Stored reports (data/<name>.nc) at the paper's resolution, drawn over the curves."""
+_BASE_KEYS = {
+    "sigma": "noise.sigma",
+    "asymmetry": "geometry.asymmetry",
+    "t_stop": "protocol.t_stop",
+    "enabled": "flow.enabled",
+}
+
+
+def _base_setting(config: RotorConfig, key: str) -> float:
+    section, name = key.split(".")
+    return float(getattr(getattr(config, section), name))
+
+
+def paper_points(data_dir: Path, x_dim: str, **fixed: float) -> xr.Dataset | None:
+    """Points of the stored paper-resolution reports (:data:`PAPER_REPORTS`) on one curve.
+
+    Args:
+        data_dir: where the reports are (data/ of the repository).
+        x_dim: the curve's variable ("t_stop" or "asymmetry").
+        fixed: the other settings by dimension name ("sigma", "asymmetry", "t_stop",
+            "enabled" for flow.enabled); a setting that is not an axis of a report is
+            read from its base config.
+
+    Returns:
+        P, P_low, P_high, stops and the report's name against `x_dim` (sorted), or None
+        if no stored report has such points.
+    """
+    rows = []
+    for name in PAPER_REPORTS:
+        path = data_dir / f"{name}.nc"
+        if not path.exists():
+            continue
+        ds = load_report(path)
+        config = RotorConfig.model_validate(json.loads(ds.attrs["base_config"]))
+        index: dict[str, int] = {}
+        for dim, value in fixed.items():
+            if dim in ds.dims:
+                match = np.isclose(ds[dim].values.astype(float), value, rtol=1e-6, atol=1e-12)
+                if not match.any():
+                    break
+                index[dim] = int(np.argmax(match))
+            elif not math.isclose(_base_setting(config, _BASE_KEYS[dim]), value, abs_tol=1e-12):
+                break
+        else:
+            sub = ds.isel(index)
+            if x_dim in sub.dims:
+                sub = sub.squeeze([d for d in sub.dims if d != x_dim], drop=True)
+                xs = sub[x_dim].values.astype(float)
+            else:
+                xs = np.array([_base_setting(config, _BASE_KEYS[x_dim])])
+                sub = sub.squeeze(drop=True).expand_dims(x_dim)
+            for k, x in enumerate(xs):
+                row = {v: float(np.ravel(sub[v].values)[k]) for v in ("P", "P_low", "P_high")}
+                rows.append((float(x), row, int(np.ravel(sub["stops"].values)[k]), name))
+    if not rows:
+        return None
+    rows.sort(key=lambda r: r[0])
+    data = {v: (x_dim, np.array([r[1][v] for r in rows])) for v in ("P", "P_low", "P_high")}
+    data["stops"] = (x_dim, np.array([r[2] for r in rows]))
+    data["report"] = (x_dim, np.array([r[3] for r in rows]))
+    return xr.Dataset(data, coords={x_dim: [r[0] for r in rows]})

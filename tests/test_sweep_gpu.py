@@ -1,0 +1,193 @@
+"""Sweeps on an ensemble backend: the seam of pde_rotor.sweep.execution, the batches and
+one tiny sweep through the GPU kernels in numba's CUDA simulator.
+
+As in test_gpu.py, ``NUMBA_ENABLE_CUDASIM=1`` is set before numba-cuda is imported, so
+CI without a GPU runs the GPU code path (``NUMBA_ENABLE_CUDASIM=0`` on a GPU machine runs
+it on the hardware).
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from collections.abc import Iterator
+from typing import Any
+
+if "numba.cuda" not in sys.modules:
+    os.environ.setdefault("NUMBA_ENABLE_CUDASIM", "1")
+    from numba.core import config as numba_config
+
+    numba_config.reload_config()
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from pde_rotor.backends import cpu
+from pde_rotor.backends import gpu as gpu_backend
+from pde_rotor.sweep import (
+    Sweep,
+    SweepError,
+    SweepSpec,
+    batch,
+    execution,
+    gather,
+    load_run,
+    run_path,
+    run_sweep,
+)
+
+TINY_GPU: dict[str, Any] = {
+    "grid": {"dx": 0.1, "dt": 1e-3, "domain_radius": 1.6},
+    "geometry": {"radius": 0.3, "pill_radius": 0.06, "pill_inset": 0.03, "smoothing": 0.05},
+    "rotor": {"omega0": 20.0},
+    "noise": {"sigma": 0.0},
+    "protocol": {"t_ini": 0.05, "t_stop": 0.02, "t_release": 0.03, "cycles": 2},
+}
+"""The smallest grid of test_gpu.py and a two-stop protocol of 150 steps."""
+
+
+def protocol_sweep(backend: str = "cpu", **changes: Any) -> Sweep:
+    """Two Delta values x 2 protocol runs on the tiny GPU grid."""
+    data = {
+        "name": "gpu_tiny",
+        "base": {**TINY_GPU, "solver": {"backend": backend}},
+        "axes": {"geometry.asymmetry": [0.0, 0.05]},
+        "estimator": {"kind": "protocol"},
+        "samples": 2,
+        "seed": 3,
+        **changes,
+    }
+    return Sweep.from_spec(SweepSpec.model_validate(data))
+
+
+class Recorder:
+    """An ensemble runner that counts its batches and runs them on the CPU backend."""
+
+    def __init__(self) -> None:
+        self.batches: list[int] = []
+
+    def __call__(self, configs: Any, t_end: float, **options: Any) -> Any:
+        self.batches.append(len(configs))
+        return cpu.run_ensemble(configs, t_end, **options)
+
+
+@pytest.fixture
+def fast_simulator() -> Iterator[None]:
+    """Hand the GIL over quickly: the simulator's block manager polls its threads."""
+    if not gpu_backend.is_available(allow_simulator=True):
+        pytest.fail(f"no GPU and no CUDA simulator: {gpu_backend.unavailable_reason(True)}")
+    interval = sys.getswitchinterval()
+    sys.setswitchinterval(1e-5)
+    yield
+    sys.setswitchinterval(interval)
+
+
+def omegas(sweep: Sweep, sweep_dir: Any) -> np.ndarray:
+    """omega before every stop and at the end, of every run, from the run files."""
+    return np.array(
+        [load_run(run_path(sweep_dir, r.key))["result"]["omegas"] for r in sweep.runs()]
+    )
+
+
+def test_batches_give_the_runs_of_the_dask_path(tmp_path):
+    """An ensemble runner computes the runs in batches of at most batch_size members and
+    stores what the per-run CPU tasks store: the same omegas, the same report."""
+    sweep = protocol_sweep()
+    run_sweep(sweep, tmp_path / "dask", workers=1, progress=False)
+    recorder = Recorder()
+    outcome = run_sweep(sweep, tmp_path / "batch", ensemble=recorder, batch_size=3)
+    assert (outcome.computed, outcome.failed) == (4, [])
+    assert recorder.batches == [3, 1]
+    np.testing.assert_allclose(omegas(sweep, tmp_path / "batch"), omegas(sweep, tmp_path / "dask"))
+    assert load_run(run_path(tmp_path / "dask", sweep.runs()[0].key))["backend"] == "cpu"
+    assert np.ptp(omegas(sweep, tmp_path / "dask")) > 1.0  # the runs really move
+    xr.testing.assert_identical(gather(sweep, tmp_path / "batch"), gather(sweep, tmp_path / "dask"))
+
+
+def test_a_gpu_sweep_goes_to_the_ensemble_and_a_cpu_sweep_to_dask(tmp_path, monkeypatch):
+    """solver.backend resolved to gpu sends every run to run_ensemble(backend="gpu");
+    cpu (and auto without a GPU) never calls it."""
+    calls: list[str] = []
+
+    def fake_ensemble(configs: Any, t_end: float, *, backend: str, **options: Any) -> Any:
+        calls.append(backend)
+        return cpu.run_ensemble(configs, t_end, **options)
+
+    monkeypatch.setattr(execution, "run_ensemble", fake_ensemble)
+    monkeypatch.setattr(execution, "resolve_backend", lambda requested: "gpu")
+    outcome = run_sweep(protocol_sweep("gpu"), tmp_path / "gpu", progress=False)
+    assert (outcome.computed, calls) == (4, ["gpu"])
+    monkeypatch.setattr(execution, "resolve_backend", lambda requested: "cpu")
+    outcome = run_sweep(protocol_sweep("auto"), tmp_path / "cpu", workers=1, progress=False)
+    assert (outcome.computed, calls) == (4, ["gpu"])
+
+
+def test_a_gpu_request_without_a_gpu_is_one_line_before_anything_runs(tmp_path, monkeypatch):
+    def no_gpu(requested: str) -> str:
+        raise RuntimeError("backend 'gpu' requested but no CUDA device was found")
+
+    monkeypatch.setattr(execution, "resolve_backend", no_gpu)
+    with pytest.raises(SweepError, match=r"^base: solver.backend: backend 'gpu' requested"):
+        run_sweep(protocol_sweep("gpu"), tmp_path / "never")
+    assert not (tmp_path / "never").exists()
+
+
+RESTART = {
+    "kind": "restart",
+    "warmup": 0.1,
+    "check_interval": 0.005,
+    "release_cap": 0.1,
+    "commit_fraction": 0.02,  # the tiny plate turns slowly once released
+}
+
+
+@pytest.mark.parametrize(
+    ("estimator", "axes", "spin_ups"),
+    [
+        (RESTART, {"geometry.asymmetry": [0.0, 0.05]}, 4),
+        ({**RESTART, "kind": "bank"}, {"noise.sigma": [0.0, 1e-5]}, 2),
+    ],
+)
+def test_restart_and_bank_batches_read_the_runs_the_tasks_compute(
+    tmp_path, monkeypatch, estimator, axes, spin_ups
+):
+    """Restarts and bank releases computed as ensembles from the warm states (every step
+    recorded, the noise-free bank approach, the delayed release noise) give the results
+    of the per-run tasks: the same stop, outcome, commit time and end-of-stop torque."""
+    sweep = protocol_sweep(
+        estimator=estimator, axes=axes, samples=3, base={**TINY_GPU, "noise": {"sigma": 1e-5}}
+    )
+    run_sweep(sweep, tmp_path / "tasks", workers=1, progress=False)
+    recorder = Recorder()
+    monkeypatch.setattr(batch, "_WARM", {})  # no steady state kept from another test
+    outcome = run_sweep(sweep, tmp_path / "batch", ensemble=recorder, progress=False)
+    assert (outcome.computed, outcome.failed) == (12, [])
+    # one ensemble of the spin-ups (per configuration without noise, and direction)
+    assert recorder.batches[0] == spin_ups
+    for run in sweep.runs():
+        got = load_run(run_path(tmp_path / "batch", run.key))["result"]
+        want = load_run(run_path(tmp_path / "tasks", run.key))["result"]
+        assert got.keys() == want.keys()
+        for name, value in want.items():
+            assert got[name] == pytest.approx(value, rel=1e-9, nan_ok=True), name
+    results = [load_run(run_path(tmp_path / "tasks", r.key))["result"] for r in sweep.runs()]
+    assert len({r["extra_steps"] for r in results}) > 1  # the stops differ
+    assert any(r["committed"] for r in results)
+
+
+def test_a_tiny_sweep_runs_through_the_gpu_kernels(tmp_path, fast_simulator):
+    """The GPU backend (CUDA simulator) stores the runs the CPU backend stores."""
+    sweep = protocol_sweep(samples=1)
+    run_sweep(sweep, tmp_path / "cpu", ensemble=Recorder(), progress=False)
+    ensemble = lambda configs, t_end, **options: gpu_backend.run_ensemble(  # noqa: E731
+        configs, t_end, threads_per_block=8, chunk_steps=64, **options
+    )
+    outcome = run_sweep(sweep, tmp_path / "gpu", ensemble=ensemble, progress=False)
+    assert (outcome.computed, outcome.failed) == (2, [])
+    np.testing.assert_allclose(
+        omegas(sweep, tmp_path / "gpu"), omegas(sweep, tmp_path / "cpu"), rtol=1e-9
+    )
+    on_gpu, on_cpu = gather(sweep, tmp_path / "gpu"), gather(sweep, tmp_path / "cpu")
+    xr.testing.assert_allclose(on_gpu, on_cpu, rtol=1e-9)
+    assert load_run(run_path(tmp_path / "gpu", sweep.runs()[0].key))["backend"] == "gpu"
