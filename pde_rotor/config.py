@@ -262,6 +262,13 @@ class NumericsConfig(_Section):
             "Gaussian prefilter and the torque in contour form (docs/model.md, Schemes)"
         ),
     )
+    integrator: Literal["euler", "heun"] = Field(
+        "euler",
+        description=(
+            "euler: forward Euler, the paper's method (first order in dt); heun: Heun's "
+            "second-order method at twice the cost per step (CPU backend only)"
+        ),
+    )
     filter_width: float = Field(
         0.7,
         ge=0.25,

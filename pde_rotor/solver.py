@@ -9,10 +9,12 @@ One compiled loop advances, every time step dt, all three unknowns of the paper'
   sign) and Gaussian white noise xi, Eq. (noiseav), integrated by Euler-Maruyama.
 
 Time: forward Euler with step dt (the paper's "Euler method"), every right-hand side at
-the old time level. Space and the rotor integrals: the physics core
-(:mod:`pde_rotor.core`) in the scheme of ``numerics.scheme`` (:mod:`pde_rotor.schemes`).
-The loops below only walk the grid and call the core; the GPU backend calls the same
-core from its threads.
+the old time level; or, with ``numerics.integrator: heun``, Heun's second-order method
+(predictor Euler step of fields and rotor, F, G and the torque recomputed at the predicted
+angle, trapezoidal average; docs/model.md, "Time integration"). Space and the rotor
+integrals: the physics core (:mod:`pde_rotor.core`) in the scheme of ``numerics.scheme``
+(:mod:`pde_rotor.schemes`). The loops below only walk the grid and call the core; the
+GPU backend calls the same core from its threads.
 
 :class:`RotorSolver` plugs the loop into py-pde through ``SolverBase._make_inner_stepper``
 (py-pde has no built-in coupling of ODEs to fields, py-pde issue #533): py-pde selects
@@ -197,6 +199,20 @@ def _euler_rows(cur, nxt, F, G, coords, lo, hi, slo, shi, par, omega, flow):
             )
 
 
+@nb.njit(cache=True, nogil=True, fastmath=_FAST)
+def heun_average(cur, stage, nxt, n, lo, hi, flow):
+    """nxt = (cur + stage) / 2 on the interior cells of c (and v with `flow`) (compiled).
+
+    With stage = y~ + dt f(y~), y~ = y + dt f(y), this is Heun's y + dt (f(y) + f(y~)) / 2.
+    """
+    nn = n * n
+    for ch in range(3 if flow else 1):
+        for i in range(n):
+            row = ch * nn + i * n
+            for j in range(lo[i], hi[i]):
+                nxt[row + j] = 0.5 * (cur[row + j] + stage[row + j])
+
+
 @nb.njit(cache=True, nogil=True)
 def spline_window(cur, coef, n, lo, hi):
     """coef[window] = cubic B-spline coefficients of c (cur[:n^2]) on rows, columns [lo, hi)."""
@@ -269,6 +285,7 @@ def rotor_integrals(cur, F, coords, slo, shi, shape, tab, num, quad_s, quad_t, f
 def advance(
     data,
     spare,
+    stage,
     F,
     G,
     coords,
@@ -291,11 +308,19 @@ def advance(
     step0,
     n_steps,
 ):
-    """Advance c, v, phi, omega by `n_steps` fused Euler steps (compiled).
+    """Advance c, v, phi, omega by `n_steps` fused steps, Euler or Heun (compiled).
+
+    Forward Euler (the paper's method) when `stage` is empty. Otherwise Heun's method
+    (explicit trapezoidal rule, second order): a predictor Euler step of fields and rotor
+    from (y, phi, omega), F and G and the rotor integrals recomputed at the predicted
+    angle and state, a second Euler step from there into `stage`, and the average
+    y + dt (f(y) + f(y~)) / 2 (:func:`heun_average`); phi and omega likewise. The noise
+    kick is additive, added once per step (stochastic Heun for additive noise).
 
     Args:
         data: flat state (c, v_x, v_y), 3 n^2 values, updated in place.
         spare: scratch array of the same shape.
+        stage: scratch of the same shape for Heun's method, or empty for Euler.
         F, G: flat indicator arrays (n^2), zero outside the support, updated in place.
         coords: cell-centre coordinates.
         lo, hi: interior column ranges per row.
@@ -326,6 +351,7 @@ def advance(
     coef = np.zeros(nn) if num[M_CONTOUR] != 0.0 else np.zeros(0)
     phi_f = math.nan
     noisy = kicks.size > 0
+    heun = stage.size > 0
     if not flow:
         data[nn:] = 0.0
         spare[nn:] = 0.0
@@ -349,9 +375,32 @@ def advance(
             rotor[0], rotor[1] = phi, omega
             return s
         euler_fields(cur, nxt, F, G, coords, lo, hi, slo, shi, par, omega, flow)
-        if not stopped:
+        rate_omega = (friction + torque) * inv_inertia
+        if heun:
+            phi_p, omega_p = phi, 0.0
+            if not stopped:
+                phi_p = phi + dt * omega
+                omega_p = omega + dt * rate_omega
+            if phi_p != phi_f:
+                update_indicators(
+                    F, G, coords, slo, shi, shape, tab, num, plate_tab, edge_tab, pill_tab, phi_p
+                )
+                phi_f = phi_p
+            cross_grad, moment, cross_v = rotor_integrals(
+                nxt, F, coords, slo, shi, shape, tab, num, quad_s, quad_t, flow, coef
+            )
+            torque_p = tsign_k * cross_grad
+            friction_p = -mu * (moment * omega_p - cross_v)
+            euler_fields(nxt, stage, F, G, coords, lo, hi, slo, shi, par, omega_p, flow)
+            heun_average(cur, stage, nxt, coords.size, lo, hi, flow)
+            if not stopped:
+                phi += 0.5 * dt * (omega + omega_p)
+                omega += 0.5 * dt * (rate_omega + (friction_p + torque_p) * inv_inertia)
+                if noisy:
+                    omega += kicks[s]
+        elif not stopped:
             phi += dt * omega
-            omega += dt * (friction + torque) * inv_inertia
+            omega += dt * rate_omega
             if noisy:
                 omega += kicks[s]
         cur, nxt = nxt, cur
@@ -378,12 +427,15 @@ class FusedStepper:
     rng: np.random.Generator
     schedule: StopSchedule = field(init=False)
     _spare: np.ndarray = field(init=False, repr=False)
+    _stage: np.ndarray = field(init=False, repr=False)
     _par: np.ndarray = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         self.schedule = StopSchedule.from_config(self.pde.config.protocol, self.dt)
         self._par = self.pde.kernel_parameters(self.dt)
         self._spare = np.zeros((3, *self.pde.domain.grid.shape))
+        heun = self.pde.config.numerics.integrator == "heun"
+        self._stage = np.zeros_like(self._spare) if heun else np.empty(0)
 
     def kicks(self, n_steps: int) -> np.ndarray:
         """Euler-Maruyama increments of omega: sqrt(2 dt) sigma / I N(0, 1), Eq. (noiseav)."""
@@ -407,6 +459,7 @@ class FusedStepper:
         failed = advance(
             work.reshape(-1),
             self._spare.reshape(-1),
+            self._stage.reshape(-1),
             pde.F.reshape(-1),
             pde.G.reshape(-1),
             dom.coords,

@@ -149,6 +149,15 @@ def test_consistent_scheme_matches_cpu_to_1e10(small_config: Callable[..., Rotor
     assert np.abs(got.torque[0]).max() > 0
 
 
+def test_heun_integrator_is_refused_before_any_step(
+    small_config: Callable[..., RotorConfig],
+) -> None:
+    """The kernel integrates with forward Euler only: Heun's method fails at once, by name."""
+    cfg = small_config(TINY, {"numerics": {"integrator": "heun"}})
+    with pytest.raises(ValueError, match=r"numerics\.integrator = heun"):
+        gpu_backend.run_ensemble([cfg], 0.01, record_interval=RECORD)
+
+
 def test_noise_same_seed_same_trajectory(small_config: Callable[..., RotorConfig]) -> None:
     """With noise, Eq. (noiseav), a seed gives the CPU solver's trajectory on the GPU.
 

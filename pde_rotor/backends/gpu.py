@@ -543,6 +543,12 @@ def run_ensemble(
     if chunk_steps < 1:
         raise ValueError(f"chunk_steps = {chunk_steps} must be >= 1")
     plan = make_plan(configs, t_end, record_interval, initial)
+    if plan.configs[0].numerics.integrator != "euler":
+        msg = (
+            f"numerics.integrator = {plan.configs[0].numerics.integrator}: the GPU kernel "
+            "integrates with forward Euler only (allowed here: euler; run heun on the CPU)"
+        )
+        raise ValueError(msg)
     rngs = default_rngs(plan.configs) if rngs is None else list(rngs)
     if len(rngs) != plan.n_members:
         raise ValueError(f"{len(rngs)} generators for {plan.n_members} members")
