@@ -282,6 +282,45 @@ def rotor_integrals(cur, F, coords, slo, shi, shape, tab, num, quad_s, quad_t, f
 
 
 @nb.njit(cache=True, nogil=True)
+def rotor_forces(
+    state,
+    phi,
+    omega,
+    indicator_phi,
+    F,
+    G,
+    coords,
+    slo,
+    shi,
+    shape,
+    tab,
+    num,
+    tables,
+    par,
+    flow,
+    coef,
+):
+    """Torque T, Eq. (torque), and friction torque of Eq. (eq_motion) at `state` (compiled).
+
+    F and G (and the rotor table `tab`) are recomputed for angle `phi` unless they already
+    hold it (`indicator_phi` == phi). `tables` is (quad_s, quad_t, plate_tab, edge_tab,
+    pill_tab) of the scheme; the other arguments as for :func:`advance`.
+
+    Returns:
+        (T, -mu int F (|r|^2 omega - r x v) dA).
+    """
+    quad_s, quad_t, plate_tab, edge_tab, pill_tab = tables
+    if phi != indicator_phi:
+        update_indicators(
+            F, G, coords, slo, shi, shape, tab, num, plate_tab, edge_tab, pill_tab, phi
+        )
+    cross_grad, moment, cross_v = rotor_integrals(
+        state, F, coords, slo, shi, shape, tab, num, quad_s, quad_t, flow, coef
+    )
+    return par[P_TSIGN] * par[P_K] * cross_grad, -par[P_MU] * (moment * omega - cross_v)
+
+
+@nb.njit(cache=True, nogil=True)
 def advance(
     data,
     spare,
@@ -342,7 +381,8 @@ def advance(
         -1 on success, else the index of the step at which phi, omega or T stopped
         being finite (the state is then left at the start of that step).
     """
-    dt, inv_inertia, mu, tsign_k = par[P_DT], 1.0 / par[P_I], par[P_MU], par[P_TSIGN] * par[P_K]
+    dt, inv_inertia = par[P_DT], 1.0 / par[P_I]
+    tables = (quad_s, quad_t, plate_tab, edge_tab, pill_tab)
     phi, omega = rotor[0], rotor[1]
     cur = data
     nxt = spare
@@ -359,16 +399,10 @@ def advance(
         stopped = stopped_at(step0 + s, schedule)
         if stopped:
             omega = 0.0
-        if phi != phi_f:
-            update_indicators(
-                F, G, coords, slo, shi, shape, tab, num, plate_tab, edge_tab, pill_tab, phi
-            )
-            phi_f = phi
-        cross_grad, moment, cross_v = rotor_integrals(
-            cur, F, coords, slo, shi, shape, tab, num, quad_s, quad_t, flow, coef
+        torque, friction = rotor_forces(
+            cur, phi, omega, phi_f, F, G, coords, slo, shi, shape, tab, num, tables, par, flow, coef
         )
-        torque = tsign_k * cross_grad
-        friction = -mu * (moment * omega - cross_v)
+        phi_f = phi
         if not (math.isfinite(torque) and math.isfinite(friction)):
             if s % 2 == 1:
                 data[:] = spare
@@ -381,16 +415,25 @@ def advance(
             if not stopped:
                 phi_p = phi + dt * omega
                 omega_p = omega + dt * rate_omega
-            if phi_p != phi_f:
-                update_indicators(
-                    F, G, coords, slo, shi, shape, tab, num, plate_tab, edge_tab, pill_tab, phi_p
-                )
-                phi_f = phi_p
-            cross_grad, moment, cross_v = rotor_integrals(
-                nxt, F, coords, slo, shi, shape, tab, num, quad_s, quad_t, flow, coef
+            torque_p, friction_p = rotor_forces(
+                nxt,
+                phi_p,
+                omega_p,
+                phi_f,
+                F,
+                G,
+                coords,
+                slo,
+                shi,
+                shape,
+                tab,
+                num,
+                tables,
+                par,
+                flow,
+                coef,
             )
-            torque_p = tsign_k * cross_grad
-            friction_p = -mu * (moment * omega_p - cross_v)
+            phi_f = phi_p
             euler_fields(nxt, stage, F, G, coords, lo, hi, slo, shi, par, omega_p, flow)
             heun_average(cur, stage, nxt, coords.size, lo, hi, flow)
             if not stopped:
