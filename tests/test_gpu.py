@@ -68,11 +68,11 @@ def rel_error(a: np.ndarray, b: np.ndarray) -> float:
 
 
 def assert_same_run(gpu_result: Any, cpu_result: Any, rtol: float) -> None:
-    """Rotor time series, torques, stop flags and final fields agree to `rtol` (relative)."""
+    """Rotor time series, torques, total camphor, stop flags and final fields agree to `rtol`."""
     np.testing.assert_array_equal(gpu_result.t, cpu_result.t)
     np.testing.assert_array_equal(gpu_result.stopped, cpu_result.stopped)
     for m in range(cpu_result.n_members):
-        for name in ("phi", "omega", "torque", "friction"):
+        for name in ("phi", "omega", "torque", "friction", "camphor_total"):
             got, want = getattr(gpu_result, name)[m], getattr(cpu_result, name)[m]
             assert rel_error(got, want) < rtol, (m, name, rel_error(got, want))
         assert rel_error(gpu_result.state.data[m], cpu_result.state.data[m]) < rtol
@@ -114,6 +114,7 @@ def test_members_match_their_own_cpu_runs(small_config: Callable[..., RotorConfi
         assert np.all(got.omega[m][got.stopped[m]] == 0.0)
         assert got.stopped[m].any() and not got.stopped[m].all()
         assert np.ptp(got.omega[m]) > 0.5 * np.abs(got.omega[m]).max()
+        assert np.all(np.diff(got.camphor_total[m]) > 0)  # pills release camphor from c = 0
     for a, b in [(0, 1), (0, 2), (1, 2)]:
         assert rel_error(got.omega[a], got.omega[b]) > 1e-2
     # member 1 stops 0.01 earlier and 0.01 longer than member 0

@@ -78,6 +78,7 @@ from ..core import (
 from ..model import RotorPDE
 from ..protocol import StopSchedule
 from .ensemble import (
+    RECORD_FIELDS,
     EnsemblePlan,
     EnsembleResult,
     EnsembleState,
@@ -184,8 +185,9 @@ def _advance(
         flags: (E, 2) flow enabled, noise on.
         rotor: (E, 5) [phi, omega, torque, friction, stopped], updated.
         kicks: (E, n_steps) noise increments of omega (read where noise is on).
-        records: (E, R, 5) receives the rotor after each step that ends on a multiple of
-            `record_every`, at row (step + 1) // record_every - record0.
+        records: (E, R, 6) receives the rotor and the total camphor int c dA after each
+            step that ends on a multiple of `record_every`, at row
+            (step + 1) // record_every - record0.
         status: (E,) -1, or the step at which the member's state stopped being finite
             (the member is then left at the start of that step and not advanced again).
         coef: (E n^2) scratch for the spline coefficients of c (contour form only).
@@ -200,7 +202,7 @@ def _advance(
     n_threads = cuda.blockDim.x
     if status[m] >= 0:
         return
-    red = cuda.shared.array(0, float64)  # 3 * n_threads partial sums
+    red = cuda.shared.array(0, float64)  # 4 * n_threads partial sums
     tab = cuda.shared.array((4, MAX_CORNERS), float64)  # edge normals, pill centres
     rot = cuda.shared.array(6, float64)  # phi, omega, torque, friction, stopped, failed
 
@@ -263,6 +265,7 @@ def _advance(
         cross_grad = 0.0
         moment = 0.0
         cross_v = 0.0
+        camphor = 0.0
         bad = False
         cur = (p_cur * n_members + m) * 3 * nn  # offset of the member's c in buf
         nxt = (p_nxt * n_members + m) * 3 * nn
@@ -309,6 +312,7 @@ def _advance(
                 o_new = nxt + i * n + j
                 new_c = buf[o] + dt * rate_c
                 buf[o_new] = new_c
+                camphor += new_c
                 if not math.isfinite(new_c):
                     bad = True
                 if flow:
@@ -341,6 +345,7 @@ def _advance(
         red[tid] = cross_grad
         red[n_threads + tid] = moment
         red[2 * n_threads + tid] = cross_v
+        red[3 * n_threads + tid] = camphor
         if bad:
             rot[5] = 1.0
         cuda.syncthreads()
@@ -350,6 +355,7 @@ def _advance(
                 red[tid] += red[tid + half]
                 red[n_threads + tid] += red[n_threads + tid + half]
                 red[2 * n_threads + tid] += red[2 * n_threads + tid + half]
+                red[3 * n_threads + tid] += red[3 * n_threads + tid + half]
             cuda.syncthreads()
             half //= 2
 
@@ -375,6 +381,7 @@ def _advance(
                     row_out = (step + 1) // record_every - record0
                     for q in range(5):
                         records[m, row_out, q] = rot[q]
+                    records[m, row_out, 5] = red[3 * n_threads] * area
         cuda.syncthreads()
         if rot[5] != 0.0:
             # diverged: leave the member at the start of this step in both buffers
@@ -575,12 +582,13 @@ def run_ensemble(
     d_status = cuda.to_device(np.full(n_members, -1, dtype=np.int64))
     contour = host["num"][:, M_CONTOUR] != 0.0
     d_coef = cuda.device_array(n_members * dom.coords.size**2 if contour.any() else 1)
-    records = np.full((n_members, plan.record_steps.size, 5), np.nan)
-    records[:, 0] = state.rotor
+    records = np.full((n_members, plan.record_steps.size, len(RECORD_FIELDS)), np.nan)
+    records[:, 0, :5] = state.rotor
+    records[:, 0, 5] = state.data[:, 0].sum(axis=(1, 2)) * dom.cell_area
     if min_blocks_per_sm is None:
         min_blocks_per_sm = max(1, 512 // threads_per_block)
     kernel = advance_kernel(threads_per_block, min_blocks_per_sm)[
-        n_members, threads_per_block, 0, 3 * threads_per_block * 8
+        n_members, threads_per_block, 0, 4 * threads_per_block * 8
     ]
 
     step, parity = plan.step_start, 0
@@ -589,7 +597,8 @@ def run_ensemble(
         n_steps = min(chunk_steps, plan.step_end - step)
         first = step // plan.record_every + 1
         last = (step + n_steps) // plan.record_every
-        d_records = cuda.to_device(np.full((n_members, max(last - first + 1, 1), 5), np.nan))
+        shape = (n_members, max(last - first + 1, 1), len(RECORD_FIELDS))
+        d_records = cuda.to_device(np.full(shape, np.nan))
         kernel(
             d_buf,
             d_coords,
