@@ -305,7 +305,15 @@ class TimeSeriesTracker(_RotorTracker):
         self._last_write = time.monotonic()
 
     def handle(self, field: FieldCollection, t: float) -> None:
-        """Append one sample of the rotor state."""
+        """Append one sample of the rotor state and the total camphor of `field`."""
+        self.sample(t, float(field.data[0].sum()) * self._cell_area)
+
+    def sample(self, t: float, camphor_total: float) -> None:
+        """Append one sample: the rotor state ``sim.rotor`` at time t and int c dA.
+
+        Called by :meth:`handle`, and directly when the samples come from an ensemble
+        backend's records (:mod:`pde_rotor.single_run`).
+        """
         rotor = self.sim.rotor
         step = self.step_of(t)
         values = {
@@ -314,7 +322,7 @@ class TimeSeriesTracker(_RotorTracker):
             "omega": rotor.omega,
             "torque": rotor.torque,
             "friction": rotor.friction,
-            "camphor_total": float(field.data[0].sum()) * self._cell_area,
+            "camphor_total": camphor_total,
             "stopped": int(rotor.stopped),
             "cycle": self.schedule.cycle(max(step - 1, 0)),
         }

@@ -19,6 +19,7 @@ without the ``gpu`` extra.
 from __future__ import annotations
 
 import importlib
+import logging
 from collections.abc import Callable, Sequence
 from typing import Any
 
@@ -27,10 +28,14 @@ import numpy as np
 from ..config import RotorConfig
 from .ensemble import EnsembleResult, EnsembleState
 
+_logger = logging.getLogger(__name__)
+
 __all__ = [
     "GPU_INSTALL_HINT",
+    "BackendError",
     "EnsembleResult",
     "EnsembleState",
+    "device_name",
     "gpu_available",
     "gpu_unavailable_reason",
     "resolve_backend",
@@ -72,11 +77,23 @@ def gpu_available(allow_simulator: bool = False) -> bool:
     return gpu_unavailable_reason(allow_simulator=allow_simulator) is None
 
 
+class BackendError(RuntimeError):
+    """The requested compute backend cannot be used here; ``str(err)`` is one line."""
+
+
 def resolve_backend(requested: str) -> str:
-    """Turn ``cpu | gpu | auto`` (``config.solver.backend``) into ``cpu`` or ``gpu``.
+    """Turn ``cpu | gpu | auto`` (``config.solver.backend``) into the backend that will run.
+
+    * ``cpu``: the fused CPU solver.
+    * ``gpu``: the GPU backend; it needs a CUDA GPU, or numba's CUDA simulator enabled
+      by the user (``NUMBA_ENABLE_CUDASIM=1``: the same kernels, slowly, on the CPU).
+    * ``auto``: ``gpu`` on a real GPU, else ``cpu`` (never the simulator).
+
+    Returns:
+        "cpu" or "gpu".
 
     Raises:
-        RuntimeError: "gpu" was requested and no usable GPU is present (one line).
+        BackendError: "gpu" was requested and cannot be used (one line, with the reason).
         ValueError: unknown backend name.
     """
     if requested == "cpu":
@@ -84,13 +101,22 @@ def resolve_backend(requested: str) -> str:
     if requested not in ("gpu", "auto"):
         msg = f"unknown backend {requested!r} (allowed: cpu, gpu, auto)"
         raise ValueError(msg)
-    reason = gpu_unavailable_reason()
+    reason = gpu_unavailable_reason(allow_simulator=requested == "gpu")
     if reason is None:
         return "gpu"
     if requested == "auto":
+        _logger.info("solver.backend = auto: using cpu (%s)", reason)
         return "cpu"
-    msg = f"backend 'gpu' requested but {reason}"
-    raise RuntimeError(msg)
+    msg = f"solver.backend = 'gpu': {reason} (allowed here: cpu, auto; use --backend cpu)"
+    raise BackendError(msg)
+
+
+def device_name(backend: str) -> str:
+    """What runs a resolved backend: "cpu", the GPU's name, or numba's CUDA simulator."""
+    if backend != "gpu":
+        return "cpu"
+    gpu = importlib.import_module("pde_rotor.backends.gpu")
+    return gpu.device_name()
 
 
 def run_ensemble(

@@ -90,6 +90,9 @@ from .ensemble import (
 MAX_CORNERS = 24
 """Largest N the kernel's shared geometry table holds (the config allows 3..24)."""
 
+SIMULATOR_THREADS = 8
+"""Default threads per block in numba's CUDA simulator (one Python thread each)."""
+
 # columns of the per-member integer flags
 FLAG_FLOW, FLAG_NOISY = 0, 1
 
@@ -111,6 +114,14 @@ def unavailable_reason(allow_simulator: bool = False) -> str | None:
     except Exception as err:  # driver errors surface as various exception types
         return f"the CUDA driver failed ({type(err).__name__}: {err})"
     return None
+
+
+def device_name() -> str:
+    """The GPU the kernels run on, or numba's CUDA simulator."""
+    if simulator_enabled():
+        return "numba CUDA simulator (NUMBA_ENABLE_CUDASIM=1)"
+    name = cuda.get_current_device().name
+    return name.decode() if isinstance(name, bytes) else str(name)
 
 
 def is_available(allow_simulator: bool = False) -> bool:
@@ -512,7 +523,7 @@ def run_ensemble(
     initial: EnsembleState | None = None,
     rngs: Sequence[np.random.Generator] | None = None,
     progress: Callable[[int, int], None] | None = None,
-    threads_per_block: int = 256,
+    threads_per_block: int | None = None,
     min_blocks_per_sm: int | None = None,
     chunk_steps: int = 20_000,
     allow_simulator: bool = True,
@@ -527,7 +538,8 @@ def run_ensemble(
         rngs: one Generator per member (default: ``default_rng(noise.seed)``).
         progress: ``progress(steps_done, steps_total)`` after every launch.
         threads_per_block: threads advancing one member (a power of two <= 1024;
-            a multiple of 32 on a GPU).
+            a multiple of 32 on a GPU); default 256, and 8 in the simulator, which runs
+            every thread as a Python thread.
         min_blocks_per_sm: launch bound passed to the compiler (see
             :func:`advance_kernel`); 0: none; default: 512 // threads_per_block (at
             least 1), which caps the kernel at 128 registers per thread (ptxas, sm_90:
@@ -544,6 +556,8 @@ def run_ensemble(
     reason = unavailable_reason(allow_simulator=allow_simulator)
     if reason is not None:
         raise RuntimeError(f"GPU backend unavailable: {reason}")
+    if threads_per_block is None:
+        threads_per_block = SIMULATOR_THREADS if simulator_enabled() else 256
     if not 1 <= threads_per_block <= 1024 or threads_per_block & (threads_per_block - 1):
         msg = f"threads_per_block = {threads_per_block}: must be a power of two in 1..1024"
         raise ValueError(msg)
@@ -648,4 +662,10 @@ def run_ensemble(
     )
 
 
-__all__ = ["is_available", "run_ensemble", "simulator_enabled", "unavailable_reason"]
+__all__ = [
+    "device_name",
+    "is_available",
+    "run_ensemble",
+    "simulator_enabled",
+    "unavailable_reason",
+]
