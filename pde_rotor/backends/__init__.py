@@ -10,7 +10,9 @@ initial rotor state. Members of one ensemble share the grid (``grid`` section).
 * :mod:`pde_rotor.backends.gpu`: all members in one batched CUDA computation
   (numba-cuda, fp64), with the same discretisation, stop logic and noise stream.
 
-Both return an :class:`~pde_rotor.backends.ensemble.EnsembleResult`. Nothing here
+Both return an :class:`~pde_rotor.backends.ensemble.EnsembleResult`;
+:func:`~pde_rotor.backends.batch.run_batch` runs a sweep's members in batches and
+classifies their stops by the inversion rule. Nothing here
 imports numba-cuda: :func:`gpu_available` and :func:`run_ensemble` import the GPU
 module only when asked, so ``import pde_rotor`` works on machines without a GPU or
 without the ``gpu`` extra.
@@ -26,6 +28,7 @@ from typing import Any
 import numpy as np
 
 from ..config import RotorConfig
+from .batch import MemberRun, run_batch
 from .ensemble import EnsembleResult, EnsembleState
 
 _logger = logging.getLogger(__name__)
@@ -35,10 +38,12 @@ __all__ = [
     "BackendError",
     "EnsembleResult",
     "EnsembleState",
+    "MemberRun",
     "device_name",
     "gpu_available",
     "gpu_unavailable_reason",
     "resolve_backend",
+    "run_batch",
     "run_ensemble",
 ]
 
