@@ -54,10 +54,10 @@ def commits(omega: float, omega_before: float, commit_fraction: float) -> bool:
     Args:
         omega: omega at the check.
         omega_before: omega just before the stop.
-        commit_fraction: in [0, 1); 0: any rotation (omega != 0) commits.
+        commit_fraction: in [0, 1]; 0: any rotation (omega != 0) commits.
     """
-    if not 0 <= commit_fraction < 1:
-        msg = f"commit_fraction = {commit_fraction!r} must lie in [0, 1)"
+    if not 0 <= commit_fraction <= 1:
+        msg = f"commit_fraction = {commit_fraction!r} must lie in [0, 1]"
         raise ValueError(msg)
     return direction(omega) != 0 and abs(omega) >= commit_fraction * abs(omega_before)
 
@@ -96,7 +96,7 @@ class ReleaseWatch:
         """
         Args:
             omega_before: omega just before the stop.
-            commit_fraction: commitment threshold relative to |omega_before|, in [0, 1).
+            commit_fraction: commitment threshold relative to |omega_before|, in [0, 1].
         """
         commits(0.0, omega_before, commit_fraction)  # validates commit_fraction
         self.omega_before = float(omega_before)
@@ -147,7 +147,7 @@ def classify_release(
     Args:
         omega_before: omega just before the stop.
         checks: omega at the release's checks, in time order.
-        commit_fraction: commitment threshold relative to |omega_before|, in [0, 1).
+        commit_fraction: commitment threshold relative to |omega_before|, in [0, 1].
     """
     watch = ReleaseWatch(omega_before, commit_fraction)
     for omega in checks:
@@ -196,7 +196,7 @@ def release_events(
         stop_steps: start step of every stop, increasing.
         n_stop: steps of one stop.
         dt: time step.
-        commit_fraction: commitment threshold relative to |omega_before|, in [0, 1).
+        commit_fraction: commitment threshold relative to |omega_before|, in [0, 1].
     """
     steps = np.asarray(steps, dtype=np.int64)
     omega = np.asarray(omega, dtype=float)

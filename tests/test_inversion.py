@@ -206,4 +206,4 @@ def test_zero_and_non_finite_omega_have_no_direction():
     release = classify_release(0.0, [0.0, 3.0], FRACTION)
     assert release.committed and release.direction_before == 0 and not release.inverted
     with pytest.raises(ValueError, match="commit_fraction"):
-        classify_release(1.0, [1.0], 1.0)
+        classify_release(1.0, [1.0], 1.5)

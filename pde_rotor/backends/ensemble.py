@@ -256,7 +256,7 @@ class EnsembleResult:
 
         Args:
             member: member index.
-            commit_fraction: commitment threshold relative to |omega_before|, in [0, 1).
+            commit_fraction: commitment threshold relative to |omega_before|, in [0, 1].
             check_interval: time between checks (a multiple of the record interval).
 
         Raises:
