@@ -355,7 +355,9 @@ def run(
             wall_time=wall,
             backend=backend,
         )
-        steps = round(sim.t / cfg.grid.dt)
+        steps = (
+            int(sim.solver.info.get("steps", 0)) if backend == "cpu" else round(sim.t / cfg.grid.dt)
+        )
         _logger.info(
             "run %s after %.1f s wall time (%d steps, %.3g ms/step): %s; inversions %d/%d",
             result.status,

@@ -9,10 +9,12 @@ same files on every backend:
 * the rotor trackers (time series, inversion events) read the records, taken every
   ``gcd`` of their sampling steps (phi, omega, torque, friction, stop flag and the
   total camphor of Eqs. (eqc), (eq_motion), (torque));
-* the field trackers (snapshots, movie) need c and v: the run returns to the host at
-  each of their times (the segment ends) and they read the member's fields there;
-* the progress bar is updated at every segment end (at most :data:`SEGMENT_STEPS`
-  steps apart), and the time series is checkpointed as on the CPU.
+* every other tracker (snapshots, movie, any py-pde tracker) may read c and v: the run
+  returns to the host at each of its times (the segment ends) and it reads the member's
+  fields there;
+* trackers on wall-clock interrupts (the progress bar) are called at every segment end
+  (at most :data:`SEGMENT_STEPS` steps apart); the time series is checkpointed as on the
+  CPU.
 
 The noise stream is the CPU solver's (``default_rng(noise.seed)``, drawn in step
 order), so the same seed gives the same run on both paths.
@@ -25,22 +27,34 @@ from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
+from pde.trackers.interrupts import RealtimeInterrupts
 
 from .backends import EnsembleState, run_ensemble
 from .backends.ensemble import RECORD_FIELDS
 from .protocol import steps_of
 from .simulation import Simulation
 from .solver import SimulationDivergedError
-from .trackers import MovieTracker, ProgressBarTracker, SnapshotTracker, TimeSeriesTracker
+from .trackers import InversionTracker, TimeSeriesTracker
 
 SEGMENT_STEPS = 100_000
 """Most steps between two returns to the host (progress bar, checkpoints)."""
 
-_FIELD_TRACKERS = (SnapshotTracker, MovieTracker)
+_SAMPLE_TRACKERS = (TimeSeriesTracker, InversionTracker)
+"""Trackers that read only the rotor state (and the total camphor): fed from records."""
 
 
-def _steps(times: np.ndarray, dt: float, n_end: int) -> np.ndarray:
-    steps = np.round(np.asarray(times, dtype=float) / dt).astype(np.int64)
+def _wall_clock(tracker: Any) -> bool:
+    """Whether the tracker's interrupts follow the wall clock (the progress bar)."""
+    return isinstance(tracker.interrupt, RealtimeInterrupts)
+
+
+def _steps(tracker: Any, dt: float, n_end: int) -> np.ndarray:
+    """The steps at which `tracker` asks to be called, in [0, n_end]."""
+    interrupt = tracker.interrupt.copy()
+    times = [interrupt.initialize(0.0)]
+    while times[-1] <= (n_end + 0.5) * dt:
+        times.append(interrupt.next(times[-1]))
+    steps = np.round(np.asarray(times[:-1]) / dt).astype(np.int64)
     return np.unique(steps[(steps >= 0) & (steps <= n_end)])
 
 
@@ -49,10 +63,10 @@ def _plan(trackers: Sequence[Any], dt: float, n_end: int) -> tuple[int, np.ndarr
     sample_steps = [np.array([n_end], dtype=np.int64)]
     field_steps = [np.array([n_end], dtype=np.int64), np.arange(0, n_end, SEGMENT_STEPS)]
     for tracker in trackers:
-        if isinstance(tracker, ProgressBarTracker):
+        if _wall_clock(tracker):
             continue
-        steps = _steps(tracker.interrupt.interrupts, dt, n_end)
-        (field_steps if isinstance(tracker, _FIELD_TRACKERS) else sample_steps).append(steps)
+        steps = _steps(tracker, dt, n_end)
+        (sample_steps if isinstance(tracker, _SAMPLE_TRACKERS) else field_steps).append(steps)
     every = int(np.gcd.reduce(np.concatenate(sample_steps)))
     ends = np.unique(np.concatenate(field_steps))
     return max(every, 1), ends[ends > 0]
@@ -124,7 +138,7 @@ def _deliver(
     dt = sim.config.grid.dt
     last = max(rows) if rows else -1
     for k, tracker in enumerate(trackers):
-        if isinstance(tracker, ProgressBarTracker):
+        if _wall_clock(tracker):
             if field_step >= 0:
                 sim.pde.rotor.update_from(rows[field_step][:5])
                 tracker.handle(sim.state, field_step * dt)
@@ -132,7 +146,7 @@ def _deliver(
         while next_t[k] <= last * dt + 0.5 * dt:
             step = round(next_t[k] / dt)
             row = rows.get(step)
-            if row is None or (isinstance(tracker, _FIELD_TRACKERS) and step != field_step):
+            if row is None or (not isinstance(tracker, _SAMPLE_TRACKERS) and step != field_step):
                 break
             sim.pde.rotor.update_from(row[:5])
             if isinstance(tracker, TimeSeriesTracker):
