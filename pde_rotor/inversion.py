@@ -186,9 +186,9 @@ def release_events(
     Cycle m uses omega sampled at its stop step as omega_before and, as checks, the
     samples from its release step (stop step + n_stop) to the next stop step, both
     included (the last one is the state at the end of the release); for the last cycle,
-    the samples up to the end of the record. A cycle is returned once its stop step and
-    its release step have been sampled; samples that are not finite (a diverged run) end
-    the record.
+    the samples up to the end of the record. A cycle is returned once its stop step is
+    sampled and the record reaches its release step (as the run tracker closes a cycle
+    whose release has begun); samples that are not finite (a diverged run) end the record.
 
     Args:
         steps: sample steps (t = step dt), increasing.

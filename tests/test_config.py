@@ -288,8 +288,9 @@ def test_stability_limit_is_the_boundary():
     """dt exactly at the limit is accepted; one part in 1e9 above it is refused.
 
     The limit cannot exceed the von Neumann bound of the explicit 5-point diffusion
-    step, dx^2 / (4 D); the flow and reaction terms only lower it. Every time of the config is first made a multiple of the limit, so that dt = limit
-    passes the whole-step rule and only the stability limit decides.
+    step, dx^2 / (4 D); the flow and reaction terms only lower it. Every time of the
+    config is first made a multiple of the limit, so that dt = limit passes the
+    whole-step rule and only the stability limit decides.
     """
     base = RotorConfig()
     limit = base.dt_limit()
