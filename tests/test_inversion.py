@@ -1,8 +1,8 @@
 """One inversion rule: the same omega(t) gives the same events in every estimator.
 
 A prescribed omega(t) with five stop-and-release cycles runs through the run tracker
-(:class:`~pde_rotor.trackers.InversionTracker`), the sweep's restart/bank release
-(``pde_rotor.sweep._release``), the ensemble backends' classification
+(:class:`~pde_rotor.trackers.InversionTracker`), the sweep's restart/bank commit rule
+(``pde_rotor.sweep.tasks.release_outcome``), the ensemble backends' classification
 (:meth:`~pde_rotor.backends.ensemble.EnsembleResult.release_events`) and the paper's
 protocol estimator (:func:`~pde_rotor.stats.protocol_counts`). The cycles cover a
 commitment in the old direction, an inversion, a release that never commits, a
@@ -25,7 +25,8 @@ from pde_rotor.inversion import Release, classify_release, commits, direction
 from pde_rotor.model import RotorState
 from pde_rotor.protocol import StopSchedule
 from pde_rotor.stats import protocol_counts, restart_counts
-from pde_rotor.sweep import RestartEstimator, _release, _Timing
+from pde_rotor.sweep import RestartEstimator
+from pde_rotor.sweep.tasks import Timing, release_outcome
 from pde_rotor.trackers import InversionTracker
 
 FRACTION = 0.5
@@ -91,29 +92,18 @@ def by_tracker() -> list[tuple[int, int, bool, bool]]:
     ]
 
 
-class ScriptedSimulation:
-    """What the sweep's release reads: the config, the rotor, and run(t) setting omega."""
-
-    def __init__(self) -> None:
-        self.config = CONFIG
-        self.rotor = RotorState(phi=0.0, omega=0.0)
-
-    def run(self, t_end: float) -> None:
-        self.rotor.omega = omega_at(round(t_end / CONFIG.grid.dt))
-
-
 def by_sweep_release() -> list[tuple[int, int, bool, bool]]:
-    """The same per cycle from the restart/bank estimators' release until commitment."""
+    """The same per cycle from the restart/bank estimators' commit rule (sweep.tasks)."""
     estimator = RestartEstimator(commit_fraction=FRACTION, check_interval=CHECK)
     out = []
     for start in SCHEDULE.stop_steps():
-        timing = _Timing(
+        timing = Timing(
             n0=int(start),
             n_stop=SCHEDULE.n_stop,
             n_cap=SCHEDULE.n_period - SCHEDULE.n_stop,
             n_check=CHECK_STEPS,
         )
-        res = _release(ScriptedSimulation(), timing, estimator, omega_at(int(start)))
+        res = release_outcome(omega_at, timing, estimator, omega_at(int(start)), CONFIG.grid.dt)
         out.append(
             (res["direction_before"], res["direction_after"], res["committed"], res["inverted"])
         )
