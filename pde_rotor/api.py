@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from .backends import device_name, resolve_backend
+from .backends import backend_for, device_name
 from .config import ConfigError, RotorConfig, dump_config, load_config, validate_config
 from .output import RunDirectory, atomic_path, detach_log, write_text_atomic
 
@@ -241,7 +241,7 @@ def run(
     if output_update:
         cfg = cfg.model_copy(update={"output": cfg.output.model_copy(update=output_update)})
     cfg = with_seed(cfg)
-    backend = resolve_backend(cfg.solver.backend)
+    backend = backend_for(cfg)
     device = device_name(backend)
     run_dir = RunDirectory.create(out, overwrite=overwrite) if out is not None else None
 

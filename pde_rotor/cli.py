@@ -16,7 +16,7 @@ from typing import Annotated, NoReturn
 import typer
 
 from .api import RunResult, versions
-from .backends import BackendError, gpu_unavailable_reason, resolve_backend
+from .backends import BackendError, backend_for, gpu_unavailable_reason
 from .cli_gallery import register as register_gallery_commands
 from .cli_sweep import register as register_sweep_commands
 from .config import ConfigError, dump_config, load_config
@@ -88,7 +88,7 @@ def run(
         overrides.append(f"solver.backend={backend}")
     try:
         cfg = load_config(config, overrides)
-        resolve_backend(cfg.solver.backend)
+        backend_for(cfg)
         run_dir = out if out is not None else RunDirectory.default_path(config)
         RunDirectory.create(run_dir, overwrite=overwrite)
     except (ConfigError, BackendError, OutputError) as err:

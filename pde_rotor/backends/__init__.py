@@ -39,6 +39,7 @@ __all__ = [
     "EnsembleResult",
     "EnsembleState",
     "MemberRun",
+    "backend_for",
     "device_name",
     "gpu_available",
     "gpu_unavailable_reason",
@@ -114,6 +115,30 @@ def resolve_backend(requested: str) -> str:
         return "cpu"
     msg = f"solver.backend = 'gpu': {reason} (allowed here: cpu, auto; use --backend cpu)"
     raise BackendError(msg)
+
+
+def backend_for(config: RotorConfig) -> str:
+    """The backend that will run `config`: ``solver.backend`` resolved for its numerics.
+
+    The GPU kernel integrates with forward Euler only: with another
+    ``numerics.integrator``, ``auto`` runs on the CPU and ``gpu`` is refused.
+
+    Raises:
+        BackendError: "gpu" requested and no usable GPU, or an integrator the GPU kernel
+            does not implement (one line, naming the key).
+    """
+    requested = config.solver.backend
+    integrator = config.numerics.integrator
+    if requested != "cpu" and integrator != "euler":
+        if requested == "auto":
+            return "cpu"
+        msg = (
+            f"solver.backend = 'gpu' with numerics.integrator = {integrator}: the GPU kernel "
+            "integrates with forward Euler only (allowed: numerics.integrator = euler, or "
+            "solver.backend = cpu)"
+        )
+        raise BackendError(msg)
+    return resolve_backend(requested)
 
 
 def device_name(backend: str) -> str:
