@@ -13,7 +13,6 @@ Without ``out`` nothing is written: the time series and events are returned in m
 
 from __future__ import annotations
 
-import importlib
 import logging
 import math
 import platform
@@ -28,6 +27,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from .backends import backend_for, device_name
 from .config import ConfigError, RotorConfig, dump_config, load_config, validate_config
 from .output import RunDirectory, atomic_path, detach_log, write_text_atomic
 
@@ -37,64 +37,6 @@ PAPER = (
     "Koyano, Kitahata, Nakata, Gorecki: On a simple model that explains inversion of a "
     "self-propelled rotor under periodic stop-and-release operations, Chaos 30 (2020)"
 )
-
-
-class BackendError(RuntimeError):
-    """The requested compute backend cannot be used; ``str(err)`` is one line."""
-
-
-def gpu_unavailable_reason() -> str | None:
-    """Why the GPU backend cannot run here (None if it can).
-
-    Asks :mod:`pde_rotor.backends` (``gpu_unavailable_reason()``) when it provides the
-    check; otherwise imports :mod:`pde_rotor.backends.gpu` and asks its
-    ``unavailable_reason()`` or ``is_available()``.
-    """
-    try:
-        backends = importlib.import_module("pde_rotor.backends")
-    except Exception:  # no backends package: fall through to the direct import
-        backends = None
-    check = getattr(backends, "gpu_unavailable_reason", None)
-    if callable(check):
-        try:
-            return check()
-        except Exception as err:
-            return f"the GPU check failed ({type(err).__name__}: {err})"
-    try:
-        module = importlib.import_module("pde_rotor.backends.gpu")
-    except Exception as err:  # ImportError, or a CUDA error raised at import
-        detail = str(err).splitlines()[0] if str(err) else type(err).__name__
-        return f"pde_rotor.backends.gpu cannot be imported ({detail})"
-    try:
-        reason = getattr(module, "unavailable_reason", None)
-        if callable(reason):
-            return reason()
-        available = getattr(module, "is_available", None)
-        if callable(available) and not available():
-            return "no GPU found"
-    except Exception as err:
-        return f"the GPU check failed ({type(err).__name__}: {err})"
-    return None
-
-
-def resolve_backend(requested: str) -> str:
-    """Turn ``solver.backend`` into the backend that will run: "cpu" or "gpu".
-
-    "auto" falls back to "cpu" when no GPU can be used.
-
-    Raises:
-        BackendError: "gpu" was requested and cannot be used.
-    """
-    if requested == "cpu":
-        return "cpu"
-    reason = gpu_unavailable_reason()
-    if reason is None:
-        return "gpu"
-    if requested == "auto":
-        _logger.info("solver.backend = auto: using cpu (%s)", reason)
-        return "cpu"
-    msg = f"solver.backend = 'gpu': {reason} (allowed here: cpu, auto; use --backend cpu)"
-    raise BackendError(msg)
 
 
 def versions() -> dict[str, str]:
@@ -144,7 +86,8 @@ class RunResult:
         message: why the run ended.
         run_dir: the run directory (None for an in-memory run).
         wall_time: seconds the run took.
-        backend: compute backend that ran it.
+        backend: compute backend that ran it ("cpu" or "gpu"; ``solver.backend``
+            resolved by :func:`pde_rotor.backends.resolve_backend`).
     """
 
     config: RotorConfig
@@ -280,7 +223,7 @@ def run(
 
     Raises:
         ConfigError: invalid configuration (before anything is compiled).
-        BackendError: solver.backend is "gpu" and no GPU backend is usable.
+        pde_rotor.backends.BackendError: solver.backend is "gpu" and no GPU is usable.
         OutputError: `out` holds an earlier run and not `overwrite`.
         SimulationDivergedError: the state became NaN/Inf and `check` is True.
     """
@@ -298,11 +241,13 @@ def run(
     if output_update:
         cfg = cfg.model_copy(update={"output": cfg.output.model_copy(update=output_update)})
     cfg = with_seed(cfg)
-    backend = resolve_backend(cfg.solver.backend)
+    backend = backend_for(cfg)
+    device = device_name(backend)
     run_dir = RunDirectory.create(out, overwrite=overwrite) if out is not None else None
 
     from . import trackers as tr
     from .simulation import Simulation
+    from .single_run import run_single
     from .solver import SimulationDivergedError
 
     vers = versions()
@@ -313,6 +258,7 @@ def run(
         "config_hash": cfg.config_hash(),
         "seed": cfg.noise.seed,
         "backend": backend,
+        "device": device,
         "created": datetime.now(timezone.utc).isoformat(timespec="seconds"),
         "paper": PAPER,
     }
@@ -323,6 +269,7 @@ def run(
         "config_hash": provenance["config_hash"],
         "seed": int(cfg.noise.seed),
         "backend": backend,
+        "device": device,
         "config": dump_config(cfg),
         "units": (
             f"lengths in {tr.LENGTH_UNITS}, times in {tr.TIME_UNITS} (the paper's "
@@ -335,21 +282,17 @@ def run(
         log_handler = run_dir.attach_log()
     try:
         _logger.info(
-            "run %s: config hash %s, seed %s, backend %s, t_end %g, dx %g, dt %g",
+            "run %s: config hash %s, seed %s, backend %s (%s), t_end %g, dx %g, dt %g",
             run_dir.path if run_dir else "(in memory)",
             provenance["config_hash"],
             cfg.noise.seed,
             backend,
+            device,
             cfg.protocol.t_end,
             cfg.grid.dx,
             cfg.grid.dt,
         )
         _logger.info("versions: %s", ", ".join(f"{k} {v}" for k, v in vers.items()))
-        if backend == "gpu":
-            _logger.warning(
-                "a GPU is available, but a single run with trackers uses the CPU solver; "
-                "batches of members run on the GPU through pde_rotor.backends.run_ensemble"
-            )
         sim = Simulation(cfg)
         out_cfg = cfg.output
         ts_tracker = tr.TimeSeriesTracker(
@@ -390,7 +333,10 @@ def run(
         start = time.perf_counter()
         error: BaseException | None = None
         try:
-            sim.run(trackers=trackers)
+            if backend == "gpu":
+                run_single(sim, trackers, backend)
+            else:
+                sim.run(trackers=trackers)
         except SimulationDivergedError as err:
             error = err
             _finalize_after_error(trackers, "diverged", str(err), ts_tracker)
@@ -409,7 +355,9 @@ def run(
             wall_time=wall,
             backend=backend,
         )
-        steps = int(sim.solver.info.get("steps", 0))
+        steps = (
+            int(sim.solver.info.get("steps", 0)) if backend == "cpu" else round(sim.t / cfg.grid.dt)
+        )
         _logger.info(
             "run %s after %.1f s wall time (%d steps, %.3g ms/step): %s; inversions %d/%d",
             result.status,

@@ -15,7 +15,8 @@ from typing import Annotated, NoReturn
 
 import typer
 
-from .api import BackendError, RunResult, resolve_backend, versions
+from .api import RunResult, versions
+from .backends import BackendError, backend_for, gpu_unavailable_reason
 from .cli_gallery import register as register_gallery_commands
 from .cli_sweep import register as register_sweep_commands
 from .config import ConfigError, dump_config, load_config
@@ -87,7 +88,7 @@ def run(
         overrides.append(f"solver.backend={backend}")
     try:
         cfg = load_config(config, overrides)
-        resolve_backend(cfg.solver.backend)
+        backend_for(cfg)
         run_dir = out if out is not None else RunDirectory.default_path(config)
         RunDirectory.create(run_dir, overwrite=overwrite)
     except (ConfigError, BackendError, OutputError) as err:
@@ -208,8 +209,6 @@ def info() -> None:
     """Versions, compute backend and threads."""
     import matplotlib as mpl
     import numba
-
-    from .api import gpu_unavailable_reason
 
     for name, version in versions().items():
         typer.echo(f"{name:<12} {version}")

@@ -60,6 +60,26 @@ class StopSchedule:
             return 0
         return min(rel // self.n_period + 1, self.cycles)
 
+    def stop_steps(self) -> np.ndarray:
+        """Start steps of the M stops."""
+        return self.n_ini + self.n_period * np.arange(self.cycles, dtype=np.int64)
+
+    def sample_steps(self, every: int, n_end: int) -> np.ndarray:
+        """Multiples of `every` in [0, n_end], n_end, and the start and end of every stop.
+
+        The steps at which the rotor trackers sample a run (and the inversion rule checks
+        a release, :mod:`pde_rotor.inversion`), increasing and unique.
+        """
+        starts = self.stop_steps()
+        steps = [
+            np.arange(0, n_end + 1, max(1, every), dtype=np.int64),
+            np.array([n_end], dtype=np.int64),
+            starts,
+            starts + self.n_stop,
+        ]
+        all_steps = np.unique(np.concatenate(steps))
+        return all_steps[all_steps <= n_end]
+
     def stop_times(self) -> np.ndarray:
         """Start times of the M stops."""
         return (self.n_ini + self.n_period * np.arange(self.cycles)) * self.dt

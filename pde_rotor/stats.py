@@ -7,7 +7,11 @@ of inversions divided by the number M of stop-and-release operations of one run
 * **paper protocol** (:func:`protocol_counts`): one run of M cycles; the direction of
   rotation is the sign of omega just before each stop and at the end of the run, and a
   cycle is an inversion when the direction after its release differs from the one
-  before its stop. P = inversions / M.
+  before its stop. P = inversions / M. This is the rule of :mod:`pde_rotor.inversion`
+  with one check per release, at its end, and commit_fraction = 0; it differs from a
+  run's events (checked every ``output.event_interval`` with ``output.commit_fraction``)
+  only for a release that has not committed by its end, or that commits and reverses
+  again before the next stop.
 * **independent restarts** (:func:`restart_counts`, :func:`two_state_chain`): many
   independent single stops, each from a steady rotating state of known direction. They
   estimate the two conditional probabilities P(inversion | CCW) and P(inversion | CW).
@@ -33,9 +37,12 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
+from itertools import pairwise
 
 import numpy as np
 from scipy import stats as sps
+
+from .inversion import classify_release
 
 CONFIDENCE = 0.95
 """Confidence level of every interval reported by pde_rotor."""
@@ -146,6 +153,11 @@ def _directions(omegas: Sequence[float] | np.ndarray) -> np.ndarray:
 def protocol_counts(omegas: Sequence[float] | np.ndarray) -> DirectionCounts:
     """Inversion counts of one paper-protocol run from its angular velocities.
 
+    The paper's definition: cycle m is classified by
+    :func:`pde_rotor.inversion.classify_release` with omega just before stop m, one
+    check, omega at the end of release m (just before stop m + 1), and
+    commit_fraction = 0, so every release commits to the sign of omega at its end.
+
     Args:
         omegas: M + 1 values of omega: just before each of the M stops, then at the end
             of the last release (each release ends where the next stop begins).
@@ -161,8 +173,10 @@ def protocol_counts(omegas: Sequence[float] | np.ndarray) -> DirectionCounts:
     if signs.size < 2:
         msg = "need the direction before at least one stop and after its release"
         raise ValueError(msg)
-    before, after = signs[:-1], signs[1:]
-    inverted = before != after
+    before = signs[:-1]
+    inverted = np.array(
+        [classify_release(w, [after], 0.0).inverted for w, after in pairwise(omegas)], dtype=bool
+    )
     return DirectionCounts(
         ccw=Proportion(int(inverted[before == CCW].sum()), int((before == CCW).sum())),
         cw=Proportion(int(inverted[before == CW].sum()), int((before == CW).sum())),

@@ -12,16 +12,19 @@ The rotor state is not part of py-pde's FieldCollection; trackers read it from t
 holds phi, omega (Eq. (eq_motion)) and the torque T (Eq. (torque)) and friction torque
 of the last step.
 
-Inversion events (:class:`InversionTracker`), one row per stop-and-release cycle m:
+Inversion events (:class:`InversionTracker`), one row per stop-and-release cycle m,
+classified by the one rule of :mod:`pde_rotor.inversion`:
 
 * ``omega_before``: omega at the start of stop m (the last step before the stop);
 * ``direction_after``: the sign of omega when the released rotor has *committed*, i.e.
-  the first sample (every ``output.event_interval``) after the release at which
-  ``|omega| >= commit_fraction * |omega_before|``; if that never happens before the
-  next stop (or the end of the run), the sign of omega at the end of the release phase
-  and ``committed = false``;
-* ``inverted``: ``direction_after == -sign(omega_before)`` (false if omega_before = 0);
-* ``time_to_commit``: commit time minus release time (NaN if not committed).
+  at the first sample (every ``output.event_interval``, from the release to the start
+  of the next stop or the end of the run) at which
+  ``omega != 0 and |omega| >= commit_fraction * |omega_before|``; 0 and
+  ``committed = false`` if that never happens;
+* ``inverted``: committed and ``direction_after == -sign(omega_before)`` (a release that
+  never commits is not an inversion);
+* ``time_to_commit``: commit time minus release time (NaN if not committed);
+* ``omega_after``: omega at commit (or at the last sample of the release).
 """
 
 from __future__ import annotations
@@ -43,6 +46,7 @@ from pde.trackers.base import InfoDict, TrackerBase
 from pde.trackers.interrupts import FixedInterrupts, RealtimeInterrupts
 from tqdm.auto import tqdm
 
+from .inversion import ReleaseWatch, direction
 from .output import AppendOnlyCSV, commit, part_path, write_netcdf_atomic
 from .protocol import StopSchedule
 
@@ -115,31 +119,25 @@ EVENT_ATTRS: dict[str, dict[str, str]] = {
     "t_stop": {"long_name": "start time of the stop", "units": TIME_UNITS},
     "omega_before": {"long_name": "omega just before the stop", "units": OMEGA_UNITS},
     "direction_before": {"long_name": "sign of omega_before (+1: counterclockwise)"},
-    "direction_after": {"long_name": "sign of omega at commit (or end of release)"},
-    "inverted": {"long_name": "direction_after == -direction_before"},
+    "direction_after": {"long_name": "sign of omega at commit (0: not committed)"},
+    "inverted": {"long_name": "committed and direction_after == -direction_before"},
     "committed": {"long_name": "|omega| reached commit_fraction |omega_before| after release"},
     "time_to_commit": {"long_name": "commit time minus release time", "units": TIME_UNITS},
-    "omega_after": {"long_name": "omega at commit (or end of release)", "units": OMEGA_UNITS},
+    "omega_after": {
+        "long_name": "omega at commit (or at the last sample of the release)",
+        "units": OMEGA_UNITS,
+    },
 }
 
 
 def _sampling_times(schedule: StopSchedule, interval: float, t_end: float) -> np.ndarray:
     """Multiples of `interval` in [0, t_end] plus the start and end of every stop.
 
-    Computed in integer steps so that every time is an exact step time.
+    Computed in integer steps (:meth:`StopSchedule.sample_steps`) so that every time is
+    an exact step time.
     """
     dt = schedule.dt
-    n_end = round(t_end / dt)
-    every = max(1, round(interval / dt))
-    steps = [np.arange(0, n_end + 1, every, dtype=np.int64), np.array([n_end], dtype=np.int64)]
-    starts = schedule.n_ini + schedule.n_period * np.arange(schedule.cycles, dtype=np.int64)
-    steps += [starts, starts + schedule.n_stop]
-    all_steps = np.unique(np.concatenate(steps))
-    return all_steps[all_steps <= n_end] * dt
-
-
-def _sign(value: float) -> int:
-    return int(np.sign(value)) if math.isfinite(value) else 0
+    return schedule.sample_steps(round(interval / dt), round(t_end / dt)) * dt
 
 
 class _RotorTracker(TrackerBase):
@@ -307,7 +305,15 @@ class TimeSeriesTracker(_RotorTracker):
         self._last_write = time.monotonic()
 
     def handle(self, field: FieldCollection, t: float) -> None:
-        """Append one sample of the rotor state."""
+        """Append one sample of the rotor state and the total camphor of `field`."""
+        self.sample(t, float(field.data[0].sum()) * self._cell_area)
+
+    def sample(self, t: float, camphor_total: float) -> None:
+        """Append one sample: the rotor state ``sim.rotor`` at time t and int c dA.
+
+        Called by :meth:`handle`, and directly when the samples come from an ensemble
+        backend's records (:mod:`pde_rotor.single_run`).
+        """
         rotor = self.sim.rotor
         step = self.step_of(t)
         values = {
@@ -316,7 +322,7 @@ class TimeSeriesTracker(_RotorTracker):
             "omega": rotor.omega,
             "torque": rotor.torque,
             "friction": rotor.friction,
-            "camphor_total": float(field.data[0].sum()) * self._cell_area,
+            "camphor_total": camphor_total,
             "stopped": int(rotor.stopped),
             "cycle": self.schedule.cycle(max(step - 1, 0)),
         }
@@ -405,11 +411,10 @@ class InversionTracker(_RotorTracker):
         self.csv_path = Path(csv_path) if csv_path is not None else None
         self.nc_path = Path(nc_path) if nc_path is not None else None
         self.attrs = dict(attrs or {})
-        starts = schedule.n_ini + schedule.n_period * np.arange(schedule.cycles)
-        self._stop_steps = {int(s): m + 1 for m, s in enumerate(starts)}
+        self._stop_steps = {int(s): m + 1 for m, s in enumerate(schedule.stop_steps())}
         self.events: list[InversionEvent] = []
         self._open: InversionEvent | None = None
-        self._last_omega = math.nan
+        self._watch: ReleaseWatch | None = None
         self._last_t = math.nan
         self._csv: AppendOnlyCSV | None = None
 
@@ -424,47 +429,50 @@ class InversionTracker(_RotorTracker):
         return event.t_stop + self.schedule.n_stop * self.schedule.dt
 
     def handle(self, field: FieldCollection, t: float) -> None:
-        """Open a cycle at its stop time, close it when the rotor commits after release."""
+        """Check the open release (rule of :mod:`pde_rotor.inversion`), open a cycle at its stop.
+
+        The sample at the start of the next stop is the release's last check; the
+        release is closed there, committed or not, before the next cycle opens.
+        """
         step = self.step_of(t)
         omega = self.sim.rotor.omega
+        event, watch = self._open, self._watch
+        released = event is not None and t >= self.release_time(event)
+        if released and watch is not None and watch.check(omega):
+            self._close(event, watch, t=step * self.schedule.dt)
         cycle = self._stop_steps.get(step)
         if cycle is not None:
-            if self._open is not None:
-                self._close(self._open, omega, committed=False, t=t)
+            if self._open is not None and self._watch is not None:
+                self._close(self._open, self._watch, t=step * self.schedule.dt)
             self._open = InversionEvent(
                 cycle=cycle,
                 t_stop=step * self.schedule.dt,
                 omega_before=omega,
-                direction_before=_sign(omega),
+                direction_before=direction(omega),
             )
-        elif self._open is not None and step * self.schedule.dt >= self.release_time(self._open):
-            event = self._open
-            threshold = self.commit_fraction * abs(event.omega_before)
-            if omega != 0 and abs(omega) >= threshold:
-                self._close(event, omega, committed=True, t=step * self.schedule.dt)
-        self._last_omega, self._last_t = omega, t
+            self._watch = ReleaseWatch(omega, self.commit_fraction)
+        self._last_t = t
 
-    def _close(self, event: InversionEvent, omega: float, *, committed: bool, t: float) -> None:
-        event.direction_after = _sign(omega)
-        event.inverted = event.direction_before != 0 and (
-            event.direction_after == -event.direction_before
-        )
-        event.committed = committed
-        event.omega_after = omega
-        if committed:
+    def _close(self, event: InversionEvent, watch: ReleaseWatch, *, t: float) -> None:
+        outcome = watch.outcome
+        event.direction_after = outcome.direction_after
+        event.inverted = outcome.inverted
+        event.committed = outcome.committed
+        event.omega_after = outcome.omega_after
+        if outcome.committed:
             steps = self.step_of(t) - self.step_of(self.release_time(event))
             event.time_to_commit = round(steps * self.schedule.dt, 12)
         self.events.append(event)
-        self._open = None
+        self._open = self._watch = None
         if self._csv is not None:
             self._csv.append(asdict(event))
         _logger.info(
             "cycle %d: omega %+.2f -> %+.2f, %s%s",
             event.cycle,
             event.omega_before,
-            omega,
+            outcome.omega_after,
             "inverted" if event.inverted else "kept direction",
-            "" if committed else " (not committed)",
+            "" if outcome.committed else " (not committed: not an inversion)",
         )
 
     @property
@@ -493,8 +501,9 @@ class InversionTracker(_RotorTracker):
         ds.attrs["commit_fraction"] = self.commit_fraction
         ds.attrs["sample_interval"] = self.interval
         ds.attrs["commit_criterion"] = (
-            "after the release, the first sample with |omega| >= commit_fraction * "
-            "|omega_before|; direction_after is the sign of omega there"
+            "after the release, the first sample with omega != 0 and |omega| >= "
+            "commit_fraction * |omega_before|; direction_after is the sign of omega there; "
+            "a release that never commits has direction_after 0 and is not an inversion"
         )
         ds.attrs["inversion_probability"] = self.inversion_probability
         ds.attrs["inversions"] = int(sum(e.inverted for e in self.events))
@@ -504,10 +513,10 @@ class InversionTracker(_RotorTracker):
         return ds
 
     def _finish(self, status: dict[str, Any]) -> None:
-        event = self._open
-        if event is not None and self._last_t >= self.release_time(event):
+        event, watch = self._open, self._watch
+        if event is not None and watch is not None and self._last_t >= self.release_time(event):
             # released but not committed when the run ended
-            self._close(event, self._last_omega, committed=False, t=self._last_t)
+            self._close(event, watch, t=self._last_t)
         if self._csv is not None:
             self._csv.close()
         if self.nc_path is not None:

@@ -18,10 +18,11 @@ from test_config import BAD_INPUTS, COARSE_YAML
 from typer.testing import CliRunner
 
 import pde_rotor
-from pde_rotor import api
+from pde_rotor import api, backends, single_run
 from pde_rotor.cli import app
 from pde_rotor.config import load_config
 from pde_rotor.output import PART_SUFFIX, OutputError, RunDirectory
+from pde_rotor.simulation import Simulation
 from pde_rotor.solver import SimulationDivergedError
 from pde_rotor.trackers import EVENT_COLUMNS, TIMESERIES_VARIABLES
 
@@ -256,7 +257,10 @@ def test_missing_config_file_exits_2(tmp_path):
 
 
 def test_gpu_backend_without_gpu_exits_2(tmp_path, monkeypatch):
-    monkeypatch.setattr(api, "gpu_unavailable_reason", lambda: "no GPU found")
+    """No GPU (and no simulator): one line before anything is created or compiled."""
+    monkeypatch.setattr(
+        backends, "gpu_unavailable_reason", lambda allow_simulator=False: "no GPU found"
+    )
     path = tmp_path / "c.yaml"
     path.write_text(TINY_YAML)
     result = invoke("run", path, "--backend", "gpu", "--out", tmp_path / "o")
@@ -266,13 +270,50 @@ def test_gpu_backend_without_gpu_exits_2(tmp_path, monkeypatch):
     assert not (tmp_path / "o").exists()
 
 
-def test_auto_backend_falls_back_to_cpu(monkeypatch):
-    monkeypatch.setattr(api, "gpu_unavailable_reason", lambda: "no GPU found")
-    assert api.resolve_backend("auto") == "cpu"
-    assert api.resolve_backend("cpu") == "cpu"
-    monkeypatch.setattr(api, "gpu_unavailable_reason", lambda: None)
-    assert api.resolve_backend("auto") == "gpu"
-    assert api.resolve_backend("gpu") == "gpu"
+def test_gpu_backend_with_an_integrator_it_lacks_exits_2(tmp_path):
+    """The GPU kernel is forward Euler only: heun on gpu is refused before anything runs."""
+    path = tmp_path / "c.yaml"
+    path.write_text(TINY_YAML)
+    out = tmp_path / "o"
+    args = ("--backend", "gpu", "--set", "numerics.integrator=heun", "--out", out)
+    result = invoke("run", path, *args)
+    assert result.exit_code == 2
+    assert result.stderr.count("\n") == 1
+    assert "numerics.integrator = heun" in result.stderr
+    assert not out.exists()
+
+
+def test_auto_backend_records_the_backend_that_ran(monkeypatch):
+    """solver.backend = auto: the files and the result name the backend that really ran.
+
+    Spies on both paths: the CPU solver's Simulation.run and the ensemble entry point of
+    the GPU path. Exactly one of them runs, and it is the one recorded (cpu here, where
+    auto never picks the CUDA simulator; gpu on a GPU machine).
+    """
+    calls = []
+    cpu_run = Simulation.run
+    ensemble_run = single_run.run_ensemble
+
+    def spy_cpu(self, *args, **kwargs):
+        calls.append("cpu")
+        return cpu_run(self, *args, **kwargs)
+
+    def spy_ensemble(*args, **kwargs):
+        calls.append(kwargs["backend"])
+        return ensemble_run(*args, **kwargs)
+
+    monkeypatch.setattr(Simulation, "run", spy_cpu)
+    monkeypatch.setattr(single_run, "run_ensemble", spy_ensemble)
+    config = yaml.safe_load(TINY_YAML)
+    config["solver"] = {"backend": "auto"}
+    config["output"].update(movie=False, progress=False, snapshot_interval=None)
+    result = pde_rotor.run(config)
+    ran = set(calls)
+    assert len(ran) == 1
+    assert ran == {result.backend}
+    assert result.timeseries.attrs["backend"] == result.backend
+    assert result.events.attrs["backend"] == result.backend
+    assert (result.timeseries.attrs["device"] == "cpu") == (result.backend == "cpu")
 
 
 def test_divergence_exits_1_and_keeps_what_was_written(tmp_path):

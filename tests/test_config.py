@@ -11,6 +11,7 @@ import yaml
 from pde_rotor.config import (
     CALIBRATED_SIGMA,
     PAPER_STEADY_OMEGA,
+    TIME_KEYS,
     ConfigError,
     RotorConfig,
     apply_overrides,
@@ -175,13 +176,21 @@ def test_shipped_configs_round_trip(path, tmp_path):
 
 
 def test_paper_resolution_configs_carry_the_calibrated_noise():
-    """One value: every config at the paper's grid uses CALIBRATED_SIGMA, coarse ones do not."""
+    """One value: every config at the paper's grid uses CALIBRATED_SIGMA, coarse ones do not.
+
+    CALIBRATED_SIGMA is calibrated at the paper's dx and dt; every shipped config on
+    another grid must state its own sigma (quickstart and no_flow are coarse).
+    """
     root = Path(__file__).resolve().parents[1] / "configs"
     paper = [*sorted(root.glob("paper_fig*.yaml")), shipped_base("paper")]
     for path in paper:
         config = load_config(path)
         assert (config.grid.dx, config.grid.dt) == (0.025, 1e-4), path
         assert config.noise.sigma == CALIBRATED_SIGMA, path
+    coarse = [path for path in CONFIGS if load_config(path).grid != RotorConfig().grid]
+    assert {path.name for path in coarse} >= {"quickstart.yaml", "no_flow.yaml"}
+    for path in coarse:
+        assert load_config(path).noise.sigma != CALIBRATED_SIGMA, path
     sweeps = yaml.safe_load((root / "sweeps" / "predictions.yaml").read_text())
     assert CALIBRATED_SIGMA in sweeps["axes"]["noise.sigma"]
 
@@ -230,11 +239,14 @@ def test_quickstart_is_coarse_and_has_cycles():
     assert config.grid.dx > RotorConfig().grid.dx
     assert config.protocol.cycles >= 2
     assert config.output.movie
-    # every stop starts on a step of the schedule
-    schedule = StopSchedule.from_config(config.protocol, config.grid.dt)
-    assert schedule.stop_times()[-1] + config.protocol.period == pytest.approx(
-        config.protocol.t_end
-    )
+    # every stop starts and ends on a whole step: t / dt is an integer for the times
+    # the config states, so the stop schedule in steps ends exactly at t_end
+    p, dt = config.protocol, config.grid.dt
+    for m in range(p.cycles):
+        for t in (p.t_ini + m * p.period, p.t_ini + m * p.period + p.t_stop):
+            assert t / dt == pytest.approx(round(t / dt), abs=1e-6), t
+    schedule = StopSchedule.from_config(p, dt)
+    assert (schedule.n_ini + p.cycles * schedule.n_period) * dt == pytest.approx(p.t_end)
 
 
 def test_overrides_apply_in_order_and_parse_yaml_values(tmp_path):
@@ -273,12 +285,26 @@ def test_provenance_block_is_ignored_on_load(tmp_path):
 
 
 def test_stability_limit_is_the_boundary():
-    """dt exactly at the limit is accepted; just above it is refused."""
+    """dt exactly at the limit is accepted; one part in 1e9 above it is refused.
+
+    The limit cannot exceed the von Neumann bound of the explicit 5-point diffusion
+    step, dx^2 / (4 D); the flow and reaction terms only lower it. Every time of the
+    config is first made a multiple of the limit, so that dt = limit passes the
+    whole-step rule and only the stability limit decides.
+    """
     base = RotorConfig()
     limit = base.dt_limit()
-    assert not math.isnan(limit)
-    with pytest.raises(ConfigError, match=r"grid\.dt"):
-        validate_config({"grid": {"dt": limit * 1.01}})
+    assert 0 < limit <= base.grid.dx**2 / (4 * base.camphor.diffusion)
+    data = base.model_dump(mode="json")
+    for key in TIME_KEYS:
+        section, name = key.split(".")
+        if data[section][name] is not None:
+            data[section][name] = round(data[section][name] / limit) * limit
+    data["grid"]["dt"] = limit
+    assert validate_config(data).grid.dt == limit
+    data["grid"]["dt"] = limit * (1 + 1e-9)
+    with pytest.raises(ConfigError, match=r"grid\.dt = .*stability limit"):
+        validate_config(data)
 
 
 def test_pill_asymmetry_limit_is_sharp():

@@ -13,6 +13,7 @@ from collections.abc import Callable
 
 import numpy as np
 import pytest
+from matplotlib.path import Path as MplPath
 
 from pde_rotor.config import RotorConfig
 from pde_rotor.model import RotorPDE
@@ -66,23 +67,43 @@ def test_border_cells_lie_outside_the_disk_and_only_one_ring_is_added(
         assert radius + 0.5 * dx - 1e-12 <= border < radius + 1.5 * dx
 
 
-def test_interior_ranges_match_the_disk(coarse_config: Callable[..., RotorConfig]) -> None:
-    """interior_lo/hi enumerate exactly the cells with centre radius < L, row by row.
+def test_interior_cells_are_the_cells_whose_centre_lies_in_the_disk(
+    coarse_config: Callable[..., RotorConfig],
+) -> None:
+    """interior_lo/hi and interior_mask select the cells with centre inside the circle.
 
-    Their number approximates pi L^2 / dx^2 (Gauss circle problem: error ~ perimeter).
+    Checked against geometry computed another way: ray casting (matplotlib's
+    point-in-polygon) against a 4096-gon inscribed in the circle (every centre inside it
+    is interior) and one circumscribed about it (every interior centre lies inside it);
+    the mask has the 8 symmetries of the square grid; and its area obeys the rigorous
+    bounds pi (L - dx/sqrt 2)^2 <= N dx^2 <= pi (L + dx/sqrt 2)^2 (a cell whose centre
+    is within L of the origin lies within L + dx/sqrt 2, and every point within
+    L - dx/sqrt 2 belongs to such a cell).
     """
+    sides = 4096
+    angles = 2 * np.pi * np.arange(sides) / sides
+    unit = np.column_stack([np.cos(angles), np.sin(angles)])
     for cfg in configs(coarse_config):
-        pde = RotorPDE(cfg)
-        dom = pde.domain
-        x, y = pde.cell_coordinates()
-        mask = x**2 + y**2 < cfg.grid.domain_radius**2
-        from_ranges = np.zeros_like(mask)
+        dom = RotorPDE(cfg).domain
+        radius, dx = cfg.grid.domain_radius, cfg.grid.dx
+        from_ranges = np.zeros((dom.coords.size,) * 2, dtype=bool)
         for i, (lo, hi) in enumerate(zip(dom.interior_lo, dom.interior_hi, strict=True)):
             from_ranges[i, lo:hi] = True
+        mask = dom.interior_mask
         np.testing.assert_array_equal(from_ranges, mask)
-        np.testing.assert_array_equal(dom.interior_mask, mask)
-        disk_cells = math.pi * cfg.grid.domain_radius**2 / cfg.grid.dx**2
-        assert mask.sum() == pytest.approx(disk_cells, rel=0.01)
+        x, y = np.meshgrid(dom.coords, dom.coords, indexing="ij")
+        centres = np.column_stack([x.ravel(), y.ravel()])
+        inscribed = MplPath(radius * unit).contains_points(centres).reshape(mask.shape)
+        outer = MplPath(radius / math.cos(math.pi / sides) * unit)
+        circumscribed = outer.contains_points(centres).reshape(mask.shape)
+        assert inscribed.sum() > 0.99 * mask.sum()
+        assert np.all(mask[inscribed])
+        assert np.all(circumscribed[mask])
+        for image in (mask[::-1], mask[:, ::-1], mask.T):
+            np.testing.assert_array_equal(image, mask)
+        area = mask.sum() * dx**2
+        assert math.pi * (radius - dx / math.sqrt(2)) ** 2 <= area
+        assert area <= math.pi * (radius + dx / math.sqrt(2)) ** 2
 
 
 def test_support_ranges_cover_the_support_inside_the_interior(

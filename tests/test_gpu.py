@@ -21,7 +21,10 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
+import threading
+import traceback
 from collections.abc import Callable, Iterator
+from pathlib import Path
 from typing import Any
 
 if "numba.cuda" not in sys.modules:
@@ -32,9 +35,16 @@ if "numba.cuda" not in sys.modules:
 
 import numpy as np
 import pytest
+import yaml
+from numba.core import types as numba_types
+from numba.np import numpy_support
+from pde.storage import FileStorage
+from typer.testing import CliRunner
 
+from pde_rotor.api import RunResult
 from pde_rotor.backends import cpu, gpu_available, resolve_backend, run_ensemble
 from pde_rotor.backends import gpu as gpu_backend
+from pde_rotor.cli import app
 from pde_rotor.config import RotorConfig
 
 TINY: dict[str, Any] = {
@@ -51,11 +61,41 @@ RECORD = 0.005
 """Time between records (5 steps)."""
 
 
+def _locked_shared_array(simulated: Callable[..., np.ndarray]) -> Callable[..., np.ndarray]:
+    """numba's simulated ``cuda.shared.array`` with its allocation under a lock.
+
+    The simulator keys a block's shared arrays by the calling source line and creates
+    one on the first call without a lock: two threads of a block that ask at once can
+    each create one, and the loser then works on a private, uninitialised array (seen
+    here as a rare wrong run under load). Same semantics, allocated once per call site.
+    """
+    lock = threading.Lock()
+
+    def array(self: Any, shape: Any, dtype: Any, alignment: Any = None) -> np.ndarray:
+        if shape == 0 or alignment is not None:
+            return simulated(self, shape, dtype, alignment)
+        caller = traceback.extract_stack(sys._getframe())[-2][0:2]
+        if isinstance(dtype, numba_types.Type):
+            dtype = numpy_support.as_dtype(dtype)
+        with lock:
+            if caller not in self._allocations:
+                self._allocations[caller] = np.empty(shape, dtype)
+            return self._allocations[caller]
+
+    return array
+
+
 @pytest.fixture(autouse=True)
-def fast_simulator() -> Iterator[None]:
-    """Hand the GIL over quickly: the simulator's block manager polls its threads."""
+def fast_simulator(monkeypatch: pytest.MonkeyPatch) -> Iterator[None]:
+    """Hand the GIL over quickly (the simulator's block manager polls its threads), and
+    allocate the simulator's shared arrays race-free (:func:`_locked_shared_array`)."""
     if not gpu_backend.is_available(allow_simulator=True):
         pytest.fail(f"no GPU and no CUDA simulator: {gpu_backend.unavailable_reason(True)}")
+    if gpu_backend.simulator_enabled():
+        from numba.cuda.simulator import kernelapi
+
+        locked = _locked_shared_array(kernelapi.FakeCUDAShared.array)
+        monkeypatch.setattr(kernelapi.FakeCUDAShared, "array", locked)
     interval = sys.getswitchinterval()
     sys.setswitchinterval(1e-5)
     yield
@@ -68,11 +108,11 @@ def rel_error(a: np.ndarray, b: np.ndarray) -> float:
 
 
 def assert_same_run(gpu_result: Any, cpu_result: Any, rtol: float) -> None:
-    """Rotor time series, torques, stop flags and final fields agree to `rtol` (relative)."""
+    """Rotor time series, torques, total camphor, stop flags and final fields agree to `rtol`."""
     np.testing.assert_array_equal(gpu_result.t, cpu_result.t)
     np.testing.assert_array_equal(gpu_result.stopped, cpu_result.stopped)
     for m in range(cpu_result.n_members):
-        for name in ("phi", "omega", "torque", "friction"):
+        for name in ("phi", "omega", "torque", "friction", "camphor_total"):
             got, want = getattr(gpu_result, name)[m], getattr(cpu_result, name)[m]
             assert rel_error(got, want) < rtol, (m, name, rel_error(got, want))
         assert rel_error(gpu_result.state.data[m], cpu_result.state.data[m]) < rtol
@@ -114,6 +154,7 @@ def test_members_match_their_own_cpu_runs(small_config: Callable[..., RotorConfi
         assert np.all(got.omega[m][got.stopped[m]] == 0.0)
         assert got.stopped[m].any() and not got.stopped[m].all()
         assert np.ptp(got.omega[m]) > 0.5 * np.abs(got.omega[m]).max()
+        assert np.all(np.diff(got.camphor_total[m]) > 0)  # pills release camphor from c = 0
     for a, b in [(0, 1), (0, 2), (1, 2)]:
         assert rel_error(got.omega[a], got.omega[b]) > 1e-2
     # member 1 stops 0.01 earlier and 0.01 longer than member 0
@@ -239,33 +280,100 @@ def test_diverged_member_is_flagged_and_others_go_on(
     assert rel_error(got.omega[0], want.omega[0]) < 1e-8
 
 
-def test_backend_choice_without_gpu(small_config: Callable[..., RotorConfig]) -> None:
-    """The simulator is not a GPU: auto picks the CPU, an explicit gpu request fails clearly."""
+def test_cli_run_with_backend_gpu_writes_the_cpu_run(tmp_path: Path) -> None:
+    """``pde-rotor run --backend gpu`` runs one member on the GPU backend, same files.
+
+    The run goes through ``run_ensemble`` (the CPU solver is never called), records the
+    backend and device that ran, and writes the time series, events and snapshots of the
+    CPU run of the same config and seed to 1e-10 relative. Its events are those of the
+    inversion rule applied to the ensemble records (EnsembleResult.release_events).
+    """
+    config = {
+        **TINY,
+        "geometry": {**TINY["geometry"], "asymmetry": 0.05},
+        "protocol": {**PROTOCOL, "t_release": 0.05},
+        "noise": {"sigma": 0.5 * RotorConfig.model_validate({}).rotor.inertia, "seed": 5},
+        "output": {
+            "timeseries_interval": 0.01,
+            "event_interval": 0.005,
+            "snapshot_interval": 0.05,
+            "movie": False,
+            "commit_fraction": 0.2,
+        },
+    }
+    path = tmp_path / "tiny.yaml"
+    path.write_text(yaml.safe_dump(config))
+    runs = {}
+    for backend in ("cpu", "gpu"):
+        out = tmp_path / backend
+        result = CliRunner().invoke(
+            app, ["run", str(path), "--backend", backend, "--out", str(out), "--quiet"]
+        )
+        assert result.exit_code == 0, result.output
+        runs[backend] = RunResult.load(out)
+    gpu, ref = runs["gpu"], runs["cpu"]
+    assert gpu.backend == "gpu" and ref.backend == "cpu"
+    assert gpu.timeseries.attrs["device"] == gpu_backend.device_name()
+    assert "backend: gpu" in (tmp_path / "gpu" / "config.yaml").read_text()
+    np.testing.assert_array_equal(gpu.timeseries["time"], ref.timeseries["time"])
+    for name in ("phi", "omega", "torque", "friction", "camphor_total"):
+        assert rel_error(gpu.timeseries[name].values, ref.timeseries[name].values) < 1e-10, name
+    for name in ("stopped", "cycle"):
+        np.testing.assert_array_equal(gpu.timeseries[name], ref.timeseries[name])
+    for name in ("direction_before", "direction_after", "inverted", "committed"):
+        np.testing.assert_array_equal(gpu.events[name], ref.events[name])
+    np.testing.assert_allclose(gpu.events["omega_before"], ref.events["omega_before"], rtol=1e-10)
+    assert gpu.events.sizes["cycle"] == PROTOCOL["cycles"]
+    assert len(FileStorage(tmp_path / "gpu" / "snapshots.h5", write_mode="readonly")) == len(
+        FileStorage(tmp_path / "cpu" / "snapshots.h5", write_mode="readonly")
+    )
+    cfg = RotorConfig.model_validate(config)
+    ensemble = gpu_backend.run_ensemble([cfg], record_interval=cfg.grid.dt)
+    events = ensemble.release_events(0, 0.2, check_interval=0.005)
+    assert [e.release.inverted for e in events] == list(gpu.events["inverted"].values)
+    assert [e.release.committed for e in events] == list(gpu.events["committed"].values)
+
+
+def test_backend_choice(small_config: Callable[..., RotorConfig]) -> None:
+    """auto runs on a real GPU only; gpu accepts the simulator the user enabled.
+
+    Holds on both machines: in the simulator (CI) auto resolves to the CPU, on
+    hardware (``NUMBA_ENABLE_CUDASIM=0``) to the GPU; the result names the backend that
+    ran. Without any GPU, a gpu request fails (test_package_imports_without_numba_cuda).
+    """
     cfg = small_config(TINY)
-    assert not gpu_available()
+    hardware = not gpu_backend.simulator_enabled()
+    assert gpu_available() == hardware
     assert gpu_available(allow_simulator=True)
-    assert resolve_backend("auto") == "cpu"
+    assert resolve_backend("auto") == ("gpu" if hardware else "cpu")
+    assert resolve_backend("gpu") == "gpu"
     assert resolve_backend("cpu") == "cpu"
-    with pytest.raises(RuntimeError, match="backend 'gpu'"):
-        resolve_backend("gpu")
-    with pytest.raises(RuntimeError, match="simulator"):
-        gpu_backend.run_ensemble([cfg], 0.002, record_interval=0.001, allow_simulator=False)
     result = run_ensemble([cfg], 0.002, record_interval=0.001, backend="auto")
-    assert result.backend == "cpu"
+    assert result.backend == resolve_backend("auto")
+    if hardware:
+        ran = gpu_backend.run_ensemble([cfg], 0.002, record_interval=0.001, allow_simulator=False)
+        assert ran.backend == "gpu"
+    else:
+        with pytest.raises(RuntimeError, match="simulator"):
+            gpu_backend.run_ensemble([cfg], 0.002, record_interval=0.001, allow_simulator=False)
     other_grid = small_config(TINY, {"grid": {"dt": 5e-4}})
     with pytest.raises(ValueError, match="share the grid"):
         gpu_backend.run_ensemble([cfg, other_grid], 0.002, record_interval=0.001)
 
 
 def test_package_imports_without_numba_cuda() -> None:
-    """Without numba-cuda, pde_rotor and its backends import and report the GPU unusable."""
+    """Without numba-cuda, pde_rotor imports, auto runs on the CPU, gpu fails in one line."""
     code = (
         "import sys; sys.modules['numba.cuda'] = None\n"
         "import pde_rotor, pde_rotor.backends as b\n"
         "reason = b.gpu_unavailable_reason()\n"
         "assert reason is not None and 'numba-cuda' in reason, reason\n"
         "assert b.resolve_backend('auto') == 'cpu'\n"
-        "print('ok')\n"
+        "try:\n"
+        "    b.resolve_backend('gpu')\n"
+        "except b.BackendError as err:\n"
+        "    assert \"solver.backend = 'gpu'\" in str(err) and '\\n' not in str(err)\n"
+        "    print('ok')\n"
     )
     env = {k: v for k, v in os.environ.items() if k != "NUMBA_ENABLE_CUDASIM"}
     out = subprocess.run(

@@ -10,7 +10,9 @@ initial rotor state. Members of one ensemble share the grid (``grid`` section).
 * :mod:`pde_rotor.backends.gpu`: all members in one batched CUDA computation
   (numba-cuda, fp64), with the same discretisation, stop logic and noise stream.
 
-Both return an :class:`~pde_rotor.backends.ensemble.EnsembleResult`. Nothing here
+Both return an :class:`~pde_rotor.backends.ensemble.EnsembleResult`;
+:func:`~pde_rotor.backends.batch.run_batch` runs a sweep's members in batches and
+classifies their stops by the inversion rule. Nothing here
 imports numba-cuda: :func:`gpu_available` and :func:`run_ensemble` import the GPU
 module only when asked, so ``import pde_rotor`` works on machines without a GPU or
 without the ``gpu`` extra.
@@ -19,21 +21,30 @@ without the ``gpu`` extra.
 from __future__ import annotations
 
 import importlib
+import logging
 from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
 
 from ..config import RotorConfig
+from .batch import MemberRun, run_batch
 from .ensemble import EnsembleResult, EnsembleState
+
+_logger = logging.getLogger(__name__)
 
 __all__ = [
     "GPU_INSTALL_HINT",
+    "BackendError",
     "EnsembleResult",
     "EnsembleState",
+    "MemberRun",
+    "backend_for",
+    "device_name",
     "gpu_available",
     "gpu_unavailable_reason",
     "resolve_backend",
+    "run_batch",
     "run_ensemble",
 ]
 
@@ -72,11 +83,23 @@ def gpu_available(allow_simulator: bool = False) -> bool:
     return gpu_unavailable_reason(allow_simulator=allow_simulator) is None
 
 
+class BackendError(RuntimeError):
+    """The requested compute backend cannot be used here; ``str(err)`` is one line."""
+
+
 def resolve_backend(requested: str) -> str:
-    """Turn ``cpu | gpu | auto`` (``config.solver.backend``) into ``cpu`` or ``gpu``.
+    """Turn ``cpu | gpu | auto`` (``config.solver.backend``) into the backend that will run.
+
+    * ``cpu``: the fused CPU solver.
+    * ``gpu``: the GPU backend; it needs a CUDA GPU, or numba's CUDA simulator enabled
+      by the user (``NUMBA_ENABLE_CUDASIM=1``: the same kernels, slowly, on the CPU).
+    * ``auto``: ``gpu`` on a real GPU, else ``cpu`` (never the simulator).
+
+    Returns:
+        "cpu" or "gpu".
 
     Raises:
-        RuntimeError: "gpu" was requested and no usable GPU is present (one line).
+        BackendError: "gpu" was requested and cannot be used (one line, with the reason).
         ValueError: unknown backend name.
     """
     if requested == "cpu":
@@ -84,13 +107,46 @@ def resolve_backend(requested: str) -> str:
     if requested not in ("gpu", "auto"):
         msg = f"unknown backend {requested!r} (allowed: cpu, gpu, auto)"
         raise ValueError(msg)
-    reason = gpu_unavailable_reason()
+    reason = gpu_unavailable_reason(allow_simulator=requested == "gpu")
     if reason is None:
         return "gpu"
     if requested == "auto":
+        _logger.info("solver.backend = auto: using cpu (%s)", reason)
         return "cpu"
-    msg = f"backend 'gpu' requested but {reason}"
-    raise RuntimeError(msg)
+    msg = f"solver.backend = 'gpu': {reason} (allowed here: cpu, auto; use --backend cpu)"
+    raise BackendError(msg)
+
+
+def backend_for(config: RotorConfig) -> str:
+    """The backend that will run `config`: ``solver.backend`` resolved for its numerics.
+
+    The GPU kernel integrates with forward Euler only: with another
+    ``numerics.integrator``, ``auto`` runs on the CPU and ``gpu`` is refused.
+
+    Raises:
+        BackendError: "gpu" requested and no usable GPU, or an integrator the GPU kernel
+            does not implement (one line, naming the key).
+    """
+    requested = config.solver.backend
+    integrator = config.numerics.integrator
+    if requested != "cpu" and integrator != "euler":
+        if requested == "auto":
+            return "cpu"
+        msg = (
+            f"solver.backend = 'gpu' with numerics.integrator = {integrator}: the GPU kernel "
+            "integrates with forward Euler only (allowed: numerics.integrator = euler, or "
+            "solver.backend = cpu)"
+        )
+        raise BackendError(msg)
+    return resolve_backend(requested)
+
+
+def device_name(backend: str) -> str:
+    """What runs a resolved backend: "cpu", the GPU's name, or numba's CUDA simulator."""
+    if backend != "gpu":
+        return "cpu"
+    gpu = importlib.import_module("pde_rotor.backends.gpu")
+    return gpu.device_name()
 
 
 def run_ensemble(

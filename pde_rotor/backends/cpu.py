@@ -18,7 +18,12 @@ from ..config import RotorConfig
 from ..model import RotorState
 from ..simulation import Simulation
 from ..solver import SimulationDivergedError
-from .ensemble import EnsembleResult, EnsembleState, default_rngs, make_plan
+from .ensemble import RECORD_FIELDS, EnsembleResult, EnsembleState, default_rngs, make_plan
+
+
+def _record(sim: Simulation, cell_area: float) -> np.ndarray:
+    """One row of the records: the rotor state and the total camphor int c dA."""
+    return np.append(sim.rotor.as_array(), sim.state.data[0].sum() * cell_area)
 
 
 def run_ensemble(
@@ -42,7 +47,8 @@ def run_ensemble(
     rngs = default_rngs(plan.configs) if rngs is None else list(rngs)
     state = initial if initial is not None else EnsembleState.initial(plan.configs, plan.domain)
     n_members, n_records = plan.n_members, plan.record_steps.size
-    records = np.full((n_members, n_records, 5), np.nan)
+    records = np.full((n_members, n_records, len(RECORD_FIELDS)), np.nan)
+    area = plan.domain.cell_area
     final = EnsembleState(data=state.data.copy(), rotor=state.rotor.copy(), step=plan.step_end)
     diverged = np.full(n_members, -1, dtype=np.int64)
     dt = plan.dt
@@ -52,7 +58,7 @@ def run_ensemble(
         sim.pde.rotor = RotorState(phi=0.0, omega=0.0)
         sim.pde.rotor.update_from(state.rotor[m])
         stepper = sim.solver.make_stepper(sim.state, dt)
-        records[m, 0] = sim.rotor.as_array()
+        records[m, 0] = _record(sim, area)
         t = plan.step_start * dt
         for r, step in enumerate(plan.record_steps[1:], start=1):
             try:
@@ -60,7 +66,7 @@ def run_ensemble(
             except SimulationDivergedError:
                 diverged[m] = round(t / dt)
                 break
-            records[m, r] = sim.rotor.as_array()
+            records[m, r] = _record(sim, area)
         final.data[m] = sim.state.data
         final.rotor[m] = sim.rotor.as_array()
         if progress is not None:

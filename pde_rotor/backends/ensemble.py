@@ -18,10 +18,14 @@ import xarray as xr
 from ..config import RotorConfig
 from ..domain import Domain, make_domain
 from ..geometry import RotorShape
-from ..protocol import steps_of
+from ..inversion import ReleaseEvent, release_events
+from ..protocol import StopSchedule, steps_of
 
 ROTOR_FIELDS = ("phi", "omega", "torque", "friction", "stopped")
 """Columns of the rotor arrays (the order of :meth:`RotorState.as_array`)."""
+
+RECORD_FIELDS = (*ROTOR_FIELDS, "camphor_total")
+"""Columns of the records a backend takes: the rotor, then the total camphor int c dA."""
 
 
 @dataclass
@@ -181,6 +185,7 @@ class EnsembleResult:
         torque, friction: surface-tension torque T, Eq. (torque), and friction torque
             of Eq. (eq_motion) of the last step before each record, (E, T).
         stopped: whether that step was in a stop phase, (E, T) bool.
+        camphor_total: total camphor int c dA over the domain at each record, (E, T).
         diverged_at: per member the time of the step at which the state stopped being
             finite (NaN: never); records after it are NaN.
         state: fields and rotor states at the end.
@@ -195,6 +200,7 @@ class EnsembleResult:
     torque: np.ndarray
     friction: np.ndarray
     stopped: np.ndarray
+    camphor_total: np.ndarray
     diverged_at: np.ndarray
     state: EnsembleState
     backend: str
@@ -210,7 +216,7 @@ class EnsembleResult:
         backend: str,
         wall_seconds: float,
     ) -> EnsembleResult:
-        """Build the result from the (E, T, 5) record array and the failing steps (-1: none)."""
+        """Build the result from the (E, T, 6) record array and the failing steps (-1: none)."""
         records = records.copy()
         diverged_at = np.full(plan.n_members, np.nan)
         for m, step in enumerate(diverged_step):
@@ -225,6 +231,7 @@ class EnsembleResult:
             torque=records[..., 2],
             friction=records[..., 3],
             stopped=records[..., 4] == 1.0,
+            camphor_total=records[..., 5],
             diverged_at=diverged_at,
             state=state,
             backend=backend,
@@ -236,6 +243,53 @@ class EnsembleResult:
         """E, the number of members."""
         return len(self.configs)
 
+    def release_events(
+        self, member: int, commit_fraction: float, check_interval: float | None = None
+    ) -> list[ReleaseEvent]:
+        """Inversion events of one member, classified by :mod:`pde_rotor.inversion`.
+
+        Each stop's omega_before is the record at its start; the release is checked at
+        every record from the release to the next stop (or the last record), or, with
+        `check_interval`, at the records on its multiples and at the stop ends, the
+        samples of :class:`pde_rotor.trackers.InversionTracker` with
+        ``output.event_interval = check_interval``.
+
+        Args:
+            member: member index.
+            commit_fraction: commitment threshold relative to |omega_before|, in [0, 1].
+            check_interval: time between checks (a multiple of the record interval).
+
+        Raises:
+            ValueError: a stop start or end within the records was not recorded, or
+                check_interval is not a multiple of the record interval.
+        """
+        cfg = self.configs[member]
+        dt = cfg.grid.dt
+        schedule = StopSchedule.from_config(cfg.protocol, dt)
+        steps = np.round(self.t / dt).astype(np.int64)
+        starts = schedule.stop_steps()
+        needed = np.concatenate([starts, starts + schedule.n_stop])
+        keep = np.ones(steps.size, dtype=bool)
+        if check_interval is not None:
+            needed = schedule.sample_steps(steps_of(check_interval, dt), int(steps[-1]))
+            keep = np.isin(steps, needed)
+        inside = (needed >= steps[0]) & (needed <= steps[-1])
+        missing = needed[inside & ~np.isin(needed, steps)]
+        if missing.size:
+            msg = (
+                f"member {member}: no record at t = {missing[0] * dt:g}; the record "
+                "interval must divide protocol.t_ini, t_stop, t_release and the check interval"
+            )
+            raise ValueError(msg)
+        return release_events(
+            steps[keep],
+            self.omega[member, keep],
+            starts,
+            schedule.n_stop,
+            dt,
+            commit_fraction,
+        )
+
     def to_dataset(self) -> xr.Dataset:
         """The time series as an xarray Dataset with dimensions (member, time)."""
         dims = ("member", "time")
@@ -245,6 +299,7 @@ class EnsembleResult:
             "torque": (dims, self.torque, {"long_name": "surface tension torque, Eq. (torque)"}),
             "friction": (dims, self.friction, {"long_name": "friction torque, Eq. (eq_motion)"}),
             "stopped": (dims, self.stopped, {"long_name": "step in a stop phase"}),
+            "camphor_total": (dims, self.camphor_total, {"long_name": "total camphor int c dA"}),
             "diverged_at": ("member", self.diverged_at, {"long_name": "time of divergence"}),
             "asymmetry": ("member", [c.geometry.asymmetry for c in self.configs]),
             "t_stop": ("member", [c.protocol.t_stop for c in self.configs]),

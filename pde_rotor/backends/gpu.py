@@ -78,6 +78,7 @@ from ..core import (
 from ..model import RotorPDE
 from ..protocol import StopSchedule
 from .ensemble import (
+    RECORD_FIELDS,
     EnsemblePlan,
     EnsembleResult,
     EnsembleState,
@@ -88,6 +89,9 @@ from .ensemble import (
 
 MAX_CORNERS = 24
 """Largest N the kernel's shared geometry table holds (the config allows 3..24)."""
+
+SIMULATOR_THREADS = 8
+"""Default threads per block in numba's CUDA simulator (one Python thread each)."""
 
 # columns of the per-member integer flags
 FLAG_FLOW, FLAG_NOISY = 0, 1
@@ -110,6 +114,14 @@ def unavailable_reason(allow_simulator: bool = False) -> str | None:
     except Exception as err:  # driver errors surface as various exception types
         return f"the CUDA driver failed ({type(err).__name__}: {err})"
     return None
+
+
+def device_name() -> str:
+    """The GPU the kernels run on, or numba's CUDA simulator."""
+    if simulator_enabled():
+        return "numba CUDA simulator (NUMBA_ENABLE_CUDASIM=1)"
+    name = cuda.get_current_device().name
+    return name.decode() if isinstance(name, bytes) else str(name)
 
 
 def is_available(allow_simulator: bool = False) -> bool:
@@ -184,8 +196,9 @@ def _advance(
         flags: (E, 2) flow enabled, noise on.
         rotor: (E, 5) [phi, omega, torque, friction, stopped], updated.
         kicks: (E, n_steps) noise increments of omega (read where noise is on).
-        records: (E, R, 5) receives the rotor after each step that ends on a multiple of
-            `record_every`, at row (step + 1) // record_every - record0.
+        records: (E, R, 6) receives the rotor and the total camphor int c dA after each
+            step that ends on a multiple of `record_every`, at row
+            (step + 1) // record_every - record0.
         status: (E,) -1, or the step at which the member's state stopped being finite
             (the member is then left at the start of that step and not advanced again).
         coef: (E n^2) scratch for the spline coefficients of c (contour form only).
@@ -200,7 +213,7 @@ def _advance(
     n_threads = cuda.blockDim.x
     if status[m] >= 0:
         return
-    red = cuda.shared.array(0, float64)  # 3 * n_threads partial sums
+    red = cuda.shared.array(0, float64)  # 4 * n_threads partial sums
     tab = cuda.shared.array((4, MAX_CORNERS), float64)  # edge normals, pill centres
     rot = cuda.shared.array(6, float64)  # phi, omega, torque, friction, stopped, failed
 
@@ -263,6 +276,7 @@ def _advance(
         cross_grad = 0.0
         moment = 0.0
         cross_v = 0.0
+        camphor = 0.0
         bad = False
         cur = (p_cur * n_members + m) * 3 * nn  # offset of the member's c in buf
         nxt = (p_nxt * n_members + m) * 3 * nn
@@ -309,6 +323,7 @@ def _advance(
                 o_new = nxt + i * n + j
                 new_c = buf[o] + dt * rate_c
                 buf[o_new] = new_c
+                camphor += new_c
                 if not math.isfinite(new_c):
                     bad = True
                 if flow:
@@ -341,6 +356,7 @@ def _advance(
         red[tid] = cross_grad
         red[n_threads + tid] = moment
         red[2 * n_threads + tid] = cross_v
+        red[3 * n_threads + tid] = camphor
         if bad:
             rot[5] = 1.0
         cuda.syncthreads()
@@ -350,6 +366,7 @@ def _advance(
                 red[tid] += red[tid + half]
                 red[n_threads + tid] += red[n_threads + tid + half]
                 red[2 * n_threads + tid] += red[2 * n_threads + tid + half]
+                red[3 * n_threads + tid] += red[3 * n_threads + tid + half]
             cuda.syncthreads()
             half //= 2
 
@@ -375,6 +392,7 @@ def _advance(
                     row_out = (step + 1) // record_every - record0
                     for q in range(5):
                         records[m, row_out, q] = rot[q]
+                    records[m, row_out, 5] = red[3 * n_threads] * area
         cuda.syncthreads()
         if rot[5] != 0.0:
             # diverged: leave the member at the start of this step in both buffers
@@ -505,7 +523,7 @@ def run_ensemble(
     initial: EnsembleState | None = None,
     rngs: Sequence[np.random.Generator] | None = None,
     progress: Callable[[int, int], None] | None = None,
-    threads_per_block: int = 256,
+    threads_per_block: int | None = None,
     min_blocks_per_sm: int | None = None,
     chunk_steps: int = 20_000,
     allow_simulator: bool = True,
@@ -520,7 +538,8 @@ def run_ensemble(
         rngs: one Generator per member (default: ``default_rng(noise.seed)``).
         progress: ``progress(steps_done, steps_total)`` after every launch.
         threads_per_block: threads advancing one member (a power of two <= 1024;
-            a multiple of 32 on a GPU).
+            a multiple of 32 on a GPU); default 256, and 8 in the simulator, which runs
+            every thread as a Python thread.
         min_blocks_per_sm: launch bound passed to the compiler (see
             :func:`advance_kernel`); 0: none; default: 512 // threads_per_block (at
             least 1), which caps the kernel at 128 registers per thread (ptxas, sm_90:
@@ -537,6 +556,8 @@ def run_ensemble(
     reason = unavailable_reason(allow_simulator=allow_simulator)
     if reason is not None:
         raise RuntimeError(f"GPU backend unavailable: {reason}")
+    if threads_per_block is None:
+        threads_per_block = SIMULATOR_THREADS if simulator_enabled() else 256
     if not 1 <= threads_per_block <= 1024 or threads_per_block & (threads_per_block - 1):
         msg = f"threads_per_block = {threads_per_block}: must be a power of two in 1..1024"
         raise ValueError(msg)
@@ -575,12 +596,13 @@ def run_ensemble(
     d_status = cuda.to_device(np.full(n_members, -1, dtype=np.int64))
     contour = host["num"][:, M_CONTOUR] != 0.0
     d_coef = cuda.device_array(n_members * dom.coords.size**2 if contour.any() else 1)
-    records = np.full((n_members, plan.record_steps.size, 5), np.nan)
-    records[:, 0] = state.rotor
+    records = np.full((n_members, plan.record_steps.size, len(RECORD_FIELDS)), np.nan)
+    records[:, 0, :5] = state.rotor
+    records[:, 0, 5] = state.data[:, 0].sum(axis=(1, 2)) * dom.cell_area
     if min_blocks_per_sm is None:
         min_blocks_per_sm = max(1, 512 // threads_per_block)
     kernel = advance_kernel(threads_per_block, min_blocks_per_sm)[
-        n_members, threads_per_block, 0, 3 * threads_per_block * 8
+        n_members, threads_per_block, 0, 4 * threads_per_block * 8
     ]
 
     step, parity = plan.step_start, 0
@@ -589,7 +611,8 @@ def run_ensemble(
         n_steps = min(chunk_steps, plan.step_end - step)
         first = step // plan.record_every + 1
         last = (step + n_steps) // plan.record_every
-        d_records = cuda.to_device(np.full((n_members, max(last - first + 1, 1), 5), np.nan))
+        shape = (n_members, max(last - first + 1, 1), len(RECORD_FIELDS))
+        d_records = cuda.to_device(np.full(shape, np.nan))
         kernel(
             d_buf,
             d_coords,
@@ -639,4 +662,10 @@ def run_ensemble(
     )
 
 
-__all__ = ["is_available", "run_ensemble", "simulator_enabled", "unavailable_reason"]
+__all__ = [
+    "device_name",
+    "is_available",
+    "run_ensemble",
+    "simulator_enabled",
+    "unavailable_reason",
+]
