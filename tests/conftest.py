@@ -11,11 +11,16 @@ for tests whose property does not depend on L, keeping the support of F and G
 from __future__ import annotations
 
 import copy
-from collections.abc import Callable, Mapping
+import sys
+import threading
+import traceback
+from collections.abc import Callable, Iterator, Mapping
 from typing import Any
 
 import numpy as np
 import pytest
+from numba.core import types as numba_types
+from numba.np import numpy_support
 from pde import FieldCollection
 
 from pde_rotor.config import RotorConfig
@@ -95,3 +100,47 @@ def smooth_random_state(
 def random_state() -> Callable[..., FieldCollection]:
     """``random_state(pde, rng, flow=True)``: see :func:`smooth_random_state`."""
     return smooth_random_state
+
+
+def _locked_shared_array(simulated: Callable[..., np.ndarray]) -> Callable[..., np.ndarray]:
+    """numba's simulated ``cuda.shared.array`` with its allocation under a lock.
+
+    The simulator keys a block's shared arrays by the calling source line and creates
+    one on the first call without a lock: two threads of a block that ask at once can
+    each create one, and the loser then works on a private, uninitialised array (seen
+    here as a rare wrong run under load). Same semantics, allocated once per call site.
+    """
+    lock = threading.Lock()
+
+    def array(self: Any, shape: Any, dtype: Any, alignment: Any = None) -> np.ndarray:
+        if shape == 0 or alignment is not None:
+            return simulated(self, shape, dtype, alignment)
+        caller = traceback.extract_stack(sys._getframe())[-2][0:2]
+        if isinstance(dtype, numba_types.Type):
+            dtype = numpy_support.as_dtype(dtype)
+        with lock:
+            if caller not in self._allocations:
+                self._allocations[caller] = np.empty(shape, dtype)
+            return self._allocations[caller]
+
+    return array
+
+
+@pytest.fixture
+def fast_simulator(monkeypatch: pytest.MonkeyPatch) -> Iterator[None]:
+    """Hand the GIL over quickly (the simulator's block manager polls its threads), and
+    allocate the simulator's shared arrays race-free (:func:`_locked_shared_array`)."""
+    # imported here: the GPU test modules enable the simulator before numba-cuda loads
+    from pde_rotor.backends import gpu as gpu_backend
+
+    if not gpu_backend.is_available(allow_simulator=True):
+        pytest.fail(f"no GPU and no CUDA simulator: {gpu_backend.unavailable_reason(True)}")
+    if gpu_backend.simulator_enabled():
+        from numba.cuda.simulator import kernelapi
+
+        locked = _locked_shared_array(kernelapi.FakeCUDAShared.array)
+        monkeypatch.setattr(kernelapi.FakeCUDAShared, "array", locked)
+    interval = sys.getswitchinterval()
+    sys.setswitchinterval(1e-5)
+    yield
+    sys.setswitchinterval(interval)

@@ -21,9 +21,7 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
-import threading
-import traceback
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -36,8 +34,6 @@ if "numba.cuda" not in sys.modules:
 import numpy as np
 import pytest
 import yaml
-from numba.core import types as numba_types
-from numba.np import numpy_support
 from pde.storage import FileStorage
 from typer.testing import CliRunner
 
@@ -61,45 +57,9 @@ RECORD = 0.005
 """Time between records (5 steps)."""
 
 
-def _locked_shared_array(simulated: Callable[..., np.ndarray]) -> Callable[..., np.ndarray]:
-    """numba's simulated ``cuda.shared.array`` with its allocation under a lock.
-
-    The simulator keys a block's shared arrays by the calling source line and creates
-    one on the first call without a lock: two threads of a block that ask at once can
-    each create one, and the loser then works on a private, uninitialised array (seen
-    here as a rare wrong run under load). Same semantics, allocated once per call site.
-    """
-    lock = threading.Lock()
-
-    def array(self: Any, shape: Any, dtype: Any, alignment: Any = None) -> np.ndarray:
-        if shape == 0 or alignment is not None:
-            return simulated(self, shape, dtype, alignment)
-        caller = traceback.extract_stack(sys._getframe())[-2][0:2]
-        if isinstance(dtype, numba_types.Type):
-            dtype = numpy_support.as_dtype(dtype)
-        with lock:
-            if caller not in self._allocations:
-                self._allocations[caller] = np.empty(shape, dtype)
-            return self._allocations[caller]
-
-    return array
-
-
 @pytest.fixture(autouse=True)
-def fast_simulator(monkeypatch: pytest.MonkeyPatch) -> Iterator[None]:
-    """Hand the GIL over quickly (the simulator's block manager polls its threads), and
-    allocate the simulator's shared arrays race-free (:func:`_locked_shared_array`)."""
-    if not gpu_backend.is_available(allow_simulator=True):
-        pytest.fail(f"no GPU and no CUDA simulator: {gpu_backend.unavailable_reason(True)}")
-    if gpu_backend.simulator_enabled():
-        from numba.cuda.simulator import kernelapi
-
-        locked = _locked_shared_array(kernelapi.FakeCUDAShared.array)
-        monkeypatch.setattr(kernelapi.FakeCUDAShared, "array", locked)
-    interval = sys.getswitchinterval()
-    sys.setswitchinterval(1e-5)
-    yield
-    sys.setswitchinterval(interval)
+def _every_test_on_the_simulator(fast_simulator: None) -> None:
+    """Every test here runs the kernels (:func:`conftest.fast_simulator`)."""
 
 
 def rel_error(a: np.ndarray, b: np.ndarray) -> float:

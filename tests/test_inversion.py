@@ -197,3 +197,18 @@ def test_zero_and_non_finite_omega_have_no_direction():
     assert release.committed and release.direction_before == 0 and not release.inverted
     with pytest.raises(ValueError, match="commit_fraction"):
         classify_release(1.0, [1.0], 1.5)
+
+
+def test_sweep_release_from_rest_is_not_an_inversion() -> None:
+    """A stop from omega = 0 has no direction to invert, in the sweep's estimators too.
+
+    With omega_before = 0 the threshold commit_fraction |omega_before| is 0; a rule that
+    compared |omega| >= 0 alone would commit at the first check to direction 0 and count
+    0 == -0 as an inversion.
+    """
+    estimator = RestartEstimator(commit_fraction=FRACTION, check_interval=CHECK)
+    timing = Timing(n0=0, n_stop=SCHEDULE.n_stop, n_cap=10 * CHECK_STEPS, n_check=CHECK_STEPS)
+    still = release_outcome(lambda step: 0.0, timing, estimator, 0.0, CONFIG.grid.dt)
+    assert (still["direction_before"], still["inverted"], still["committed"]) == (0, False, False)
+    moving = release_outcome(lambda step: -3.0, timing, estimator, 0.0, CONFIG.grid.dt)
+    assert (moving["direction_after"], moving["inverted"]) == (-1, False)

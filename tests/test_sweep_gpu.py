@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import os
 import sys
-from collections.abc import Iterator
 from typing import Any
 
 if "numba.cuda" not in sys.modules:
@@ -70,17 +69,6 @@ class Recorder:
     def __call__(self, configs: Any, t_end: float, **options: Any) -> Any:
         self.batches.append(len(configs))
         return cpu.run_ensemble(configs, t_end, **options)
-
-
-@pytest.fixture
-def fast_simulator() -> Iterator[None]:
-    """Hand the GIL over quickly: the simulator's block manager polls its threads."""
-    if not gpu_backend.is_available(allow_simulator=True):
-        pytest.fail(f"no GPU and no CUDA simulator: {gpu_backend.unavailable_reason(True)}")
-    interval = sys.getswitchinterval()
-    sys.setswitchinterval(1e-5)
-    yield
-    sys.setswitchinterval(interval)
 
 
 def omegas(sweep: Sweep, sweep_dir: Any) -> np.ndarray:

@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 
 from ..config import RotorConfig
+from ..inversion import classify_release
 from ..simulation import Simulation
 from ..stats import protocol_counts
 from .plan import SCHEMA_VERSION, Run
@@ -142,11 +143,12 @@ def release_outcome(
     omega_before: float,
     dt: float,
 ) -> dict:
-    """The commit rule of the restart and bank estimators, on any source of omega.
+    """The restart and bank estimators' release, classified by the one inversion rule.
 
-    The released rotor has committed once |omega| >= commit_fraction |omega_before|,
-    checked every check_interval after the release, at most until the release cap; its
-    direction after the stop is then the sign of omega (0: not committed).
+    omega is checked every check_interval after the release, at most until the release
+    cap, and the checks go to :func:`pde_rotor.inversion.classify_release` (commit once
+    omega != 0 and |omega| >= commit_fraction |omega_before|; never committed: direction
+    after 0, not an inversion), which stops reading them at the committing check.
 
     Args:
         omega_at: omega after a global step (advances a simulation, or reads records).
@@ -155,26 +157,18 @@ def release_outcome(
         omega_before: omega just before the stop.
         dt: time step.
     """
-    threshold = estimator.commit_fraction * abs(omega_before)
-    n = 0
-    omega = omega_at(timing.release)
-    committed = False
-    while n < timing.n_cap:
-        n = min(n + timing.n_check, timing.n_cap)
-        omega = omega_at(timing.release + n)
-        if abs(omega) >= threshold:
-            committed = True
-            break
-    before = int(np.sign(omega_before))
-    after = int(np.sign(omega)) if committed else 0
+    n_checks = -(-timing.n_cap // timing.n_check)  # the last check is at the cap
+    offsets = [min(k * timing.n_check, timing.n_cap) for k in range(1, n_checks + 1)]
+    checks = (omega_at(timing.release + n) for n in offsets)
+    release = classify_release(omega_before, checks, estimator.commit_fraction)
     return {
-        "direction_before": before,
-        "direction_after": after,
-        "inverted": bool(after == -before),
-        "committed": committed,
+        "direction_before": release.direction_before,
+        "direction_after": release.direction_after,
+        "inverted": release.inverted,
+        "committed": release.committed,
         "omega_before": float(omega_before),
-        "omega_end": float(omega),
-        "t_commit": float(n * dt) if committed else math.nan,
+        "omega_end": float(release.omega_after),
+        "t_commit": float(offsets[release.check] * dt) if release.committed else math.nan,
     }
 
 
