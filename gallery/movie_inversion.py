@@ -27,6 +27,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from pde_rotor.geometry import RotorShape
+from pde_rotor.mp4 import Mp4Writer
 from pde_rotor.output import atomic_path
 from pde_rotor.plotting import RotorFrame
 from pde_rotor.simulation import Simulation
@@ -143,24 +144,11 @@ def write_gif(frames: list[np.ndarray], times: np.ndarray, path: Path) -> None:
 
 
 def write_mp4(frames: list[np.ndarray], path: Path) -> None:
-    """H.264 mp4 with the ffmpeg binary of imageio-ffmpeg."""
-    import imageio_ffmpeg
-
-    height, width = frames[0].shape[:2]
-    with atomic_path(path) as tmp:
-        writer = imageio_ffmpeg.write_frames(
-            str(tmp),
-            (width, height),
-            fps=FPS,
-            codec="libx264",
-            output_params=["-f", "mp4"],
-            macro_block_size=1,
-            quality=7,
-        )
-        writer.send(None)
-        for frame in frames:
-            writer.send(np.ascontiguousarray(frame))
-        writer.close()
+    """H.264 mp4 by the package's one encoder (:class:`pde_rotor.mp4.Mp4Writer`)."""
+    writer = Mp4Writer(path, FPS)
+    for frame in frames:
+        writer.append(frame)
+    writer.close()
 
 
 def main(argv: Sequence[str] | None = None) -> list[Path]:

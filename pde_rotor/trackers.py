@@ -47,6 +47,7 @@ from pde.trackers.interrupts import FixedInterrupts, RealtimeInterrupts
 from tqdm.auto import tqdm
 
 from .inversion import ReleaseWatch, direction
+from .mp4 import Mp4Writer, figure_frame
 from .output import AppendOnlyCSV, commit, part_path, write_netcdf_atomic
 from .protocol import StopSchedule
 
@@ -580,8 +581,8 @@ class MovieTracker(_RotorTracker):
     """Renders a frame (c, v, plate and pills, omega, phase) every interval into an mp4.
 
     Frames are rendered as the run goes, so no field history is kept in memory. The
-    mp4 is encoded by matplotlib's FFMpegWriter with the ffmpeg binary of the
-    imageio-ffmpeg wheel, written to ``movie.mp4.part`` and renamed when complete.
+    mp4 is encoded by the package's :class:`~pde_rotor.mp4.Mp4Writer` (ffmpeg of the
+    imageio-ffmpeg wheel), written to ``movie.mp4.part`` and renamed when complete.
     """
 
     def __init__(
@@ -618,20 +619,12 @@ class MovieTracker(_RotorTracker):
         self._last_step = -1
 
     def initialize(self, field: FieldCollection, info: InfoDict | None = None) -> float:
-        """Create the figure and start ffmpeg."""
-        import imageio_ffmpeg
-        import matplotlib as mpl
-        from matplotlib.animation import FFMpegWriter
-
+        """Create the figure and the mp4 writer."""
         from .plotting import RotorFrame
 
-        mpl.rcParams["animation.ffmpeg_path"] = imageio_ffmpeg.get_ffmpeg_exe()
         sim = self.sim
         self._frame = RotorFrame(sim.pde.shape, sim.pde.domain.coords, self.half_width)
-        self._writer = FFMpegWriter(
-            fps=self.fps, codec="h264", extra_args=["-f", "mp4"], metadata={"title": "pde_rotor"}
-        )
-        self._writer.setup(self._frame.fig, str(part_path(self.path)), dpi=self.dpi)
+        self._writer = Mp4Writer(self.path, self.fps)
         return super().initialize(field, info)
 
     def handle(self, field: FieldCollection, t: float) -> None:
@@ -648,16 +641,11 @@ class MovieTracker(_RotorTracker):
             step * self.schedule.dt, rotor.omega, rotor.stopped, cycle, self.schedule.cycles
         )
         self._frame.update(field.data, rotor.phi, title=title)
-        self._writer.grab_frame()
+        self._writer.append(figure_frame(self._frame.fig, self.dpi))
         self.frames += 1
 
     def _finish(self, status: dict[str, Any]) -> None:
         if self._writer is None:
             return
-        self._writer.finish()
+        self._writer.close()
         self._writer = None
-        tmp = part_path(self.path)
-        if self.frames > 0 and tmp.exists():
-            commit(tmp, self.path)
-        else:
-            tmp.unlink(missing_ok=True)
