@@ -144,3 +144,33 @@ def fast_simulator(monkeypatch: pytest.MonkeyPatch) -> Iterator[None]:
     sys.setswitchinterval(1e-5)
     yield
     sys.setswitchinterval(interval)
+
+
+def compiled_indicators(pde: RotorPDE, phi: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """F and G (n, n) of the compiled core on the support cells at angle phi, and the
+    rotor table it filled (:func:`pde_rotor.solver.update_indicators`)."""
+    from pde_rotor.solver import update_indicators
+
+    dom = pde.domain
+    F = np.zeros(dom.grid.shape)
+    G = np.zeros(dom.grid.shape)
+    tab = np.empty((4, pde.shape.n_corners))
+    update_indicators(
+        F.reshape(-1),
+        G.reshape(-1),
+        dom.coords,
+        dom.support_lo,
+        dom.support_hi,
+        pde.shape.as_array(),
+        tab,
+        pde.scheme.as_array(),
+        *pde.scheme.table_arrays(),
+        phi,
+    )
+    return F, G, tab
+
+
+@pytest.fixture
+def indicators_of() -> Callable[[RotorPDE, float], tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """``indicators_of(pde, phi)``: see :func:`compiled_indicators`."""
+    return compiled_indicators

@@ -231,16 +231,22 @@ def _report(dims: dict[str, list[float]], base: dict, p: float) -> xr.Dataset:
     return xr.Dataset(data, coords=dims, attrs={"base_config": json.dumps(base)})
 
 
-def test_paper_points_combine_stored_reports_on_one_curve(tmp_path, monkeypatch):
-    """Points of a curve come from every stored paper-resolution report that holds them;
-    settings that are not axes are read from a report's base config."""
+def _stored_predictions(tmp_path, monkeypatch):
+    """The gallery's _common module reading tmp_path as its data folder, which holds a
+    predictions.nc with P = 0.7 at Delta in {0, 1e-4} and t_stop in {0.5, 3}."""
     load_script(gallery_dir() / "fig1_geometry.py")
     common = sys.modules["_common"]
     monkeypatch.setattr(common, "DATA", tmp_path)
+    axes = {"asymmetry": [0.0, 1e-4], "t_stop": [0.5, 3.0], "sigma": [0.0, 2e-8]}
+    _report(axes, {}, 0.7).to_netcdf(tmp_path / "predictions.nc", engine="h5netcdf")
+    return common
+
+
+def test_paper_points_combine_stored_reports_on_one_curve(tmp_path, monkeypatch):
+    """Points of a curve come from every stored paper-resolution report that holds them;
+    settings that are not axes are read from a report's base config."""
+    common = _stored_predictions(tmp_path, monkeypatch)
     sigma = {"sigma": [0.0, 2e-8]}
-    _report({"asymmetry": [0.0, 1e-4], "t_stop": [0.5, 3.0], **sigma}, {}, 0.7).to_netcdf(
-        tmp_path / "predictions.nc", engine="h5netcdf"
-    )
     _report(
         {"asymmetry": [0.0, 2e-5, 1e-4], "t_stop": [0.5, 3.0], **sigma},
         {"flow": {"enabled": False}},
@@ -268,13 +274,8 @@ def test_paper_points_footer_names_its_files_and_stop_counts(tmp_path, monkeypat
     "data/{predictions}.nc" and "60-60"); two reports: both files."""
     from matplotlib.figure import Figure
 
-    load_script(gallery_dir() / "fig1_geometry.py")
-    common = sys.modules["_common"]
-    monkeypatch.setattr(common, "DATA", tmp_path)
+    common = _stored_predictions(tmp_path, monkeypatch)
     sigma = {"sigma": [0.0, 2e-8]}
-    _report({"asymmetry": [0.0, 1e-4], "t_stop": [0.5, 3.0], **sigma}, {}, 0.7).to_netcdf(
-        tmp_path / "predictions.nc", engine="h5netcdf"
-    )
     ax = Figure().add_subplot()
     one = common.draw_paper_points(ax, "", "t_stop", asymmetry=0.0, enabled=1.0)
     assert one.endswith("60 stops per point; stored: data/predictions.nc")

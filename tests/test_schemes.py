@@ -22,7 +22,7 @@ from pde_rotor.core import CPU
 from pde_rotor.geometry import edge_normal_angles, plate_indicator
 from pde_rotor.model import RotorPDE
 from pde_rotor.schemes import contour_cross_grad, interpolate_spline, sech2_gauss
-from pde_rotor.solver import rotor_integrals, spline_window, update_indicators
+from pde_rotor.solver import rotor_integrals, spline_window
 
 
 @pytest.mark.parametrize("n_nodes", [2, 4, 8])
@@ -121,7 +121,7 @@ def test_contour_form_equals_area_form(phi: float) -> None:
 
 
 def test_compiled_contour_torque_equals_numpy_reference(
-    coarse_config: Callable[..., RotorConfig],
+    coarse_config: Callable[..., RotorConfig], indicators_of
 ) -> None:
     """rotor_integrals (physics core, CPU) gives the numpy contour and friction integrals."""
     cfg = coarse_config({"numerics": {"scheme": "consistent"}, "geometry": {"asymmetry": 0.1}})
@@ -133,25 +133,11 @@ def test_compiled_contour_torque_equals_numpy_reference(
     state = np.stack(
         [c * dom.interior_mask, 0.3 * y * dom.interior_mask, -0.2 * x * dom.interior_mask]
     )
-    F = np.zeros(x.size)
-    G = np.zeros(x.size)
-    tab = np.empty((4, pde.shape.n_corners))
-    update_indicators(
-        F,
-        G,
-        dom.coords,
-        dom.support_lo,
-        dom.support_hi,
-        pde.shape.as_array(),
-        tab,
-        pde.scheme.as_array(),
-        *pde.scheme.table_arrays(),
-        phi,
-    )
+    F, _, tab = indicators_of(pde, phi)
     scheme = pde.scheme
     got = rotor_integrals(
         state.reshape(-1),
-        F,
+        F.reshape(-1),
         dom.coords,
         dom.support_lo,
         dom.support_hi,
