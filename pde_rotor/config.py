@@ -60,6 +60,10 @@ class FieldError(ValueError):
         self.path = path
         self.value = value
 
+    def __reduce__(self) -> tuple[type[FieldError], tuple[str, Any, str]]:
+        """Pickle with all three arguments (a worker process sends its errors back)."""
+        return type(self), (self.path, self.value, str(self))
+
 
 class ConfigError(ValueError):
     """Invalid configuration input; ``str(err)`` is one readable line."""

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import pickle
 from pathlib import Path
 
 import pytest
@@ -13,6 +14,7 @@ from pde_rotor.config import (
     PAPER_STEADY_OMEGA,
     TIME_KEYS,
     ConfigError,
+    FieldError,
     RotorConfig,
     apply_overrides,
     dump_config,
@@ -346,3 +348,10 @@ def test_usage_doc_lists_every_key():
     for section, field in RotorConfig.model_fields.items():
         for key in field.annotation.model_fields:
             assert f"`{section}.{key}`" in doc
+
+
+def test_field_error_survives_pickling():
+    """A worker process (dask, a process pool) sends a config error back whole."""
+    err = FieldError("grid.dx", 0.3, "grid.dx: too coarse")
+    back = pickle.loads(pickle.dumps(err))
+    assert (type(back), back.path, back.value, str(back)) == (FieldError, "grid.dx", 0.3, str(err))
