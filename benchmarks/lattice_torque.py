@@ -9,6 +9,7 @@ T(Delta) - T(0) at the same angles, for each discretisation scheme
 
 Run:  python benchmarks/lattice_torque.py [--angles 48] [--asymmetry 2e-5 1e-4]
       [--dx 0.05 0.025] [--schemes paper consistent] [--smoothing 0.025]
+      [--filter-kernel gaussian|sharpened] [--filter-width KAPPA]
 
 delta is max(dx, 0.025) (the paper's delta = dx down to its own grid) unless --smoothing
 fixes it (the convergence check of the asymmetry torque at delta = 0.025).
@@ -40,7 +41,17 @@ def main() -> None:
     parser.add_argument("--dx", type=float, nargs="+", default=[0.05, 0.025])
     parser.add_argument("--smoothing", type=float, default=None, help="fixed delta")
     parser.add_argument("--schemes", nargs="+", default=["paper", "consistent"])
+    parser.add_argument("--filter-kernel", default=None, help="numerics.filter_kernel")
+    parser.add_argument("--filter-width", type=float, default=None, help="numerics.filter_width")
     args = parser.parse_args()
+    filtering = {
+        key: value
+        for key, value in (
+            ("filter_kernel", args.filter_kernel),
+            ("filter_width", args.filter_width),
+        )
+        if value is not None
+    }
     phis = np.arange(args.angles) * (np.pi / 6) / args.angles
     header = " ".join(f"{'T(D=' + format(a, 'g') + ')-T(0)':>16}" for a in args.asymmetry)
     print(f"{'scheme':>10} {'dx':>7} {'delta':>6} {'rms T(0)':>10} {'max |T(0)|':>11} {header}")
@@ -49,7 +60,7 @@ def main() -> None:
             smoothing = args.smoothing or max(dx, 0.025)
             base = {
                 "grid": {"dx": dx, "dt": stable_dt(dx)},
-                "numerics": {"scheme": scheme},
+                "numerics": {"scheme": scheme, **(filtering if scheme == "consistent" else {})},
             }
             symmetric = stopped_torque(
                 RotorConfig.model_validate({**base, "geometry": {"smoothing": smoothing}}), phis

@@ -274,12 +274,20 @@ class NumericsConfig(_Section):
         ),
     )
     filter_width: float = Field(
-        0.7,
+        1.4,
         ge=0.25,
         le=2.0,
         description=(
-            "consistent scheme: width eps of the isotropic Gaussian prefilter of F and G, "
-            "in units of dx (docs/model.md, Schemes)"
+            "consistent scheme: width eps of the isotropic prefilter of F and G, in units "
+            "of dx (docs/model.md, Schemes)"
+        ),
+    )
+    filter_kernel: Literal["gaussian", "sharpened"] = Field(
+        "sharpened",
+        description=(
+            "consistent scheme: sharpened 2 N_eps - N_(sqrt2 eps), zero second moment, "
+            "changes the model at order eps^4; gaussian N_eps, at order eps^2 (use "
+            "filter_width 0.7 with it)"
         ),
     )
     table_refinement: Int = Field(

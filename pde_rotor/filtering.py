@@ -13,7 +13,17 @@ fields still turn rigidly with the plate:
 
 The filter keeps every integral of F and G (their masses) and adds 2 eps^2 to their second
 moments about any point, a change of the model of order dx^2 that vanishes with the grid:
-both schemes converge to the same continuum.
+both schemes converge to the same continuum. The default kernel (``numerics.filter_kernel``)
+is sharpened, a sum of two Gaussians (:data:`KERNELS`),
+
+    K_eps = 2 N_eps - N_(sqrt2 eps),   Fourier transform 1 - (k eps)^4 / 4 + O(k^6),
+
+which keeps the masses and the second moments: it changes the model at order dx^4,
+so the converged torques depend less on the grid, at the price of a wider kernel
+(default kappa = 1.4, where its transform at the Nyquist wavenumber pi/dx is 1.3e-4,
+the Gaussian's at kappa = 0.7 0.09) and a small ringing: F_eps and G_eps leave their
+range by up to 3 % of their height (c stays positive). Every table below
+is linear in the kernel and is built as the same sum of Gaussian filterings.
 
 * The plate: F = f(a - h(r)), f(u) = 1/2 (1 + tanh(u / delta)), a = R cos(pi/N). More
   than CREASE_WIDTHS eps from the corner bisectors (the crease of h) the filter sees a
@@ -62,6 +72,20 @@ EDGE_REFINEMENT = 1024
 EDGE_OVERSAMPLING = 4
 """The edge profile is filtered on nodes this many times coarser, then interpolated."""
 
+KERNELS: dict[str, tuple[tuple[float, float], ...]] = {
+    "gaussian": ((1.0, 1.0),),
+    "sharpened": ((2.0, 1.0), (-1.0, math.sqrt(2.0))),
+}
+"""Prefilter kernels (``numerics.filter_kernel``) as sums of Gaussians: (weight, width
+in units of eps). ``sharpened`` = 2 N_eps - N_(sqrt2 eps) keeps the mass and has a zero
+second moment: its Fourier transform is 1 - (k eps)^4 / 4 + ..., against the Gaussian's
+1 - (k eps)^2 / 2 + ..., so it changes the model at fourth order in dx."""
+
+
+def components(kernel: str, width: float) -> list[tuple[float, float]]:
+    """The (weight, width) of each Gaussian of `kernel` for eps = `width`."""
+    return [(weight, factor * width) for weight, factor in KERNELS[kernel]]
+
 
 @dataclass(frozen=True)
 class FilterTables:
@@ -79,7 +103,7 @@ class FilterTables:
         edge: f_eps(edge_u0 + k edge_step); 0 below its start, 1 beyond its end.
         edge_u0: first node of the edge profile.
         edge_step: spacing of the edge profile.
-        width: eps.
+        width: the widest Gaussian of the kernel (sets the reach of the filter).
     """
 
     plate_values: np.ndarray
@@ -95,8 +119,10 @@ class FilterTables:
     width: float
 
 
-def filtered_plate(shape: RotorShape, width: float, step: float) -> tuple[np.ndarray, float]:
-    """F_eps = F * N_eps, edge 0's normal along +x, on a square table of spacing `step`.
+def filtered_plate(
+    shape: RotorShape, width: float, step: float, kernel: str = "gaussian"
+) -> tuple[np.ndarray, float]:
+    """F_eps = F * K_eps, edge 0's normal along +x, on a square table of spacing `step`.
 
     The table covers the support disk of F (:attr:`RotorShape.support_radius`) plus the
     spline's taps; F is sampled on the table's nodes and filtered there (the sampled
@@ -107,6 +133,7 @@ def filtered_plate(shape: RotorShape, width: float, step: float) -> tuple[np.nda
         shape: the rotor (its asymmetry plays no part: F has none).
         width: eps.
         step: table spacing.
+        kernel: name in :data:`KERNELS`.
 
     Returns:
         (values (n, n), x0): F_eps at the nodes x0 + k step along both axes.
@@ -114,18 +141,25 @@ def filtered_plate(shape: RotorShape, width: float, step: float) -> tuple[np.nda
     half = shape.support_radius + 4.0 * step
     count = math.ceil(half / step)
     axis = step * np.arange(-count, count + 1)
-    pad = math.ceil(GAUSS_TRUNCATE * width / step)
+    parts = components(kernel, width)
+    pad = math.ceil(GAUSS_TRUNCATE * max(w for _, w in parts) / step)
     padded = step * np.arange(-count - pad, count + pad + 1)
     x, y = np.meshgrid(padded, padded, indexing="ij")
-    values = plate_indicator(x, y, shape, -math.pi / shape.n_corners)
-    values = gaussian_filter(values, sigma=width / step, mode="constant", truncate=GAUSS_TRUNCATE)
+    sharp = plate_indicator(x, y, shape, -math.pi / shape.n_corners)
+    values = sum(
+        weight * gaussian_filter(sharp, sigma=w / step, mode="constant", truncate=GAUSS_TRUNCATE)
+        for weight, w in parts
+    )
     return np.ascontiguousarray(values[pad:-pad, pad:-pad]), float(axis[0])
 
 
-def filtered_edge_profile(shape: RotorShape, width: float, step: float) -> tuple[np.ndarray, float]:
-    """f_eps = f * N_eps, f(u) = 1/2 (1 + tanh(u / delta)), on u = u0 + k step.
+def filtered_edge_profile(
+    shape: RotorShape, width: float, step: float, kernel: str = "gaussian"
+) -> tuple[np.ndarray, float]:
+    """f_eps = f * K_eps, f(u) = 1/2 (1 + tanh(u / delta)), on u = u0 + k step.
 
-    The nodes span |u| <= X_SATURATION delta + GAUSS_TRUNCATE eps, beyond which f_eps is
+    The nodes span |u| <= X_SATURATION delta + GAUSS_TRUNCATE eps (eps of the widest
+    Gaussian of the kernel), beyond which f_eps is
     0 or 1 to 1e-14. The convolution is the direct sum of the sampled kernel (the
     trapezoidal rule, exact to round-off for the smooth f, and relative-accurate in the
     exponential tails) on nodes EDGE_OVERSAMPLING times coarser, brought to `step` by
@@ -135,17 +169,25 @@ def filtered_edge_profile(shape: RotorShape, width: float, step: float) -> tuple
         (profile, u0).
     """
     coarse = step * EDGE_OVERSAMPLING
-    count = math.ceil((X_SATURATION * shape.smoothing + GAUSS_TRUNCATE * width) / coarse)
+    parts = components(kernel, width)
+    reach = GAUSS_TRUNCATE * max(w for _, w in parts)
+    count = math.ceil((X_SATURATION * shape.smoothing + reach) / coarse)
     u = coarse * np.arange(-count, count + 1)
     f = 0.5 * (1.0 + np.tanh(u / shape.smoothing))
-    blurred = gaussian_filter1d(f, sigma=width / coarse, mode="nearest", truncate=GAUSS_TRUNCATE)
+    blurred = sum(
+        weight * gaussian_filter1d(f, sigma=w / coarse, mode="nearest", truncate=GAUSS_TRUNCATE)
+        for weight, w in parts
+    )
     fine = np.arange((u.size - 1) * EDGE_OVERSAMPLING + 1) / EDGE_OVERSAMPLING
     profile = map_coordinates(blurred, fine[None], order=3, mode="nearest")
     return np.ascontiguousarray(profile), float(u[0])
 
 
-def filtered_pill_profile(shape: RotorShape, width: float, step: float) -> np.ndarray:
-    """g_eps(k step), k = 0, 1, ...: one pill's profile convolved with N_eps (module doc).
+def filtered_pill_profile(
+    shape: RotorShape, width: float, step: float, kernel: str = "gaussian"
+) -> np.ndarray:
+    """g_eps(k step), k = 0, 1, ...: one pill's profile convolved with K_eps (module doc),
+    the sum of the radial convolutions with the kernel's Gaussians.
 
     The radial integral uses the trapezoidal rule with spacing h = min(delta, eps) / 64 up
     to rho + X_SATURATION delta, where g = 1/2 (1 + tanh((rho - s) / delta)) vanishes, with
@@ -156,31 +198,36 @@ def filtered_pill_profile(shape: RotorShape, width: float, step: float) -> np.nd
         shape: the rotor (pill radius rho and edge width delta).
         width: eps.
         step: spacing of the table in d.
+        kernel: name in :data:`KERNELS`.
 
     Returns:
-        The profile, ending where it falls below 1e-17.
+        The profile, ending where its magnitude falls below 1e-17.
     """
     rho, delta = shape.pill_radius, shape.smoothing
+    parts = components(kernel, width)
     s_end = rho + X_SATURATION * delta
     ds = min(delta, width) / 64.0
     s = np.arange(0.0, s_end + ds, ds)
     g = 0.5 * (1.0 + np.tanh((rho - s) / delta))
     weights = np.full(s.size, ds)
     weights[0] = weights[-1] = 0.5 * ds
-    d = np.arange(0.0, s_end + GAUSS_TRUNCATE * width + step, step)
-    inv_var = 1.0 / (width * width)
-    profile = np.empty(d.size)
-    for lo in range(0, d.size, 256):
-        dd = d[lo : lo + 256, None]
-        kernel = s * inv_var * np.exp(-0.5 * (dd - s) ** 2 * inv_var) * i0e(dd * s * inv_var)
-        profile[lo : lo + 256] = kernel @ (g * weights)
-    profile += ds * ds / 12.0 * g[0] * np.exp(-0.5 * d * d * inv_var) * inv_var
-    keep = np.nonzero(profile > 1e-17)[0]
+    d = np.arange(0.0, s_end + GAUSS_TRUNCATE * max(w for _, w in parts) + step, step)
+    profile = np.zeros(d.size)
+    for weight, w in parts:
+        inv_var = 1.0 / (w * w)
+        for lo in range(0, d.size, 256):
+            dd = d[lo : lo + 256, None]
+            radial = s * inv_var * np.exp(-0.5 * (dd - s) ** 2 * inv_var) * i0e(dd * s * inv_var)
+            profile[lo : lo + 256] += weight * (radial @ (g * weights))
+        profile += weight * ds * ds / 12.0 * g[0] * np.exp(-0.5 * d * d * inv_var) * inv_var
+    keep = np.nonzero(np.abs(profile) > 1e-17)[0]
     return np.ascontiguousarray(profile[: keep[-1] + 2])
 
 
 @lru_cache(maxsize=8)
-def make_tables(shape: RotorShape, dx: float, kappa: float, refinement: int) -> FilterTables:
+def make_tables(
+    shape: RotorShape, dx: float, kappa: float, refinement: int, kernel: str = "gaussian"
+) -> FilterTables:
     """The filter tables of one rotor shape on a grid of spacing dx (cached: the members
     of a sweep share them).
 
@@ -189,26 +236,27 @@ def make_tables(shape: RotorShape, dx: float, kappa: float, refinement: int) -> 
         dx: grid spacing.
         kappa: filter width in units of dx (eps = kappa dx).
         refinement: plate table nodes per dx.
+        kernel: name in :data:`KERNELS` (``numerics.filter_kernel``).
     """
     width = kappa * dx
     step = dx / refinement
-    values, x0 = filtered_plate(shape, width, step)
+    values, x0 = filtered_plate(shape, width, step, kernel)
     coef = spline_filter(values, order=3, mode="grid-constant")
     pill_step = dx / PROFILE_REFINEMENT
     edge_step = dx / EDGE_REFINEMENT
-    edge, edge_u0 = filtered_edge_profile(shape, width, edge_step)
+    edge, edge_u0 = filtered_edge_profile(shape, width, edge_step, kernel)
     return FilterTables(
         plate_values=values,
         plate=np.ascontiguousarray(coef.reshape(-1)),
         plate_n=values.shape[0],
         plate_x0=x0,
         plate_step=step,
-        pill=filtered_pill_profile(shape, width, pill_step),
+        pill=filtered_pill_profile(shape, width, pill_step, kernel),
         pill_step=pill_step,
         edge=edge,
         edge_u0=edge_u0,
         edge_step=edge_step,
-        width=width,
+        width=max(w for _, w in components(kernel, width)),
     )
 
 

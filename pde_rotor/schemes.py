@@ -10,11 +10,13 @@ its angle (docs/model.md). Two schemes are offered (``numerics.scheme``):
     for grad c. The paper's "explicit method for the spatial derivative".
 
 ``consistent``
-    * F and G through an isotropic Gaussian prefilter of width eps = kappa dx
-      (``numerics.filter_width`` = kappa, default 0.7), sampled at the cell centres:
+    * F and G through an isotropic prefilter of width eps = kappa dx
+      (``numerics.filter_width`` = kappa, default 1.4), sampled at the cell centres:
       the filtered fields turn rigidly with the plate and have almost no content near
       the grid's Nyquist wavenumber, where the 5-point Laplacian is anisotropic
-      (:mod:`pde_rotor.filtering`; a change of the model of order dx^2).
+      (:mod:`pde_rotor.filtering`). The default kernel (``numerics.filter_kernel``) is
+      the sharpened 2 N_eps - N_(sqrt2 eps), a change of the model of order dx^4; the
+      Gaussian N_eps changes it at order dx^2.
     * The torque in contour form. F depends on r only through h(r) = max_j r . e_j,
       whose level sets are regular N-gons, so integrating by parts and by level sets
       (coarea formula, |grad h| = 1)
@@ -150,6 +152,7 @@ class Scheme:
                 config.grid.dx,
                 num.filter_width,
                 num.table_refinement,
+                num.filter_kernel,
             )
         else:
             quad_s = np.zeros((2, 1))

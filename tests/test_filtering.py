@@ -2,11 +2,13 @@
 
 Checked against analysis, never against earlier runs:
 
-* the tables equal the Gaussian convolution computed independently, by tensor
-  Gauss-Hermite quadrature of the analytic F and G at scattered points;
+* the tables equal the convolution with each kernel (Gaussian, sharpened) computed
+  independently, by tensor Gauss-Hermite quadrature of the analytic F and G at
+  scattered points;
 * the filter keeps the masses of F and G (their layer-cake values) and adds exactly
-  2 eps^2 to their second moments, at any angle: the filtered fields on the grid are
-  the model's fields blurred isotropically, whatever the lattice phase;
+  2 eps^2 (Gaussian) or 0 (sharpened) to their second moments, at any angle: the
+  filtered fields on the grid are the model's fields blurred isotropically, whatever
+  the lattice phase;
 * the lattice torque of a stopped symmetric plate meets the bounds of docs/model.md
   (rms <= 1e-6 at dx = delta = 0.05, <= 1e-7 at dx = delta = 0.025) where the paper
   scheme's is several times larger.
@@ -21,12 +23,15 @@ import pytest
 
 from pde_rotor.analysis import stopped_torque
 from pde_rotor.config import RotorConfig
-from pde_rotor.filtering import filtered_indicators
+from pde_rotor.filtering import components, filtered_indicators
 from pde_rotor.geometry import pill_indicator, plate_indicator
 from pde_rotor.model import RotorPDE
 
+KERNELS = {"gaussian": 0.7, "sharpened": 1.4}
+"""Each prefilter kernel with the width kappa it is used with."""
 
-def consistent(dx: float, smoothing: float, **numerics: float) -> RotorConfig:
+
+def consistent(dx: float, smoothing: float, **numerics: float | str) -> RotorConfig:
     """The paper's rotor on a grid of spacing dx with the consistent scheme."""
     return RotorConfig.model_validate(
         {
@@ -38,8 +43,8 @@ def consistent(dx: float, smoothing: float, **numerics: float) -> RotorConfig:
 
 
 def gauss_hermite_blur(func, x: np.ndarray, y: np.ndarray, eps: float) -> np.ndarray:
-    """(func * N_eps)(x, y) by a 48 x 48 tensor Gauss-Hermite rule (independent reference)."""
-    nodes, weights = np.polynomial.hermite_e.hermegauss(48)
+    """(func * N_eps)(x, y) by a 96 x 96 tensor Gauss-Hermite rule (independent reference)."""
+    nodes, weights = np.polynomial.hermite_e.hermegauss(96)
     weights = weights / weights.sum()
     out = np.zeros(x.shape)
     for a, wa in zip(nodes, weights, strict=True):
@@ -48,9 +53,15 @@ def gauss_hermite_blur(func, x: np.ndarray, y: np.ndarray, eps: float) -> np.nda
     return out
 
 
+def kernel_blur(func, x: np.ndarray, y: np.ndarray, kernel: str, eps: float) -> np.ndarray:
+    """(func * K_eps)(x, y): the kernel's Gaussians, each by :func:`gauss_hermite_blur`."""
+    return sum(w * gauss_hermite_blur(func, x, y, e) for w, e in components(kernel, eps))
+
+
+@pytest.mark.parametrize("kernel", KERNELS)
 @pytest.mark.parametrize("phi", [0.0, 0.41])
-def test_tables_equal_the_gaussian_convolution(phi: float) -> None:
-    """F_eps and G_eps from the tables equal direct quadrature of F * N_eps, G * N_eps.
+def test_tables_equal_the_kernel_convolution(phi: float, kernel: str) -> None:
+    """F_eps and G_eps from the tables equal direct quadrature of F * K_eps, G * K_eps.
 
     The points cover the plate's edges and the pills, where the profiles are steepest;
     the corners, where F has a crease along the bisectors that Gauss-Hermite quadrature
@@ -58,20 +69,23 @@ def test_tables_equal_the_gaussian_convolution(phi: float) -> None:
     tanh edges are analytic only within pi delta / 2 of the real axis), hence 1e-5; a
     wrong width, frame or rotation sense misses by > 1e-3.
     """
-    pde = RotorPDE(consistent(0.025, 0.025))
+    kappa = KERNELS[kernel]
+    pde = RotorPDE(consistent(0.025, 0.025, filter_kernel=kernel, filter_width=kappa))
     tables = pde.scheme.tables
     assert tables is not None
     shape = pde.shape
+    eps = kappa * 0.025
     rng = np.random.default_rng(5)
     radius = rng.uniform(0.25, 0.55, 300)
     angle = rng.uniform(0, 2 * np.pi, 300)
     x, y = radius * np.cos(angle), radius * np.sin(angle)
     corners = shape.radius * np.exp(1j * (phi + np.pi / 3 * np.arange(6)))
-    far = np.abs((x + 1j * y)[:, None] - corners[None]).min(axis=1) > 0.1
+    reach = 0.1 + 2 * tables.width  # the kernel's widest Gaussian must miss the crease
+    far = np.abs((x + 1j * y)[:, None] - corners[None]).min(axis=1) > reach
     F, G = filtered_indicators(tables, shape, x, y, phi)
-    F_ref = gauss_hermite_blur(lambda a, b: plate_indicator(a, b, shape, phi), x, y, tables.width)
-    G_ref = gauss_hermite_blur(lambda a, b: pill_indicator(a, b, shape, phi), x, y, tables.width)
-    assert far.sum() > 200
+    F_ref = kernel_blur(lambda a, b: plate_indicator(a, b, shape, phi), x, y, kernel, eps)
+    G_ref = kernel_blur(lambda a, b: pill_indicator(a, b, shape, phi), x, y, kernel, eps)
+    assert far.sum() > 100
     assert np.abs(F - F_ref)[far].max() < 1e-5
     assert np.abs(G - G_ref).max() < 1e-5
     # the filter acts: the unfiltered fields differ by far more
@@ -108,23 +122,28 @@ def radial_moments(rho: float, delta: float) -> tuple[float, float]:
     )
 
 
+@pytest.mark.parametrize("kernel", KERNELS)
 @pytest.mark.parametrize("phi", [0.0, 0.13, 0.5])
-def test_filter_keeps_masses_and_adds_two_eps_squared_to_second_moments(phi: float) -> None:
-    """sum F_eps dA, sum G_eps dA are the fields' masses; the second moments grow by 2 eps^2.
+def test_filter_keeps_masses_and_sets_second_moments(phi: float, kernel: str) -> None:
+    """sum F_eps dA, sum G_eps dA are the fields' masses; the second moments grow by
+    2 sum_i w_i eps_i^2 over the kernel's Gaussians: 2 eps^2 (Gaussian), 0 (sharpened).
 
     Plate: {F >= f(sigma)} is the N-gon of apothem a - sigma, whose polar moment is
     N (t + t^3 / 3) (a - sigma)^4 / 2 (t = tan(pi/N)); averaging over the logistic
     density of sigma (variance v = pi^2 delta^2 / 12, fourth moment 7 pi^4 delta^4 / 240)
     gives int F |r|^2 dA, and int F dA = N t (a^2 + v). Pills: radial quadrature of one
     profile, shifted to R_c. A Gaussian of width eps keeps every mass and adds
-    2 eps^2 x mass to every second moment about the origin. The plate table's
+    2 eps^2 x mass to every second moment about the origin; the sharpened kernel
+    2 N_eps - N_(sqrt2 eps) adds 2 (2 eps^2 - 2 eps^2) = 0. The plate table's
     trapezoidal rule is of second order across F's corner creases (3e-6 of the mass at
     its default spacing dx / 8, fourfold less per halving), hence 1e-5 for the plate.
     """
-    cfg = consistent(0.025, 0.025)
+    cfg = consistent(0.025, 0.025, filter_kernel=kernel, filter_width=KERNELS[kernel])
     pde = RotorPDE(cfg)
     geo, shape = cfg.geometry, pde.shape
-    eps = pde.scheme.tables.width
+    eps = KERNELS[kernel] * 0.025
+    added = 2 * sum(w * e * e for w, e in components(kernel, eps))
+    assert added == pytest.approx({"gaussian": 2 * eps**2, "sharpened": 0.0}[kernel], abs=1e-15)
     F, G = pde.indicators(phi)
     x, y = pde.cell_coordinates()
     r2 = x * x + y * y
@@ -135,13 +154,13 @@ def test_filter_keeps_masses_and_adds_two_eps_squared_to_second_moments(phi: flo
     plate_mass = n * t * (a * a + var)
     plate_j = n * (t + t**3 / 3) / 2 * (a**4 + 6 * a * a * var + mu4)
     assert F.sum() * area == pytest.approx(plate_mass, rel=1e-5)
-    assert (F * r2).sum() * area == pytest.approx(plate_j + 2 * eps**2 * plate_mass, rel=1e-5)
+    assert (F * r2).sum() * area == pytest.approx(plate_j + added * plate_mass, rel=1e-5)
     pill_mass, pill_j = radial_moments(geo.pill_radius, geo.smoothing)
     r_c = shape.pill_distance
     assert G.sum() * area == pytest.approx(n * pill_mass, rel=1e-6)
-    want = n * (pill_j + r_c**2 * pill_mass + 2 * eps**2 * pill_mass)
+    want = n * (pill_j + r_c**2 * pill_mass + added * pill_mass)
     assert (G * r2).sum() * area == pytest.approx(want, rel=1e-6)
-    # the 2 eps^2 is resolved: without it the second moments would miss by far more
+    # a second moment of 2 eps^2 is resolved: had the kernel one, the check would see it
     assert 2 * eps**2 * plate_mass > 1e-4 * plate_j
 
 

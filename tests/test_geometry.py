@@ -175,7 +175,7 @@ def test_support_restricted_update_equals_full_evaluation(
     """The compiled core's F and G on the support equal numpy F and G on the whole grid.
 
     tanh(x) is -1 to 4e-18 for x <= -20, so F and G vanish outside the support disk
-    (the Gaussian-filtered fields too: their tails keep the tanh's decay rate); inside
+    (the filtered fields to 1e-15: their tails keep the tanh's decay rate); inside
     it the compiled and numpy versions agree to round-off. Checked for several phi and
     Delta, with point values (paper) and the filter tables (consistent: the core's
     spline and linear interpolation against scipy's and numpy's).
@@ -194,8 +194,8 @@ def test_support_restricted_update_equals_full_evaluation(
         outside_support = np.hypot(x, y) >= pde.shape.support_radius
         for phi in PHIS:
             F_full, G_full = pde.indicators(phi)
-            assert np.all(F_full[outside_support] < 1e-16)
-            assert np.all(G_full[outside_support] < 1e-16)
+            assert np.all(np.abs(F_full[outside_support]) < 1e-15)
+            assert np.all(np.abs(G_full[outside_support]) < 1e-15)
             F, G, _ = indicators_of(pde, phi)
             # the filtered fields sum 16 spline taps in another order than scipy
             atol = 2e-15 if scheme == "paper" else 1e-14
@@ -203,7 +203,7 @@ def test_support_restricted_update_equals_full_evaluation(
             np.testing.assert_allclose(G, G_full, rtol=0, atol=atol)
             # the plate and the pills are really there (the comparison is not vacuous)
             assert F.max() > 0.99
-            assert G.max() > 0.8
+            assert G.max() > 0.5
 
 
 @pytest.mark.parametrize("phi", [0.0, 0.3, 1.0])
