@@ -1,6 +1,8 @@
 """Convergence table of docs/model.md: omega_ss, asymmetry and memory torques vs dx and dt.
 
-At the paper's fixed delta = 0.025, for each scheme (``numerics.scheme``) and each grid
+At the paper's fixed delta = 0.025, for each scheme variant (:data:`VARIANTS`: the
+``paper`` scheme, the ``consistent`` scheme with its ``gaussian`` or ``sharpened``
+prefilter kernel, ``numerics.*``) and each grid
 dx in {1/30, 1/40, 1/60, 1/80} with dt in {limit/2, limit/4, limit/8} (limit: the explicit
 stability limit, ``RotorConfig.dt_limit``, rounded down to a divisor of 0.01 so that every
 protocol time is a whole number of steps), one run of the paper's rotor without noise:
@@ -15,13 +17,13 @@ plus, per scheme and dx, the static asymmetry torques T(Delta) - T(0) for Delta 
 1e-4 and the rms lattice torque, over 12 angles (sparse steady solves, no dt). The
 paper's own step (dx = 0.025, dt = 1e-4) is run as well, for the omega_ss goal.
 
-Each case is stored as it finishes, as JSON under data/convergence/<scheme>/, with the
+Each case is stored as it finishes, as JSON under data/convergence/<variant>/, with the
 numerics it ran with; ``run`` skips cases already stored with the same numerics, so an
 interrupted table resumes on any machine with nothing recomputed. ``report`` prints the
 table with Richardson limits and observed orders (in dt at each dx, then in dx for the
 dt -> 0 limits of the three finest grids).
 
-Run:  python benchmarks/convergence.py run [--schemes paper consistent] [--workers 2]
+Run:  python benchmarks/convergence.py run [--variants paper gaussian] [--workers 2]
                                            [--grids 30 40 60 80] [--dry-run]
       python benchmarks/convergence.py report
 """
@@ -55,15 +57,21 @@ STOPS = (0.5, 1.0, 2.0, 3.0)
 STOP_ANGLE = math.pi / 24
 PERIOD = math.pi / 6
 ASYMMETRIES = (2e-5, 1e-4)
+VARIANTS: dict[str, dict[str, Any]] = {
+    "paper": {"scheme": "paper"},
+    "gaussian": {"scheme": "consistent", "filter_kernel": "gaussian", "filter_width": 0.7},
+    "sharpened": {"scheme": "consistent", "filter_kernel": "sharpened", "filter_width": 1.4},
+}
+"""The numerics of each variant of the table (the rest: the schema's defaults)."""
 STATIC_ANGLES = 12
 
 
-def base_config(scheme: str, inv_dx: int, dt: float, **geometry: float) -> dict[str, Any]:
+def base_config(variant: str, inv_dx: int, dt: float, **geometry: float) -> dict[str, Any]:
     """The paper's configuration at this grid, delta = 0.025, no noise, no stops."""
     return {
         "grid": {"dx": 1.0 / inv_dx, "dt": dt},
         "geometry": {"smoothing": SMOOTHING, **geometry},
-        "numerics": {"scheme": scheme},
+        "numerics": VARIANTS[variant],
         "protocol": {"cycles": 0},
         "output": {"progress": False},
     }
@@ -78,27 +86,38 @@ def step_of(inv_dx: int, divisor: int) -> float:
     return coarsest * 2 / divisor
 
 
-def numerics_of(scheme: str, inv_dx: int) -> dict[str, Any]:
+PAPER_KEYS = ("scheme", "integrator")
+"""The numerics keys that act in the paper scheme (the others tune the consistent one)."""
+
+
+def numerics_of(variant: str, inv_dx: int) -> dict[str, Any]:
     """The numerics a case runs with (a stored case with other numerics is stale)."""
-    config = RotorConfig.model_validate(base_config(scheme, inv_dx, step_of(inv_dx, 8)))
-    return config.numerics.model_dump(mode="json")
+    config = RotorConfig.model_validate(base_config(variant, inv_dx, step_of(inv_dx, 8)))
+    return relevant(config.numerics.model_dump(mode="json"))
 
 
-def case_path(scheme: str, name: str) -> Path:
-    return STORE / scheme / f"{name}.json"
+def relevant(numerics: dict[str, Any]) -> dict[str, Any]:
+    """The numerics settings that change a result of this scheme."""
+    if numerics["scheme"] == "paper":
+        return {key: numerics[key] for key in PAPER_KEYS}
+    return numerics
 
 
-def dynamic_case(scheme: str, inv_dx: int, divisor: int) -> dict[str, Any]:
+def case_path(variant: str, name: str) -> Path:
+    return STORE / variant / f"{name}.json"
+
+
+def dynamic_case(variant: str, inv_dx: int, divisor: int) -> dict[str, Any]:
     """omega(8), then the torques after 0.5, 1, 2, 3 of a stop at phi = pi/24 (mod pi/6)."""
     start = time.perf_counter()
     dt = step_of(inv_dx, divisor)
-    spin = Simulation(RotorConfig.model_validate(base_config(scheme, inv_dx, dt)))
+    spin = Simulation(RotorConfig.model_validate(base_config(variant, inv_dx, dt)))
     spin.run(T_SPIN)
     phi, omega = spin.rotor.phi, spin.rotor.omega
     wait = round(((STOP_ANGLE - phi) % PERIOD) / (omega * dt))
     t_ini = T_SPIN + wait * dt
     protocol = {"t_ini": t_ini, "t_stop": STOPS[-1], "t_release": 1.0, "cycles": 1}
-    config = RotorConfig.model_validate({**base_config(scheme, inv_dx, dt), "protocol": protocol})
+    config = RotorConfig.model_validate({**base_config(variant, inv_dx, dt), "protocol": protocol})
     stop = spin.branch(config)
     torques = []
     for length in STOPS:
@@ -107,7 +126,7 @@ def dynamic_case(scheme: str, inv_dx: int, divisor: int) -> dict[str, Any]:
     phi_stop = stop.rotor.phi
     static = stopped_torque(config, np.array([phi_stop]))[0]
     return {
-        "scheme": scheme,
+        "variant": variant,
         "inv_dx": inv_dx,
         "divisor": divisor,
         "dt": dt,
@@ -118,96 +137,96 @@ def dynamic_case(scheme: str, inv_dx: int, divisor: int) -> dict[str, Any]:
         "static_torque_at_stop": float(static),
         "steps": round((t_ini + STOPS[-1]) / dt),
         "wall_s": time.perf_counter() - start,
-        "numerics": numerics_of(scheme, inv_dx),
+        "numerics": numerics_of(variant, inv_dx),
     }
 
 
-def static_case(scheme: str, inv_dx: int) -> dict[str, Any]:
+def static_case(variant: str, inv_dx: int) -> dict[str, Any]:
     """Asymmetry torques (mean over 12 angles) and the rms lattice torque, steady solves."""
     start = time.perf_counter()
     phis = np.arange(STATIC_ANGLES) * PERIOD / STATIC_ANGLES
     dt = step_of(inv_dx, DIVISORS[0])
-    symmetric = stopped_torque(RotorConfig.model_validate(base_config(scheme, inv_dx, dt)), phis)
+    symmetric = stopped_torque(RotorConfig.model_validate(base_config(variant, inv_dx, dt)), phis)
     asym = {}
     for delta in ASYMMETRIES:
-        config = RotorConfig.model_validate(base_config(scheme, inv_dx, dt, asymmetry=delta))
+        config = RotorConfig.model_validate(base_config(variant, inv_dx, dt, asymmetry=delta))
         asym[format(delta, "g")] = float((stopped_torque(config, phis) - symmetric).mean())
     return {
-        "scheme": scheme,
+        "variant": variant,
         "inv_dx": inv_dx,
         "asymmetry_torque": asym,
         "lattice_rms": float(np.sqrt(np.mean(symmetric**2))),
         "wall_s": time.perf_counter() - start,
-        "numerics": numerics_of(scheme, inv_dx),
+        "numerics": numerics_of(variant, inv_dx),
     }
 
 
 def execute(task: tuple[str, str, int, int]) -> tuple[str, str]:
-    """Run one case in a worker and store it; returns (scheme, name)."""
-    kind, scheme, inv_dx, divisor = task
+    """Run one case in a worker and store it; returns (variant, name)."""
+    kind, variant, inv_dx, divisor = task
     if kind == "static":
-        name, result = f"static_dx{inv_dx}", static_case(scheme, inv_dx)
+        name, result = f"static_dx{inv_dx}", static_case(variant, inv_dx)
     else:
-        name, result = f"dx{inv_dx}_dt{divisor}", dynamic_case(scheme, inv_dx, divisor)
-    path = case_path(scheme, name)
+        name, result = f"dx{inv_dx}_dt{divisor}", dynamic_case(variant, inv_dx, divisor)
+    path = case_path(variant, name)
     path.parent.mkdir(parents=True, exist_ok=True)
     write_text_atomic(path, json.dumps(result, indent=1) + "\n")
-    return scheme, name
+    return variant, name
 
 
-def load(scheme: str, name: str) -> dict[str, Any] | None:
+def load(variant: str, name: str) -> dict[str, Any] | None:
     """A stored case if its numerics are today's, else None."""
-    path = case_path(scheme, name)
+    path = case_path(variant, name)
     if not path.exists():
         return None
     content = json.loads(path.read_text())
-    if content["numerics"] != numerics_of(scheme, content["inv_dx"]):
+    if relevant(content["numerics"]) != numerics_of(variant, content["inv_dx"]):
         return None
     return content
 
 
-def ms_per_step(scheme: str, inv_dx: int) -> float:
+def ms_per_step(variant: str, inv_dx: int) -> float:
     """Wall time of one step on this machine (200 steps after a warm-up)."""
-    sim = Simulation(RotorConfig.model_validate(base_config(scheme, inv_dx, step_of(inv_dx, 8))))
+    sim = Simulation(RotorConfig.model_validate(base_config(variant, inv_dx, step_of(inv_dx, 8))))
     sim.run(20 * sim.config.grid.dt)
     start = time.perf_counter()
     sim.run(sim.t + 200 * sim.config.grid.dt)
     return (time.perf_counter() - start) / 200 * 1e3
 
 
-def tasks_of(schemes: list[str], grids: list[int]) -> list[tuple[str, str, int, int]]:
+def tasks_of(variants: list[str], grids: list[int]) -> list[tuple[str, str, int, int]]:
     """The missing or stale cases, cheapest first."""
     tasks = []
-    for scheme in schemes:
+    for variant in variants:
         for inv_dx in grids:
-            if load(scheme, f"static_dx{inv_dx}") is None:
-                tasks.append(("static", scheme, inv_dx, 0))
+            if load(variant, f"static_dx{inv_dx}") is None:
+                tasks.append(("static", variant, inv_dx, 0))
             divisors = (*DIVISORS, 0) if inv_dx == PAPER_STEP[0] else DIVISORS
             for divisor in divisors:
-                if load(scheme, f"dx{inv_dx}_dt{divisor}") is None:
-                    tasks.append(("dynamic", scheme, inv_dx, divisor))
+                if load(variant, f"dx{inv_dx}_dt{divisor}") is None:
+                    tasks.append(("dynamic", variant, inv_dx, divisor))
     return sorted(tasks, key=lambda t: (t[0] == "dynamic", t[2], -t[3] if t[3] else -99))
 
 
 def run(args: argparse.Namespace) -> None:
     """Estimate the cost of the missing cases, then run them (unless --dry-run)."""
-    tasks = tasks_of(args.schemes, args.grids)
-    rates = {(s, n): ms_per_step(s, n) for s in args.schemes for n in args.grids}
+    tasks = tasks_of(args.variants, args.grids)
+    rates = {(s, n): ms_per_step(s, n) for s in args.variants for n in args.grids}
     total = 0.0
-    for kind, scheme, inv_dx, divisor in tasks:
+    for kind, variant, inv_dx, divisor in tasks:
         if kind == "dynamic":
             steps = (T_SPIN + STOPS[-1]) / step_of(inv_dx, divisor)
-            total += steps * rates[scheme, inv_dx] / 3.6e6
+            total += steps * rates[variant, inv_dx] / 3.6e6
     print(f"{len(tasks)} cases missing; dynamic runs: {total:.2f} core-hours on this machine")
-    for (scheme, inv_dx), ms in rates.items():
-        print(f"  {scheme:>10} dx = 1/{inv_dx}: {ms:.3f} ms/step")
+    for (variant, inv_dx), ms in rates.items():
+        print(f"  {variant:>10} dx = 1/{inv_dx}: {ms:.3f} ms/step")
     if args.dry_run or not tasks:
         return
     with ProcessPoolExecutor(max_workers=args.workers) as pool:
         futures = [pool.submit(execute, task) for task in tasks]
         for future in as_completed(futures):
-            scheme, name = future.result()
-            print(f"stored {scheme}/{name}", flush=True)
+            variant, name = future.result()
+            print(f"stored {variant}/{name}", flush=True)
 
 
 def richardson(values: list[float], ratios: list[float]) -> tuple[float, float]:
@@ -245,14 +264,14 @@ def report(args: argparse.Namespace) -> None:
         (f"T after stop {s:g} [1e-7]", lambda c, s=s: c["memory_torque"][str(s)] * 1e7, 4)
         for s in STOPS
     ]
-    for scheme in args.schemes:
-        print(f"\n### scheme `{scheme}`\n")
+    for variant in args.variants:
+        print(f"\n### {variant}: {VARIANTS[variant]}\n")
         limits: dict[str, dict[int, float]] = {q: {} for q, _, _ in quantities}
         head = "| quantity | 1/dx | dt = limit/2 | limit/4 | limit/8 | order in dt | dt → 0 |"
         print(head + "\n|---|---|---|---|---|---|---|")
         for name, get, digits in quantities:
             for inv_dx in args.grids:
-                cases = [load(scheme, f"dx{inv_dx}_dt{k}") for k in DIVISORS]
+                cases = [load(variant, f"dx{inv_dx}_dt{k}") for k in DIVISORS]
                 if any(c is None for c in cases):
                     continue
                 values = [get(c) for c in cases]
@@ -274,13 +293,13 @@ def report(args: argparse.Namespace) -> None:
         print("\n| 1/dx | " + " | ".join(f"T(Δ={d:g}) - T(0)" for d in ASYMMETRIES), end="")
         print(" | rms lattice torque |\n|---|---|---|---|")
         for inv_dx in args.grids:
-            static = load(scheme, f"static_dx{inv_dx}")
+            static = load(variant, f"static_dx{inv_dx}")
             if static is not None:
                 cells = " | ".join(
                     f"{static['asymmetry_torque'][format(d, 'g')]:.4e}" for d in ASYMMETRIES
                 )
                 print(f"| {inv_dx} | {cells} | {static['lattice_rms']:.2e} |")
-        paper = load(scheme, f"dx{PAPER_STEP[0]}_dt{PAPER_STEP[1]}")
+        paper = load(variant, f"dx{PAPER_STEP[0]}_dt{PAPER_STEP[1]}")
         if paper is not None:
             print(f"\nomega_ss at the paper's dx = 0.025, dt = 1e-4: {paper['omega_ss']:.6g}")
 
@@ -288,7 +307,7 @@ def report(args: argparse.Namespace) -> None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("action", choices=["run", "report"])
-    parser.add_argument("--schemes", nargs="+", default=["paper", "consistent"])
+    parser.add_argument("--variants", nargs="+", choices=list(VARIANTS), default=list(VARIANTS))
     parser.add_argument("--grids", nargs="+", type=int, default=list(GRIDS), help="1/dx")
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--dry-run", action="store_true", help="only the cost estimate")
