@@ -30,7 +30,7 @@ def omega_at(integrator: str, dt: float, t_end: float) -> tuple[float, float]:
             "geometry": {"smoothing": 0.05},
             "rotor": {"omega0": 100.0},
             "protocol": {"cycles": 0},
-            "numerics": {"integrator": integrator},
+            "numerics": {"scheme": "paper", "integrator": integrator},
             "output": {"progress": False},
         }
     )

@@ -261,9 +261,10 @@ class NumericsConfig(_Section):
     scheme: Literal["paper", "consistent"] = Field(
         "paper",
         description=(
-            "paper: point values of F and G and the area-form torque with central "
-            "differences, as in the paper; consistent: F and G through an isotropic "
-            "Gaussian prefilter and the torque in contour form (docs/model.md, Schemes)"
+            "consistent: F and G through an isotropic prefilter and the torque in contour "
+            "form, almost free of the grid's lattice torque; paper: point values of F and "
+            "G and the area-form torque with central differences, as in the paper "
+            "(docs/model.md, Schemes)"
         ),
     )
     integrator: Literal["euler", "heun"] = Field(
@@ -274,7 +275,7 @@ class NumericsConfig(_Section):
         ),
     )
     filter_width: float = Field(
-        1.4,
+        0.7,
         ge=0.25,
         le=2.0,
         description=(
@@ -283,11 +284,11 @@ class NumericsConfig(_Section):
         ),
     )
     filter_kernel: Literal["gaussian", "sharpened"] = Field(
-        "sharpened",
+        "gaussian",
         description=(
-            "consistent scheme: sharpened 2 N_eps - N_(sqrt2 eps), zero second moment, "
-            "changes the model at order eps^4; gaussian N_eps, at order eps^2 (use "
-            "filter_width 0.7 with it)"
+            "consistent scheme: gaussian N_eps (changes the model at order eps^2) or "
+            "sharpened 2 N_eps - N_(sqrt2 eps) (zero second moment; use filter_width 1.4 "
+            "with it; docs/model.md, Schemes)"
         ),
     )
     table_refinement: Int = Field(

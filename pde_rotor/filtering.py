@@ -13,15 +13,15 @@ fields still turn rigidly with the plate:
 
 The filter keeps every integral of F and G (their masses) and adds 2 eps^2 to their second
 moments about any point, a change of the model of order dx^2 that vanishes with the grid:
-both schemes converge to the same continuum. The default kernel (``numerics.filter_kernel``)
+both schemes converge to the same continuum. The other kernel (``numerics.filter_kernel``)
 is sharpened, a sum of two Gaussians (:data:`KERNELS`),
 
     K_eps = 2 N_eps - N_(sqrt2 eps),   Fourier transform 1 - (k eps)^4 / 4 + O(k^6),
 
 which keeps the masses and the second moments: it changes the model at order dx^4,
 so the converged torques depend less on the grid, at the price of a wider kernel
-(default kappa = 1.4, where its transform at the Nyquist wavenumber pi/dx is 1.3e-4,
-the Gaussian's at kappa = 0.7 0.09) and a small ringing: F_eps and G_eps leave their
+(kappa = 1.4, where its transform at the Nyquist wavenumber pi/dx is 1.3e-4, the
+Gaussian's at kappa = 0.7 0.09) and a small ringing: F_eps and G_eps leave their
 range by up to 3 % of their height (c stays positive). Every table below
 is linear in the kernel and is built as the same sum of Gaussian filterings.
 

@@ -11,12 +11,12 @@ its angle (docs/model.md). Two schemes are offered (``numerics.scheme``):
 
 ``consistent``
     * F and G through an isotropic prefilter of width eps = kappa dx
-      (``numerics.filter_width`` = kappa, default 1.4), sampled at the cell centres:
+      (``numerics.filter_width`` = kappa, default 0.7), sampled at the cell centres:
       the filtered fields turn rigidly with the plate and have almost no content near
       the grid's Nyquist wavenumber, where the 5-point Laplacian is anisotropic
       (:mod:`pde_rotor.filtering`). The default kernel (``numerics.filter_kernel``) is
-      the sharpened 2 N_eps - N_(sqrt2 eps), a change of the model of order dx^4; the
-      Gaussian N_eps changes it at order dx^2.
+      the Gaussian N_eps, a change of the model of order dx^2; the sharpened
+      2 N_eps - N_(sqrt2 eps) changes it at order dx^4.
     * The torque in contour form. F depends on r only through h(r) = max_j r . e_j,
       whose level sets are regular N-gons, so integrating by parts and by level sets
       (coarea formula, |grad h| = 1)
