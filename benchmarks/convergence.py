@@ -211,7 +211,8 @@ def tasks_of(variants: list[str], grids: list[int]) -> list[tuple[str, str, int,
 def run(args: argparse.Namespace) -> None:
     """Estimate the cost of the missing cases, then run them (unless --dry-run)."""
     tasks = tasks_of(args.variants, args.grids)
-    rates = {(s, n): ms_per_step(s, n) for s in args.variants for n in args.grids}
+    timed = sorted({(variant, inv_dx) for kind, variant, inv_dx, _ in tasks if kind == "dynamic"})
+    rates = {key: ms_per_step(*key) for key in timed}
     total = 0.0
     for kind, variant, inv_dx, divisor in tasks:
         if kind == "dynamic":

@@ -87,6 +87,11 @@ def components(kernel: str, width: float) -> list[tuple[float, float]]:
     return [(weight, factor * width) for weight, factor in KERNELS[kernel]]
 
 
+def widest(kernel: str, width: float) -> float:
+    """Width of the widest Gaussian of `kernel` for eps = `width` (the filter's reach)."""
+    return max(factor for _, factor in KERNELS[kernel]) * width
+
+
 @dataclass(frozen=True)
 class FilterTables:
     """The filtered F and G of one rotor shape, as the kernels read them.
@@ -142,7 +147,7 @@ def filtered_plate(
     count = math.ceil(half / step)
     axis = step * np.arange(-count, count + 1)
     parts = components(kernel, width)
-    pad = math.ceil(GAUSS_TRUNCATE * max(w for _, w in parts) / step)
+    pad = math.ceil(GAUSS_TRUNCATE * widest(kernel, width) / step)
     padded = step * np.arange(-count - pad, count + pad + 1)
     x, y = np.meshgrid(padded, padded, indexing="ij")
     sharp = plate_indicator(x, y, shape, -math.pi / shape.n_corners)
@@ -170,7 +175,7 @@ def filtered_edge_profile(
     """
     coarse = step * EDGE_OVERSAMPLING
     parts = components(kernel, width)
-    reach = GAUSS_TRUNCATE * max(w for _, w in parts)
+    reach = GAUSS_TRUNCATE * widest(kernel, width)
     count = math.ceil((X_SATURATION * shape.smoothing + reach) / coarse)
     u = coarse * np.arange(-count, count + 1)
     f = 0.5 * (1.0 + np.tanh(u / shape.smoothing))
@@ -211,7 +216,7 @@ def filtered_pill_profile(
     g = 0.5 * (1.0 + np.tanh((rho - s) / delta))
     weights = np.full(s.size, ds)
     weights[0] = weights[-1] = 0.5 * ds
-    d = np.arange(0.0, s_end + GAUSS_TRUNCATE * max(w for _, w in parts) + step, step)
+    d = np.arange(0.0, s_end + GAUSS_TRUNCATE * widest(kernel, width) + step, step)
     profile = np.zeros(d.size)
     for weight, w in parts:
         inv_var = 1.0 / (w * w)
@@ -256,7 +261,7 @@ def make_tables(
         edge=edge,
         edge_u0=edge_u0,
         edge_step=edge_step,
-        width=max(w for _, w in components(kernel, width)),
+        width=widest(kernel, width),
     )
 
 

@@ -27,7 +27,7 @@ from pde_rotor.filtering import components, filtered_indicators
 from pde_rotor.geometry import pill_indicator, plate_indicator
 from pde_rotor.model import RotorPDE
 
-KERNELS = {"gaussian": 0.7, "sharpened": 1.4}
+KAPPA = {"gaussian": 0.7, "sharpened": 1.4}
 """Each prefilter kernel with the width kappa it is used with."""
 
 
@@ -58,7 +58,7 @@ def kernel_blur(func, x: np.ndarray, y: np.ndarray, kernel: str, eps: float) -> 
     return sum(w * gauss_hermite_blur(func, x, y, e) for w, e in components(kernel, eps))
 
 
-@pytest.mark.parametrize("kernel", KERNELS)
+@pytest.mark.parametrize("kernel", KAPPA)
 @pytest.mark.parametrize("phi", [0.0, 0.41])
 def test_tables_equal_the_kernel_convolution(phi: float, kernel: str) -> None:
     """F_eps and G_eps from the tables equal direct quadrature of F * K_eps, G * K_eps.
@@ -69,7 +69,7 @@ def test_tables_equal_the_kernel_convolution(phi: float, kernel: str) -> None:
     tanh edges are analytic only within pi delta / 2 of the real axis), hence 1e-5; a
     wrong width, frame or rotation sense misses by > 1e-3.
     """
-    kappa = KERNELS[kernel]
+    kappa = KAPPA[kernel]
     pde = RotorPDE(consistent(0.025, 0.025, filter_kernel=kernel, filter_width=kappa))
     tables = pde.scheme.tables
     assert tables is not None
@@ -122,7 +122,7 @@ def radial_moments(rho: float, delta: float) -> tuple[float, float]:
     )
 
 
-@pytest.mark.parametrize("kernel", KERNELS)
+@pytest.mark.parametrize("kernel", KAPPA)
 @pytest.mark.parametrize("phi", [0.0, 0.13, 0.5])
 def test_filter_keeps_masses_and_sets_second_moments(phi: float, kernel: str) -> None:
     """sum F_eps dA, sum G_eps dA are the fields' masses; the second moments grow by
@@ -138,10 +138,10 @@ def test_filter_keeps_masses_and_sets_second_moments(phi: float, kernel: str) ->
     trapezoidal rule is of second order across F's corner creases (3e-6 of the mass at
     its default spacing dx / 8, fourfold less per halving), hence 1e-5 for the plate.
     """
-    cfg = consistent(0.025, 0.025, filter_kernel=kernel, filter_width=KERNELS[kernel])
+    cfg = consistent(0.025, 0.025, filter_kernel=kernel, filter_width=KAPPA[kernel])
     pde = RotorPDE(cfg)
     geo, shape = cfg.geometry, pde.shape
-    eps = KERNELS[kernel] * 0.025
+    eps = KAPPA[kernel] * 0.025
     added = 2 * sum(w * e * e for w, e in components(kernel, eps))
     assert added == pytest.approx({"gaussian": 2 * eps**2, "sharpened": 0.0}[kernel], abs=1e-15)
     F, G = pde.indicators(phi)
