@@ -9,7 +9,7 @@ T(Delta) - T(0) at the same angles, for each discretisation scheme
 
 Run:  python benchmarks/lattice_torque.py [--angles 48] [--asymmetry 2e-5 1e-4]
       [--dx 0.05 0.025] [--schemes paper consistent] [--smoothing 0.025]
-      [--filter-kernel gaussian|sharpened] [--filter-width KAPPA]
+      [--plate-filter gaussian|sharpened KAPPA] [--pill-filter gaussian|sharpened KAPPA]
 
 delta is max(dx, 0.025) (the paper's delta = dx down to its own grid) unless --smoothing
 fixes it (the convergence check of the asymmetry torque at delta = 0.025).
@@ -41,17 +41,20 @@ def main() -> None:
     parser.add_argument("--dx", type=float, nargs="+", default=[0.05, 0.025])
     parser.add_argument("--smoothing", type=float, default=None, help="fixed delta")
     parser.add_argument("--schemes", nargs="+", default=["paper", "consistent"])
-    parser.add_argument("--filter-kernel", default=None, help="numerics.filter_kernel")
-    parser.add_argument("--filter-width", type=float, default=None, help="numerics.filter_width")
-    args = parser.parse_args()
-    filtering = {
-        key: value
-        for key, value in (
-            ("filter_kernel", args.filter_kernel),
-            ("filter_width", args.filter_width),
+    for part in ("plate", "pill"):
+        parser.add_argument(
+            f"--{part}-filter",
+            nargs=2,
+            metavar=("KERNEL", "KAPPA"),
+            default=None,
+            help=f"numerics.{part}_filter_kernel and _width (default: the schema's)",
         )
-        if value is not None
-    }
+    args = parser.parse_args()
+    filtering = {}
+    for part, choice in (("plate", args.plate_filter), ("pill", args.pill_filter)):
+        if choice is not None:
+            filtering[f"{part}_filter_kernel"] = choice[0]
+            filtering[f"{part}_filter_width"] = float(choice[1])
     phis = np.arange(args.angles) * (np.pi / 6) / args.angles
     header = " ".join(f"{'T(D=' + format(a, 'g') + ')-T(0)':>16}" for a in args.asymmetry)
     print(f"{'scheme':>10} {'dx':>7} {'delta':>6} {'rms T(0)':>10} {'max |T(0)|':>11} {header}")

@@ -259,7 +259,7 @@ class NumericsConfig(_Section):
     """How F, G and the torque are discretised on the grid (docs/model.md, "Schemes")."""
 
     scheme: Literal["paper", "consistent"] = Field(
-        "paper",
+        "consistent",
         description=(
             "consistent: F and G through an isotropic prefilter and the torque in contour "
             "form, almost free of the grid's lattice torque; paper: point values of F and "
@@ -274,22 +274,33 @@ class NumericsConfig(_Section):
             "second-order method at twice the cost per step (CPU backend only)"
         ),
     )
-    filter_width: float = Field(
+    plate_filter_kernel: Literal["gaussian", "sharpened"] = Field(
+        "gaussian",
+        description=(
+            "consistent scheme: prefilter of the plate's F, the Gaussian N_eps (changes "
+            "the model at order eps^2) or sharpened 2 N_eps - N_(sqrt2 eps) (zero second "
+            "moment; docs/model.md, Schemes)"
+        ),
+    )
+    plate_filter_width: float = Field(
         0.7,
         ge=0.25,
         le=2.0,
+        description="consistent scheme: width eps of the plate's prefilter, in units of dx",
+    )
+    pill_filter_kernel: Literal["gaussian", "sharpened"] = Field(
+        "sharpened",
         description=(
-            "consistent scheme: width eps of the isotropic prefilter of F and G, in units "
-            "of dx (docs/model.md, Schemes)"
+            "consistent scheme: prefilter of the pills' G (gaussian or sharpened, as "
+            "plate_filter_kernel); the sharpened kernel keeps the pills' second moment, "
+            "which the asymmetry torque feels (docs/model.md, Schemes)"
         ),
     )
-    filter_kernel: Literal["gaussian", "sharpened"] = Field(
-        "gaussian",
-        description=(
-            "consistent scheme: gaussian N_eps (changes the model at order eps^2) or "
-            "sharpened 2 N_eps - N_(sqrt2 eps) (zero second moment; use filter_width 1.4 "
-            "with it; docs/model.md, Schemes)"
-        ),
+    pill_filter_width: float = Field(
+        0.95,
+        ge=0.25,
+        le=2.0,
+        description="consistent scheme: width eps of the pills' prefilter, in units of dx",
     )
     table_refinement: Int = Field(
         8, ge=4, le=32, description="consistent scheme: nodes per dx of the plate's F table"

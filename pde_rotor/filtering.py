@@ -6,24 +6,25 @@ treats what remains near it anisotropically: at the paper's dx = delta the pills
 plate's tanh edges are one cell wide, and the steady c of a stopped plate inherits a
 pattern of the lattice that exerts a torque (docs/model.md, "Schemes"). The remedy of
 sampling theory is to low-pass filter before sampling; a Gaussian filter of width
-eps = kappa dx (``numerics.filter_width`` = kappa) is the isotropic choice, so the filtered
-fields still turn rigidly with the plate:
+eps = kappa dx is the isotropic choice, so the filtered fields still turn rigidly with
+the plate:
 
     F_eps = F * N_eps,   G_eps = G * N_eps,   N_eps(r) = exp(-|r|^2 / (2 eps^2)) / (2 pi eps^2).
 
 The filter keeps every integral of F and G (their masses) and adds 2 eps^2 to their second
 moments about any point, a change of the model of order dx^2 that vanishes with the grid:
-both schemes converge to the same continuum. The other kernel (``numerics.filter_kernel``)
-is sharpened, a sum of two Gaussians (:data:`KERNELS`),
+both schemes converge to the same continuum. The other kernel is sharpened, a sum of two
+Gaussians (:data:`KERNELS`),
 
     K_eps = 2 N_eps - N_(sqrt2 eps),   Fourier transform 1 - (k eps)^4 / 4 + O(k^6),
 
-which keeps the masses and the second moments: it changes the model at order dx^4,
-so the converged torques depend less on the grid, at the price of a wider kernel
-(kappa = 1.4, where its transform at the Nyquist wavenumber pi/dx is 1.3e-4, the
-Gaussian's at kappa = 0.7 0.09) and a small ringing: F_eps and G_eps leave their
-range by up to 3 % of their height (c stays positive). Every table below
-is linear in the kernel and is built as the same sum of Gaussian filterings.
+which keeps the masses and the second moments (it changes the model at order dx^4) at
+the price of a small ringing: the filtered field leaves its range by a few % of its
+height. F and G each have their own kernel and width (``numerics.plate_filter_*``,
+``numerics.pill_filter_*``): by default the Gaussian at kappa = 0.7 for F and the
+sharpened kernel at kappa = 0.95 for G, whose second moment the asymmetry torque feels
+(docs/model.md, "Which kernel", has the measurements behind the choice). Every table
+below is linear in its kernel and is built as the same sum of Gaussian filterings.
 
 * The plate: F = f(a - h(r)), f(u) = 1/2 (1 + tanh(u / delta)), a = R cos(pi/N). More
   than CREASE_WIDTHS eps from the corner bisectors (the crease of h) the filter sees a
@@ -76,10 +77,11 @@ KERNELS: dict[str, tuple[tuple[float, float], ...]] = {
     "gaussian": ((1.0, 1.0),),
     "sharpened": ((2.0, 1.0), (-1.0, math.sqrt(2.0))),
 }
-"""Prefilter kernels (``numerics.filter_kernel``) as sums of Gaussians: (weight, width
-in units of eps). ``sharpened`` = 2 N_eps - N_(sqrt2 eps) keeps the mass and has a zero
-second moment: its Fourier transform is 1 - (k eps)^4 / 4 + ..., against the Gaussian's
-1 - (k eps)^2 / 2 + ..., so it changes the model at fourth order in dx."""
+"""Prefilter kernels (``numerics.plate_filter_kernel``, ``pill_filter_kernel``) as sums
+of Gaussians: (weight, width in units of eps). ``sharpened`` = 2 N_eps - N_(sqrt2 eps)
+keeps the mass and has a zero second moment: its Fourier transform is
+1 - (k eps)^4 / 4 + ..., against the Gaussian's 1 - (k eps)^2 / 2 + ..., so it changes
+the model at fourth order in dx."""
 
 
 def components(kernel: str, width: float) -> list[tuple[float, float]]:
@@ -108,7 +110,8 @@ class FilterTables:
         edge: f_eps(edge_u0 + k edge_step); 0 below its start, 1 beyond its end.
         edge_u0: first node of the edge profile.
         edge_step: spacing of the edge profile.
-        width: the widest Gaussian of the kernel (sets the reach of the filter).
+        plate_reach: the widest Gaussian of the plate's kernel (how far from the
+            corner bisectors its crease is felt).
     """
 
     plate_values: np.ndarray
@@ -121,7 +124,7 @@ class FilterTables:
     edge: np.ndarray
     edge_u0: float
     edge_step: float
-    width: float
+    plate_reach: float
 
 
 def filtered_plate(
@@ -229,9 +232,13 @@ def filtered_pill_profile(
     return np.ascontiguousarray(profile[: keep[-1] + 2])
 
 
+Filter = tuple[str, float]
+"""A prefilter: (kernel name in :data:`KERNELS`, width kappa in units of dx)."""
+
+
 @lru_cache(maxsize=8)
 def make_tables(
-    shape: RotorShape, dx: float, kappa: float, refinement: int, kernel: str = "gaussian"
+    shape: RotorShape, dx: float, refinement: int, plate: Filter, pill: Filter
 ) -> FilterTables:
     """The filter tables of one rotor shape on a grid of spacing dx (cached: the members
     of a sweep share them).
@@ -239,29 +246,30 @@ def make_tables(
     Args:
         shape: the rotor.
         dx: grid spacing.
-        kappa: filter width in units of dx (eps = kappa dx).
         refinement: plate table nodes per dx.
-        kernel: name in :data:`KERNELS` (``numerics.filter_kernel``).
+        plate: the prefilter of F (``numerics.plate_filter_kernel``, ``_width``).
+        pill: the prefilter of G (``numerics.pill_filter_kernel``, ``_width``).
     """
-    width = kappa * dx
+    plate_kernel, plate_width = plate[0], plate[1] * dx
+    pill_kernel, pill_width = pill[0], pill[1] * dx
     step = dx / refinement
-    values, x0 = filtered_plate(shape, width, step, kernel)
+    values, x0 = filtered_plate(shape, plate_width, step, plate_kernel)
     coef = spline_filter(values, order=3, mode="grid-constant")
     pill_step = dx / PROFILE_REFINEMENT
     edge_step = dx / EDGE_REFINEMENT
-    edge, edge_u0 = filtered_edge_profile(shape, width, edge_step, kernel)
+    edge, edge_u0 = filtered_edge_profile(shape, plate_width, edge_step, plate_kernel)
     return FilterTables(
         plate_values=values,
         plate=np.ascontiguousarray(coef.reshape(-1)),
         plate_n=values.shape[0],
         plate_x0=x0,
         plate_step=step,
-        pill=filtered_pill_profile(shape, width, pill_step, kernel),
+        pill=filtered_pill_profile(shape, pill_width, pill_step, pill_kernel),
         pill_step=pill_step,
         edge=edge,
         edge_u0=edge_u0,
         edge_step=edge_step,
-        width=widest(kernel, width),
+        plate_reach=widest(plate_kernel, plate_width),
     )
 
 
@@ -281,7 +289,8 @@ def filtered_indicators(
     h = np.max(proj, axis=0)
     q = y * np.cos(nearest) - x * np.sin(nearest)
     half = math.pi / shape.n_corners
-    near_crease = (h * math.tan(half) - np.abs(q)) * math.cos(half) <= CREASE_WIDTHS * tables.width
+    crease_distance = (h * math.tan(half) - np.abs(q)) * math.cos(half)
+    near_crease = crease_distance <= CREASE_WIDTHS * tables.plate_reach
     u = tables.edge_u0 + tables.edge_step * np.arange(tables.edge.size)
     F = np.interp(shape.apothem - h, u, tables.edge, left=0.0, right=1.0)
     inv = 1.0 / tables.plate_step

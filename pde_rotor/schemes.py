@@ -4,19 +4,20 @@ The continuum model is invariant under rotations of the plate; a Cartesian grid 
 not, and a stopped symmetric plate feels a spurious *lattice torque* of period pi/6 in
 its angle (docs/model.md). Two schemes are offered (``numerics.scheme``):
 
-``paper`` (default)
+``paper``
     F and G of the equations after Eq. (rj) sampled at the cell centres; the torque
     of Eq. (torque) in its area form, -k int F r x grad c dA, with central differences
     for grad c. The paper's "explicit method for the spatial derivative".
 
-``consistent``
-    * F and G through an isotropic prefilter of width eps = kappa dx
-      (``numerics.filter_width`` = kappa, default 0.7), sampled at the cell centres:
-      the filtered fields turn rigidly with the plate and have almost no content near
-      the grid's Nyquist wavenumber, where the 5-point Laplacian is anisotropic
-      (:mod:`pde_rotor.filtering`). The default kernel (``numerics.filter_kernel``) is
-      the Gaussian N_eps, a change of the model of order dx^2; the sharpened
-      2 N_eps - N_(sqrt2 eps) changes it at order dx^4.
+``consistent`` (default)
+    * F and G through isotropic prefilters of width eps = kappa dx, sampled at the cell
+      centres: the filtered fields turn rigidly with the plate and have almost no
+      content near the grid's Nyquist wavenumber, where the 5-point Laplacian is
+      anisotropic (:mod:`pde_rotor.filtering`). By default F goes through the Gaussian
+      N_eps (``numerics.plate_filter_*``, kappa = 0.7), a change of the model of order
+      dx^2, and G through the sharpened 2 N_eps - N_(sqrt2 eps)
+      (``numerics.pill_filter_*``, kappa = 0.95), which keeps the pills' second moment,
+      on which the asymmetry torque depends (docs/model.md, "Which kernel").
     * The torque in contour form. F depends on r only through h(r) = max_j r . e_j,
       whose level sets are regular N-gons, so integrating by parts and by level sets
       (coarea formula, |grad h| = 1)
@@ -150,9 +151,9 @@ class Scheme:
             tables = make_tables(
                 replace(RotorShape.from_config(geo), asymmetry=0.0),
                 config.grid.dx,
-                num.filter_width,
                 num.table_refinement,
-                num.filter_kernel,
+                plate=(num.plate_filter_kernel, num.plate_filter_width),
+                pill=(num.pill_filter_kernel, num.pill_filter_width),
             )
         else:
             quad_s = np.zeros((2, 1))
@@ -179,7 +180,8 @@ class Scheme:
             out[M_TABLE_X0] = self.tables.plate_x0
             out[M_TABLE_INV_STEP] = 1.0 / self.tables.plate_step
             out[M_PROFILE_INV_STEP] = 1.0 / self.tables.pill_step
-            out[M_CREASE] = CREASE_WIDTHS * self.tables.width / math.cos(math.atan(self.tan_half))
+            reach = CREASE_WIDTHS * self.tables.plate_reach
+            out[M_CREASE] = reach / math.cos(math.atan(self.tan_half))
             out[M_EDGE_U0] = self.tables.edge_u0
             out[M_EDGE_INV_STEP] = 1.0 / self.tables.edge_step
         return out

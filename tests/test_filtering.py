@@ -2,9 +2,9 @@
 
 Checked against analysis, never against earlier runs:
 
-* the tables equal the convolution with each kernel (Gaussian, sharpened) computed
-  independently, by tensor Gauss-Hermite quadrature of the analytic F and G at
-  scattered points;
+* the tables equal the convolution with each kernel (Gaussian, sharpened; the
+  plate's and the pills' chosen independently) computed independently, by tensor
+  Gauss-Hermite quadrature of the analytic F and G at scattered points;
 * the filter keeps the masses of F and G (their layer-cake values) and adds exactly
   2 eps^2 (Gaussian) or 0 (sharpened) to their second moments, at any angle: the
   filtered fields on the grid are the model's fields blurred isotropically, whatever
@@ -22,13 +22,32 @@ import numpy as np
 import pytest
 
 from pde_rotor.analysis import stopped_torque
-from pde_rotor.config import RotorConfig
+from pde_rotor.config import NumericsConfig, RotorConfig
 from pde_rotor.filtering import components, filtered_indicators
 from pde_rotor.geometry import pill_indicator, plate_indicator
 from pde_rotor.model import RotorPDE
 
-KAPPA = {"gaussian": 0.7, "sharpened": 1.4}
-"""Each prefilter kernel with the width kappa it is used with."""
+_DEFAULT = NumericsConfig()
+FILTERS: dict[str, tuple[tuple[str, float], tuple[str, float]]] = {
+    "default": (
+        (_DEFAULT.plate_filter_kernel, _DEFAULT.plate_filter_width),
+        (_DEFAULT.pill_filter_kernel, _DEFAULT.pill_filter_width),
+    ),
+    "gaussian": (("gaussian", 0.7), ("gaussian", 0.7)),
+    "sharpened": (("sharpened", 1.4), ("sharpened", 1.4)),
+}
+"""Prefilters (plate, pill) as (kernel, kappa): the schema's default and one kernel for both."""
+
+
+def filter_numerics(name: str) -> dict[str, float | str]:
+    """The numerics keys of the prefilters FILTERS[name]."""
+    plate, pill = FILTERS[name]
+    return {
+        "plate_filter_kernel": plate[0],
+        "plate_filter_width": plate[1],
+        "pill_filter_kernel": pill[0],
+        "pill_filter_width": pill[1],
+    }
 
 
 def consistent(dx: float, smoothing: float, **numerics: float | str) -> RotorConfig:
@@ -58,9 +77,9 @@ def kernel_blur(func, x: np.ndarray, y: np.ndarray, kernel: str, eps: float) -> 
     return sum(w * gauss_hermite_blur(func, x, y, e) for w, e in components(kernel, eps))
 
 
-@pytest.mark.parametrize("kernel", KAPPA)
+@pytest.mark.parametrize("filters", FILTERS)
 @pytest.mark.parametrize("phi", [0.0, 0.41])
-def test_tables_equal_the_kernel_convolution(phi: float, kernel: str) -> None:
+def test_tables_equal_the_kernel_convolution(phi: float, filters: str) -> None:
     """F_eps and G_eps from the tables equal direct quadrature of F * K_eps, G * K_eps.
 
     The points cover the plate's edges and the pills, where the profiles are steepest;
@@ -69,22 +88,25 @@ def test_tables_equal_the_kernel_convolution(phi: float, kernel: str) -> None:
     tanh edges are analytic only within pi delta / 2 of the real axis), hence 1e-5; a
     wrong width, frame or rotation sense misses by > 1e-3.
     """
-    kappa = KAPPA[kernel]
-    pde = RotorPDE(consistent(0.025, 0.025, filter_kernel=kernel, filter_width=kappa))
+    (plate_kernel, plate_kappa), (pill_kernel, pill_kappa) = FILTERS[filters]
+    pde = RotorPDE(consistent(0.025, 0.025, **filter_numerics(filters)))
     tables = pde.scheme.tables
     assert tables is not None
     shape = pde.shape
-    eps = kappa * 0.025
     rng = np.random.default_rng(5)
     radius = rng.uniform(0.25, 0.55, 300)
     angle = rng.uniform(0, 2 * np.pi, 300)
     x, y = radius * np.cos(angle), radius * np.sin(angle)
     corners = shape.radius * np.exp(1j * (phi + np.pi / 3 * np.arange(6)))
-    reach = 0.1 + 2 * tables.width  # the kernel's widest Gaussian must miss the crease
+    reach = 0.1 + 2 * tables.plate_reach  # the plate kernel's widest Gaussian misses the crease
     far = np.abs((x + 1j * y)[:, None] - corners[None]).min(axis=1) > reach
     F, G = filtered_indicators(tables, shape, x, y, phi)
-    F_ref = kernel_blur(lambda a, b: plate_indicator(a, b, shape, phi), x, y, kernel, eps)
-    G_ref = kernel_blur(lambda a, b: pill_indicator(a, b, shape, phi), x, y, kernel, eps)
+    F_ref = kernel_blur(
+        lambda a, b: plate_indicator(a, b, shape, phi), x, y, plate_kernel, plate_kappa * 0.025
+    )
+    G_ref = kernel_blur(
+        lambda a, b: pill_indicator(a, b, shape, phi), x, y, pill_kernel, pill_kappa * 0.025
+    )
     assert far.sum() > 100
     assert np.abs(F - F_ref)[far].max() < 1e-5
     assert np.abs(G - G_ref).max() < 1e-5
@@ -122,9 +144,9 @@ def radial_moments(rho: float, delta: float) -> tuple[float, float]:
     )
 
 
-@pytest.mark.parametrize("kernel", KAPPA)
+@pytest.mark.parametrize("filters", FILTERS)
 @pytest.mark.parametrize("phi", [0.0, 0.13, 0.5])
-def test_filter_keeps_masses_and_sets_second_moments(phi: float, kernel: str) -> None:
+def test_filter_keeps_masses_and_sets_second_moments(phi: float, filters: str) -> None:
     """sum F_eps dA, sum G_eps dA are the fields' masses; the second moments grow by
     2 sum_i w_i eps_i^2 over the kernel's Gaussians: 2 eps^2 (Gaussian), 0 (sharpened).
 
@@ -138,12 +160,15 @@ def test_filter_keeps_masses_and_sets_second_moments(phi: float, kernel: str) ->
     trapezoidal rule is of second order across F's corner creases (3e-6 of the mass at
     its default spacing dx / 8, fourfold less per halving), hence 1e-5 for the plate.
     """
-    cfg = consistent(0.025, 0.025, filter_kernel=kernel, filter_width=KAPPA[kernel])
+    cfg = consistent(0.025, 0.025, **filter_numerics(filters))
     pde = RotorPDE(cfg)
     geo, shape = cfg.geometry, pde.shape
-    eps = KAPPA[kernel] * 0.025
-    added = 2 * sum(w * e * e for w, e in components(kernel, eps))
-    assert added == pytest.approx({"gaussian": 2 * eps**2, "sharpened": 0.0}[kernel], abs=1e-15)
+    added = {}
+    for part, (kernel, kappa) in zip(("plate", "pill"), FILTERS[filters], strict=True):
+        eps = kappa * 0.025
+        added[part] = 2 * sum(w * e * e for w, e in components(kernel, eps))
+        want_added = {"gaussian": 2 * eps**2, "sharpened": 0.0}[kernel]
+        assert added[part] == pytest.approx(want_added, abs=1e-15)
     F, G = pde.indicators(phi)
     x, y = pde.cell_coordinates()
     r2 = x * x + y * y
@@ -154,14 +179,14 @@ def test_filter_keeps_masses_and_sets_second_moments(phi: float, kernel: str) ->
     plate_mass = n * t * (a * a + var)
     plate_j = n * (t + t**3 / 3) / 2 * (a**4 + 6 * a * a * var + mu4)
     assert F.sum() * area == pytest.approx(plate_mass, rel=1e-5)
-    assert (F * r2).sum() * area == pytest.approx(plate_j + added * plate_mass, rel=1e-5)
+    assert (F * r2).sum() * area == pytest.approx(plate_j + added["plate"] * plate_mass, rel=1e-5)
     pill_mass, pill_j = radial_moments(geo.pill_radius, geo.smoothing)
     r_c = shape.pill_distance
     assert G.sum() * area == pytest.approx(n * pill_mass, rel=1e-6)
-    want = n * (pill_j + r_c**2 * pill_mass + added * pill_mass)
+    want = n * (pill_j + r_c**2 * pill_mass + added["pill"] * pill_mass)
     assert (G * r2).sum() * area == pytest.approx(want, rel=1e-6)
-    # a second moment of 2 eps^2 is resolved: had the kernel one, the check would see it
-    assert 2 * eps**2 * plate_mass > 1e-4 * plate_j
+    # a second moment of 2 eps^2 is resolved: had a kernel one, the check would see it
+    assert 2 * (0.7 * 0.025) ** 2 * plate_mass > 1e-4 * plate_j
 
 
 @pytest.mark.parametrize(("dx", "bound"), [(0.05, 1e-6), (0.025, 1e-7)])

@@ -193,7 +193,7 @@ def test_stopped_torque_has_mirror_hexagon_and_lattice_symmetry(
 
 def test_stopped_concentration_is_scheme_aware(coarse_config: Callable[..., RotorConfig]) -> None:
     """The steady state of the stopped plate uses the scheme's filtered G."""
-    paper = RotorPDE(coarse_config())
+    paper = RotorPDE(coarse_config({"numerics": {"scheme": "paper"}}))
     consistent = RotorPDE(coarse_config({"numerics": {"scheme": "consistent"}}))
     c_paper = stopped_concentration(paper, 0.2)
     c_cons = stopped_concentration(consistent, 0.2)

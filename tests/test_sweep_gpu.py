@@ -42,8 +42,10 @@ TINY_GPU: dict[str, Any] = {
     "rotor": {"omega0": 20.0},
     "noise": {"sigma": 0.0},
     "protocol": {"t_ini": 0.05, "t_stop": 0.02, "t_release": 0.03, "cycles": 2},
+    "numerics": {"scheme": "paper"},
 }
-"""The smallest grid of test_gpu.py and a two-stop protocol of 150 steps."""
+"""The smallest grid of test_gpu.py and a two-stop protocol of 150 steps, in the
+``paper`` scheme like test_gpu.py's machinery checks (the simulator's speed)."""
 
 
 def protocol_sweep(backend: str = "cpu", **changes: Any) -> Sweep:
