@@ -221,7 +221,7 @@ def tasks_of(variants: list[str], grids: list[int]) -> list[tuple[str, str, int,
             for divisor in divisors:
                 if load(variant, f"dx{inv_dx}_dt{divisor}") is None:
                     tasks.append(("dynamic", variant, inv_dx, divisor))
-    return sorted(tasks, key=lambda t: (t[0] == "dynamic", t[2], -t[3] if t[3] else -99))
+    return sorted(tasks, key=lambda t: (t[0] == "dynamic", t[2], t[3]))
 
 
 def run(args: argparse.Namespace) -> None:
