@@ -7,7 +7,7 @@ times the movie frames of configs/quickstart.yaml. pde_rotor/cost.py holds the c
 fitted to the README's 0.29 ms/step on the paper's grid and the coarse/paper ratio this
 script measures (0.44-0.50); a machine that is faster or slower scales both.
 
-Run:  python benchmarks/bench_cost.py [--steps 3000]
+Run:  python benchmarks/bench_cost.py [--steps 3000] [--scheme consistent|paper]
 """
 
 from __future__ import annotations
@@ -26,10 +26,15 @@ GRIDS = {"paper": (0.025, 1e-4), "coarse": (0.05, 4e-4), "third": (1 / 30, 2e-4)
 QUICKSTART = Path(__file__).resolve().parents[1] / "configs" / "quickstart.yaml"
 
 
-def ms_per_step(dx: float, dt: float, n_steps: int) -> tuple[float, tuple[int, int]]:
+def ms_per_step(dx: float, dt: float, n_steps: int, scheme: str) -> tuple[float, tuple[int, int]]:
     """Milliseconds per step of a rotating plate on the grid, and its cell counts."""
     config = validate_config(
-        {"grid": {"dx": dx, "dt": dt}, "geometry": {"smoothing": dx}, "protocol": {"cycles": 0}}
+        {
+            "grid": {"dx": dx, "dt": dt},
+            "geometry": {"smoothing": dx},
+            "protocol": {"cycles": 0},
+            "numerics": {"scheme": scheme},
+        }
     )
     sim = Simulation(config)
     sim.run(50 * dt)  # compile, or load the cached kernel
@@ -41,15 +46,19 @@ def ms_per_step(dx: float, dt: float, n_steps: int) -> tuple[float, tuple[int, i
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--steps", type=int, default=3000)
+    parser.add_argument("--scheme", choices=["consistent", "paper"], default="consistent")
     args = parser.parse_args()
-    measured = {name: ms_per_step(dx, dt, args.steps) for name, (dx, dt) in GRIDS.items()}
+    measured = {
+        name: ms_per_step(dx, dt, args.steps, args.scheme) for name, (dx, dt) in GRIDS.items()
+    }
     for name, (ms, (interior, support)) in measured.items():
         print(f"{name:<7} {interior:6d} interior, {support:5d} support cells: {ms:.3f} ms/step")
     rows = [measured["paper"], measured["coarse"]]
     matrix = np.array([cells for _, cells in rows], dtype=float)
     per_cell, per_support = np.linalg.solve(matrix, [1e-3 * ms for ms, _ in rows])
     print(f"fit: {per_cell:.3g} s per interior cell-step, {per_support:.3g} s per support one")
-    print(f"pde_rotor.cost: {SECONDS_PER_CELL_STEP:.3g} and {SECONDS_PER_SUPPORT_CELL_STEP:.3g}")
+    per_support_now = SECONDS_PER_SUPPORT_CELL_STEP[args.scheme]
+    print(f"pde_rotor.cost ({args.scheme}): {SECONDS_PER_CELL_STEP:.3g} and {per_support_now:.3g}")
     ms, (interior, support) = measured["third"]
     predicted = 1e3 * (interior * per_cell + support * per_support)
     print(f"third grid: predicted {predicted:.3f} ms/step, measured {ms:.3f}")

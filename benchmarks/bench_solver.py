@@ -10,10 +10,14 @@ inside the disk of radius 3):
 their ratio, the largest relative difference of the two states after the same steps;
 (c) ms/step of the fused kernel with the ``consistent`` scheme (numerics.scheme, the
     default) and its ratio to (a), timed in the same run;
+(d) for each scheme, ms per call of the parts of a step (the compiled functions of
+    pde_rotor.solver): F and G at a new angle, the rotor integrals of Eq. (eq_motion)
+    (with, for ``consistent``, the spline window of c for the contour torque) and the
+    Euler update of Eqs. (eqc), (eqv): where a step's time goes;
 and the steady angular velocity omega(t = 8) without noise for each scheme (paper: ~176;
 an independent implementation: 176.06) with its wall time.
 
-Run:  python benchmarks/bench_solver.py [--steps 4000] [--skip-steady]
+Run:  python benchmarks/bench_solver.py [--steps 4000] [--skip-steady] [--part-calls 300]
 """
 
 from __future__ import annotations
@@ -24,6 +28,7 @@ import time
 import numpy as np
 
 from pde_rotor import RotorConfig, Simulation
+from pde_rotor.solver import euler_fields, rotor_integrals, spline_window, update_indicators
 
 
 def time_fused(sim: Simulation, n_steps: int) -> float:
@@ -56,12 +61,66 @@ def time_operator(sim: Simulation, n_steps: int) -> tuple[float, float]:
     return seconds, deviation
 
 
+def time_parts(sim: Simulation, calls: int) -> dict[str, float]:
+    """ms per call of each compiled part of a step, on the state of `sim`."""
+    pde, dom, scheme = sim.pde, sim.pde.domain, sim.pde.scheme
+    F, G = pde.F.reshape(-1), pde.G.reshape(-1)
+    tab, shape, num = np.empty((4, pde.shape.n_corners)), pde.shape.as_array(), scheme.as_array()
+    tables = scheme.table_arrays()
+    cur = sim.state.data.reshape(-1).copy()
+    nxt = cur.copy()
+    n = dom.coords.size
+    coef = np.zeros(n * n)
+    par = pde.kernel_parameters(sim.config.grid.dt)
+    lo, hi = scheme.window
+    angles = pde.rotor.phi + 1e-3 * np.arange(calls + 1)
+    sup = (dom.coords, dom.support_lo, dom.support_hi)
+
+    def timed(func) -> float:
+        func(0)
+        start = time.perf_counter()
+        for k in range(1, calls + 1):
+            func(k)
+        return (time.perf_counter() - start) / calls * 1e3
+
+    parts = {
+        "F and G": timed(
+            lambda k: update_indicators(F, G, *sup, shape, tab, num, *tables, angles[k])
+        ),
+        "rotor integrals": timed(
+            lambda k: rotor_integrals(
+                cur, F, *sup, shape, tab, num, scheme.quad_s, scheme.quad_t, True, coef
+            )
+        ),
+        "Euler update": timed(
+            lambda k: euler_fields(
+                cur,
+                nxt,
+                F,
+                G,
+                dom.coords,
+                dom.interior_lo,
+                dom.interior_hi,
+                dom.support_lo,
+                dom.support_hi,
+                par,
+                pde.rotor.omega,
+                True,
+            )
+        ),
+    }
+    if scheme.contour:
+        parts["of which spline window"] = timed(lambda k: spline_window(cur, coef, n, lo, hi))
+    return parts
+
+
 def main() -> None:
     """Run the benchmark and print its figures."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--steps", type=int, default=20000, help="steps timed for (a)")
     parser.add_argument("--operator-steps", type=int, default=200, help="steps timed for (b)")
     parser.add_argument("--skip-steady", action="store_true", help="skip the t = 8 run")
+    parser.add_argument("--part-calls", type=int, default=300, help="calls timed per part (d)")
     args = parser.parse_args()
 
     config = RotorConfig.model_validate(
@@ -82,6 +141,11 @@ def main() -> None:
     fused_consistent = time_fused(Simulation(consistent), args.steps)
     print(f"(c) fused, consistent   : {fused_consistent * 1e3:8.4f} ms/step")
     print(f"ratio (c)/(a)           : {fused_consistent / fused:8.2f}")
+    for cfg in (config, consistent):
+        part_sim = Simulation(cfg)
+        part_sim.run(50 * cfg.grid.dt)
+        for name, ms in time_parts(part_sim, args.part_calls).items():
+            print(f"(d) {cfg.numerics.scheme:>10}, {name:<22}: {ms:8.4f} ms/call")
     if not args.skip_steady:
         for cfg in (config, consistent):
             sim = Simulation(cfg)

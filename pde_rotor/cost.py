@@ -7,7 +7,8 @@ disk of radius :attr:`pde_rotor.geometry.RotorShape.support_radius`, which grows
 edge width delta). The two constants below are fitted to two grids:
 
 * the paper's grid, dx = delta = 0.025 (45 244 interior, 5 824 support cells): 0.29 ms
-  per step (README, ``benchmarks/bench_solver.py``);
+  per step with the ``paper`` scheme (README, ``benchmarks/bench_solver.py``), 1.4 times
+  that with the ``consistent`` one (the same benchmark's ratio);
 * the coarse grid, dx = delta = 0.05 (11 304 interior, 3 436 support cells): 0.14 ms
   per step, the 0.44-0.50 of the paper grid's time that ``benchmarks/bench_cost.py``
   measures on the same machine.
@@ -34,8 +35,11 @@ if TYPE_CHECKING:
 
 SECONDS_PER_CELL_STEP = 2.0e-9
 """Wall time of one step per interior cell (field update of Eqs. (eqc), (eqv))."""
-SECONDS_PER_SUPPORT_CELL_STEP = 3.4e-8
-"""Wall time of one step per support cell (F, G and the rotor integrals)."""
+SECONDS_PER_SUPPORT_CELL_STEP: dict[str, float] = {"paper": 3.4e-8, "consistent": 5.4e-8}
+"""Wall time of one step per support cell (F, G and the rotor integrals), per
+``numerics.scheme``: the consistent scheme's filtered F and G and contour torque cost
+1.4 times the paper scheme's step on the paper's grid (``benchmarks/bench_solver.py``,
+ratio (c)/(a)), all of it on the support cells."""
 SECONDS_PER_MOVIE_FRAME = 0.07
 """Wall time to render and encode one movie frame at ``output.movie_dpi = 100``
 (configs/quickstart.yaml: 215 frames add 15 s)."""
@@ -59,7 +63,8 @@ def cell_counts(config: RotorConfig) -> tuple[int, int]:
 def step_seconds(config: RotorConfig) -> float:
     """Estimated wall time of one solver step on the config's grid."""
     interior, support = cell_counts(config)
-    return interior * SECONDS_PER_CELL_STEP + support * SECONDS_PER_SUPPORT_CELL_STEP
+    per_support = SECONDS_PER_SUPPORT_CELL_STEP[config.numerics.scheme]
+    return interior * SECONDS_PER_CELL_STEP + support * per_support
 
 
 def steps(duration: float, config: RotorConfig) -> int:
