@@ -43,6 +43,7 @@ import numpy as np
 
 from pde_rotor import RotorConfig, Simulation
 from pde_rotor.analysis import stopped_torque
+from pde_rotor.config import NumericsConfig
 from pde_rotor.output import write_text_atomic
 
 STORE = Path(__file__).resolve().parents[1] / "data" / "convergence"
@@ -102,21 +103,15 @@ def step_of(inv_dx: int, divisor: int) -> float:
     return coarsest * 2 / divisor
 
 
-PAPER_KEYS = ("scheme", "integrator")
-"""The numerics keys that act in the paper scheme (the others tune the consistent one)."""
-
-
 def numerics_of(variant: str, inv_dx: int) -> dict[str, Any]:
     """The numerics a case runs with (a stored case with other numerics is stale)."""
     config = RotorConfig.model_validate(base_config(variant, inv_dx, step_of(inv_dx, 8)))
-    return relevant(config.numerics.model_dump(mode="json"))
+    return config.numerics.acting()
 
 
 def relevant(numerics: dict[str, Any]) -> dict[str, Any]:
-    """The numerics settings that change a result of this scheme."""
-    if numerics["scheme"] == "paper":
-        return {key: numerics[key] for key in PAPER_KEYS}
-    return numerics
+    """The numerics settings of a stored case that change a result of its scheme."""
+    return NumericsConfig.model_validate(numerics).acting()
 
 
 def case_path(variant: str, name: str) -> Path:

@@ -315,6 +315,15 @@ class NumericsConfig(_Section):
         description="consistent scheme: Gauss nodes across the smoothed plate edge",
     )
 
+    def acting(self) -> dict[str, Any]:
+        """The settings that change a result of this scheme (JSON values): every one for
+        ``consistent``, only ``scheme`` and ``integrator`` for ``paper``, whose point
+        values ignore the prefilter and contour settings."""
+        data = self.model_dump(mode="json")
+        if self.scheme == "paper":
+            return {key: data[key] for key in ("scheme", "integrator")}
+        return data
+
 
 class SolverConfig(_Section):
     """Where the time steps run."""

@@ -195,10 +195,14 @@ def _set(data: dict[str, Any], key: str, value: Any, where: str) -> None:
 
 
 def _physics(config: RotorConfig) -> dict[str, Any]:
-    """The config as a JSON mapping without the sections that change no result: output
-    (what is recorded) and solver (where it runs), so that a run has the same key on
-    every machine and backend."""
-    return config.model_dump(mode="json", exclude={"output", "solver"})
+    """The config as a JSON mapping without what changes no result: the output section
+    (what is recorded), the solver section (where it runs) and the numerics settings
+    its scheme ignores (:meth:`~pde_rotor.config.NumericsConfig.acting`), so that a run
+    has the same key on every machine and backend, and a paper-scheme run keeps its key
+    when the consistent scheme's settings change."""
+    data = config.model_dump(mode="json", exclude={"output", "solver"})
+    data["numerics"] = config.numerics.acting()
+    return data
 
 
 def _check_restart(config: RotorConfig, estimator: RestartEstimator, where: str) -> None:
