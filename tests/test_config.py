@@ -15,6 +15,7 @@ from pde_rotor.config import (
     TIME_KEYS,
     ConfigError,
     FieldError,
+    NumericsConfig,
     RotorConfig,
     apply_overrides,
     dump_config,
@@ -355,3 +356,15 @@ def test_field_error_survives_pickling():
     err = FieldError("grid.dx", 0.3, "grid.dx: too coarse")
     back = pickle.loads(pickle.dumps(err))
     assert (type(back), back.path, back.value, str(back)) == (FieldError, "grid.dx", 0.3, str(err))
+
+
+def test_acting_numerics_are_those_of_the_scheme():
+    """The paper scheme ignores the consistent scheme's settings (its point values use no
+    prefilter and no contour quadrature), so they leave its acting numerics, and with them
+    a sweep run's key, unchanged; for the consistent scheme every setting acts."""
+    paper = NumericsConfig(scheme="paper")
+    retuned = NumericsConfig(scheme="paper", pill_filter_width=1.2, contour_nodes=64)
+    assert paper.acting() == retuned.acting() == {"scheme": "paper", "integrator": "euler"}
+    consistent = NumericsConfig()
+    assert consistent.acting() == consistent.model_dump(mode="json")
+    assert NumericsConfig(pill_filter_width=1.2).acting() != consistent.acting()
