@@ -109,7 +109,7 @@ def test_members_match_their_own_cpu_runs(small_config: Callable[..., RotorConfi
     t_end = 0.15
     want = cpu.run_ensemble(members, t_end, record_interval=RECORD)
     got = gpu_backend.run_ensemble(
-        members, t_end, record_interval=RECORD, threads_per_block=8, chunk_steps=64
+        members, t_end, record_interval=RECORD, threads_per_block=2, chunk_steps=64
     )
     assert got.backend == "gpu"
     assert_same_run(got, want, rtol=1e-10)
@@ -147,7 +147,7 @@ def test_consistent_scheme_matches_cpu_to_1e10(small_config: Callable[..., Rotor
     t_end = 0.08
     want = cpu.run_ensemble(members, t_end, record_interval=RECORD)
     got = gpu_backend.run_ensemble(
-        members, t_end, record_interval=RECORD, threads_per_block=8, chunk_steps=40
+        members, t_end, record_interval=RECORD, threads_per_block=2, chunk_steps=40
     )
     assert_same_run(got, want, rtol=1e-10)
     assert rel_error(got.omega[0], got.omega[1]) > 1e-2
@@ -177,7 +177,7 @@ def test_noise_same_seed_same_trajectory(small_config: Callable[..., RotorConfig
     t_end = 0.1
     want = cpu.run_ensemble([cfg, other], t_end, record_interval=RECORD)
     got = gpu_backend.run_ensemble(
-        [cfg], t_end, record_interval=RECORD, threads_per_block=4, chunk_steps=7
+        [cfg], t_end, record_interval=RECORD, threads_per_block=2, chunk_steps=7
     )
     assert rel_error(want.omega[1], want.omega[0]) > 1e-3
     assert rel_error(got.omega[0], want.omega[0]) < 1e-8
@@ -208,7 +208,7 @@ def test_launch_configuration_and_restart_do_not_change_the_result(
     )
     assert_same_run(other, one, rtol=1e-12)
     rngs = [np.random.default_rng(cfg.noise.seed) for cfg in members]
-    options: dict[str, Any] = {"record_interval": RECORD, "rngs": rngs, "threads_per_block": 4}
+    options: dict[str, Any] = {"record_interval": RECORD, "rngs": rngs, "threads_per_block": 2}
     first = gpu_backend.run_ensemble(members, t_mid, **options)
     second = gpu_backend.run_ensemble(members, t_end, initial=first.state, **options)
     np.testing.assert_allclose(second.t, one.t[one.t >= t_mid - 1e-12])

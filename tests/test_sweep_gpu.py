@@ -171,7 +171,7 @@ def test_a_tiny_sweep_runs_through_the_gpu_kernels(tmp_path, fast_simulator):
     sweep = protocol_sweep(samples=1)
     run_sweep(sweep, tmp_path / "cpu", ensemble=Recorder(), progress=False)
     ensemble = lambda configs, t_end, **options: gpu_backend.run_ensemble(  # noqa: E731
-        configs, t_end, threads_per_block=8, chunk_steps=64, **options
+        configs, t_end, threads_per_block=2, chunk_steps=64, **options
     )
     outcome = run_sweep(sweep, tmp_path / "gpu", ensemble=ensemble, progress=False)
     assert (outcome.computed, outcome.failed) == (2, [])

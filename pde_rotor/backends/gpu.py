@@ -90,8 +90,10 @@ from .ensemble import (
 MAX_CORNERS = 24
 """Largest N the kernel's shared geometry table holds (the config allows 3..24)."""
 
-SIMULATOR_THREADS = 8
-"""Default threads per block in numba's CUDA simulator (one Python thread each)."""
+SIMULATOR_THREADS = 2
+"""Default threads per block in numba's CUDA simulator (one Python thread each): the
+simulator's cost grows with its threads (50 steps of the test grid of tests/test_gpu.py:
+7 s with 2 threads, 26 s with 8), and the reductions already take two threads."""
 
 # columns of the per-member integer flags
 FLAG_FLOW, FLAG_NOISY = 0, 1
