@@ -1,4 +1,5 @@
-"""The ``pde-rotor`` command line: run, show, check, info (and sweep, report: cli_sweep).
+"""The ``pde-rotor`` command line: run, show, check, info (and sweep, report: cli_sweep;
+gallery: cli_gallery; predict: cli_predict).
 
 Exit codes: 0 success; 1 the simulation diverged (NaN/Inf; everything recorded up to
 then is kept); 2 bad input (config, --set, paths, backend), always one line
@@ -18,6 +19,7 @@ import typer
 from .api import RunResult, versions
 from .backends import BackendError, backend_for, gpu_unavailable_reason
 from .cli_gallery import register as register_gallery_commands
+from .cli_predict import register as register_predict_commands
 from .cli_sweep import register as register_sweep_commands
 from .config import ConfigError, dump_config, load_config
 from .cost import estimate_run
@@ -236,6 +238,7 @@ def info() -> None:
 
 register_sweep_commands(app)  # pde-rotor sweep / report
 register_gallery_commands(app)  # pde-rotor gallery
+register_predict_commands(app)  # pde-rotor predict
 
 
 def main() -> None:

@@ -1,0 +1,191 @@
+"""``pde-rotor predict``: the reduced decision model (measure a table, map, point, calibrate).
+
+Registered on the main typer app by :func:`register` (called from :mod:`pde_rotor.cli`).
+``measure`` runs the noise-free stops and releases of :mod:`pde_rotor.decision_runs`
+(minutes); ``map``, ``point`` and ``calibrate`` only read the table (seconds). Exit
+codes: 0 success, 2 bad input (one line ``error: ...``).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated, NoReturn
+
+import typer
+
+
+def _fail(message: str) -> NoReturn:
+    typer.echo(f"error: {message}", err=True)
+    raise typer.Exit(2)
+
+
+def _diffusion(dw: float | None, sigma: float | None, inertia: float) -> float:
+    """Dw from --dw or --sigma (exactly one)."""
+    from .decision import diffusion_of
+
+    if (dw is None) == (sigma is None):
+        _fail("give the noise as exactly one of --dw (angular-velocity diffusion) or --sigma")
+    if dw is not None:
+        if dw < 0:
+            _fail(f"--dw {dw:g}: must be >= 0")
+        return dw
+    if sigma < 0:
+        _fail(f"--sigma {sigma:g}: must be >= 0")
+    return diffusion_of(sigma, inertia)
+
+
+def _table(path: Path):
+    from .decision import load_table
+
+    if not path.is_file():
+        _fail(f"{path}: no such decision table (pde-rotor predict measure writes one)")
+    try:
+        return load_table(path)
+    except (OSError, KeyError, ValueError) as err:
+        _fail(f"{path}: not a decision table ({err})")
+
+
+DwOption = Annotated[
+    float | None, typer.Option("--dw", help="Angular-velocity diffusion Dw = (sigma/I)^2.")
+]
+SigmaOption = Annotated[float | None, typer.Option("--sigma", help="Noise sigma of the config.")]
+TableArgument = Annotated[
+    Path, typer.Argument(metavar="TABLE", help="Decision table (NetCDF of predict measure).")
+]
+
+
+def register(app: typer.Typer) -> None:
+    """Add the ``predict`` command group to `app`."""
+    predict = typer.Typer(
+        help="Reduced decision model: P(t_stop, Delta, Dw) from noise-free runs.",
+        no_args_is_help=True,
+        rich_markup_mode=None,
+    )
+    app.add_typer(predict, name="predict")
+
+    @predict.command("measure")
+    def measure_command(
+        config: Annotated[Path, typer.Argument(metavar="CONFIG", help="YAML config file.")],
+        out: Annotated[Path, typer.Option("--out", "-o", help="Table to write (.nc).")],
+        set_: Annotated[
+            list[str] | None,
+            typer.Option("--set", metavar="KEY.PATH=VALUE", help="Config override (repeatable)."),
+        ] = None,
+        angles: Annotated[int, typer.Option(min=1, help="Stop angles per direction.")] = 8,
+        t_max: Annotated[float, typer.Option(min=0.1, help="Longest stop predicted.")] = 3.5,
+        check: Annotated[
+            list[float] | None,
+            typer.Option(help="Stop durations of check releases (repeatable)."),
+        ] = None,
+    ) -> None:
+        """Measure a decision table: noise-free stop curves and the release response."""
+        from .config import ConfigError, load_config
+        from .cost import format_duration, step_seconds
+        from .decision_runs import measure_table, table_steps
+
+        try:
+            cfg = load_config(config, set_ or [])
+        except ConfigError as err:
+            _fail(str(err))
+        if cfg.geometry.asymmetry == 0:
+            _fail(
+                "geometry.asymmetry = 0: measure at a nonzero reference Delta "
+                "(e.g. --set geometry.asymmetry=1e-4) so the table predicts every Delta"
+            )
+        checks = sorted(check or [])
+        if checks and (checks[0] <= 0 or checks[-1] > t_max):
+            _fail(f"--check values must lie in (0, t_max = {t_max:g}]")
+        n = table_steps(cfg, angles, t_max, len(checks))
+        typer.echo(f"{n:,} steps, about {format_duration(n * step_seconds(cfg))} on one core")
+        table = measure_table(cfg, angles, t_max, checks=checks, progress=typer.echo)
+        out.parent.mkdir(parents=True, exist_ok=True)
+        table.save(out)
+        typer.echo(
+            f"lambda = {table.growth_rate:.4g} (by direction "
+            f"{', '.join(f'{r:.4g}' for r in table.attrs['growth_rate_by_direction'])}), "
+            f"C = {table.response:.3g}; wrote {out}"
+        )
+
+    @predict.command("point")
+    def point_command(
+        table_path: TableArgument,
+        t_stop: Annotated[list[float], typer.Option("--t-stop", help="Stop duration(s).")],
+        asymmetry: Annotated[float, typer.Option("--asymmetry", help="Delta.")] = 0.0,
+        dw: DwOption = None,
+        sigma: SigmaOption = None,
+    ) -> None:
+        """Print the predicted P(inv | CCW), P(inv | CW) and P at the given points."""
+        table = _table(table_path)
+        diffusion = _diffusion(dw, sigma, table.inertia)
+        for t in t_stop:
+            if not 0 <= t <= table.t_max:
+                _fail(f"--t-stop {t:g}: outside the table's [0, {table.t_max:g}]")
+        for t in t_stop:
+            a, b = table.conditionals(t, asymmetry, diffusion)
+            p = table.probability(t, asymmetry, diffusion)
+            typer.echo(
+                f"t_stop = {t:g}, Delta = {asymmetry:g}, Dw = {diffusion:.3g}: "
+                f"P(inv|CCW) = {float(a):.3f}, P(inv|CW) = {float(b):.3f}, P = {float(p):.3f}"
+            )
+
+    @predict.command("calibrate")
+    def calibrate_command(
+        table_path: TableArgument,
+        target: Annotated[float, typer.Option(help="P to reach.")] = 0.2,
+        t_stop: Annotated[float, typer.Option("--t-stop")] = 3.0,
+        asymmetry: Annotated[float, typer.Option("--asymmetry")] = 2e-5,
+    ) -> None:
+        """The noise (Dw and sigma) at which the predicted P(t_stop, Delta) is `target`."""
+        from .decision import sigma_of
+
+        table = _table(table_path)
+        try:
+            dw = table.calibrate(target, t_stop, asymmetry, (1e-9, 1e2))
+        except ValueError as err:
+            _fail(str(err))
+        typer.echo(
+            f"P(t_stop = {t_stop:g}, Delta = {asymmetry:g}) = {target:g} at Dw = {dw:.4g} "
+            f"(sigma = {sigma_of(dw, table.inertia):.4g})"
+        )
+
+    @predict.command("map")
+    def map_command(
+        table_path: TableArgument,
+        dw: DwOption = None,
+        sigma: SigmaOption = None,
+        out: Annotated[Path, typer.Option("--out", "-o", help="Output directory.")] = Path("."),
+        report: Annotated[
+            list[Path] | None,
+            typer.Option(help="Sweep report (NetCDF) whose points are drawn on the map."),
+        ] = None,
+        t_stop_max: Annotated[float, typer.Option()] = 3.5,
+        asymmetry_max: Annotated[float, typer.Option()] = 1e-4,
+        resolution: Annotated[int, typer.Option(min=2, help="Points along t_stop.")] = 160,
+    ) -> None:
+        """Draw the Fig. 9 map P(t_stop, Delta) predicted at one noise intensity."""
+        import xarray as xr
+
+        from .decision_plot import draw_map, ensemble_points
+
+        table = _table(table_path)
+        diffusion = _diffusion(dw, sigma, table.inertia)
+        if t_stop_max > table.t_max:
+            _fail(f"--t-stop-max {t_stop_max:g}: beyond the table's {table.t_max:g}")
+        reports = []
+        for path in report or []:
+            if not path.is_file():
+                _fail(f"--report {path}: no such file")
+            reports.append(xr.load_dataset(path))
+        points = ensemble_points(reports, diffusion)
+        out.mkdir(parents=True, exist_ok=True)
+        paths, _ = draw_map(
+            table,
+            diffusion,
+            out,
+            t_range=(0.25, t_stop_max),
+            asymmetry_max=asymmetry_max,
+            resolution=(resolution, max(2, resolution // 2)),
+            points=points,
+            footer=f"decision table {table_path.name}",
+        )
+        typer.echo("wrote " + ", ".join(str(p) for p in paths))

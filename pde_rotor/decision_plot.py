@@ -1,0 +1,100 @@
+"""The Fig. 9 map from the reduced decision model, with ensemble points drawn on it.
+
+P(t_stop, Δ) of :meth:`pde_rotor.decision.DecisionTable.probability` on a fine grid,
+in the paper's colours (Fig. 9: red high P, blue the favourable direction, grey-white
+near 0.5), the critical stop t_c(Δ) of :meth:`~pde_rotor.decision.DecisionTable.
+critical_stop` as a line, and the points of stored sweep reports (ensembles) as
+markers filled with their own P in the same colours.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from .decision import DecisionTable, sigma_of
+from .figures import add_footer, new_figure, save_figure
+
+
+def ensemble_points(reports: Sequence[xr.Dataset], diffusion: float) -> list[tuple]:
+    """(t_stop, Δ, P, P_low, P_high) of every report point at the map's noise.
+
+    A report's noise is its ``sigma`` coordinate (or its config's): points at another
+    Dw than the map's are left out.
+    """
+    points = []
+    for report in reports:
+        ds = report
+        if "sigma" in ds.dims:
+            ds = ds.sel(sigma=_nearest_sigma(ds, diffusion))
+        flat = ds[["P", "P_low", "P_high"]].to_dataframe().reset_index()
+        for _, row in flat.iterrows():
+            points.append(
+                (
+                    float(row["t_stop"]),
+                    float(row["asymmetry"]),
+                    float(row["P"]),
+                    float(row["P_low"]),
+                    float(row["P_high"]),
+                )
+            )
+    return points
+
+
+def _nearest_sigma(ds: xr.Dataset, diffusion: float) -> float:
+    inertia = float(ds.attrs.get("inertia", 1e-5))
+    target = sigma_of(diffusion, inertia)
+    values = ds["sigma"].values
+    return float(values[np.argmin(np.abs(values - target))])
+
+
+def draw_map(
+    table: DecisionTable,
+    diffusion: float,
+    out: Path,
+    name: str = "fig9_predicted",
+    t_range: tuple[float, float] = (0.25, 3.5),
+    asymmetry_max: float = 1e-4,
+    resolution: tuple[int, int] = (160, 81),
+    points: Sequence[tuple] = (),
+    footer: str = "",
+) -> tuple[list[Path], np.ndarray]:
+    """Draw P(t_stop, Δ) at `diffusion` and write out/name.png and .pdf.
+
+    Returns:
+        The written paths and the map (n_asymmetry, n_t_stop).
+    """
+    t_stop = np.linspace(*t_range, resolution[0])
+    asymmetry = np.linspace(0.0, asymmetry_max, resolution[1])
+    p = np.array([table.probability(t_stop, d, diffusion) for d in asymmetry])
+    fig = new_figure(8.0, 5.6)
+    ax = fig.subplots()
+    mesh = ax.pcolormesh(t_stop, asymmetry, p, cmap="coolwarm", vmin=0, vmax=1, shading="auto")
+    fig.colorbar(mesh, ax=ax, label="inversion probability P")
+    lines = ax.contour(t_stop, asymmetry, p, levels=[0.2, 0.5, 0.75], colors="k", linewidths=0.7)
+    ax.clabel(lines, fmt="%.2f", fontsize=7)
+    t_c = [table.critical_stop(d, diffusion) for d in asymmetry]
+    ax.plot(t_c, asymmetry, "w--", lw=1.5, label="critical stop t_c(\u0394)")
+    for t, d, value, _low, _high in points:
+        ax.scatter(
+            [t], [d], c=[value], cmap="coolwarm", vmin=0, vmax=1, s=70, edgecolors="k", zorder=3
+        )
+        ax.annotate(f"{value:.2f}", (t, d), textcoords="offset points", xytext=(0, 7), fontsize=6)
+    ax.set_xlim(*t_range)
+    ax.set_ylim(0, asymmetry_max)
+    ax.set_xlabel("t_stop")
+    ax.set_ylabel("asymmetry \u0394")
+    ax.legend(loc="upper right", fontsize=8)
+    sigma = sigma_of(diffusion, table.inertia)
+    ax.set_title(
+        f"Fig. 9 from the decision model: Dw = {diffusion:.3g} (\u03c3 = {sigma:.3g}), "
+        f"\u03bb = {table.growth_rate:.3g}"
+        + (f"; {len(points)} ensemble points (markers)" if points else ""),
+        fontsize=10,
+    )
+    if footer:
+        add_footer(fig, footer)
+    return save_figure(fig, out, name), p

@@ -1,0 +1,91 @@
+"""``pde-rotor predict``: point, calibrate and map read a table; bad input is one line."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+from test_decision import synthetic
+from typer.testing import CliRunner
+
+from pde_rotor.cli import app
+
+
+@pytest.fixture
+def table_path(tmp_path: Path) -> Path:
+    path = tmp_path / "table.nc"
+    synthetic().save(path)
+    return path
+
+
+def invoke(*args: str):
+    return CliRunner().invoke(app, ["predict", *args])
+
+
+def test_point_prints_the_table_probabilities(table_path: Path) -> None:
+    args = ["--t-stop", "3", "--asymmetry", "2e-5", "--dw", "1e-4"]
+    result = invoke("point", str(table_path), *args)
+    assert result.exit_code == 0, result.output
+    p = float(synthetic().probability(3.0, 2e-5, 1e-4))
+    assert f"P = {p:.3f}" in result.output
+
+
+def test_sigma_and_dw_give_the_same_point(table_path: Path) -> None:
+    by_dw = invoke("point", str(table_path), "--t-stop", "2", "--dw", "4e-4")
+    by_sigma = invoke("point", str(table_path), "--t-stop", "2", "--sigma", "2e-7")
+    assert by_dw.exit_code == by_sigma.exit_code == 0
+    assert by_dw.output.split("P(inv|CCW)")[1] == by_sigma.output.split("P(inv|CCW)")[1]
+
+
+def test_calibrate_prints_dw_and_sigma(table_path: Path) -> None:
+    result = invoke("calibrate", str(table_path), "--target", "0.2")
+    assert result.exit_code == 0, result.output
+    dw = synthetic().calibrate(0.2, 3.0, 2e-5, (1e-9, 1e2))
+    assert f"Dw = {dw:.4g}" in result.output
+
+
+def test_map_draws_the_predicted_fig9_with_report_points(table_path: Path, tmp_path: Path) -> None:
+    report = xr.Dataset(
+        {name: (("asymmetry", "t_stop"), np.full((2, 2), 0.4)) for name in ("P", "P_low")}
+        | {"P_high": (("asymmetry", "t_stop"), np.full((2, 2), 0.6))},
+        coords={"asymmetry": [0.0, 2e-5], "t_stop": [1.0, 3.0]},
+    )
+    report.to_netcdf(tmp_path / "report.nc")
+    out = tmp_path / "figs"
+    result = invoke(
+        "map", str(table_path), "--dw", "2e-4", "--out", str(out), "--resolution", "20",
+        "--report", str(tmp_path / "report.nc"),
+    )  # fmt: skip
+    assert result.exit_code == 0, result.output
+    assert (out / "fig9_predicted.png").stat().st_size > 0
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["point", "{table}", "--t-stop", "1"], "exactly one of --dw"),
+        (["point", "{table}", "--t-stop", "1", "--dw", "1", "--sigma", "1"], "exactly one"),
+        (["point", "{table}", "--t-stop", "9", "--dw", "1e-4"], "--t-stop 9"),
+        (["point", "{table}", "--t-stop", "1", "--dw", "-1"], "--dw -1"),
+        (["point", "missing.nc", "--t-stop", "1", "--dw", "1"], "no such decision table"),
+        (["calibrate", "{table}", "--target", "0.95"], "not reached"),
+        (["map", "{table}", "--dw", "1e-4", "--t-stop-max", "9"], "--t-stop-max 9"),
+    ],
+)
+def test_bad_input_is_one_line(table_path: Path, args: list[str], message: str) -> None:
+    result = invoke(*[a.format(table=table_path) for a in args])
+    assert result.exit_code == 2
+    assert message in result.output
+    assert result.output.count("error:") == 1
+
+
+def test_measure_refuses_a_symmetric_reference_before_running(tmp_path: Path) -> None:
+    config = tmp_path / "c.yaml"
+    config.write_text("geometry: {asymmetry: 0.0}\n")
+    result = invoke("measure", str(config), "--out", str(tmp_path / "t.nc"))
+    assert result.exit_code == 2
+    assert "geometry.asymmetry = 0" in result.output
+    bad = invoke("measure", str(config), "--out", str(tmp_path / "t.nc"), "--set", "grid.dx=-1")
+    assert bad.exit_code == 2 and "grid.dx" in bad.output
