@@ -65,7 +65,12 @@ def register(app: typer.Typer) -> None:
 
     @predict.command("measure")
     def measure_command(
-        config: Annotated[Path, typer.Argument(metavar="CONFIG", help="YAML config file.")],
+        config: Annotated[
+            Path,
+            typer.Argument(
+                metavar="CONFIG", help="YAML config file, or a shipped sweep base (paper, coarse)."
+            ),
+        ],
         out: Annotated[Path, typer.Option("--out", "-o", help="Table to write (.nc).")],
         set_: Annotated[
             list[str] | None,
@@ -82,7 +87,10 @@ def register(app: typer.Typer) -> None:
         from .config import ConfigError, load_config
         from .cost import format_duration, step_seconds
         from .decision_runs import measure_table, table_steps
+        from .sweep.spec import shipped_base, shipped_bases
 
+        if not config.exists() and str(config) in shipped_bases():
+            config = shipped_base(str(config))
         try:
             cfg = load_config(config, set_ or [])
         except ConfigError as err:

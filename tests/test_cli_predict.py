@@ -87,5 +87,7 @@ def test_measure_refuses_a_symmetric_reference_before_running(tmp_path: Path) ->
     result = invoke("measure", str(config), "--out", str(tmp_path / "t.nc"))
     assert result.exit_code == 2
     assert "geometry.asymmetry = 0" in result.output
+    base = invoke("measure", "paper", "--out", str(tmp_path / "t.nc"))  # a shipped base
+    assert base.exit_code == 2 and "geometry.asymmetry = 0" in base.output
     bad = invoke("measure", str(config), "--out", str(tmp_path / "t.nc"), "--set", "grid.dx=-1")
     assert bad.exit_code == 2 and "grid.dx" in bad.output
