@@ -34,6 +34,19 @@ def _diffusion(dw: float | None, sigma: float | None, inertia: float) -> float:
     return diffusion_of(sigma, inertia)
 
 
+def table_footer(table, path: Path) -> str:
+    """Fidelity line of a map: the table, its grid and scheme, lambda and the angles."""
+    from .config import RotorConfig
+    from .figures import grid_label
+
+    config = RotorConfig.model_validate_json(table.attrs["config"])
+    return (
+        f"decision model, table {path.name}: {grid_label(config)}, scheme "
+        f"{config.numerics.scheme}, flow {'on' if config.flow.enabled else 'off'}, "
+        f"{table.torque.shape[1]} stop angles per direction, lambda = {table.growth_rate:.4g}"
+    )
+
+
 def _table(path: Path):
     from .decision import load_table
 
@@ -194,6 +207,6 @@ def register(app: typer.Typer) -> None:
             asymmetry_max=asymmetry_max,
             resolution=(resolution, max(2, resolution // 2)),
             points=points,
-            footer=f"decision table {table_path.name}",
+            footer=table_footer(table, table_path),
         )
         typer.echo("wrote " + ", ".join(str(p) for p in paths))

@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 from scipy.stats import norm
 
+from pde_rotor.config import RotorConfig
 from pde_rotor.decision import (
     DecisionTable,
     diffusion_of,
@@ -33,7 +34,8 @@ def synthetic(n_angles: int = 3, lattice: float = 0.0) -> DecisionTable:
     for d, direction in enumerate((1, -1)):
         for k in range(n_angles):
             torque[d, k] = -direction * M * np.exp(-time / TAU) + T_REF + offsets[k]
-    return DecisionTable(time, torque, D_REF, LAM, 0.9, INERTIA, {"note": "synthetic"})
+    attrs = {"note": "synthetic", "config": RotorConfig.model_validate({}).model_dump_json()}
+    return DecisionTable(time, torque, D_REF, LAM, 0.9, INERTIA, attrs)
 
 
 def closed_bias(t: np.ndarray, direction: int, asymmetry: float) -> np.ndarray:

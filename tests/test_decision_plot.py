@@ -1,0 +1,38 @@
+"""The predicted Fig. 9 map: the report points it draws and the map it returns."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+from test_decision import synthetic
+
+from pde_rotor.decision_plot import draw_map, ensemble_points
+
+
+def report(sigmas: list[float]) -> xr.Dataset:
+    shape = (2, 3, len(sigmas))
+    p = np.arange(np.prod(shape), dtype=float).reshape(shape) / 100
+    dims = ("asymmetry", "t_stop", "sigma")
+    return xr.Dataset(
+        {"P": (dims, p), "P_low": (dims, p - 0.01), "P_high": (dims, p + 0.01)},
+        coords={"asymmetry": [0.0, 2e-5], "t_stop": [1.0, 2.0, 3.0], "sigma": sigmas},
+    )
+
+
+def test_points_at_the_maps_noise_only() -> None:
+    ds = report([0.0, 1.5e-7, 3e-7])
+    points = ensemble_points([ds], diffusion=(1.5e-7 / 1e-5) ** 2)
+    assert len(points) == 6
+    want = ds.sel(sigma=1.5e-7)
+    for t, d, p, low, high in points:
+        value = float(want["P"].sel(t_stop=t, asymmetry=d))
+        assert (p, low, high) == (value, value - 0.01, value + 0.01)
+
+
+def test_map_is_the_tables_probability(tmp_path: Path) -> None:
+    table = synthetic()
+    paths, p = draw_map(table, 2e-4, tmp_path, resolution=(12, 5), t_range=(0.5, 3.0))
+    assert [x.suffix for x in paths] == [".png", ".pdf"]
+    np.testing.assert_allclose(p[2], table.probability(np.linspace(0.5, 3.0, 12), 5e-5, 2e-4))
