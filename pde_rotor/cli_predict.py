@@ -186,6 +186,7 @@ def register(app: typer.Typer) -> None:
         """Draw the Fig. 9 map P(t_stop, Delta) predicted at one noise intensity."""
         import xarray as xr
 
+        from .decision import sigma_of
         from .decision_plot import draw_map, ensemble_points
 
         table = _table(table_path)
@@ -197,7 +198,7 @@ def register(app: typer.Typer) -> None:
             if not path.is_file():
                 _fail(f"--report {path}: no such file")
             reports.append(xr.load_dataset(path))
-        points = ensemble_points(reports, diffusion)
+        points = ensemble_points(reports, sigma_of(diffusion, table.inertia))
         out.mkdir(parents=True, exist_ok=True)
         paths, _ = draw_map(
             table,

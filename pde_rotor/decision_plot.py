@@ -9,6 +9,8 @@ markers filled with their own P in the same colours.
 
 from __future__ import annotations
 
+import json
+import math
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -19,36 +21,45 @@ from .decision import DecisionTable, sigma_of
 from .figures import add_footer, new_figure, save_figure
 
 
-def ensemble_points(reports: Sequence[xr.Dataset], diffusion: float) -> list[tuple]:
-    """(t_stop, Δ, P, P_low, P_high) of every report point at the map's noise.
+def ensemble_points(reports: Sequence[xr.Dataset], sigma: float) -> list[tuple]:
+    """(t_stop, Δ, P, P_low, P_high) of every report point at the map's noise `sigma`.
 
-    A report's noise is its ``sigma`` coordinate (or its config's): points at another
-    Dw than the map's are left out.
+    t_stop, Δ and sigma are a report's coordinates or, where they are not axes, the
+    values in its ``base_config``. Points whose sigma differs from `sigma` by more than
+    2 % are left out.
     """
     points = []
-    for report in reports:
-        ds = report
+    for ds in reports:
+        fixed = json.loads(ds.attrs.get("base_config", "{}"))
         if "sigma" in ds.dims:
-            ds = ds.sel(sigma=_nearest_sigma(ds, diffusion))
-        flat = ds[["P", "P_low", "P_high"]].to_dataframe().reset_index()
+            values = ds["sigma"].values
+            nearest = float(values[np.argmin(np.abs(values - sigma))])
+            if not _same_noise(nearest, sigma):
+                continue
+            ds = ds.sel(sigma=nearest)
+        elif not _same_noise(float(fixed.get("noise", {}).get("sigma", 0.0)), sigma):
+            continue
+        defaults = {
+            "t_stop": fixed.get("protocol", {}).get("t_stop", math.nan),
+            "asymmetry": fixed.get("geometry", {}).get("asymmetry", 0.0),
+        }
+        values = ds[list(PROBABILITIES)]
+        if not values["P"].dims:
+            values = values.expand_dims("point")
+        flat = values.to_dataframe().reset_index()
         for _, row in flat.iterrows():
+            where = {k: float(row[k]) if k in row else float(v) for k, v in defaults.items()}
             points.append(
-                (
-                    float(row["t_stop"]),
-                    float(row["asymmetry"]),
-                    float(row["P"]),
-                    float(row["P_low"]),
-                    float(row["P_high"]),
-                )
+                (where["t_stop"], where["asymmetry"], *(float(row[k]) for k in PROBABILITIES))
             )
     return points
 
 
-def _nearest_sigma(ds: xr.Dataset, diffusion: float) -> float:
-    inertia = float(ds.attrs.get("inertia", 1e-5))
-    target = sigma_of(diffusion, inertia)
-    values = ds["sigma"].values
-    return float(values[np.argmin(np.abs(values - target))])
+PROBABILITIES = ("P", "P_low", "P_high")
+
+
+def _same_noise(a: float, b: float) -> bool:
+    return abs(a - b) <= 0.02 * max(abs(a), abs(b))
 
 
 def draw_map(

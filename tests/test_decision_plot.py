@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import numpy as np
@@ -23,12 +24,22 @@ def report(sigmas: list[float]) -> xr.Dataset:
 
 def test_points_at_the_maps_noise_only() -> None:
     ds = report([0.0, 1.5e-7, 3e-7])
-    points = ensemble_points([ds], diffusion=(1.5e-7 / 1e-5) ** 2)
+    points = ensemble_points([ds], sigma=1.5e-7)
     assert len(points) == 6
     want = ds.sel(sigma=1.5e-7)
     for t, d, p, low, high in points:
         value = float(want["P"].sel(t_stop=t, asymmetry=d))
         assert (p, low, high) == (value, value - 0.01, value + 0.01)
+    assert ensemble_points([ds], sigma=2e-7) == []  # no report point at that noise
+
+
+def test_fixed_values_come_from_the_base_config() -> None:
+    ds = report([1.5e-7]).isel(asymmetry=0, t_stop=2, drop=True)
+    ds.attrs["base_config"] = json.dumps(
+        {"geometry": {"asymmetry": 2e-5}, "protocol": {"t_stop": 3.0}}
+    )
+    ((t, d, p, _, _),) = ensemble_points([ds], sigma=1.5e-7)
+    assert (t, d, p) == (3.0, 2e-5, float(ds["P"].values.item()))
 
 
 def test_map_is_the_tables_probability(tmp_path: Path) -> None:

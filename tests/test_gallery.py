@@ -41,6 +41,7 @@ EXPECTED = (
     "fig7_probability",
     "fig8_no_flow",
     "fig9_map",
+    "fig9_predicted",
     "movie_inversion",
 )
 """The figures the issue asks for (paper Figs. 1, 3-9, the movie, the convergence page)."""

@@ -1,0 +1,63 @@
+"""Paper Fig. 9 from the reduced decision model: P(t_stop, Delta) at the calibrated noise.
+
+The model (docs/decision.md, :mod:`pde_rotor.decision`) turns a table of noise-free
+stop curves and the release growth rate into P at any point; this page draws it on a
+fine grid, at the noise where the table's own Delta = 2e-5 plateau (t_stop = 3) is the
+paper's 0.2. The table is the committed data/decision/dx40.nc (the paper's grid, the
+default scheme; ``pde-rotor predict measure`` rebuilds it in about 10 minutes), so every
+fidelity reads it; the fidelities differ in the map's resolution. The markers are the
+points of the stored science ensembles (data/science_*.nc) at the same noise, filled
+with their own P: where they sit on their background colour, the model and the
+ensembles agree.
+
+Run: ``python gallery/fig9_predicted.py [--quick | --tiny]``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+from _common import DATA, parse_args
+
+from pde_rotor.cli_predict import table_footer
+from pde_rotor.decision import load_table, sigma_of
+from pde_rotor.decision_plot import draw_map, ensemble_points
+from pde_rotor.sweep.stored import load_report
+
+NAME = "fig9_predicted"
+TABLE = DATA / "decision" / "dx40.nc"
+PLATEAU = (0.2, 3.0, 2e-5)
+"""The calibration target: P = 0.2 at t_stop = 3, Delta = 2e-5 (Fig. 7(b), experiment)."""
+RESOLUTION = {"full": 200, "quick": 100, "tiny": 12}
+"""Map points along t_stop (half as many along Delta)."""
+
+
+def main(argv: Sequence[str] | None = None) -> list[Path]:
+    """Draw the predicted Fig. 9 as PNG and PDF."""
+    args = parse_args(__doc__.splitlines()[0], argv)
+    if not TABLE.is_file():
+        msg = f"{TABLE}: no decision table (pde-rotor predict measure paper ... -o {TABLE})"
+        raise FileNotFoundError(msg)
+    table = load_table(TABLE)
+    target, t_stop, asymmetry = PLATEAU
+    diffusion = table.calibrate(target, t_stop, asymmetry, (1e-9, 1e2))
+    sigma = sigma_of(diffusion, table.inertia)
+    reports = [load_report(path) for path in sorted(DATA.glob("science_*.nc"))]
+    points = ensemble_points(reports, sigma)
+    n = RESOLUTION[args.fidelity.name]
+    footer = (
+        f"{table_footer(table, TABLE)}; noise calibrated on the table: P({t_stop:g}, "
+        f"{asymmetry:g}) = {target:g} at Dw = {diffusion:.3g} (\u03c3 = {sigma:.3g}); "
+        f"{len(points)} ensemble points from data/science_*.nc; {n} x {n // 2} map points"
+    )
+    paths, _ = draw_map(
+        table, diffusion, args.out, NAME, resolution=(n, n // 2), points=points, footer=footer
+    )
+    for d in (0.0, 2e-5, 5e-5, 1e-4):
+        print(f"{NAME}: Delta = {d:g}: critical stop t_c = {table.critical_stop(d, diffusion):.3f}")
+    return paths
+
+
+if __name__ == "__main__":
+    main()
