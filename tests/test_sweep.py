@@ -680,3 +680,29 @@ def test_cli_sweep_stops_cleanly_on_sigterm_and_ctrl_c(tmp_path, how):
     assert lines[1] == (
         f"interrupted: {kept} of 48 runs are kept in {out}; rerun the same command to resume"
     )
+
+
+def test_runs_alternate_directions_within_a_spin_up_group():
+    """A sweep stopped part way has both directions at the points it reached."""
+    from pde_rotor.sweep.execution import in_order
+
+    sweep = Sweep.load(SWEEPS / "science_grid_symmetric.yaml")
+    runs = sweep.runs()
+    ordered = in_order(list(reversed(runs)))
+    assert sorted(r.key for r in ordered) == sorted(r.key for r in runs)
+    first = ordered[: 2 * sweep.spec.samples]  # one point, both directions
+    assert len({r.point for r in first}) == 1
+    assert [r.direction for r in first[:4]] == [min(CW, CCW), max(CW, CCW)] * 2
+    assert [r.sample for r in first[:4]] == [0, 0, 1, 1]
+
+
+@pytest.mark.parametrize("path", sorted(SWEEPS.glob("science_*.yaml")), ids=lambda p: p.stem)
+def test_science_sweeps_run_the_default_scheme_on_paper_parameters(path):
+    """Issue 14's sweeps: bank estimator, the default scheme, delta = 0.025, dt = 1e-4."""
+    sweep = Sweep.load(path)
+    for run in sweep.runs()[:: sweep.spec.samples]:
+        cfg = RotorConfig.model_validate(run.config)
+        assert cfg.numerics.scheme == RotorConfig().numerics.scheme
+        assert (cfg.geometry.smoothing, cfg.grid.dt) == (0.025, 1e-4)
+    assert sweep.spec.estimator.kind == "bank"
+    assert 2 * sweep.spec.samples >= 100

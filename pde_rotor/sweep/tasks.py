@@ -84,9 +84,10 @@ def warm_state(config: RotorConfig, estimator: RestartEstimator, direction: int)
 
 
 def warm_group(run: Run) -> str:
-    """Runs with equal value share the spin-up state (all but protocol and noise agree)."""
+    """Runs with equal value share their spin-ups (all but protocol, noise and direction
+    agree): one steady state per direction."""
     data = {k: v for k, v in run.config.items() if k not in ("protocol", "noise")}
-    return json.dumps([data, run.direction], sort_keys=True)
+    return json.dumps(data, sort_keys=True)
 
 
 def _steps(duration: float, dt: float) -> int:
