@@ -169,6 +169,44 @@ def register(app: typer.Typer) -> None:
             f"(sigma = {sigma_of(dw, table.inertia):.4g})"
         )
 
+    @predict.command("check")
+    def check_command(
+        table_path: TableArgument,
+        report: Annotated[
+            list[Path], typer.Argument(metavar="REPORT...", help="Sweep reports (NetCDF).")
+        ],
+    ) -> None:
+        """Compare the model with every point of stored sweep reports (coverage, deviation)."""
+        import xarray as xr
+
+        from .decision_check import compare
+
+        table = _table(table_path)
+        reports = []
+        for path in report:
+            if not path.is_file():
+                _fail(f"{path}: no such report")
+            reports.append(xr.load_dataset(path))
+        try:
+            result = compare(table, reports)
+        except ValueError as err:
+            _fail(str(err))
+        for row in result.rows:
+            typer.echo(
+                f"{row['sweep']}: t_stop = {row['t_stop']:g}, Delta = {row['asymmetry']:g}, "
+                f"sigma = {row['sigma']:g}: {row['column']} = {row['measured']:.3f} "
+                f"[{row['low']:.3f}, {row['high']:.3f}], model {row['predicted']:.3f}"
+                + ("" if row["inside"] else "  (outside)")
+            )
+        worst = result.largest_deviation()
+        typer.echo(
+            f"coverage: P {result.coverage('P'):.2f}, P(inv|CCW) {result.coverage('P_ccw'):.2f}, "
+            f"P(inv|CW) {result.coverage('P_cw'):.2f}, all {result.coverage():.2f} of "
+            f"{len(result.rows)} intervals; largest deviation "
+            f"{worst['predicted'] - worst['measured']:+.3f} ({worst['column']} at t_stop = "
+            f"{worst['t_stop']:g}, Delta = {worst['asymmetry']:g}, sigma = {worst['sigma']:g})"
+        )
+
     @predict.command("map")
     def map_command(
         table_path: TableArgument,

@@ -9,8 +9,6 @@ markers filled with their own P in the same colours.
 
 from __future__ import annotations
 
-import json
-import math
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -18,48 +16,20 @@ import numpy as np
 import xarray as xr
 
 from .decision import DecisionTable, sigma_of
+from .decision_check import report_points
 from .figures import add_footer, new_figure, save_figure
 
 
 def ensemble_points(reports: Sequence[xr.Dataset], sigma: float) -> list[tuple]:
-    """(t_stop, Δ, P, P_low, P_high) of every report point at the map's noise `sigma`.
-
-    t_stop, Δ and sigma are a report's coordinates or, where they are not axes, the
-    values in its ``base_config``. Points whose sigma differs from `sigma` by more than
-    2 % are left out.
-    """
-    points = []
-    for ds in reports:
-        fixed = json.loads(ds.attrs.get("base_config", "{}"))
-        if "sigma" in ds.dims:
-            values = ds["sigma"].values
-            nearest = float(values[np.argmin(np.abs(values - sigma))])
-            if not _same_noise(nearest, sigma):
-                continue
-            ds = ds.sel(sigma=nearest)
-        elif not _same_noise(float(fixed.get("noise", {}).get("sigma", 0.0)), sigma):
-            continue
-        defaults = {
-            "t_stop": fixed.get("protocol", {}).get("t_stop", math.nan),
-            "asymmetry": fixed.get("geometry", {}).get("asymmetry", 0.0),
-        }
-        values = ds[list(PROBABILITIES)]
-        if not values["P"].dims:
-            values = values.expand_dims("point")
-        flat = values.to_dataframe().reset_index()
-        for _, row in flat.iterrows():
-            where = {k: float(row[k]) if k in row else float(v) for k, v in defaults.items()}
-            points.append(
-                (where["t_stop"], where["asymmetry"], *(float(row[k]) for k in PROBABILITIES))
-            )
-    return points
-
-
-PROBABILITIES = ("P", "P_low", "P_high")
-
-
-def _same_noise(a: float, b: float) -> bool:
-    return abs(a - b) <= 0.02 * max(abs(a), abs(b))
+    """(t_stop, Δ, P, P_low, P_high) of every report point at the map's noise `sigma`
+    (:func:`pde_rotor.decision_check.report_points`; other noise values differ by more
+    than 2 % and are left out)."""
+    return [
+        (p["t_stop"], p["asymmetry"], p["P"], p["P_low"], p["P_high"])
+        for ds in reports
+        for p in report_points(ds)
+        if abs(p["sigma"] - sigma) <= 0.02 * max(abs(p["sigma"]), abs(sigma))
+    ]
 
 
 def draw_map(

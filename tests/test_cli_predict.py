@@ -91,3 +91,16 @@ def test_measure_refuses_a_symmetric_reference_before_running(tmp_path: Path) ->
     assert base.exit_code == 2 and "geometry.asymmetry = 0" in base.output
     bad = invoke("measure", str(config), "--out", str(tmp_path / "t.nc"), "--set", "grid.dx=-1")
     assert bad.exit_code == 2 and "grid.dx" in bad.output
+
+
+def test_check_prints_coverage_and_refuses_another_grid(table_path: Path, tmp_path: Path) -> None:
+    from test_decision_check import model_report
+
+    model_report().to_netcdf(tmp_path / "same.nc")
+    result = invoke("check", str(table_path), str(tmp_path / "same.nc"))
+    assert result.exit_code == 0, result.output
+    assert "all 1.00 of 18 intervals" in result.output
+    model_report(grid={"dx": 0.05}).to_netcdf(tmp_path / "other.nc")
+    other = invoke("check", str(table_path), str(tmp_path / "other.nc"))
+    assert other.exit_code == 2 and other.output.count("error:") == 1
+    assert "grid.dx = 0.05 in the report" in other.output

@@ -1,0 +1,130 @@
+"""The decision model against ensembles: every point of stored sweep reports.
+
+For each point of a report (a ``pde-rotor report`` NetCDF) the model's P, P(inv | CCW)
+and P(inv | CW) at the point's t_stop, Δ and sigma are set beside the ensemble's values
+and their 95 % intervals. The summary gives the coverage: the fraction of the
+intervals that hold the prediction (about 0.95 if the model is right and the intervals
+are exact; the chain intervals are conservative). It also gives the largest deviation.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from .config import RotorConfig
+from .decision import DecisionTable, diffusion_of
+
+COLUMNS = ("P", "P_ccw", "P_cw")
+"""The report's probabilities that the model predicts (each with _low and _high)."""
+
+MATCHED = (
+    ("grid", "dx"),
+    ("grid", "dt"),
+    ("geometry", "smoothing"),
+    ("flow", "enabled"),
+    ("numerics", "scheme"),
+)
+"""Settings a report's base_config must share with the table where it names them."""
+
+
+def report_points(ds: xr.Dataset) -> list[dict[str, float]]:
+    """Every point of a report as a dict: t_stop, asymmetry, sigma, stops and the
+    :data:`COLUMNS` with their intervals. Values that are not axes of the report come
+    from its ``base_config``."""
+    fixed = json.loads(ds.attrs.get("base_config", "{}"))
+    defaults = {
+        "t_stop": fixed.get("protocol", {}).get("t_stop", math.nan),
+        "asymmetry": fixed.get("geometry", {}).get("asymmetry", 0.0),
+        "sigma": fixed.get("noise", {}).get("sigma", 0.0),
+    }
+    names = [f"{c}{s}" for c in COLUMNS for s in ("", "_low", "_high")] + ["stops"]
+    values = ds[[n for n in names if n in ds]]
+    if not values["P"].dims:
+        values = values.expand_dims("point")
+    points = []
+    for _, row in values.to_dataframe().reset_index().iterrows():
+        point = {k: float(row[k]) if k in row else float(v) for k, v in defaults.items()}
+        point.update({n: float(row[n]) for n in names if n in row})
+        points.append(point)
+    return points
+
+
+def mismatch(table: DecisionTable, ds: xr.Dataset) -> str | None:
+    """Which setting of the report's base_config differs from the table's config (or None)."""
+    config = RotorConfig.model_validate_json(table.attrs["config"]).model_dump(mode="json")
+    fixed = json.loads(ds.attrs.get("base_config", "{}"))
+    for section, key in MATCHED:
+        if key in fixed.get(section, {}) and fixed[section][key] != config[section][key]:
+            return (
+                f"{section}.{key} = {fixed[section][key]!r} in the report, "
+                f"{config[section][key]!r} in the table"
+            )
+    return None
+
+
+@dataclass(frozen=True)
+class Comparison:
+    """Predictions beside ensemble values.
+
+    Attributes:
+        rows: one dict per point and column: where (t_stop, asymmetry, sigma), column,
+            measured, low, high, predicted, inside.
+    """
+
+    rows: list[dict[str, Any]]
+
+    def coverage(self, column: str | None = None) -> float:
+        """Fraction of the intervals (of `column`, default all) holding the prediction."""
+        rows = [r for r in self.rows if column in (None, r["column"])]
+        return float(np.mean([r["inside"] for r in rows])) if rows else math.nan
+
+    def largest_deviation(self) -> dict[str, Any]:
+        """The row with the largest |predicted - measured|."""
+        return max(self.rows, key=lambda r: abs(r["predicted"] - r["measured"]))
+
+
+def compare(table: DecisionTable, reports: Sequence[xr.Dataset]) -> Comparison:
+    """The model's P, P(inv | CCW), P(inv | CW) at every point of `reports`.
+
+    Raises:
+        ValueError: a report was computed with another grid, smoothing, flow or scheme,
+            or a point's t_stop lies outside the table.
+    """
+    rows = []
+    for ds in reports:
+        problem = mismatch(table, ds)
+        if problem:
+            msg = f"report {ds.attrs.get('sweep', '?')}: {problem}"
+            raise ValueError(msg)
+        for point in report_points(ds):
+            dw = diffusion_of(point["sigma"], table.inertia)
+            t, d = point["t_stop"], point["asymmetry"]
+            a, b = table.conditionals(t, d, dw)
+            predicted = {"P": table.probability(t, d, dw), "P_ccw": a, "P_cw": b}
+            for column in COLUMNS:
+                if column not in point or not np.isfinite(point[column]):
+                    continue
+                low, high = point[f"{column}_low"], point[f"{column}_high"]
+                value = float(predicted[column])
+                rows.append(
+                    {
+                        "sweep": ds.attrs.get("sweep", "?"),
+                        "t_stop": t,
+                        "asymmetry": d,
+                        "sigma": point["sigma"],
+                        "column": column,
+                        "measured": point[column],
+                        "low": low,
+                        "high": high,
+                        "predicted": value,
+                        "inside": bool(low - 1e-12 <= value <= high + 1e-12),
+                    }
+                )
+    return Comparison(rows)

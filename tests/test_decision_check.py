@@ -1,0 +1,61 @@
+"""The model against reports: coverage and deviation on reports made from the model."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+import xarray as xr
+from test_decision import synthetic
+
+from pde_rotor.decision import diffusion_of
+from pde_rotor.decision_check import compare, report_points
+
+
+def model_report(shift: float = 0.0, **base: dict) -> xr.Dataset:
+    """A report whose values are the synthetic table's predictions plus `shift`, +-0.05."""
+    table = synthetic()
+    t_stop, sigma = np.array([1.0, 2.0, 3.0]), np.array([1e-7, 2e-7])
+    data = {}
+    for name in ("P", "P_ccw", "P_cw"):
+        values = np.empty((3, 2))
+        for j, s in enumerate(sigma):
+            a, b = table.conditionals(t_stop, 2e-5, diffusion_of(s, table.inertia))
+            p = table.probability(t_stop, 2e-5, diffusion_of(s, table.inertia))
+            values[:, j] = {"P": p, "P_ccw": a, "P_cw": b}[name] + shift
+        for suffix, offset in (("", 0.0), ("_low", -0.05), ("_high", 0.05)):
+            data[name + suffix] = (("t_stop", "sigma"), values + offset)
+    ds = xr.Dataset(data, coords={"t_stop": t_stop, "sigma": sigma})
+    ds.attrs["base_config"] = json.dumps({"geometry": {"asymmetry": 2e-5}, **base})
+    ds.attrs["sweep"] = "model"
+    return ds
+
+
+def test_points_read_axes_and_fixed_values() -> None:
+    points = report_points(model_report())
+    assert len(points) == 6
+    assert {p["asymmetry"] for p in points} == {2e-5}
+    assert sorted({p["sigma"] for p in points}) == [1e-7, 2e-7]
+
+
+def test_the_model_covers_its_own_values_and_not_shifted_ones() -> None:
+    table = synthetic()
+    exact = compare(table, [model_report()])
+    assert len(exact.rows) == 18 and exact.coverage() == 1.0
+    assert (
+        abs(exact.largest_deviation()["predicted"] - exact.largest_deviation()["measured"]) < 1e-12
+    )
+    shifted = compare(table, [model_report(shift=0.2)])
+    assert shifted.coverage("P") == 0.0
+    assert shifted.largest_deviation()["predicted"] - shifted.largest_deviation()["measured"] == (
+        pytest.approx(-0.2)
+    )
+
+
+def test_a_report_of_another_grid_or_flow_is_refused() -> None:
+    table = synthetic()
+    with pytest.raises(ValueError, match=r"grid\.dx"):
+        compare(table, [model_report(grid={"dx": 0.05})])
+    with pytest.raises(ValueError, match=r"flow\.enabled"):
+        compare(table, [model_report(flow={"enabled": False})])
