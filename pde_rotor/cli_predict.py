@@ -212,7 +212,10 @@ def register(app: typer.Typer) -> None:
         table_path: TableArgument,
         dw: DwOption = None,
         sigma: SigmaOption = None,
-        out: Annotated[Path, typer.Option("--out", "-o", help="Output directory.")] = Path("."),
+        out: Annotated[
+            Path | None,
+            typer.Option("--out", "-o", help="Output directory [default: the current one]."),
+        ] = None,
         report: Annotated[
             list[Path] | None,
             typer.Option(help="Sweep report (NetCDF) whose points are drawn on the map."),
@@ -237,6 +240,7 @@ def register(app: typer.Typer) -> None:
                 _fail(f"--report {path}: no such file")
             reports.append(xr.load_dataset(path))
         points = ensemble_points(reports, sigma_of(diffusion, table.inertia))
+        out = out or Path.cwd()
         out.mkdir(parents=True, exist_ok=True)
         paths, _ = draw_map(
             table,

@@ -389,7 +389,14 @@ def test_show_during_a_run_reads_events_csv(tiny_run, tmp_path):
     assert invoke("show", running).exit_code == 0
 
 
-COMMANDS = ("run", "show", "check", "info", "sweep", "report", "gallery")
+COMMANDS = ("run", "show", "check", "info", "sweep", "report", "gallery", "predict")
+SUBCOMMANDS = (
+    "predict measure",
+    "predict point",
+    "predict calibrate",
+    "predict check",
+    "predict map",
+)
 
 
 def test_help_lists_the_commands():
@@ -399,16 +406,16 @@ def test_help_lists_the_commands():
         assert command in result.stdout
 
 
-@pytest.mark.parametrize("command", COMMANDS)
+@pytest.mark.parametrize("command", COMMANDS + SUBCOMMANDS)
 def test_help_shows_defaults_and_no_bool_types(command):
     """Defaults written as [default: ...] survive (rich markup used to eat them and leave a
     bare "."), and flags are not labelled <bool>."""
-    result = runner.invoke(app, [command, "--help"], env={"COLUMNS": "100"})
+    result = runner.invoke(app, [*command.split(), "--help"], env={"COLUMNS": "100"})
     assert result.exit_code == 0
     assert "<bool>" not in result.stdout
     text = " ".join(result.stdout.split())
     assert " ." not in text
-    if command in ("run", "show", "sweep", "report", "gallery"):
+    if command in ("run", "show", "sweep", "report", "gallery", "predict measure", "predict map"):
         assert "[default: " in text
 
 
@@ -418,6 +425,7 @@ def test_usage_doc_synopsis_names_every_command():
     synopsis = doc.split("## The CLI", 1)[1].split("```text", 1)[1].split("```", 1)[0]
     named = {line.split()[1] for line in synopsis.splitlines() if line.startswith("pde-rotor ")}
     registered = {c.name or c.callback.__name__ for c in app.registered_commands}
+    registered |= {g.name for g in app.registered_groups}
     assert named == registered
     assert named == set(COMMANDS)
 
