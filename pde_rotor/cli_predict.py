@@ -199,9 +199,14 @@ def register(app: typer.Typer) -> None:
                 + ("" if row["inside"] else "  (outside)")
             )
         worst = result.largest_deviation()
+
+        def share(column: str | None = None) -> str:
+            value = result.coverage(column)
+            return "n/a" if value != value else f"{value:.2f}"
+
         typer.echo(
-            f"coverage: P {result.coverage('P'):.2f}, P(inv|CCW) {result.coverage('P_ccw'):.2f}, "
-            f"P(inv|CW) {result.coverage('P_cw'):.2f}, all {result.coverage():.2f} of "
+            f"coverage: P {share('P')}, P(inv|CCW) {share('P_ccw')}, "
+            f"P(inv|CW) {share('P_cw')}, all {share()} of "
             f"{len(result.rows)} intervals; largest deviation "
             f"{worst['predicted'] - worst['measured']:+.3f} ({worst['column']} at t_stop = "
             f"{worst['t_stop']:g}, Delta = {worst['asymmetry']:g}, sigma = {worst['sigma']:g})"
