@@ -175,11 +175,16 @@ def register(app: typer.Typer) -> None:
         report: Annotated[
             list[Path], typer.Argument(metavar="REPORT...", help="Sweep reports (NetCDF).")
         ],
+        plot: Annotated[
+            Path | None,
+            typer.Option(help="Also draw the master curve P(+1) against x into this directory."),
+        ] = None,
     ) -> None:
         """Compare the model with every point of stored sweep reports (coverage, deviation)."""
         import xarray as xr
 
-        from .decision_check import compare
+        from .decision_check import compare, master_points
+        from .decision_plot import draw_master
 
         table = _table(table_path)
         reports = []
@@ -211,6 +216,13 @@ def register(app: typer.Typer) -> None:
             f"{worst['predicted'] - worst['measured']:+.3f} ({worst['column']} at t_stop = "
             f"{worst['t_stop']:g}, Delta = {worst['asymmetry']:g}, sigma = {worst['sigma']:g})"
         )
+        if plot is not None:
+            plot.mkdir(parents=True, exist_ok=True)
+            points = master_points(table, reports)
+            paths = draw_master(points, plot, footer=table_footer(table, table_path))
+            typer.echo(
+                f"master curve: {len(points)} conditionals; wrote " + ", ".join(map(str, paths))
+            )
 
     @predict.command("map")
     def map_command(

@@ -128,3 +128,29 @@ def compare(table: DecisionTable, reports: Sequence[xr.Dataset]) -> Comparison:
                     }
                 )
     return Comparison(rows)
+
+
+def master_points(table: DecisionTable, reports: Sequence[xr.Dataset]) -> list[dict[str, float]]:
+    """Every conditional of `reports` on the master curve P(+1) = Φ(x).
+
+    x = β̄ / sqrt(λ Dw), with β̄ the angle-mean bias of the point and direction; the
+    measured P(direction after = +1) is 1 - P(inv | CCW) after CCW and P(inv | CW) after
+    CW. Points without noise (x infinite) are left out. Where the lattice spread of β is
+    small against sqrt(λ Dw) all points fall on Φ(x), whatever t_stop, Δ, sigma and flow.
+    """
+    out = []
+    for ds in reports:
+        for point in report_points(ds):
+            if point["sigma"] <= 0:
+                continue
+            scale = math.sqrt(table.growth_rate * diffusion_of(point["sigma"], table.inertia))
+            beta = table.bias(point["t_stop"], point["asymmetry"]).mean(axis=1)
+            for d, (column, flip) in enumerate((("P_ccw", True), ("P_cw", False))):
+                if column not in point or not np.isfinite(point[column]):
+                    continue
+                low, high = point[f"{column}_low"], point[f"{column}_high"]
+                value = point[column]
+                if flip:
+                    value, low, high = 1 - value, 1 - high, 1 - low
+                out.append({"x": float(beta[d]) / scale, "P": value, "low": low, "high": high})
+    return out

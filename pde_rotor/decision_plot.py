@@ -79,3 +79,42 @@ def draw_map(
     if footer:
         add_footer(fig, footer)
     return save_figure(fig, out, name), p
+
+
+MASTER_SPAN = 4.0
+"""|x| drawn on the master curve (Φ(4) = 1 - 3e-5); points beyond sit at the edge."""
+
+
+def draw_master(
+    points: Sequence[dict[str, float]], out: Path, name: str = "master_curve", footer: str = ""
+) -> list[Path]:
+    """The ensembles' P(direction after = +1) against x = β̄/sqrt(λ Dw), with Φ(x)
+    (:func:`pde_rotor.decision_check.master_points`)."""
+    from scipy.special import ndtr
+
+    fig = new_figure(7.0, 5.0)
+    ax = fig.subplots()
+    x = np.array([p["x"] for p in points])
+    value = np.array([p["P"] for p in points])
+    err = np.array([[p["P"] - p["low"] for p in points], [p["high"] - p["P"] for p in points]])
+    inside = np.abs(x) <= MASTER_SPAN
+    ax.errorbar(
+        x[inside], value[inside], yerr=err[:, inside], fmt="o", ms=4, capsize=2,
+        label="ensembles (95 % CI)",
+    )  # fmt: skip
+    if (~inside).any():
+        ax.errorbar(
+            np.clip(x[~inside], -MASTER_SPAN, MASTER_SPAN), value[~inside],
+            yerr=err[:, ~inside], fmt=">", ms=5, capsize=2, color="tab:gray",
+            label=f"|x| > {MASTER_SPAN:g}, drawn at the edge",
+        )  # fmt: skip
+    grid = np.linspace(-MASTER_SPAN, MASTER_SPAN, 400)
+    ax.plot(grid, ndtr(grid), "k-", lw=1, label="\u03a6(x): linear escape")
+    ax.set_xlabel("x = \u03b2 / sqrt(\u03bb Dw)  (angle-mean bias at release over the noise scale)")
+    ax.set_ylabel("P(direction after the release = +1)")
+    ax.set_ylim(-0.02, 1.02)
+    ax.legend(fontsize=8)
+    ax.set_title("Master curve: every stop of every point on one line if the model holds")
+    if footer:
+        add_footer(fig, footer)
+    return save_figure(fig, out, name)

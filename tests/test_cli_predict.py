@@ -97,9 +97,11 @@ def test_check_prints_coverage_and_refuses_another_grid(table_path: Path, tmp_pa
     from test_decision_check import model_report
 
     model_report().to_netcdf(tmp_path / "same.nc")
-    result = invoke("check", str(table_path), str(tmp_path / "same.nc"))
+    result = invoke("check", str(table_path), str(tmp_path / "same.nc"), "--plot", str(tmp_path))
     assert result.exit_code == 0, result.output
     assert "all 1.00 of 18 intervals" in result.output
+    assert "master curve: 12 conditionals" in result.output
+    assert (tmp_path / "master_curve.png").stat().st_size > 0
     model_report(grid={"dx": 0.05}).to_netcdf(tmp_path / "other.nc")
     other = invoke("check", str(table_path), str(tmp_path / "other.nc"))
     assert other.exit_code == 2 and other.output.count("error:") == 1

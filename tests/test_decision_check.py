@@ -59,3 +59,16 @@ def test_a_report_of_another_grid_or_flow_is_refused() -> None:
         compare(table, [model_report(grid={"dx": 0.05})])
     with pytest.raises(ValueError, match=r"flow\.enabled"):
         compare(table, [model_report(flow={"enabled": False})])
+
+
+def test_master_points_of_the_model_lie_on_the_normal_cdf() -> None:
+    """Without a lattice spread the model's own conditionals are Phi(x) exactly."""
+    from scipy.stats import norm
+
+    from pde_rotor.decision_check import master_points
+
+    points = master_points(synthetic(), [model_report()])
+    assert len(points) == 12
+    for p in points:
+        assert p["P"] == pytest.approx(norm.cdf(p["x"]), abs=1e-9)
+        assert p["low"] <= p["P"] <= p["high"]
