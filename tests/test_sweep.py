@@ -650,7 +650,12 @@ def test_cli_sweep_stops_cleanly_on_sigterm_and_ctrl_c(tmp_path, how):
     command = [sys.executable, "-c", "from pde_rotor.cli import app; app()"]
     args = ["sweep", str(path), "-o", str(out), "--workers", "1", "-q"]
     proc = subprocess.Popen(
-        [*command, *args], start_new_session=True, stderr=subprocess.PIPE, text=True
+        [*command, *args],
+        start_new_session=True,
+        stderr=subprocess.PIPE,
+        text=True,
+        # a terminal's foreground job: SIGINT at its default, whatever this process inherited
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )
     runs_dir = out / RUNS_DIR
     deadline = time.monotonic() + 120
