@@ -639,13 +639,14 @@ def test_cli_sweep_stops_cleanly_on_sigterm_and_ctrl_c(tmp_path, how):
     """SIGTERM (a batch system ending the job) or Ctrl-C (SIGINT to the terminal's whole
     process group, dask's worker processes included) exits with 130, keeps finished runs,
     leaves no worker process behind and says in one line how many runs are kept: no
-    worker prints a traceback. 200 runs, so that the sweep cannot finish in the moment
+    worker prints a traceback. 48 runs, so that the sweep cannot finish in the moment
     between the test seeing two run files and its signal arriving (under load, results
-    reach the main process in bursts: with 48 runs a loaded machine once finished them all
-    first)."""
+    reach the main process in bursts). The child starts with SIGINT at its default: a
+    test session started in the background of a non-interactive shell inherits SIGINT
+    ignored, and so would the sweep, which then ran to its end (exit 0)."""
     import psutil
 
-    path = write_sweep(tmp_path / "tiny.yaml", {**TINY_SWEEP, "samples": 50})
+    path = write_sweep(tmp_path / "tiny.yaml", {**TINY_SWEEP, "samples": 12})
     out = tmp_path / "out"
     command = [sys.executable, "-c", "from pde_rotor.cli import app; app()"]
     args = ["sweep", str(path), "-o", str(out), "--workers", "1", "-q"]
