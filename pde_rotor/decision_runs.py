@@ -12,6 +12,7 @@ at shorter stops compare the amplitude of ω e^{-λt} with the model's C β/λ.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable, Sequence
 
@@ -21,7 +22,7 @@ from .config import RotorConfig
 from .decision import DIRECTIONS, TAIL, DecisionTable
 from .simulation import Simulation
 from .sweep.spec import RestartEstimator
-from .sweep.tasks import period_steps, warm_state
+from .sweep.tasks import Timing, period_steps, warm_state
 
 SETTLE = 0.25
 """Time after the release before the fits start: the stable modes have decayed."""
@@ -29,14 +30,17 @@ SETTLE = 0.25
 LINEAR_OMEGA = 3.0
 """|ω| below which the release is linear (about 2 % of the steady ω ≈ 175)."""
 
+RELEASE_SPAN = 10.0
+"""Length of the release after a table's stop: longer than any recorded release (cap 2)."""
 
-def _release_config(config: RotorConfig, n_start: int, n_stop: int) -> RotorConfig:
-    """`config` noise-free, with one stop from global step `n_start` lasting `n_stop` steps."""
-    dt = config.grid.dt
-    data = config.model_dump(mode="json")
-    data["protocol"].update(t_ini=n_start * dt, t_stop=n_stop * dt, t_release=10.0, cycles=1)
-    data["noise"]["sigma"] = 0.0
-    return RotorConfig.model_validate(data)
+
+def _one_stop(config: RotorConfig, n_start: int, n_stop: int) -> RotorConfig:
+    """`config` noise-free, with one stop from global step `n_start` lasting `n_stop` steps
+    (the restart estimators' one-stop protocol, :meth:`Timing.protocol`)."""
+    quiet = config.model_copy(deep=True)
+    quiet.noise.sigma = 0.0
+    n_release = round(RELEASE_SPAN / config.grid.dt)
+    return Timing(n_start, n_stop, n_release, 1).protocol(quiet)
 
 
 def release_record(
@@ -51,7 +55,7 @@ def release_record(
     """
     dt = stopped.config.grid.dt
     n_now = round(stopped.t / dt)
-    sim = stopped.branch(_release_config(stopped.config, n_start, n_now - n_start))
+    sim = stopped.branch(_one_stop(stopped.config, n_start, n_now - n_start))
     sim.rotor.omega = kick
     times, omegas = [], []
     t0 = sim.t
@@ -150,7 +154,7 @@ def measure_table(
         n_warm = round(warm.t / dt)
         for k in range(n_angles):
             n_start = n_warm + (k * n_period) // n_angles
-            stop = warm.branch(_release_config(quiet, n_start, (n_t - 1) * every + 1))
+            stop = warm.branch(_one_stop(quiet, n_start, (n_t - 1) * every + 1))
             stop.run(n_start * dt)
             for j in range(n_t):
                 stop.run((n_start + j * every + 1) * dt)
@@ -211,15 +215,7 @@ def _with_checks(
             predicted.append(table.response * float(beta[d, 0]) / table.growth_rate)
         attrs[f"check_amplitude_{name}"] = np.array(measured)
         attrs[f"check_predicted_{name}"] = np.array(predicted)
-    return DecisionTable(
-        table.time,
-        table.torque,
-        table.asymmetry,
-        table.growth_rate,
-        table.response,
-        table.inertia,
-        attrs,
-    )
+    return dataclasses.replace(table, attrs=attrs)
 
 
 def table_steps(
