@@ -31,6 +31,7 @@ from typing import Any
 
 import numpy as np
 import xarray as xr
+from scipy.optimize import brentq
 from scipy.special import ndtr
 
 from .output import write_netcdf_atomic
@@ -182,28 +183,24 @@ class DecisionTable:
     def calibrate(
         self, target: float, t_stop: float, asymmetry: float, bracket: tuple[float, float]
     ) -> float:
-        """The Dw at which P(t_stop, Δ) equals `target` (bisection in log Dw).
+        """The Dw at which P(t_stop, Δ) equals `target` (Brent's method in log Dw).
 
         Raises:
             ValueError: `target` is not between P at the two ends of `bracket`.
         """
+
+        def excess(log_dw: float) -> float:
+            return float(self.probability(t_stop, asymmetry, np.exp(log_dw))) - target
+
         lo, hi = np.log(bracket[0]), np.log(bracket[1])
-        f_lo = float(self.probability(t_stop, asymmetry, np.exp(lo))) - target
-        f_hi = float(self.probability(t_stop, asymmetry, np.exp(hi))) - target
+        f_lo, f_hi = excess(lo), excess(hi)
         if f_lo * f_hi > 0:
             msg = (
                 f"P = {target:g} is not reached for Dw in [{bracket[0]:g}, {bracket[1]:g}] "
                 f"(P = {f_lo + target:.3g} ... {f_hi + target:.3g})"
             )
             raise ValueError(msg)
-        for _ in range(80):
-            mid = 0.5 * (lo + hi)
-            f_mid = float(self.probability(t_stop, asymmetry, np.exp(mid))) - target
-            if f_mid * f_lo > 0:
-                lo, f_lo = mid, f_mid
-            else:
-                hi = mid
-        return float(np.exp(0.5 * (lo + hi)))
+        return float(np.exp(brentq(excess, lo, hi, xtol=1e-12)))
 
     def to_dataset(self) -> xr.Dataset:
         """The table as a Dataset (:func:`load_table` reads it back)."""
