@@ -12,12 +12,13 @@ from __future__ import annotations
 import os
 import sys
 from pathlib import Path
-from typing import Annotated, NoReturn
+from typing import Annotated
 
 import typer
 
 from .api import RunResult, versions
 from .backends import BackendError, backend_for, gpu_unavailable_reason
+from .cli_common import EXIT_BAD_INPUT, EXIT_FAILED, EXIT_INTERRUPTED, SetOption, fail
 from .cli_gallery import register as register_gallery_commands
 from .cli_predict import register as register_predict_commands
 from .cli_sweep import register as register_sweep_commands
@@ -34,26 +35,6 @@ app = typer.Typer(
     # plain help: rich markup would eat "[default: ...]" and label every flag <bool>
     rich_markup_mode=None,
 )
-
-EXIT_BAD_INPUT = 2
-EXIT_DIVERGED = 1
-EXIT_INTERRUPTED = 130
-
-
-def _fail(message: str, code: int = EXIT_BAD_INPUT) -> NoReturn:
-    typer.echo(f"error: {message}", err=True)
-    raise typer.Exit(code)
-
-
-SetOption = Annotated[
-    list[str] | None,
-    typer.Option(
-        "--set",
-        metavar="KEY.PATH=VALUE",
-        help="Override one config value, e.g. --set protocol.t_stop=1.5 (repeatable).",
-        show_default=False,
-    ),
-]
 
 
 @app.command()
@@ -94,7 +75,7 @@ def run(
         run_dir = out if out is not None else RunDirectory.default_path(config)
         RunDirectory.create(run_dir, overwrite=overwrite)
     except (ConfigError, BackendError, OutputError) as err:
-        _fail(str(err))
+        fail(str(err))
 
     from .api import run as run_config
 
@@ -111,12 +92,12 @@ def run(
             check=False,
         )
     except (ConfigError, BackendError, OutputError) as err:
-        _fail(str(err))
+        fail(str(err))
     _report(result)
     if result.status == "diverged":
-        _fail(result.message, EXIT_DIVERGED)
+        fail(result.message, EXIT_FAILED)
     if result.status != "completed":
-        _fail(f"run {result.status}: {result.message}", EXIT_INTERRUPTED)
+        fail(f"run {result.status}: {result.message}", EXIT_INTERRUPTED)
 
 
 def _report(result: RunResult) -> None:
@@ -144,7 +125,7 @@ def show(
     try:
         result = RunResult.load(run_dir)
     except ConfigError as err:
-        _fail(str(err))
+        fail(str(err))
     from .output import atomic_path
     from .plotting import SUMMARY_SIZE, summary_figure
 
@@ -162,7 +143,7 @@ def show(
         with atomic_path(target) as tmp:
             fig.savefig(tmp, format=suffix, dpi=110)
     except (OSError, ValueError) as err:
-        _fail(f"cannot write {target}: {err}")
+        fail(f"cannot write {target}: {err}")
     typer.echo(f"wrote {target}")
     if display:
         import matplotlib as mpl

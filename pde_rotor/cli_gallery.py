@@ -12,6 +12,8 @@ from typing import Annotated
 
 import typer
 
+from .cli_common import EXIT_FAILED, fail
+
 
 def register(app: typer.Typer) -> None:
     """Add the ``gallery`` command to `app`."""
@@ -59,8 +61,7 @@ def register(app: typer.Typer) -> None:
                 quick, names or None, target, tiny=tiny, scheduler=scheduler, publish=publish
             )
         except GalleryError as err:
-            typer.echo(f"error: {err}", err=True)
-            raise typer.Exit(2) from None
+            fail(str(err))
         for name, files in result.files.items():
             status = "FAILED" if name in result.failed else "ok"
             typer.echo(f"{name:<20} {status:<6} {result.seconds[name]:7.1f} s  {len(files)} files")
@@ -68,4 +69,4 @@ def register(app: typer.Typer) -> None:
         if result.failed:
             for name, message in result.failed.items():
                 typer.echo(f"error: {name}: {message}", err=True)
-            raise typer.Exit(1)
+            raise typer.Exit(EXIT_FAILED)

@@ -9,14 +9,11 @@ codes: 0 success, 2 bad input (one line ``error: ...``).
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, NoReturn
+from typing import Annotated
 
 import typer
 
-
-def _fail(message: str) -> NoReturn:
-    typer.echo(f"error: {message}", err=True)
-    raise typer.Exit(2)
+from .cli_common import SetOption, fail
 
 
 def _diffusion(dw: float | None, sigma: float | None, inertia: float) -> float:
@@ -24,13 +21,13 @@ def _diffusion(dw: float | None, sigma: float | None, inertia: float) -> float:
     from .decision import diffusion_of
 
     if (dw is None) == (sigma is None):
-        _fail("give the noise as exactly one of --dw (angular-velocity diffusion) or --sigma")
+        fail("give the noise as exactly one of --dw (angular-velocity diffusion) or --sigma")
     if dw is not None:
         if dw < 0:
-            _fail(f"--dw {dw:g}: must be >= 0")
+            fail(f"--dw {dw:g}: must be >= 0")
         return dw
     if sigma < 0:
-        _fail(f"--sigma {sigma:g}: must be >= 0")
+        fail(f"--sigma {sigma:g}: must be >= 0")
     return diffusion_of(sigma, inertia)
 
 
@@ -51,11 +48,11 @@ def _table(path: Path):
     from .decision import load_table
 
     if not path.is_file():
-        _fail(f"{path}: no such decision table (pde-rotor predict measure writes one)")
+        fail(f"{path}: no such decision table (pde-rotor predict measure writes one)")
     try:
         return load_table(path)
     except (OSError, KeyError, ValueError) as err:
-        _fail(f"{path}: not a decision table ({err})")
+        fail(f"{path}: not a decision table ({err})")
 
 
 DwOption = Annotated[
@@ -85,10 +82,7 @@ def register(app: typer.Typer) -> None:
             ),
         ],
         out: Annotated[Path, typer.Option("--out", "-o", help="Table to write (.nc).")],
-        set_: Annotated[
-            list[str] | None,
-            typer.Option("--set", metavar="KEY.PATH=VALUE", help="Config override (repeatable)."),
-        ] = None,
+        set_: SetOption = None,
         angles: Annotated[int, typer.Option(min=1, help="Stop angles per direction.")] = 8,
         t_max: Annotated[float, typer.Option(min=0.1, help="Longest stop predicted.")] = 3.5,
         check: Annotated[
@@ -107,15 +101,15 @@ def register(app: typer.Typer) -> None:
         try:
             cfg = load_config(config, set_ or [])
         except ConfigError as err:
-            _fail(str(err))
+            fail(str(err))
         if cfg.geometry.asymmetry == 0:
-            _fail(
+            fail(
                 "geometry.asymmetry = 0: measure at a nonzero reference Delta "
                 "(e.g. --set geometry.asymmetry=1e-4) so the table predicts every Delta"
             )
         checks = sorted(check or [])
         if checks and (checks[0] <= 0 or checks[-1] > t_max):
-            _fail(f"--check values must lie in (0, t_max = {t_max:g}]")
+            fail(f"--check values must lie in (0, t_max = {t_max:g}]")
         n = table_steps(cfg, angles, t_max, len(checks))
         typer.echo(f"{n:,} steps, about {format_duration(n * step_seconds(cfg))} on one core")
         table = measure_table(cfg, angles, t_max, checks=checks, progress=typer.echo)
@@ -140,7 +134,7 @@ def register(app: typer.Typer) -> None:
         diffusion = _diffusion(dw, sigma, table.inertia)
         for t in t_stop:
             if not 0 <= t <= table.t_max:
-                _fail(f"--t-stop {t:g}: outside the table's [0, {table.t_max:g}]")
+                fail(f"--t-stop {t:g}: outside the table's [0, {table.t_max:g}]")
         for t in t_stop:
             a, b = table.conditionals(t, asymmetry, diffusion)
             p = table.probability(t, asymmetry, diffusion)
@@ -163,7 +157,7 @@ def register(app: typer.Typer) -> None:
         try:
             dw = table.calibrate(target, t_stop, asymmetry, (1e-9, 1e2))
         except ValueError as err:
-            _fail(str(err))
+            fail(str(err))
         typer.echo(
             f"P(t_stop = {t_stop:g}, Delta = {asymmetry:g}) = {target:g} at Dw = {dw:.4g} "
             f"(sigma = {sigma_of(dw, table.inertia):.4g})"
@@ -190,12 +184,12 @@ def register(app: typer.Typer) -> None:
         reports = []
         for path in report:
             if not path.is_file():
-                _fail(f"{path}: no such report")
+                fail(f"{path}: no such report")
             reports.append(xr.load_dataset(path))
         try:
             result = compare(table, reports)
         except ValueError as err:
-            _fail(str(err))
+            fail(str(err))
         for row in result.rows:
             typer.echo(
                 f"{row['sweep']}: t_stop = {row['t_stop']:g}, Delta = {row['asymmetry']:g}, "
@@ -250,11 +244,11 @@ def register(app: typer.Typer) -> None:
         table = _table(table_path)
         diffusion = _diffusion(dw, sigma, table.inertia)
         if t_stop_max > table.t_max:
-            _fail(f"--t-stop-max {t_stop_max:g}: beyond the table's {table.t_max:g}")
+            fail(f"--t-stop-max {t_stop_max:g}: beyond the table's {table.t_max:g}")
         reports = []
         for path in report or []:
             if not path.is_file():
-                _fail(f"--report {path}: no such file")
+                fail(f"--report {path}: no such file")
             reports.append(xr.load_dataset(path))
         points = ensemble_points(reports, sigma_of(diffusion, table.inertia))
         out = out or Path.cwd()

@@ -15,6 +15,8 @@ from typing import Annotated
 
 import typer
 
+from .cli_common import EXIT_FAILED, EXIT_INTERRUPTED, fail
+
 
 def _interrupt(signum: int, frame: object) -> None:
     raise KeyboardInterrupt
@@ -85,8 +87,7 @@ def register(app: typer.Typer) -> None:
             spec = Sweep.load(sweep, set_ or [])
             backend = sweep_backend(spec)
         except SweepError as err:
-            typer.echo(f"error: {err}", err=True)
-            raise typer.Exit(2) from None
+            fail(str(err))
         sweep_dir = out if out is not None else DEFAULT_ROOT / sweep.stem
         runs = spec.runs()
         n_runs = len(runs)
@@ -124,7 +125,7 @@ def register(app: typer.Typer) -> None:
                 "command to resume",
                 err=True,
             )
-            raise typer.Exit(130) from None
+            raise typer.Exit(EXIT_INTERRUPTED) from None
         finally:
             signal.signal(signal.SIGTERM, previous)
         typer.echo(
@@ -136,7 +137,7 @@ def register(app: typer.Typer) -> None:
         if outcome.failed:
             for key, message in outcome.failed[:5]:
                 typer.echo(f"failed run {key}: {message}", err=True)
-            raise typer.Exit(1)
+            raise typer.Exit(EXIT_FAILED)
 
     @app.command("report")
     def report_command(
@@ -153,11 +154,9 @@ def register(app: typer.Typer) -> None:
         from .sweep import SweepError, report
 
         if not (sweep_dir / "sweep.yaml").is_file():
-            typer.echo(f"error: {sweep_dir} holds no sweep.yaml (not a sweep directory)", err=True)
-            raise typer.Exit(2)
+            fail(f"{sweep_dir} holds no sweep.yaml (not a sweep directory)")
         try:
             report(sweep_dir, out)
         except SweepError as err:
-            typer.echo(f"error: {err}", err=True)
-            raise typer.Exit(2) from None
+            fail(str(err))
         typer.echo(f"report: {out if out is not None else sweep_dir / 'report.nc'}")
