@@ -55,6 +55,28 @@ def _table(path: Path):
         fail(f"{path}: not a decision table ({err})")
 
 
+def _sweep_outcomes(table, sweep_dirs: list[Path]) -> list:
+    """The releases of `sweep_dirs`, refused with one line where a sweep does not match
+    the table (grid, smoothing, flow, scheme) or holds no restart or bank runs."""
+    from .decision_check import mismatch
+    from .decision_fit import sweep_outcomes
+    from .sweep import SweepError
+    from .sweep.plan import Sweep
+
+    outcomes = []
+    for path in sweep_dirs:
+        if not (path / "sweep.yaml").is_file():
+            fail(f"--sweep {path}: holds no sweep.yaml (not a sweep directory)")
+        try:
+            problem = mismatch(table, Sweep.load(path).base)
+            if problem:
+                fail(f"--sweep {path}: {problem}")
+            outcomes += sweep_outcomes(path)
+        except (SweepError, ValueError) as err:
+            fail(f"--sweep {path}: {err}")
+    return outcomes
+
+
 DwOption = Annotated[
     float | None, typer.Option("--dw", help="Angular-velocity diffusion Dw = (sigma/I)^2.")
 ]
@@ -149,11 +171,22 @@ def register(app: typer.Typer) -> None:
         target: Annotated[float, typer.Option(help="P to reach.")] = 0.2,
         t_stop: Annotated[float, typer.Option("--t-stop")] = 3.0,
         asymmetry: Annotated[float, typer.Option("--asymmetry")] = 2e-5,
+        sweep: Annotated[
+            list[Path] | None,
+            typer.Option(
+                metavar="SWEEP_DIR",
+                help="Fit the noise scale to the releases of these restart or bank sweeps "
+                "and calibrate from the ensemble, with a 95 % range (repeatable).",
+                show_default=False,
+            ),
+        ] = None,
     ) -> None:
-        """The noise (Dw and sigma) at which the predicted P(t_stop, Delta) is `target`."""
+        """The noise (Dw and sigma) at which P(t_stop, Delta) is `target`: the model's, and
+        with --sweep the ensemble's (the model's noise scale fitted to its releases)."""
         from .decision import sigma_of
 
         table = _table(table_path)
+        outcomes = _sweep_outcomes(table, sweep or [])
         try:
             dw = table.calibrate(target, t_stop, asymmetry, (1e-9, 1e2))
         except ValueError as err:
@@ -161,6 +194,23 @@ def register(app: typer.Typer) -> None:
         typer.echo(
             f"P(t_stop = {t_stop:g}, Delta = {asymmetry:g}) = {target:g} at Dw = {dw:.4g} "
             f"(sigma = {sigma_of(dw, table.inertia):.4g})"
+        )
+        if not outcomes:
+            return
+        from .decision_fit import fit_noise
+
+        try:
+            fit = fit_noise(table, outcomes, target, t_stop, asymmetry)
+        except ValueError as err:
+            fail(str(err))
+        k_lo, k_hi = fit.scale_range
+        d_lo, d_hi = fit.diffusion_range
+        typer.echo(
+            f"ensemble ({fit.stops} stops, {fit.groups} noisy counts): behaves as the model "
+            f"at kappa Dw, kappa = {fit.scale:.3g} [{k_lo:.3g}, {k_hi:.3g}] (95 %, bootstrap "
+            f"over stops)\ncalibrated: Dw = {fit.diffusion:.3g} [{d_lo:.3g}, {d_hi:.3g}], "
+            f"sigma = {sigma_of(fit.diffusion, table.inertia):.3g} "
+            f"[{sigma_of(d_lo, table.inertia):.3g}, {sigma_of(d_hi, table.inertia):.3g}]"
         )
 
     @predict.command("check")

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import json
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -56,14 +56,14 @@ def report_points(ds: xr.Dataset) -> list[dict[str, float]]:
     return points
 
 
-def mismatch(table: DecisionTable, ds: xr.Dataset) -> str | None:
-    """Which setting of the report's base_config differs from the table's config (or None)."""
+def mismatch(table: DecisionTable, fixed: Mapping[str, Any]) -> str | None:
+    """Which setting of an ensemble's base config `fixed` differs from the table's config
+    (or None); settings that `fixed` leaves out are taken to match."""
     config = RotorConfig.model_validate_json(table.attrs["config"]).model_dump(mode="json")
-    fixed = json.loads(ds.attrs.get("base_config", "{}"))
     for section, key in MATCHED:
         if key in fixed.get(section, {}) and fixed[section][key] != config[section][key]:
             return (
-                f"{section}.{key} = {fixed[section][key]!r} in the report, "
+                f"{section}.{key} = {fixed[section][key]!r} in the ensemble, "
                 f"{config[section][key]!r} in the table"
             )
     return None
@@ -99,7 +99,7 @@ def compare(table: DecisionTable, reports: Sequence[xr.Dataset]) -> Comparison:
     """
     rows = []
     for ds in reports:
-        problem = mismatch(table, ds)
+        problem = mismatch(table, json.loads(ds.attrs.get("base_config", "{}")))
         if problem:
             msg = f"report {ds.attrs.get('sweep', '?')}: {problem}"
             raise ValueError(msg)

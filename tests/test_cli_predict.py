@@ -105,4 +105,46 @@ def test_check_prints_coverage_and_refuses_another_grid(table_path: Path, tmp_pa
     model_report(grid={"dx": 0.05}).to_netcdf(tmp_path / "other.nc")
     other = invoke("check", str(table_path), str(tmp_path / "other.nc"))
     assert other.exit_code == 2 and other.output.count("error:") == 1
-    assert "grid.dx = 0.05 in the report" in other.output
+    assert "grid.dx = 0.05 in the ensemble" in other.output
+
+
+def fake_bank_store(path: Path, base: dict) -> None:
+    """A bank sweep at t_stop = 3, Δ = 2e-5, two sigma, 20 stops per direction, whose
+    releases all go CW (against Δ from CCW: an inversion; from CW: none)."""
+    import json
+
+    from test_sweep import tiny_sweep
+
+    from pde_rotor.sweep.store import prepare, run_path
+
+    sweep = tiny_sweep(
+        base=base,
+        set={"geometry.asymmetry": 2e-5, "protocol.t_stop": 3.0},
+        axes={"noise.sigma": [1e-7, 2e-7]},
+        estimator={"kind": "bank", "warmup": 2.0},
+        samples=20,
+    )
+    prepare(sweep, path)
+    for run in sweep.runs():
+        result = {"direction_before": run.direction, "direction_after": -1}
+        content = {"key": run.key, "result": result}
+        run_path(path, run.key).write_text(json.dumps(content), encoding="utf-8")
+
+
+def test_calibrate_fits_the_ensemble_of_a_sweep(table_path: Path, tmp_path: Path) -> None:
+    fake_bank_store(tmp_path / "bank", {})
+    result = invoke("calibrate", str(table_path), "--sweep", str(tmp_path / "bank"))
+    assert result.exit_code == 0, result.output
+    assert "ensemble (40 stops, 4 noisy counts)" in result.output
+    assert "calibrated: Dw = " in result.output
+
+
+def test_calibrate_refuses_a_sweep_of_another_grid(table_path: Path, tmp_path: Path) -> None:
+    fake_bank_store(tmp_path / "bank", {"grid": {"dx": 0.05, "dt": 4e-4}})
+    result = invoke("calibrate", str(table_path), "--sweep", str(tmp_path / "bank"))
+    assert result.exit_code == 2
+    assert result.output.count("\n") == 1
+    assert "grid.dx = 0.05 in the ensemble" in result.output
+    missing = invoke("calibrate", str(table_path), "--sweep", str(tmp_path))
+    assert missing.exit_code == 2
+    assert "not a sweep directory" in missing.output
