@@ -23,10 +23,14 @@ Physics (section "Model" of Koyano et al., Chaos 2020):
   R_j = R_c e(phi + 2 pi j / N + Delta), Eq. (rc) with the pills at the corners
   (erratum of Eq. (rj), see :mod:`pde_rotor.geometry`);
 * :func:`plate_cell`, :func:`pill_cell`: the smoothed indicators F and G (the
-  equations after Eq. (rj)) at one cell centre (scheme ``paper``);
-  :func:`filtered_plate`, :func:`filtered_pills`: the same after the isotropic
-  Gaussian prefilter of the scheme ``consistent``, from the tables of
-  :mod:`pde_rotor.filtering`;
+  equations after Eq. (rj)) at one cell centre (scheme ``paper``), built from the
+  plate's profile of the gauge h(r) (:func:`plate_profile`) and one pill's term
+  (:func:`pill_term`), with the tanh written as a branch-free :func:`logistic` of a
+  polynomial :func:`vector_expm1`; :func:`filtered_plate`, :func:`filtered_pills`: the
+  same after the isotropic Gaussian prefilter of the scheme ``consistent``, from the
+  tables of :mod:`pde_rotor.filtering` (:func:`filtered_edge`, :func:`filtered_corner`,
+  :func:`filtered_pill_term`). The GPU calls the cell functions once per cell; the CPU
+  calls the terms in loops over a row's cells, four at a time (SIMD);
 * :func:`cell_rates`: the right-hand sides of Eqs. (eqc) and (eqv) of one cell
   (5-point Laplacian, central divergence);
 * :func:`cell_integrals`: one cell's share of the integrals of Eq. (eq_motion):
@@ -82,10 +86,17 @@ S_N, S_APOTHEM, S_RHO, S_RC, S_ASYM, S_DELTA = range(6)
 class Core(NamedTuple):
     """The compiled physics functions for one target (see the module docstring)."""
 
+    vector_expm1: Callable
+    logistic: Callable
     rotor_table: Callable
+    plate_profile: Callable
+    pill_term: Callable
     plate_cell: Callable
     pill_cell: Callable
+    filtered_edge: Callable
+    filtered_corner: Callable
     filtered_plate: Callable
+    filtered_pill_term: Callable
     filtered_pills: Callable
     rate_coefficients: Callable
     cell_rates: Callable
@@ -107,9 +118,48 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
     """
 
     @jit
+    def vector_expm1(x: float) -> float:
+        """exp(x) - 1 for 0 <= x <= 2 X_SATURATION in multiplications and additions only.
+
+        The Taylor polynomial of degree 15 of expm1(x / 64) (remainder below 5e-17), then
+        six doublings of the argument, (1 + q)^2 - 1 = q (2 + q), which keep the relative
+        accuracy (2e-14 over the range, tests/test_core.py; squaring exp(x / 64) itself
+        would lose 64 ulp). libm's exp is a call that stops LLVM from vectorising a loop;
+        this is not, so the CPU loops over a row of cells run it four cells at a time.
+        """
+        r = x * (1.0 / 64.0)
+        p = 1.0 / 1307674368000.0
+        p = p * r + 1.0 / 87178291200.0
+        p = p * r + 1.0 / 6227020800.0
+        p = p * r + 1.0 / 479001600.0
+        p = p * r + 1.0 / 39916800.0
+        p = p * r + 1.0 / 3628800.0
+        p = p * r + 1.0 / 362880.0
+        p = p * r + 1.0 / 40320.0
+        p = p * r + 1.0 / 5040.0
+        p = p * r + 1.0 / 720.0
+        p = p * r + 1.0 / 120.0
+        p = p * r + 1.0 / 24.0
+        p = p * r + 1.0 / 6.0
+        p = p * r + 0.5
+        p = p * r + 1.0
+        q = p * r
+        q = q * (2.0 + q)
+        q = q * (2.0 + q)
+        q = q * (2.0 + q)
+        q = q * (2.0 + q)
+        q = q * (2.0 + q)
+        return q * (2.0 + q)
+
+    @jit
     def logistic(arg: float) -> float:
-        """1/2 (1 + tanh(arg)) written as 1 / (1 + exp(-2 arg)) (one exp, no tanh)."""
-        return 1.0 / (1.0 + math.exp(-2.0 * arg))
+        """1/2 (1 + tanh(arg)) = 1 / (1 + exp(-2 arg)), arg clipped to +-X_SATURATION
+        (where it is 1 exactly, or 4.2e-18), written with E = exp(2 |arg|) >= 1 as
+        E / (E + 1) or 1 / (E + 1): branch-free, so vectorisable, and within 1 ulp of 1."""
+        arg = arg if arg < X_SATURATION else X_SATURATION
+        arg = arg if arg > -X_SATURATION else -X_SATURATION
+        big = 1.0 + vector_expm1(2.0 * abs(arg))
+        return (big if arg >= 0.0 else 1.0) / (big + 1.0)
 
     @jit
     def rotor_table(phi, n_corners, r_c, asym, tab):
@@ -131,25 +181,27 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         return proj
 
     @jit
+    def plate_profile(h, apothem, inv_delta):
+        """F as a function of the gauge h(r): 1/2 [1 + tanh((R cos(pi/N) - h) / delta)]."""
+        return logistic((apothem - h) * inv_delta)
+
+    @jit
+    def pill_term(dx, dy, rho, inv_delta):
+        """One pill's share of G at the offset (dx, dy) from its centre:
+        1/2 [1 + tanh((rho - |(dx, dy)|) / delta)]."""
+        return logistic((rho - math.sqrt(dx * dx + dy * dy)) * inv_delta)
+
+    @jit
     def plate_cell(x, y, tab, n_corners, apothem, inv_delta):
-        """F at the cell centre (x, y): 1/2 [1 + tanh((R cos(pi/N) - h(r)) / delta)]."""
-        arg = (apothem - gauge(x, y, tab, n_corners)) * inv_delta
-        if arg >= X_SATURATION:
-            return 1.0
-        if arg <= -X_SATURATION:
-            return 0.0
-        return logistic(arg)
+        """F at the cell centre (x, y) (scheme ``paper``)."""
+        return plate_profile(gauge(x, y, tab, n_corners), apothem, inv_delta)
 
     @jit
     def pill_cell(x, y, tab, n_corners, rho, inv_delta):
-        """G at the cell centre (x, y): sum over the pills of
-        1/2 [1 + tanh((rho - |r - R_j|) / delta)]."""
-        reach = rho + X_SATURATION / inv_delta
+        """G at the cell centre (x, y) (scheme ``paper``): the sum over the pills, in order."""
         g = 0.0
         for k in range(n_corners):
-            d2 = (x - tab[2, k]) ** 2 + (y - tab[3, k]) ** 2
-            if d2 < reach * reach:
-                g += logistic((rho - math.sqrt(d2)) * inv_delta)
+            g += pill_term(x - tab[2, k], y - tab[3, k], rho, inv_delta)
         return g
 
     @jit
@@ -294,19 +346,39 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         return acc
 
     @jit
+    def filtered_edge(h, apothem, edge, e_u0, e_inv):
+        """F_eps = f_eps(apothem - h) away from the corners, from the 1-D edge profile
+        `edge` (first node e_u0, 1 / spacing e_inv, linear): 0 before its first node, 1
+        beyond its last (branch-free: the index is clipped, the value selected)."""
+        last = edge.size - 1
+        u = (apothem - h - e_u0) * e_inv
+        i = min(max(int(u), 0), last - 1)
+        value = edge[i] + (u - i) * (edge[i + 1] - edge[i])
+        value = value if u > 0.0 else 0.0
+        return value if u < last else 1.0
+
+    @jit
+    def filtered_corner(h, q, plate, t_n, t_x0, t_inv):
+        """F_eps near the corner bisectors, at (h, q) in the frame of the nearest edge:
+        the cubic spline of the 2-D `plate` table (t_n x t_n coefficients on the nodes
+        t_x0 + k / t_inv, edge 0's normal along +x), 0 where its taps leave the table."""
+        fx = (h - t_x0) * t_inv
+        fy = (q - t_x0) * t_inv
+        if fx < 1.0 or fy < 1.0 or fx >= t_n - 2.0 or fy >= t_n - 2.0:
+            return 0.0
+        return interpolate(plate, 0, t_n, t_x0, t_inv, h, q)
+
+    @jit
     def filtered_plate(
         x, y, tab, n_corners, apothem, tan_half, crease, edge, e_u0, e_inv, plate, t_n, t_x0, t_inv
     ):
         """F_eps of the cell centred at (x, y) (scheme ``consistent``, :mod:`pde_rotor.filtering`).
 
         The point is written in the frame of its nearest edge j (the one maximising
-        r . e_j): h = r . e_j, q = r . tau_j, tau_j = e_j turned by +pi/2. Where
-        h tan(pi/N) - |q| > `crease` (that is, more than crease cos(pi/N) from the corner
-        bisectors), F_eps = f_eps(apothem - h) from the 1-D edge profile `edge` (first
-        node e_u0, 1 / spacing e_inv, linear); closer, from the cubic spline of the 2-D
-        `plate` table (t_n x t_n coefficients on the nodes t_x0 + k / t_inv, edge 0's
-        normal along +x), 0 where its taps leave the table. Either way F_eps has the
-        hexagon's symmetry exactly.
+        r . e_j; the first of equals): h = r . e_j, q = r . tau_j, tau_j = e_j turned by
+        +pi/2. Where h tan(pi/N) - |q| > `crease` (more than crease cos(pi/N) from the
+        corner bisectors) F_eps comes from :func:`filtered_edge`, closer from
+        :func:`filtered_corner`. Either way F_eps has the hexagon's symmetry exactly.
         """
         best = 0
         h = x * tab[0, 0] + y * tab[1, 0]
@@ -317,33 +389,26 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
                 best = k
         q = y * tab[0, best] - x * tab[1, best]
         if h * tan_half - abs(q) > crease:
-            u = (apothem - h - e_u0) * e_inv
-            if u <= 0.0:
-                return 0.0
-            i = int(u)
-            if i >= edge.size - 1:
-                return 1.0
-            return edge[i] + (u - i) * (edge[i + 1] - edge[i])
-        fx = (h - t_x0) * t_inv
-        fy = (q - t_x0) * t_inv
-        if fx < 1.0 or fy < 1.0 or fx >= t_n - 2.0 or fy >= t_n - 2.0:
-            return 0.0
-        return interpolate(plate, 0, t_n, t_x0, t_inv, h, q)
+            return filtered_edge(h, apothem, edge, e_u0, e_inv)
+        return filtered_corner(h, q, plate, t_n, t_x0, t_inv)
+
+    @jit
+    def filtered_pill_term(dx, dy, profile, inv_step):
+        """One pill's share of G_eps at the offset (dx, dy) from its centre: the radial
+        profile `profile` (spacing 1 / inv_step) interpolated linearly, 0 beyond its end
+        (branch-free: the index is clipped, the value selected)."""
+        last = profile.size - 1
+        u = math.sqrt(dx * dx + dy * dy) * inv_step
+        i = min(int(u), last - 1)
+        value = profile[i] + (u - i) * (profile[i + 1] - profile[i])
+        return value if u < last else 0.0
 
     @jit
     def filtered_pills(x, y, tab, n_corners, profile, inv_step):
-        """G_eps of the cell centred at (x, y): sum_j g_eps(|r - R_j|), the radial profile
-        `profile` (spacing 1 / inv_step) interpolated linearly, 0 beyond its end."""
+        """G_eps of the cell centred at (x, y): sum_j g_eps(|r - R_j|), in order."""
         g = 0.0
-        last = profile.size - 1
-        reach2 = (last / inv_step) ** 2
         for k in range(n_corners):
-            d2 = (x - tab[2, k]) ** 2 + (y - tab[3, k]) ** 2
-            if d2 < reach2:
-                u = math.sqrt(d2) * inv_step
-                i = int(u)
-                if i < last:
-                    g += profile[i] + (u - i) * (profile[i + 1] - profile[i])
+            g += filtered_pill_term(x - tab[2, k], y - tab[3, k], profile, inv_step)
         return g
 
     @jit
@@ -377,10 +442,17 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         return -quad_s[1, m] * quad_t[1, k_t] * half * t * c
 
     return Core(
+        vector_expm1=vector_expm1,
+        logistic=logistic,
         rotor_table=rotor_table,
+        plate_profile=plate_profile,
+        pill_term=pill_term,
         plate_cell=plate_cell,
         pill_cell=pill_cell,
+        filtered_edge=filtered_edge,
+        filtered_corner=filtered_corner,
         filtered_plate=filtered_plate,
+        filtered_pill_term=filtered_pill_term,
         filtered_pills=filtered_pills,
         rate_coefficients=rate_coefficients,
         cell_rates=cell_rates,
