@@ -28,7 +28,7 @@ import xarray as xr
 from matplotlib.figure import Figure
 
 from pde_rotor.config import (
-    CALIBRATED_SIGMA,
+    PAPER_SCHEME_SIGMA,
     RotorConfig,
     load_config,
     read_config_data,
@@ -519,7 +519,8 @@ def draw_paper_points(
 ) -> str:
     """Draw the paper-resolution points of one curve (diamonds) and print them.
 
-    The noise is :data:`pde_rotor.config.CALIBRATED_SIGMA` unless `fixed` names sigma.
+    The stored reports are of the ``paper`` scheme; the noise is the one calibrated
+    on it, :data:`pde_rotor.config.PAPER_SCHEME_SIGMA`, unless `fixed` names sigma.
 
     Args:
         ax: the axes.
@@ -531,7 +532,7 @@ def draw_paper_points(
     Returns:
         A footer line naming their fidelity, or "" if there are none.
     """
-    fixed.setdefault("sigma", CALIBRATED_SIGMA)
+    fixed.setdefault("sigma", PAPER_SCHEME_SIGMA)
     pts = paper_points(x_dim, **fixed)
     if pts is None:
         return ""
@@ -542,15 +543,16 @@ def draw_paper_points(
         "mfc": "gold",
         "ms": 7,
         "zorder": 5,
-        "label": f"paper resolution, \u03c3 = {fixed['sigma']:g}",
+        "label": f"paper resolution, paper scheme, \u03c3 = {fixed['sigma']:g}",
     }
     kwargs.update(style or {})
     errorbar_p(ax, x, pts, **kwargs)
     print_points(f"{prefix}paper resolution: ", x_dim, x, pts)
     files = ", ".join(f"data/{name}.nc" for name in sorted(set(pts["report"].values.tolist())))
     return (
-        f"Diamonds: paper resolution dx = \u03b4 = 0.025, dt = 1e-4, bank estimator, "
-        f"\u03c3 = {fixed['sigma']:g} (calibrated), {count_range(pts['stops'].values)} stops per "
+        f"Diamonds: paper resolution dx = \u03b4 = 0.025, dt = 1e-4, paper scheme (lattice "
+        f"torque), bank estimator, \u03c3 = {fixed['sigma']:g}, "
+        f"{count_range(pts['stops'].values)} stops per "
         f"point; stored: {files}"
     )
 

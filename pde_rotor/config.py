@@ -191,14 +191,24 @@ class RotorDynamicsConfig(_Section):
     )
 
 
-CALIBRATED_SIGMA = 2.0e-8
-"""Noise intensity calibrated at the paper's resolution (dx = delta = 0.025, dt = 1e-4).
+CALIBRATED_SIGMA = 1.5e-7
+"""Noise intensity calibrated at the paper's resolution (dx = delta = 0.025, dt = 1e-4)
+on the default scheme (``consistent``): Dw = (sigma/I)^2 = 2.25e-4.
 
-With it the Delta = 2e-5 plateau at t_stop = 3 is the paper's 0.2 (Fig. 7b);
-configs/sweeps/calibration.yaml measured P against sigma (docs/statistics.md, 95 % range
-0 to about 1e-7). The paper-resolution configs (configs/paper_fig*.yaml,
-pde_rotor/bases/paper.yaml) carry this value; tests/test_config.py keeps them equal.
+With it the Delta = 2e-5 plateau at t_stop = 3 is the paper's 0.2 (Fig. 7b):
+configs/sweeps/science_calibration.yaml measured P = 0.197 [0.108, 0.332] here, from
+100 stops per direction at each of seven intensities (data/science_calibration.nc);
+fitted with the decision model, the crossing lies at sigma = 1.49e-7, 95 % range
+1.36e-7 to 1.63e-7 (docs/statistics.md). The paper-resolution configs
+(configs/paper_fig*.yaml, pde_rotor/bases/paper.yaml) carry this value;
+tests/test_config.py keeps them equal.
 """
+
+PAPER_SCHEME_SIGMA = 2.0e-8
+"""The intensity once calibrated on the ``paper`` scheme, whose lattice torque alone
+gives the Delta = 2e-5 plateau 0.18 (so it calibrates the grid more than the noise;
+docs/statistics.md). The stored paper-scheme reports (data/calibration.nc,
+predictions.nc, predictions_no_flow.nc) hold it; the gallery draws them at it."""
 
 
 PAPER_STEADY_OMEGA = 176.06

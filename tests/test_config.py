@@ -11,6 +11,7 @@ import yaml
 
 from pde_rotor.config import (
     CALIBRATED_SIGMA,
+    PAPER_SCHEME_SIGMA,
     PAPER_STEADY_OMEGA,
     TIME_KEYS,
     ConfigError,
@@ -195,7 +196,9 @@ def test_paper_resolution_configs_carry_the_calibrated_noise():
     for path in coarse:
         assert load_config(path).noise.sigma != CALIBRATED_SIGMA, path
     sweeps = yaml.safe_load((root / "sweeps" / "predictions.yaml").read_text())
-    assert CALIBRATED_SIGMA in sweeps["axes"]["noise.sigma"]
+    assert PAPER_SCHEME_SIGMA in sweeps["axes"]["noise.sigma"]  # its stored report's
+    calibration = yaml.safe_load((root / "sweeps" / "science_calibration.yaml").read_text())
+    assert CALIBRATED_SIGMA in calibration["axes"]["noise.sigma"]
 
 
 def test_hash_follows_physics_not_recording():
