@@ -2,13 +2,14 @@
 
 The model (docs/decision.md, :mod:`pde_rotor.decision`) turns a table of noise-free
 stop curves and the release growth rate into P at any point; this page draws it on a
-fine grid, at the noise where the table's own Delta = 2e-5 plateau (t_stop = 3) is the
-paper's 0.2. The table is the committed data/decision/dx40.nc (the paper's grid, the
-default scheme; ``pde-rotor predict measure`` rebuilds it in about 10 minutes), so every
-fidelity reads it; the fidelities differ in the map's resolution. The markers are the
-points of the stored science ensembles (data/science_*.nc) at the same noise, filled
-with their own P: where they sit on their background colour, the model and the
-ensembles agree.
+fine grid, at the calibrated noise (pde_rotor.config.CALIBRATED_SIGMA, from the ensemble
+of configs/sweeps/science_calibration.yaml; the table's own Delta = 2e-5 plateau crosses
+the paper's 0.2 within 2 % of it). The table is the committed data/decision/dx40.nc
+(the paper's grid, the default scheme; ``pde-rotor predict measure`` rebuilds it in
+about 10 minutes), so every fidelity reads it; the fidelities differ in the map's
+resolution. The markers are the points of the stored science ensembles
+(data/science_*.nc) on the table's grid at the same noise, filled with their own P:
+where they sit on their background colour, the model and the ensembles agree.
 
 Run: ``python gallery/fig9_predicted.py [--quick | --tiny]``.
 """
@@ -21,7 +22,8 @@ from pathlib import Path
 from _common import DATA, parse_args
 
 from pde_rotor.cli_predict import table_footer
-from pde_rotor.decision import load_table, sigma_of
+from pde_rotor.config import CALIBRATED_SIGMA
+from pde_rotor.decision import diffusion_of, load_table
 from pde_rotor.decision_plot import draw_map, ensemble_points
 from pde_rotor.sweep.stored import load_report
 
@@ -41,14 +43,16 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
         raise FileNotFoundError(msg)
     table = load_table(TABLE)
     target, t_stop, asymmetry = PLATEAU
-    diffusion = table.calibrate(target, t_stop, asymmetry, (1e-9, 1e2))
-    sigma = sigma_of(diffusion, table.inertia)
+    own = table.calibrate(target, t_stop, asymmetry, (1e-9, 1e2))
+    sigma = CALIBRATED_SIGMA
+    diffusion = diffusion_of(sigma, table.inertia)
     reports = [load_report(path) for path in sorted(DATA.glob("science_*.nc"))]
-    points = ensemble_points(reports, sigma)
+    points = ensemble_points(table, reports, sigma)
     n = RESOLUTION[args.fidelity.name]
     footer = (
-        f"{table_footer(table, TABLE)}; noise calibrated on the table: P({t_stop:g}, "
-        f"{asymmetry:g}) = {target:g} at Dw = {diffusion:.3g} (\u03c3 = {sigma:.3g}); "
+        f"{table_footer(table, TABLE)}; the calibrated noise \u03c3 = {sigma:.3g}, "
+        f"Dw = {diffusion:.3g} (the table's own P({t_stop:g}, {asymmetry:g}) = {target:g} "
+        f"at Dw = {own:.3g}); "
         f"{len(points)} ensemble points from data/science_*.nc; {n} x {n // 2} map points"
     )
     paths, _ = draw_map(

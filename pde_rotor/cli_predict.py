@@ -300,7 +300,7 @@ def register(app: typer.Typer) -> None:
             if not path.is_file():
                 fail(f"--report {path}: no such file")
             reports.append(xr.load_dataset(path))
-        points = ensemble_points(reports, sigma_of(diffusion, table.inertia))
+        points = ensemble_points(table, reports, sigma_of(diffusion, table.inertia))
         out = out or Path.cwd()
         out.mkdir(parents=True, exist_ok=True)
         paths, _ = draw_map(

@@ -35,7 +35,7 @@ MATCHED = (
 
 
 def report_points(ds: xr.Dataset) -> list[dict[str, float]]:
-    """Every point of a report as a dict: t_stop, asymmetry, sigma, stops and the
+    """Every point of a report as a dict: t_stop, asymmetry, sigma, dx, stops and the
     :data:`COLUMNS` with their intervals. Values that are not axes of the report come
     from its ``base_config``."""
     fixed = json.loads(ds.attrs.get("base_config", "{}"))
@@ -43,6 +43,7 @@ def report_points(ds: xr.Dataset) -> list[dict[str, float]]:
         "t_stop": fixed.get("protocol", {}).get("t_stop", math.nan),
         "asymmetry": fixed.get("geometry", {}).get("asymmetry", 0.0),
         "sigma": fixed.get("noise", {}).get("sigma", 0.0),
+        "dx": fixed.get("grid", {}).get("dx", math.nan),
     }
     names = [f"{c}{s}" for c in COLUMNS for s in ("", "_low", "_high")] + ["stops"]
     values = ds[[n for n in names if n in ds]]
@@ -67,6 +68,17 @@ def mismatch(table: DecisionTable, fixed: Mapping[str, Any]) -> str | None:
                 f"{config[section][key]!r} in the table"
             )
     return None
+
+
+def table_points(table: DecisionTable, ds: xr.Dataset) -> list[dict[str, float]]:
+    """The points of `ds` on the table's grid: all of them, or those of its dx along a
+    dx axis (a report that compares grids, issue 14 §1)."""
+    dx = RotorConfig.model_validate_json(table.attrs["config"]).grid.dx
+    return [
+        p
+        for p in report_points(ds)
+        if math.isnan(p["dx"]) or math.isclose(p["dx"], dx, rel_tol=1e-6)
+    ]
 
 
 @dataclass(frozen=True)
@@ -103,7 +115,7 @@ def compare(table: DecisionTable, reports: Sequence[xr.Dataset]) -> Comparison:
         if problem:
             msg = f"report {ds.attrs.get('sweep', '?')}: {problem}"
             raise ValueError(msg)
-        for point in report_points(ds):
+        for point in table_points(table, ds):
             dw = diffusion_of(point["sigma"], table.inertia)
             t, d = point["t_stop"], point["asymmetry"]
             a, b = table.conditionals(t, d, dw)
@@ -140,7 +152,7 @@ def master_points(table: DecisionTable, reports: Sequence[xr.Dataset]) -> list[d
     """
     out = []
     for ds in reports:
-        for point in report_points(ds):
+        for point in table_points(table, ds):
             if point["sigma"] <= 0:
                 continue
             scale = math.sqrt(table.growth_rate * diffusion_of(point["sigma"], table.inertia))

@@ -16,18 +16,20 @@ import numpy as np
 import xarray as xr
 
 from .decision import DecisionTable, sigma_of
-from .decision_check import report_points
+from .decision_check import table_points
 from .figures import add_footer, new_figure, save_figure
 
 
-def ensemble_points(reports: Sequence[xr.Dataset], sigma: float) -> list[tuple]:
-    """(t_stop, Δ, P, P_low, P_high) of every report point at the map's noise `sigma`
-    (:func:`pde_rotor.decision_check.report_points`; other noise values differ by more
-    than 2 % and are left out)."""
+def ensemble_points(
+    table: DecisionTable, reports: Sequence[xr.Dataset], sigma: float
+) -> list[tuple]:
+    """(t_stop, Δ, P, P_low, P_high) of every report point on the table's grid at the
+    map's noise `sigma` (:func:`pde_rotor.decision_check.table_points`; other noise
+    values differ by more than 2 % and are left out)."""
     return [
         (p["t_stop"], p["asymmetry"], p["P"], p["P_low"], p["P_high"])
         for ds in reports
-        for p in report_points(ds)
+        for p in table_points(table, ds)
         if abs(p["sigma"] - sigma) <= 0.02 * max(abs(p["sigma"]), abs(sigma))
     ]
 

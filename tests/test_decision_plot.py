@@ -24,13 +24,13 @@ def report(sigmas: list[float]) -> xr.Dataset:
 
 def test_points_at_the_maps_noise_only() -> None:
     ds = report([0.0, 1.5e-7, 3e-7])
-    points = ensemble_points([ds], sigma=1.5e-7)
+    points = ensemble_points(synthetic(), [ds], sigma=1.5e-7)
     assert len(points) == 6
     want = ds.sel(sigma=1.5e-7)
     for t, d, p, low, high in points:
         value = float(want["P"].sel(t_stop=t, asymmetry=d))
         assert (p, low, high) == (value, value - 0.01, value + 0.01)
-    assert ensemble_points([ds], sigma=2e-7) == []  # no report point at that noise
+    assert ensemble_points(synthetic(), [ds], sigma=2e-7) == []  # no report point at that noise
 
 
 def test_fixed_values_come_from_the_base_config() -> None:
@@ -38,8 +38,20 @@ def test_fixed_values_come_from_the_base_config() -> None:
     ds.attrs["base_config"] = json.dumps(
         {"geometry": {"asymmetry": 2e-5}, "protocol": {"t_stop": 3.0}}
     )
-    ((t, d, p, _, _),) = ensemble_points([ds], sigma=1.5e-7)
+    ((t, d, p, _, _),) = ensemble_points(synthetic(), [ds], sigma=1.5e-7)
     assert (t, d, p) == (3.0, 2e-5, float(ds["P"].values.item()))
+
+
+def test_points_of_another_grid_are_left_out() -> None:
+    """A report comparing grids (a dx axis) gives the points of the table's dx only."""
+    base = report([1.5e-7]).isel(sigma=0, drop=True)
+    dx = synthetic().attrs["config"]
+    table_dx = json.loads(dx)["grid"]["dx"]
+    ds = xr.concat([base, base + 0.5], dim=xr.DataArray([table_dx, 1 / 30], dims="dx"))
+    ds.attrs["base_config"] = json.dumps({"noise": {"sigma": 1.5e-7}})
+    points = ensemble_points(synthetic(), [ds], sigma=1.5e-7)
+    assert len(points) == 6
+    assert all(p < 0.5 for _, _, p, _, _ in points)  # the table's grid, not the other
 
 
 def test_map_is_the_tables_probability(tmp_path: Path) -> None:
