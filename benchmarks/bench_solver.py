@@ -28,7 +28,8 @@ import time
 import numpy as np
 
 from pde_rotor import RotorConfig, Simulation
-from pde_rotor.solver import euler_fields, rotor_integrals, spline_window, update_indicators
+from pde_rotor.indicators import update_indicators
+from pde_rotor.solver import euler_fields, rotor_integrals, spline_window
 
 
 def time_fused(sim: Simulation, n_steps: int) -> float:

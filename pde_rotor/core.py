@@ -463,12 +463,14 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
     )
 
 
-_FAST = {"contract", "arcp", "nsz"}
+FASTMATH = {"contract", "arcp", "nsz"}
+"""numba fastmath flags of the CPU kernels: contraction into FMAs, reciprocals, no signed
+zeros; no reassociation, so sums keep their order (and CPU results their bits)."""
 
 
 def _cpu_jit(func: Callable) -> Callable:
     """numba njit for the CPU loops: inlined into the caller, fastmath without reassociation."""
-    return nb.njit(cache=True, nogil=True, fastmath=_FAST, inline="always")(func)
+    return nb.njit(cache=True, nogil=True, fastmath=FASTMATH, inline="always")(func)
 
 
 CPU: Core = make_core(_cpu_jit)

@@ -36,15 +36,8 @@ from pde.solvers.base import SolverBase
 
 from .core import (
     CPU,
+    FASTMATH,
     M_CONTOUR,
-    M_CREASE,
-    M_EDGE_INV_STEP,
-    M_EDGE_U0,
-    M_FILTERED,
-    M_PROFILE_INV_STEP,
-    M_TABLE_INV_STEP,
-    M_TABLE_N,
-    M_TABLE_X0,
     M_TAN_HALF,
     M_WINDOW_HI,
     M_WINDOW_LO,
@@ -54,171 +47,25 @@ from .core import (
     P_MU,
     P_TSIGN,
     S_APOTHEM,
-    S_ASYM,
     S_DELTA,
     S_N,
-    S_RC,
-    S_RHO,
-    X_SATURATION,
 )
+from .indicators import update_indicators
 from .model import RotorPDE
 from .protocol import StopSchedule, stopped_at
 
-_rotor_table = CPU.rotor_table
-_plate_profile = CPU.plate_profile
-_pill_term = CPU.pill_term
-_filtered_edge = CPU.filtered_edge
-_filtered_corner = CPU.filtered_corner
-_filtered_pill_term = CPU.filtered_pill_term
 _cell_rates = CPU.cell_rates
 _rate_coefficients = CPU.rate_coefficients
 _cell_integrals = CPU.cell_integrals
 _contour_node = CPU.contour_node
 _spline_line = CPU.spline_line
 
-_FAST = {"contract", "arcp", "nsz"}
-
 
 class SimulationDivergedError(FloatingPointError):
     """Raised when the state stops being finite (NaN/Inf); says where and when."""
 
 
-@nb.njit(cache=True, nogil=True, fastmath=_FAST, error_model="numpy")
-def plate_rows(F, coords, slo, shi, tab, n_corners, apothem, inv_delta):
-    """F of the scheme ``paper`` on the support cells (compiled).
-
-    The gauge and profile of :func:`~pde_rotor.core.make_core`'s ``plate_cell``, with
-    the loop over the edges outside the loop over a row's cells, so that a row is
-    computed four cells at a time (SIMD; the loops run over slices, whose indices numba
-    knows to be non-negative).
-    """
-    n = coords.size
-    h = np.empty(n)
-    for i in range(n):
-        x = coords[i]
-        j0, j1 = slo[i], shi[i]
-        row_y = coords[j0:j1]
-        row_h = h[j0:j1]
-        ex, ey = tab[0, 0], tab[1, 0]
-        for j in range(row_y.size):
-            row_h[j] = x * ex + row_y[j] * ey
-        for k in range(1, n_corners):
-            ex, ey = tab[0, k], tab[1, k]
-            for j in range(row_y.size):
-                p = x * ex + row_y[j] * ey
-                row_h[j] = p if p > row_h[j] else row_h[j]
-        row_f = F[i * n + j0 : i * n + j1]
-        for j in range(row_y.size):
-            row_f[j] = _plate_profile(row_h[j], apothem, inv_delta)
-
-
-@nb.njit(cache=True, nogil=True, fastmath=_FAST, error_model="numpy")
-def filtered_plate_rows(F, coords, slo, shi, tab, n_corners, apothem, num, edge, plate):
-    """F_eps of the scheme ``consistent`` on the support cells (compiled).
-
-    ``filtered_plate`` of :func:`~pde_rotor.core.make_core` in two passes over a row:
-    the nearest edge (h, q) and the edge profile for every cell four at a time (SIMD,
-    as :func:`plate_rows`), then the 2-D corner table for the cells within the crease
-    width of a corner bisector, one at a time.
-    """
-    tan_half, crease = num[M_TAN_HALF], num[M_CREASE]
-    e_u0, e_inv = num[M_EDGE_U0], num[M_EDGE_INV_STEP]
-    t_n, t_x0, t_inv = int(num[M_TABLE_N]), num[M_TABLE_X0], num[M_TABLE_INV_STEP]
-    n = coords.size
-    h = np.empty(n)
-    q = np.empty(n)
-    for i in range(n):
-        x = coords[i]
-        j0, j1 = slo[i], shi[i]
-        row_y = coords[j0:j1]
-        row_h = h[j0:j1]
-        row_q = q[j0:j1]
-        ex, ey = tab[0, 0], tab[1, 0]
-        for j in range(row_y.size):
-            row_h[j] = x * ex + row_y[j] * ey
-            row_q[j] = row_y[j] * ex - x * ey
-        for k in range(1, n_corners):
-            ex, ey = tab[0, k], tab[1, k]
-            for j in range(row_y.size):
-                p = x * ex + row_y[j] * ey
-                nearer = p > row_h[j]
-                row_q[j] = row_y[j] * ex - x * ey if nearer else row_q[j]
-                row_h[j] = p if nearer else row_h[j]
-        row_f = F[i * n + j0 : i * n + j1]
-        for j in range(row_y.size):
-            row_f[j] = _filtered_edge(row_h[j], apothem, edge, e_u0, e_inv)
-        for j in range(row_y.size):
-            if row_h[j] * tan_half - abs(row_q[j]) <= crease:
-                row_f[j] = _filtered_corner(row_h[j], row_q[j], plate, t_n, t_x0, t_inv)
-
-
-@nb.njit(cache=True, nogil=True, fastmath=_FAST, error_model="numpy")
-def pill_rows(G, coords, slo, shi, tab, n_corners, reach, rho, inv_delta, profile, inv_step):
-    """G on the support cells (compiled): the pill terms of the scheme ``paper``, or of
-    ``consistent`` where `profile` is not empty (its filtered radial profile).
-
-    The terms of ``pill_cell`` / ``filtered_pills`` summed in the same order, the loop
-    over the pills outside the loop over a row's cells (SIMD, as :func:`plate_rows`). A
-    pill adds to the cells of its bounding square of half-width `reach` only: beyond,
-    its term is 0 (``consistent``) or below 4.3e-18 (``paper``).
-    """
-    n = coords.size
-    x0 = coords[0]
-    inv_dx = 1.0 / (coords[1] - x0)
-    filtered = profile.size > 0
-    g = np.empty(n)
-    for i in range(n):
-        x = coords[i]
-        j0, j1 = slo[i], shi[i]
-        row_g = g[j0:j1]
-        for j in range(row_g.size):
-            row_g[j] = 0.0
-        for k in range(n_corners):
-            px, py = x - tab[2, k], tab[3, k]
-            if abs(px) >= reach:
-                continue
-            ja = max(j0, math.ceil((py - reach - x0) * inv_dx))
-            jb = max(ja, min(j1, math.floor((py + reach - x0) * inv_dx) + 1))
-            box_y = coords[ja:jb]
-            box_g = g[ja:jb]
-            if filtered:
-                for j in range(box_y.size):
-                    box_g[j] += _filtered_pill_term(px, box_y[j] - py, profile, inv_step)
-            else:
-                for j in range(box_y.size):
-                    box_g[j] += _pill_term(px, box_y[j] - py, rho, inv_delta)
-        row_out = G[i * n + j0 : i * n + j1]
-        for j in range(row_g.size):
-            row_out[j] = row_g[j]
-
-
-@nb.njit(cache=True, nogil=True)
-def update_indicators(F, G, coords, slo, shi, shape, tab, num, plate_tab, edge_tab, pill_tab, phi):
-    """Recompute F and G (flat n*n arrays) on the support cells for angle phi (compiled).
-
-    Cells outside the support keep F = G = 0. `tab` (4, >= N) receives the edge normals
-    and pill centres; `num` is :meth:`~pde_rotor.schemes.Scheme.as_array`: point values
-    (:func:`plate_rows`, :func:`pill_rows`), or (``consistent``) the filtered fields
-    from `plate_tab`, `edge_tab` and `pill_tab`
-    (:meth:`~pde_rotor.schemes.Scheme.table_arrays`).
-    """
-    n_corners = int(shape[S_N])
-    apothem, rho, inv_delta = shape[S_APOTHEM], shape[S_RHO], 1.0 / shape[S_DELTA]
-    _rotor_table(phi, n_corners, shape[S_RC], shape[S_ASYM], tab)
-    if num[M_FILTERED] == 0.0:
-        plate_rows(F, coords, slo, shi, tab, n_corners, apothem, inv_delta)
-        reach = rho + X_SATURATION / inv_delta
-        pill_rows(G, coords, slo, shi, tab, n_corners, reach, rho, inv_delta, pill_tab[:0], 1.0)
-        return
-    p_inv = num[M_PROFILE_INV_STEP]
-    pill_rows(
-        G, coords, slo, shi, tab, n_corners, (pill_tab.size - 1) / p_inv, rho, inv_delta,
-        pill_tab, p_inv,
-    )  # fmt: skip
-    filtered_plate_rows(F, coords, slo, shi, tab, n_corners, apothem, num, edge_tab, plate_tab)
-
-
-@nb.njit(cache=True, nogil=True, fastmath=_FAST, inline="always")
+@nb.njit(cache=True, nogil=True, fastmath=FASTMATH, inline="always")
 def _euler_row(cur, nxt, F, G, y_of, coef, dt, omega, x, base, sx, nn, j0, j1, flow, plate):
     """Euler step of the cells [j0, j1) of one row (offset `base`) (compiled)."""
     sy = np.uint64(1)
@@ -243,7 +90,7 @@ def _euler_row(cur, nxt, F, G, y_of, coef, dt, omega, x, base, sx, nn, j0, j1, f
             nxt[ox + nn] = uy + dt * rate_y
 
 
-@nb.njit(cache=True, nogil=True, fastmath=_FAST)
+@nb.njit(cache=True, nogil=True, fastmath=FASTMATH)
 def euler_fields(cur, nxt, F, G, coords, lo, hi, slo, shi, par, omega, flow):
     """One Euler step of Eqs. (eqc) and (eqv) (or (eqc) alone) on all interior cells.
 
@@ -264,7 +111,7 @@ def euler_fields(cur, nxt, F, G, coords, lo, hi, slo, shi, par, omega, flow):
         _euler_rows(cur, nxt, F, G, coords, lo, hi, slo, shi, par, omega, False)
 
 
-@nb.njit(cache=True, nogil=True, fastmath=_FAST, inline="always")
+@nb.njit(cache=True, nogil=True, fastmath=FASTMATH, inline="always")
 def _euler_rows(cur, nxt, F, G, coords, lo, hi, slo, shi, par, omega, flow):
     """The rows of :func:`euler_fields`, each split into off-support and support cells."""
     n = coords.size
@@ -291,7 +138,7 @@ def _euler_rows(cur, nxt, F, G, coords, lo, hi, slo, shi, par, omega, flow):
             )
 
 
-@nb.njit(cache=True, nogil=True, fastmath=_FAST)
+@nb.njit(cache=True, nogil=True, fastmath=FASTMATH)
 def heun_average(cur, stage, nxt, n, lo, hi, flow):
     """nxt = (cur + stage) / 2 on the interior cells of c (and v with `flow`) (compiled).
 
@@ -321,7 +168,8 @@ def spline_window(cur, coef, n, lo, hi):
 def rotor_integrals(cur, F, coords, slo, shi, shape, tab, num, quad_s, quad_t, flow, coef):
     """The integrals of Eq. (eq_motion) over the plate (compiled).
 
-    `tab` must hold the rotor table of the current angle (:func:`update_indicators`).
+    `tab` must hold the rotor table of the current angle
+    (:func:`pde_rotor.indicators.update_indicators`).
     `num` is :meth:`~pde_rotor.schemes.Scheme.as_array`; `coef` (n^2) is scratch for the
     spline coefficients of the contour form.
 

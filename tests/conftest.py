@@ -148,8 +148,8 @@ def fast_simulator(monkeypatch: pytest.MonkeyPatch) -> Iterator[None]:
 
 def compiled_indicators(pde: RotorPDE, phi: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """F and G (n, n) of the compiled core on the support cells at angle phi, and the
-    rotor table it filled (:func:`pde_rotor.solver.update_indicators`)."""
-    from pde_rotor.solver import update_indicators
+    rotor table it filled (:func:`pde_rotor.indicators.update_indicators`)."""
+    from pde_rotor.indicators import update_indicators
 
     dom = pde.domain
     F = np.zeros(dom.grid.shape)
