@@ -57,11 +57,17 @@ def report_points(ds: xr.Dataset) -> list[dict[str, float]]:
     return points
 
 
-def mismatch(table: DecisionTable, fixed: Mapping[str, Any]) -> str | None:
+def mismatch(
+    table: DecisionTable, fixed: Mapping[str, Any], axes: Sequence[str] = ()
+) -> str | None:
     """Which setting of an ensemble's base config `fixed` differs from the table's config
-    (or None); settings that `fixed` leaves out are taken to match."""
+    (or None); settings that `fixed` leaves out are taken to match, and so are those the
+    ensemble varies along its `axes` (dimension names: ``dx`` of a grid comparison,
+    whose points :func:`table_points` selects)."""
     config = RotorConfig.model_validate_json(table.attrs["config"]).model_dump(mode="json")
     for section, key in MATCHED:
+        if key in axes:
+            continue
         if key in fixed.get(section, {}) and fixed[section][key] != config[section][key]:
             return (
                 f"{section}.{key} = {fixed[section][key]!r} in the ensemble, "
@@ -111,7 +117,7 @@ def compare(table: DecisionTable, reports: Sequence[xr.Dataset]) -> Comparison:
     """
     rows = []
     for ds in reports:
-        problem = mismatch(table, json.loads(ds.attrs.get("base_config", "{}")))
+        problem = mismatch(table, json.loads(ds.attrs.get("base_config", "{}")), list(ds.dims))
         if problem:
             msg = f"report {ds.attrs.get('sweep', '?')}: {problem}"
             raise ValueError(msg)

@@ -9,6 +9,7 @@ import pytest
 import xarray as xr
 from test_decision import synthetic
 
+from pde_rotor.config import RotorConfig
 from pde_rotor.decision import diffusion_of
 from pde_rotor.decision_check import compare, report_points
 
@@ -59,6 +60,19 @@ def test_a_report_of_another_grid_or_flow_is_refused() -> None:
         compare(table, [model_report(grid={"dx": 0.05})])
     with pytest.raises(ValueError, match=r"flow\.enabled"):
         compare(table, [model_report(flow={"enabled": False})])
+
+
+def test_a_grid_comparison_contributes_the_points_of_the_tables_grid() -> None:
+    """A report with a dx axis (issue 14 §1) is accepted whatever its base dx; only the
+    table's dx is compared (the other grid's values here are off by 0.3)."""
+    table = synthetic()
+    table_dx = RotorConfig.model_validate_json(table.attrs["config"]).grid.dx
+    exact, off = model_report(), model_report(shift=0.3)
+    ds = xr.concat([exact, off], dim=xr.DataArray([table_dx, 1 / 30], dims="dx"))
+    base = {"geometry": {"asymmetry": 2e-5}, "grid": {"dx": 1 / 30}}
+    ds.attrs = {**exact.attrs, "base_config": json.dumps(base)}
+    result = compare(table, [ds])
+    assert len(result.rows) == 18 and result.coverage() == 1.0
 
 
 def test_master_points_of_the_model_lie_on_the_normal_cdf() -> None:
