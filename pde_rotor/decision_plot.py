@@ -65,7 +65,11 @@ def draw_map(
         ax.scatter(
             [t], [d], c=[value], cmap="coolwarm", vmin=0, vmax=1, s=70, edgecolors="k", zorder=3
         )
-        ax.annotate(f"{value:.2f}", (t, d), textcoords="offset points", xytext=(0, 7), fontsize=6)
+        below = d > 0.9 * asymmetry_max  # at the top edge the label goes under the marker
+        ax.annotate(
+            f"{value:.2f}", (t, d), textcoords="offset points", xytext=(0, -12 if below else 7),
+            fontsize=6, ha="center",
+        )  # fmt: skip
     ax.set_xlim(*t_range)
     ax.set_ylim(0, asymmetry_max)
     ax.set_xlabel("t_stop")
