@@ -56,24 +56,32 @@ def _table(path: Path):
 
 
 def _sweep_outcomes(table, sweep_dirs: list[Path]) -> list:
-    """The releases of `sweep_dirs`, refused with one line where a sweep does not match
-    the table (grid, smoothing, flow, scheme) or holds no restart or bank runs."""
+    """The releases of `sweep_dirs` that match the table (grid, smoothing, flow,
+    scheme), run by run: a sweep along dx gives the runs of the table's dx, and says
+    how many it leaves out. Refused with one line where no run of a sweep matches or
+    a sweep holds no restart or bank runs."""
     from .decision_check import mismatch
     from .decision_fit import sweep_outcomes
     from .sweep import SweepError
-    from .sweep.plan import Sweep
 
     outcomes = []
     for path in sweep_dirs:
         if not (path / "sweep.yaml").is_file():
             fail(f"--sweep {path}: holds no sweep.yaml (not a sweep directory)")
+        verdicts: list[str | None] = []
+
+        def accept(config, verdicts=verdicts) -> bool:
+            verdicts.append(mismatch(table, config))
+            return verdicts[-1] is None
+
         try:
-            problem = mismatch(table, Sweep.load(path).base)
-            if problem:
-                fail(f"--sweep {path}: {problem}")
-            outcomes += sweep_outcomes(path)
+            found = sweep_outcomes(path, accept)
         except (SweepError, ValueError) as err:
-            fail(f"--sweep {path}: {err}")
+            fail(f"--sweep {path}: {verdicts[0] if verdicts and all(verdicts) else err}")
+        problems = [v for v in verdicts if v]
+        if problems:
+            typer.echo(f"--sweep {path}: {len(problems)} runs left out ({problems[0]})")
+        outcomes += found
     return outcomes
 
 

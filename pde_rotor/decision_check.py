@@ -68,12 +68,20 @@ def mismatch(
     for section, key in MATCHED:
         if key in axes:
             continue
-        if key in fixed.get(section, {}) and fixed[section][key] != config[section][key]:
+        if key in fixed.get(section, {}) and not _same(fixed[section][key], config[section][key]):
             return (
                 f"{section}.{key} = {fixed[section][key]!r} in the ensemble, "
                 f"{config[section][key]!r} in the table"
             )
     return None
+
+
+def _same(a: Any, b: Any) -> bool:
+    """Equal settings; numbers to 1e-6 relative (a YAML's 0.0333333333 is dx = 1/30)."""
+    numbers = all(isinstance(x, float | int) and not isinstance(x, bool) for x in (a, b))
+    if numbers:
+        return math.isclose(a, b, rel_tol=1e-6)
+    return a == b
 
 
 def table_points(table: DecisionTable, ds: xr.Dataset) -> list[dict[str, float]]:

@@ -20,9 +20,10 @@ direction and sample index) is the unit that is resampled, within each direction
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -47,12 +48,19 @@ class Outcome:
     inverted: bool
 
 
-def sweep_outcomes(sweep_dir: str | Path) -> list[Outcome]:
+def sweep_outcomes(
+    sweep_dir: str | Path, accept: Callable[[Mapping[str, Any]], bool] | None = None
+) -> list[Outcome]:
     """Every finished release of a restart or bank sweep directory.
+
+    Args:
+        sweep_dir: the sweep's store.
+        accept: keeps a run where it returns True for the run's full config (the runs of
+            one grid of a sweep that compares grids); all runs where None.
 
     Raises:
         ValueError: the sweep uses the paper protocol (its cycles have no fixed
-            direction before the stop), or no run has finished.
+            direction before the stop), or no accepted run has finished.
     """
     from .sweep.estimates import inverted
     from .sweep.plan import Sweep
@@ -64,6 +72,8 @@ def sweep_outcomes(sweep_dir: str | Path) -> list[Outcome]:
         raise ValueError(msg)
     outcomes = []
     for run in sweep.runs():
+        if accept is not None and not accept(run.config):
+            continue
         content = load_run(run_path(sweep_dir, run.key))
         if content is None or content.get("key") != run.key:
             continue

@@ -108,9 +108,10 @@ def test_check_prints_coverage_and_refuses_another_grid(table_path: Path, tmp_pa
     assert "grid.dx = 0.05 in the ensemble" in other.output
 
 
-def fake_bank_store(path: Path, base: dict) -> None:
-    """A bank sweep at t_stop = 3, Δ = 2e-5, two sigma, 20 stops per direction, whose
-    releases all go CW (against Δ from CCW: an inversion; from CW: none)."""
+def fake_bank_store(path: Path, base: dict, **axes: list) -> None:
+    """A bank sweep at t_stop = 3, Δ = 2e-5, two sigma (and `axes` by dotted key), 20
+    stops per direction, whose releases all go CW (against Δ from CCW: an inversion;
+    from CW: none)."""
     import json
 
     from test_sweep import tiny_sweep
@@ -120,7 +121,7 @@ def fake_bank_store(path: Path, base: dict) -> None:
     sweep = tiny_sweep(
         base=base,
         set={"geometry.asymmetry": 2e-5, "protocol.t_stop": 3.0},
-        axes={"noise.sigma": [1e-7, 2e-7]},
+        axes={"noise.sigma": [1e-7, 2e-7], **axes},
         estimator={"kind": "bank", "warmup": 2.0},
         samples=20,
     )
@@ -137,6 +138,18 @@ def test_calibrate_fits_the_ensemble_of_a_sweep(table_path: Path, tmp_path: Path
     assert result.exit_code == 0, result.output
     assert "ensemble (40 stops, 4 noisy counts)" in result.output
     assert "calibrated: Dw = " in result.output
+
+
+def test_calibrate_takes_the_table_grid_of_a_sweep_along_dx(
+    table_path: Path, tmp_path: Path
+) -> None:
+    """A grid comparison (issue 14 §1) gives its runs at the table's dx (0.025, matched
+    to 1e-6), and says how many of the other grid's it leaves out: never pooled."""
+    fake_bank_store(tmp_path / "bank", {}, **{"grid.dx": [0.0333333333, 0.025000000001]})
+    result = invoke("calibrate", str(table_path), "--sweep", str(tmp_path / "bank"))
+    assert result.exit_code == 0, result.output
+    assert "80 runs left out (grid.dx = 0.0333333333 in the ensemble" in result.output
+    assert "ensemble (40 stops, 4 noisy counts)" in result.output
 
 
 def test_calibrate_refuses_a_sweep_of_another_grid(table_path: Path, tmp_path: Path) -> None:
