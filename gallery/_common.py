@@ -61,6 +61,7 @@ __all__ = [
     "count_range",
     "curve",
     "draw_conditionals",
+    "draw_crossing",
     "draw_paper_points",
     "errorbar_p",
     "fidelity_label",
@@ -381,6 +382,33 @@ def print_points(prefix: str, x_name: str, x: np.ndarray, ds: xr.Dataset) -> Non
         x, ds["P"].values, ds["P_low"].values, ds["P_high"].values, ds["stops"].values, strict=True
     ):
         print(f"{prefix}{x_name} = {xv:g}: P = {p:.3f} [{lo:.3f}, {hi:.3f}] ({int(n)} stops)")
+
+
+def draw_crossing(ax: Any, prefix: str, ds: xr.Dataset, level: float, name: str) -> str:
+    """Mark where the curve `ds` (P against t_stop) crosses `level`: the estimate and its
+    95 % interval (:func:`pde_rotor.crossing.report_crossing`) as a horizontal bar at the
+    level, open ends drawn to the curve's last point and dashed. Prints and returns the
+    line ``PREFIX NAME: P = level at t_stop = ... [..., ...]``; draws nothing where the
+    curve has fewer than two points or does not cross."""
+    from pde_rotor.crossing import report_crossing
+
+    measured = ds.where(np.isfinite(ds["P"]), drop=True)
+    if measured.sizes.get("t_stop", 0) < 2:
+        return ""
+    found = report_crossing(measured, level)
+    line = f"{prefix}{name}: {found.describe()}"
+    print(line)
+    if found.value is None:
+        return line
+    t = measured["t_stop"].values
+    low = t.min() if found.low is None else found.low
+    high = t.max() if found.high is None else found.high
+    ax.hlines(level, low, high, color="k", lw=2.5, alpha=0.5, zorder=3)
+    for end, is_open in ((low, found.low is None), (high, found.high is None)):
+        if is_open:
+            ax.hlines(level, end, end + (0.1 if end == high else -0.1), color="k", ls=":")
+    ax.plot([found.value], [level], "kD", ms=6, zorder=4, label=f"{name}: {found.describe()}")
+    return line
 
 
 STOP_LABEL = f"stop duration t_stop [{TIME_UNITS}]"

@@ -4,7 +4,9 @@ Reads the report of the sweep ``fig5`` (:func:`pde_rotor.sweep.report`): a store
 from data/ if present, else it runs configs/sweeps/fig5.yaml (full) or fig5_quick.yaml
 (``--quick``) through :mod:`pde_rotor.sweep` (``--tiny``: a shrunken copy). P is drawn
 with its 95 % interval, and faintly the conditional probabilities from CCW and CW
-rotation. The paper: P = 1 for small t_stop, decaying near t_stop = 1.4 to 0.5.
+rotation, and the decay point, where P falls through 0.75, with its 95 % interval
+(:mod:`pde_rotor.crossing`). The paper: P = 1 for small t_stop, decaying near
+t_stop = 1.4 to 0.5.
 
 Run: ``python gallery/fig5_probability.py [--quick | --tiny]``.
 """
@@ -19,6 +21,7 @@ from _common import (
     add_footer,
     curve,
     draw_conditionals,
+    draw_crossing,
     draw_paper_points,
     errorbar_p,
     new_figure,
@@ -29,6 +32,8 @@ from _common import (
     save,
     sweep_data,
 )
+
+from pde_rotor.crossing import DECAY_LEVEL
 
 NAME = "fig5_probability"
 SWEEP = "fig5"
@@ -46,6 +51,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     ax = fig.subplots()
     errorbar_p(ax, x, ds, fmt="o-", color="tab:red", label="P (95 % CI)")
     draw_conditionals(ax, x, ds)
+    draw_crossing(ax, f"{NAME}: ", ds, DECAY_LEVEL, "decay point")
     paper = draw_paper_points(ax, f"{NAME}: ", "t_stop", asymmetry=0.0, enabled=1.0)
     ax.axvline(PAPER_DECAY, color="0.6", ls="--", lw=0.8, label="paper: decay near 1.4")
     probability_axes(ax, STOP_LABEL)

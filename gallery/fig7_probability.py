@@ -5,9 +5,10 @@
 present, else the sweep configs/sweeps/<name>.yaml (full) or <name>_quick.yaml
 (``--quick``) is run through :mod:`pde_rotor.sweep` (``--tiny``: a shrunken copy). P with
 its 95 % interval; faintly the conditional probabilities from CCW and from CW rotation
-(for Delta > 0 CW is favoured: P(inv | CCW) > P(inv | CW)). The paper: (a) P = 1 for small
-t_stop, decaying near t_stop = 1 to 0; (b) a plateau near 0.2, as in the experiment;
-(c) P falls from 0.5 to 0 as Delta grows.
+(for Delta > 0 CW is favoured: P(inv | CCW) > P(inv | CW)); in (a) the onset, where P
+falls through 0.5, with its 95 % interval (:mod:`pde_rotor.crossing`). The paper:
+(a) P = 1 for small t_stop, decaying near t_stop = 1 to 0; (b) a plateau near 0.2, as
+in the experiment; (c) P falls from 0.5 to 0 as Delta grows.
 
 Run: ``python gallery/fig7_probability.py [--quick | --tiny]``.
 """
@@ -23,6 +24,7 @@ from _common import (
     add_footer,
     curve,
     draw_conditionals,
+    draw_crossing,
     draw_paper_points,
     errorbar_p,
     new_figure,
@@ -33,6 +35,8 @@ from _common import (
     save,
     sweep_data,
 )
+
+from pde_rotor.crossing import ONSET_LEVEL
 
 NAME = "fig7_probability"
 PANELS = (
@@ -58,6 +62,8 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
         errorbar_p(ax, x, ds, fmt="o-", color="tab:blue", label="P (95 % CI)")
         draw_conditionals(ax, x, ds)
         prefix = f"{NAME} {sweep}: "
+        if sweep == "fig7a":
+            draw_crossing(ax, prefix, ds, ONSET_LEVEL, "onset")
         paper = draw_paper_points(ax, prefix, x_dim, enabled=1.0, **fixed) or paper
         probability_axes(ax, STOP_LABEL if x_dim == "t_stop" else ASYMMETRY_LABEL)
         if x_dim == "asymmetry":
