@@ -149,14 +149,33 @@ def register(app: typer.Typer) -> None:
             Path | None,
             typer.Option("--out", "-o", help="NetCDF file [default: SWEEP_DIR/report.nc]."),
         ] = None,
+        crossing: Annotated[
+            list[float] | None,
+            typer.Option(
+                min=0.0,
+                max=1.0,
+                help="Also print where P crosses this level along t_stop, with its 95 % "
+                "interval (0.75: the Delta = 0 decay point; 0.5: the onset); repeatable.",
+            ),
+        ] = None,
     ) -> None:
         """Gather the finished runs of SWEEP_DIR into NetCDF and print a table."""
+        from .crossing import report_crossings
         from .sweep import SweepError, report
 
         if not (sweep_dir / "sweep.yaml").is_file():
             fail(f"{sweep_dir} holds no sweep.yaml (not a sweep directory)")
         try:
-            report(sweep_dir, out)
+            ds = report(sweep_dir, out)
         except SweepError as err:
             fail(str(err))
         typer.echo(f"report: {out if out is not None else sweep_dir / 'report.nc'}")
+        for level in crossing or []:
+            try:
+                curves = report_crossings(ds, level)
+            except ValueError as err:
+                fail(f"--crossing {level:g}: {err}")
+            for where, found in curves:
+                at = ", ".join(f"{k} = {v:g}" for k, v in where.items())
+                text = found if isinstance(found, str) else found.describe()
+                typer.echo(f"crossing{f' ({at})' if at else ''}: {text}")

@@ -20,8 +20,10 @@ the estimate is None where the measured curve does not cross the level at all.
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -120,3 +122,27 @@ def report_crossing(ds: xr.Dataset, level: float, x_dim: str = "t_stop") -> Cros
     return level_crossing(
         ds[x_dim].values, ds["P"].values, ds["P_low"].values, ds["P_high"].values, level
     )
+
+
+def report_crossings(
+    ds: xr.Dataset, level: float, x_dim: str = "t_stop"
+) -> list[tuple[dict[str, Any], Crossing | str]]:
+    """The crossing of every curve of a report along `x_dim`: one per combination of
+    its other dimensions (their coordinates first), or the reason a curve has none
+    (fewer than two measured points).
+
+    Raises:
+        ValueError: the report has no dimension `x_dim`.
+    """
+    if x_dim not in ds.dims:
+        msg = f"report has no dimension {x_dim!r} (dimensions: {', '.join(ds.dims) or 'none'})"
+        raise ValueError(msg)
+    others = [d for d in ds["P"].dims if d != x_dim]
+    found: list[tuple[dict[str, Any], Crossing | str]] = []
+    for values in itertools.product(*(ds[d].values for d in others)):
+        where = {d: v.item() for d, v in zip(others, values, strict=True)}
+        try:
+            found.append((where, report_crossing(ds.sel(where), level, x_dim)))
+        except ValueError as err:
+            found.append((where, str(err)))
+    return found

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from pde_rotor.crossing import DECAY_LEVEL, level_crossing, report_crossing
+from pde_rotor.crossing import DECAY_LEVEL, level_crossing, report_crossing, report_crossings
 from pde_rotor.stats import wilson_interval
 
 
@@ -79,3 +79,22 @@ def test_report_crossing_reads_a_report_curve() -> None:
     assert crossing.value == pytest.approx(1.8125)
     assert crossing.points == 3
     assert crossing.describe() == "P = 0.75 at t_stop = 1.81 [1.75, 1.88] (95 %)"
+
+
+def test_every_curve_of_a_report_gets_its_crossing() -> None:
+    """One crossing per value of the other axes (here Delta); a curve with one measured
+    point says so instead; a report without the axis is refused."""
+    t = np.array([0.5, 1.0, 1.5])
+    p = np.array([[1.0, 0.6, 0.2], [1.0, np.nan, np.nan]])
+    ds = xr.Dataset(
+        {
+            name: (("asymmetry", "t_stop"), p + shift)
+            for name, shift in (("P", 0.0), ("P_low", -0.05), ("P_high", 0.05))
+        },
+        coords={"asymmetry": [1e-4, 2e-5], "t_stop": t},
+    )
+    (first, crossing), (second, reason) = report_crossings(ds, 0.5)
+    assert first == {"asymmetry": 1e-4} and crossing.value == pytest.approx(1.125)
+    assert second == {"asymmetry": 2e-5} and "has 1" in reason
+    with pytest.raises(ValueError, match="no dimension 'sigma'"):
+        report_crossings(ds, 0.5, "sigma")

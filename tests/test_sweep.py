@@ -613,6 +613,7 @@ def test_cli_sweep_and_report(two_worker_sweep, tmp_path):
     from typer.testing import CliRunner
 
     from pde_rotor.cli import app
+    from pde_rotor.crossing import report_crossings
 
     sweep_dir, ds = two_worker_sweep
     runner = CliRunner()
@@ -625,6 +626,10 @@ def test_cli_sweep_and_report(two_worker_sweep, tmp_path):
     result = runner.invoke(app, ["report", str(sweep_dir), "--out", str(target)])
     assert result.exit_code == 0, result.output
     xr.testing.assert_identical(xr.load_dataset(target, engine="h5netcdf"), ds)
+    (_, found), *_ = report_crossings(ds, 0.75)
+    result = runner.invoke(app, ["report", str(sweep_dir), "-o", str(target), "--crossing", "0.75"])
+    assert result.exit_code == 0, result.output
+    assert f"crossing: {found.describe()}" in result.output
     bad = write_sweep(tmp_path / "bad.yaml", {**TINY_SWEEP, "axes": {"protocol.t_stopp": [1]}})
     result = runner.invoke(app, ["sweep", str(bad), "-o", str(tmp_path / "never")])
     assert result.exit_code == 2
