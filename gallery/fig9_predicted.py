@@ -7,9 +7,10 @@ of configs/sweeps/science_calibration.yaml; the table's own Delta = 2e-5 plateau
 the paper's 0.2 within 2 % of it). The table is the committed data/decision/dx40.nc
 (the paper's grid, the default scheme; ``pde-rotor predict measure`` rebuilds it in
 about 10 minutes), so every fidelity reads it; the fidelities differ in the map's
-resolution. The markers are the points of the stored science ensembles
-(data/science_*.nc) on the table's grid at the same noise, filled with their own P:
-where they sit on their background colour, the model and the ensembles agree.
+resolution. The markers are the points of the stored ensembles (data/*.nc: the
+science sweeps and the figures' sweeps) on the table's grid, scheme and flow at the
+same noise, filled with their own P: where they sit on their background colour, the
+model and the ensembles agree.
 
 Run: ``python gallery/fig9_predicted.py [--quick | --tiny]``.
 """
@@ -46,14 +47,14 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     own = table.calibrate(target, t_stop, asymmetry, (1e-9, 1e2))
     sigma = CALIBRATED_SIGMA
     diffusion = diffusion_of(sigma, table.inertia)
-    reports = [load_report(path) for path in sorted(DATA.glob("science_*.nc"))]
+    reports = [load_report(path) for path in sorted(DATA.glob("*.nc"))]
     points = ensemble_points(table, reports, sigma)
     n = RESOLUTION[args.fidelity.name]
     footer = (
         f"{table_footer(table, TABLE)}; the calibrated noise \u03c3 = {sigma:.3g}, "
         f"Dw = {diffusion:.3g} (the table's own P({t_stop:g}, {asymmetry:g}) = {target:g} "
         f"at Dw = {own:.3g}); "
-        f"{len(points)} ensemble points from data/science_*.nc; {n} x {n // 2} map points"
+        f"{len(points)} ensemble points from data/*.nc; {n} x {n // 2} map points"
     )
     paths, _ = draw_map(
         table, diffusion, args.out, NAME, resolution=(n, n // 2), points=points, footer=footer

@@ -9,6 +9,7 @@ markers filled with their own P in the same colours.
 
 from __future__ import annotations
 
+import json
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -16,7 +17,7 @@ import numpy as np
 import xarray as xr
 
 from .decision import DecisionTable, sigma_of
-from .decision_check import table_points
+from .decision_check import mismatch, table_points
 from .figures import add_footer, new_figure, save_figure
 
 
@@ -25,10 +26,13 @@ def ensemble_points(
 ) -> list[tuple]:
     """(t_stop, Δ, P, P_low, P_high) of every report point on the table's grid at the
     map's noise `sigma` (:func:`pde_rotor.decision_check.table_points`; other noise
-    values differ by more than 2 % and are left out)."""
+    values differ by more than 2 % and are left out). Reports of another smoothing,
+    flow setting or scheme (:func:`pde_rotor.decision_check.mismatch`) give none, so
+    every stored report can be offered."""
     return [
         (p["t_stop"], p["asymmetry"], p["P"], p["P_low"], p["P_high"])
         for ds in reports
+        if mismatch(table, json.loads(ds.attrs.get("base_config", "{}")), list(ds.dims)) is None
         for p in table_points(table, ds)
         if abs(p["sigma"] - sigma) <= 0.02 * max(abs(p["sigma"]), abs(sigma))
     ]

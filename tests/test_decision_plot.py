@@ -59,3 +59,11 @@ def test_map_is_the_tables_probability(tmp_path: Path) -> None:
     paths, p = draw_map(table, 2e-4, tmp_path, resolution=(12, 5), t_range=(0.5, 3.0))
     assert [x.suffix for x in paths] == [".png", ".pdf"]
     np.testing.assert_allclose(p[2], table.probability(np.linspace(0.5, 3.0, 12), 5e-5, 2e-4))
+
+
+def test_reports_of_another_scheme_or_flow_are_left_out() -> None:
+    """The paper scheme's and the no-flow reports at the same noise give no points."""
+    ds = report([1.5e-7])
+    for other in ({"numerics": {"scheme": "paper"}}, {"flow": {"enabled": False}}):
+        ds.attrs["base_config"] = json.dumps(other)
+        assert ensemble_points(synthetic(), [ds], sigma=1.5e-7) == []
