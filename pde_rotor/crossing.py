@@ -82,11 +82,13 @@ def level_crossing(
     low: Sequence[float],
     high: Sequence[float],
     level: float,
+    falling: bool = True,
 ) -> Crossing:
     """Where the curve P(x) crosses `level`, with the band's interval (module doc).
 
-    The direction (falling or rising) is that of the curve from its first point to its
-    last; points are sorted by x and NaN points (not yet measured) are left out.
+    Points are sorted by x and NaN points (not yet measured) are left out. The curve
+    falls by default (P against t_stop: the decay and the onset); the direction is
+    given, not read from the points, which near a crossing may go either way by chance.
 
     Raises:
         ValueError: fewer than two measured points, or the arrays differ in length.
@@ -101,7 +103,6 @@ def level_crossing(
     if len(xs) < 2:
         msg = f"a crossing needs two measured points, the curve has {len(xs)}"
         raise ValueError(msg)
-    falling = bool(ps[-1] < ps[0])
     value = _first_crossing(xs, ps, level, falling)
     if value is None:
         return Crossing(level=level, value=None, low=None, high=None, points=len(xs))
@@ -118,7 +119,8 @@ def level_crossing(
 
 
 def report_crossing(ds: xr.Dataset, level: float, x_dim: str = "t_stop") -> Crossing:
-    """:func:`level_crossing` of a one-curve report (:func:`pde_rotor.sweep.stored.curve`)."""
+    """:func:`level_crossing` of a one-curve report (:func:`pde_rotor.sweep.stored.curve`),
+    P falling along `x_dim`."""
     return level_crossing(
         ds[x_dim].values, ds["P"].values, ds["P_low"].values, ds["P_high"].values, level
     )
@@ -127,7 +129,8 @@ def report_crossing(ds: xr.Dataset, level: float, x_dim: str = "t_stop") -> Cros
 def report_crossings(
     ds: xr.Dataset, level: float, x_dim: str = "t_stop"
 ) -> list[tuple[dict[str, Any], Crossing | str]]:
-    """The crossing of every curve of a report along `x_dim`: one per combination of
+    """The crossing of every curve of a report along `x_dim` (P falling along it, as
+    along t_stop in Figs. 5, 7(a), 7(b) and 8): one per combination of
     its other dimensions (their coordinates first), or the reason a curve has none
     (fewer than two measured points).
 

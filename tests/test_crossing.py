@@ -27,7 +27,7 @@ def test_the_estimate_is_the_straight_line_crossing() -> None:
     crossing = level_crossing(x, p, p - 0.01, p + 0.01, 0.75)
     assert crossing.value == pytest.approx(2.25)
     assert crossing.low == pytest.approx(2.2) and crossing.high == pytest.approx(2.3)
-    rising = level_crossing(x, 1.0 - p, 0.99 - p, 1.01 - p, 0.25)
+    rising = level_crossing(x, 1.0 - p, 0.99 - p, 1.01 - p, 0.25, falling=False)
     assert rising.value == pytest.approx(2.25) and rising.low == pytest.approx(2.2)
 
 
@@ -57,6 +57,9 @@ def test_open_ends_and_no_crossing() -> None:
     assert end_open.high is None and "open]" in end_open.describe()
     never = level_crossing(x, p + 0.2, p, p + 0.3, 0.75)
     assert never.value is None and "does not cross 0.75" in never.describe()
+    # a falling curve measured rising by chance, both points above the level
+    chance = level_crossing([1.75, 2.0], [0.81, 0.9], [0.75, 0.7], [0.86, 0.97], 0.75)
+    assert chance.value is None
 
 
 def test_unmeasured_points_are_left_out_and_two_are_needed() -> None:
