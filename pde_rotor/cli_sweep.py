@@ -143,7 +143,12 @@ def register(app: typer.Typer) -> None:
     def report_command(
         sweep_dir: Annotated[
             Path,
-            typer.Argument(metavar="SWEEP_DIR", help="Directory written by `pde-rotor sweep`."),
+            typer.Argument(
+                metavar="SWEEP",
+                help="Directory written by `pde-rotor sweep`, or a sweep file: its whole "
+                "design, read from data/sweeps/<file stem> (a run of a subset, --set "
+                "axes.KEY=[...], narrows the directory's own sweep.yaml).",
+            ),
         ],
         out: Annotated[
             Path | None,
@@ -159,14 +164,21 @@ def register(app: typer.Typer) -> None:
             ),
         ] = None,
     ) -> None:
-        """Gather the finished runs of SWEEP_DIR into NetCDF and print a table."""
+        """Gather the finished runs of SWEEP into NetCDF and print a table."""
         from .crossing import report_crossings
-        from .sweep import SweepError, report
+        from .sweep import DEFAULT_ROOT, Sweep, SweepError, report
 
+        design = None
+        if sweep_dir.is_file():
+            try:
+                design = Sweep.load(sweep_dir)
+            except SweepError as err:
+                fail(str(err))
+            sweep_dir = DEFAULT_ROOT / sweep_dir.stem
         if not (sweep_dir / "sweep.yaml").is_file():
             fail(f"{sweep_dir} holds no sweep.yaml (not a sweep directory)")
         try:
-            ds = report(sweep_dir, out)
+            ds = report(sweep_dir, out, sweep=design)
         except SweepError as err:
             fail(str(err))
         typer.echo(f"report: {out if out is not None else sweep_dir / 'report.nc'}")

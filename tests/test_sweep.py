@@ -639,6 +639,31 @@ def test_cli_sweep_and_report(two_worker_sweep, tmp_path):
     assert result.exit_code == 2 and "not a sweep directory" in result.output
 
 
+def test_report_of_a_sweep_file_shows_its_whole_design(two_worker_sweep, tmp_path, monkeypatch):
+    """A run of a subset narrows the directory's sweep.yaml (its report then shows the
+    subset); ``pde-rotor report FILE`` reports the file's whole design from
+    data/sweeps/<stem>, every finished run included."""
+    from typer.testing import CliRunner
+
+    from pde_rotor.cli import app
+    from pde_rotor.sweep.store import prepare
+
+    sweep_dir, ds = two_worker_sweep
+    monkeypatch.chdir(tmp_path)
+    store = tmp_path / "data" / "sweeps" / "tiny"
+    shutil.copytree(sweep_dir, store)
+    prepare(tiny_sweep(axes={"protocol.t_stop": [0.2]}), store)
+    runner = CliRunner()
+    narrowed = runner.invoke(app, ["report", str(store), "-o", "subset.nc"])
+    assert narrowed.exit_code == 0, narrowed.output
+    assert xr.load_dataset("subset.nc", engine="h5netcdf").sizes["t_stop"] == 1
+    whole = runner.invoke(app, ["report", str(write_sweep(tmp_path / "tiny.yaml", TINY_SWEEP))])
+    assert whole.exit_code == 0, whole.output
+    xr.testing.assert_identical(xr.load_dataset(store / "report.nc", engine="h5netcdf"), ds)
+    missing = runner.invoke(app, ["report", str(write_sweep(tmp_path / "other.yaml", TINY_SWEEP))])
+    assert missing.exit_code == 2 and "data/sweeps/other holds no sweep.yaml" in missing.output
+
+
 @pytest.mark.parametrize("how", ["SIGTERM to the process", "Ctrl-C to the process group"])
 def test_cli_sweep_stops_cleanly_on_sigterm_and_ctrl_c(tmp_path, how):
     """SIGTERM (a batch system ending the job) or Ctrl-C (SIGINT to the terminal's whole

@@ -188,7 +188,12 @@ def gather(sweep: Sweep, sweep_dir: str | Path) -> xr.Dataset:
     return xr.Dataset(data_vars, coords=coords, attrs=attrs)
 
 
-def report(sweep_dir: str | Path, out: str | Path | None = None, echo: bool = True) -> xr.Dataset:
+def report(
+    sweep_dir: str | Path,
+    out: str | Path | None = None,
+    echo: bool = True,
+    sweep: Sweep | None = None,
+) -> xr.Dataset:
     """Gather a sweep directory into a Dataset, write it as NetCDF and print a table.
 
     Args:
@@ -197,9 +202,11 @@ def report(sweep_dir: str | Path, out: str | Path | None = None, echo: bool = Tr
         out: NetCDF path (default: SWEEP_DIR/report.nc); written atomically with the
             h5netcdf engine.
         echo: print the table (:func:`format_table`).
+        sweep: the design to report (default: SWEEP_DIR/sweep.yaml, the last run's,
+            which a run of a subset narrows); points without finished runs are NaN.
     """
     sweep_dir = Path(sweep_dir)
-    ds = gather(Sweep.load(sweep_dir), sweep_dir)
+    ds = gather(sweep if sweep is not None else Sweep.load(sweep_dir), sweep_dir)
     target = Path(out) if out is not None else sweep_dir / REPORT_FILE
     target.parent.mkdir(parents=True, exist_ok=True)
     write_netcdf_atomic(ds, target)
