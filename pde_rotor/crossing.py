@@ -14,8 +14,10 @@ curve's shape:
   This inverts the pointwise band (conservative where neighbouring points are tight)
   and assumes only that P is monotone between the points.
 
-An end that the band does not close within the measured points is open (None), and
-the estimate is None where the measured curve does not cross the level at all.
+An end that the band does not close within the measured points is open (None). Where
+the measured curve does not cross the level at all the estimate is None, but the band
+may still bound the crossing from one side: the lower end where the bounds cross
+within the points.
 """
 
 from __future__ import annotations
@@ -42,7 +44,7 @@ class Crossing:
 
     Attributes:
         level: the P crossed.
-        value: where the measured P crosses it (None: it does not).
+        value: where the measured P crosses it (None: not within the points).
         low: lower end of the 95 % interval (None: below the first point).
         high: upper end (None: beyond the last point).
         points: number of curve points behind it.
@@ -57,7 +59,10 @@ class Crossing:
     def describe(self, name: str = "t_stop") -> str:
         """One line: ``P = 0.75 at t_stop = 1.86 [1.79, 1.93]``, open ends as ``<``/``>``."""
         if self.value is None:
-            return f"P does not cross {self.level:g} within the {self.points} points"
+            text = f"P does not cross {self.level:g} within the {self.points} points"
+            if self.low is not None:
+                text += f"; the crossing lies beyond {name} = {self.low:.3g} (95 %)"
+            return text
         low = "open" if self.low is None else f"{self.low:.3g}"
         high = "open" if self.high is None else f"{self.high:.3g}"
         return f"P = {self.level:g} at {name} = {self.value:.3g} [{low}, {high}] (95 %)"
@@ -104,16 +109,14 @@ def level_crossing(
         msg = f"a crossing needs two measured points, the curve has {len(xs)}"
         raise ValueError(msg)
     value = _first_crossing(xs, ps, level, falling)
-    if value is None:
-        return Crossing(level=level, value=None, low=None, high=None, points=len(xs))
     # falling: the lower bounds pass the level first, the upper bounds last
     first, last = (lows, highs) if falling else (highs, lows)
     start = _first_crossing(xs, first, level, falling)
     return Crossing(
         level=level,
         value=value,
-        low=None if start == xs[0] else start,
-        high=_first_crossing(xs, last, level, falling),
+        low=None if start is None or start == xs[0] else start,
+        high=None if value is None else _first_crossing(xs, last, level, falling),
         points=len(xs),
     )
 

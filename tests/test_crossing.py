@@ -55,8 +55,14 @@ def test_open_ends_and_no_crossing() -> None:
     assert start_open.high == pytest.approx(2.5)
     end_open = level_crossing(x, p, p - 0.02, p + 0.2, 0.75)
     assert end_open.high is None and "open]" in end_open.describe()
-    never = level_crossing(x, p + 0.2, p, p + 0.3, 0.75)
-    assert never.value is None and "does not cross 0.75" in never.describe()
+    never = level_crossing(x, p + 0.2, p + 0.15, p + 0.3, 0.75)
+    assert never.value is None and never.low is None
+    assert never.describe() == "P does not cross 0.75 within the 3 points"
+    # above the level at every point, but the lower bounds cross between 1 and 2
+    beyond = level_crossing(x, p + 0.2, p, p + 0.3, 0.75)
+    assert beyond.value is None and beyond.high is None
+    assert beyond.low == pytest.approx(1.5)
+    assert beyond.describe().endswith("the crossing lies beyond t_stop = 1.5 (95 %)")
     # a falling curve measured rising by chance, both points above the level
     chance = level_crossing([1.75, 2.0], [0.81, 0.9], [0.75, 0.7], [0.86, 0.97], 0.75)
     assert chance.value is None
