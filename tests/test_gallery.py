@@ -270,6 +270,32 @@ def test_paper_points_combine_stored_reports_on_one_curve(tmp_path, monkeypatch)
     assert common.paper_points("t_stop", asymmetry=0.0, sigma=5e-8, enabled=1.0) is None
 
 
+def test_the_report_with_more_stops_is_drawn(tmp_path):
+    """A whole design's partial report (data/fig5.nc: three of five points measured)
+    goes before the report of the sweep's last subset run (two points, all measured)."""
+    from pde_rotor.sweep.stored import stored_reports
+
+    whole = _report({"t_stop": [1.0, 1.5, 1.75, 2.0, 2.5]}, {}, 0.8)
+    whole["stops"][:] = [0, 200, 200, 200, 0]
+    whole.attrs["grid_dx"] = 0.025
+    whole.to_netcdf(tmp_path / "fig5.nc", engine="h5netcdf")
+    subset = _report({"t_stop": [1.5, 2.0]}, {}, 0.8)
+    subset["stops"][:] = 200
+    subset.attrs["grid_dx"] = 0.025
+    (tmp_path / "sweeps" / "fig5").mkdir(parents=True)
+    subset.to_netcdf(tmp_path / "sweeps" / "fig5" / "report.nc", engine="h5netcdf")
+    quick = _report({"t_stop": [1.0, 2.0]}, {}, 0.8)
+    quick["stops"][:] = 1000
+    quick.attrs["grid_dx"] = 0.05
+    quick.to_netcdf(tmp_path / "fig5_quick.nc", engine="h5netcdf")
+    found = stored_reports("fig5", tmp_path)
+    assert [p.relative_to(tmp_path).as_posix() for p in found] == [
+        "fig5.nc",
+        "sweeps/fig5/report.nc",
+        "fig5_quick.nc",
+    ]
+
+
 def test_paper_points_footer_names_its_files_and_stop_counts(tmp_path, monkeypatch, capsys):
     """One stored report: "data/predictions.nc" and "60 stops per point" (the footer said
     "data/{predictions}.nc" and "60-60"); two reports: both files."""

@@ -102,7 +102,9 @@ def stored_reports(name: str, data_dir: Path) -> list[Path]:
     """Stored reports of sweep `name` under `data_dir` (any variant), best fidelity first.
 
     A report is a NetCDF file whose name (or directory name) is `name` or starts with
-    `name` followed by "_" or "-"; the finest grid is preferred, then more stops.
+    `name` followed by "_" or "-"; the finest grid is preferred, then more stops in all
+    (a whole design's partial report, data/NAME.nc, before the report of its last
+    subset run that a sweep directory holds).
     """
     if not data_dir.is_dir():
         return []
@@ -113,10 +115,10 @@ def stored_reports(name: str, data_dir: Path) -> list[Path]:
             found.append(path)
 
     def rank(path: Path) -> tuple[float, float]:
-        """Finer grid first, then more stops per point."""
+        """Finer grid first, then more stops in all."""
         try:
             with xr.open_dataset(path, engine="h5netcdf") as ds:
-                return (float(ds.attrs.get("grid_dx", math.inf)), -float(ds["stops"].min()))
+                return (float(ds.attrs.get("grid_dx", math.inf)), -float(ds["stops"].sum()))
         except (OSError, ValueError, KeyError):
             return (math.inf, 0.0)
 
