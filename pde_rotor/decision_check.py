@@ -85,13 +85,16 @@ def _same(a: Any, b: Any) -> bool:
 
 
 def table_points(table: DecisionTable, ds: xr.Dataset) -> list[dict[str, float]]:
-    """The points of `ds` on the table's grid: all of them, or those of its dx along a
-    dx axis (a report that compares grids, issue 14 §1)."""
+    """The measured points of `ds` on the table's grid: all of them, or those of its dx
+    along a dx axis (a report that compares grids, issue 14 §1). Points without a
+    finished stop (a partial report of a sweep still running) are left out."""
     dx = RotorConfig.model_validate_json(table.attrs["config"]).grid.dx
     return [
         p
         for p in report_points(ds)
-        if math.isnan(p["dx"]) or math.isclose(p["dx"], dx, rel_tol=1e-6)
+        if (math.isnan(p["dx"]) or math.isclose(p["dx"], dx, rel_tol=1e-6))
+        and p.get("stops", 1) > 0
+        and math.isfinite(p["P"])
     ]
 
 

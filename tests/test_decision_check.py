@@ -75,6 +75,20 @@ def test_a_grid_comparison_contributes_the_points_of_the_tables_grid() -> None:
     assert len(result.rows) == 18 and result.coverage() == 1.0
 
 
+def test_unmeasured_points_of_a_partial_report_are_left_out() -> None:
+    """A sweep still running reports its unmeasured points as NaN with 0 stops, some
+    beyond the table's t_stop range: they are not compared (nor refused)."""
+    table = synthetic()
+    ds = model_report()
+    ds["stops"] = (("t_stop", "sigma"), np.full((3, 2), 200))
+    far = ds.isel(t_stop=[0]).assign_coords(t_stop=[99.0])
+    far["stops"][:] = 0
+    for name in ("P", "P_ccw", "P_cw"):
+        far[name][:] = np.nan
+    result = compare(table, [xr.concat([ds, far], dim="t_stop")])
+    assert len(result.rows) == 18 and result.coverage() == 1.0
+
+
 def test_master_points_of_the_model_lie_on_the_normal_cdf() -> None:
     """Without a lattice spread the model's own conditionals are Phi(x) exactly."""
     from scipy.stats import norm
