@@ -54,8 +54,9 @@ checks of the ensemble machinery (noise, launches, restarts, flags) run the ``pa
 scheme, whose per-cell work the simulator interprets several times faster; the default
 ``consistent`` scheme has its own agreement test below."""
 
-PROTOCOL: dict[str, Any] = {"t_ini": 0.05, "t_stop": 0.02, "t_release": 0.03, "cycles": 2}
-"""Short stop-and-release protocol: two stops within the first 0.15 time units."""
+PROTOCOL: dict[str, Any] = {"t_ini": 0.03, "t_stop": 0.01, "t_release": 0.02, "cycles": 2}
+"""Short stop-and-release protocol: two stops (10 steps each) within the first 0.09 time
+units; every simulated step costs the simulator about a tenth of a second per member."""
 
 RECORD = 0.005
 """Time between records (5 steps)."""
@@ -87,7 +88,7 @@ def test_members_match_their_own_cpu_runs(small_config: Callable[..., RotorConfi
     """Three members with different Delta, t_stop, t_ini and flow, no noise: phi, omega agree.
 
     Each member of one GPU batch follows its own CPU run (Eqs. (eqc), (eqv), (eq_motion)
-    with the stop schedule) to 1e-10 relative over 150 steps that include two stops. The
+    with the stop schedule) to 1e-10 relative over 90 steps that include two stops. The
     members really differ (so swapped parameters would fail), omega is 0 during every
     stop, and the run is not trivial: omega changes by as much as its own size.
     """
@@ -97,7 +98,7 @@ def test_members_match_their_own_cpu_runs(small_config: Callable[..., RotorConfi
             TINY,
             {
                 "geometry": {"asymmetry": -0.03},
-                "protocol": {**PROTOCOL, "t_ini": 0.04, "t_stop": 0.03},
+                "protocol": {**PROTOCOL, "t_ini": 0.02, "t_stop": 0.02},
                 "rotor": {"omega0": 20.0, "phi0": 0.3},
             },
         ),
@@ -106,7 +107,7 @@ def test_members_match_their_own_cpu_runs(small_config: Callable[..., RotorConfi
             {"flow": {"enabled": False}, "geometry": {"asymmetry": 0.02}, "protocol": PROTOCOL},
         ),
     ]
-    t_end = 0.15
+    t_end = 0.09
     want = cpu.run_ensemble(members, t_end, record_interval=RECORD)
     got = gpu_backend.run_ensemble(
         members, t_end, record_interval=RECORD, threads_per_block=2, chunk_steps=64
@@ -144,7 +145,7 @@ def test_consistent_scheme_matches_cpu_to_1e10(small_config: Callable[..., Rotor
             {"numerics": numerics, "protocol": PROTOCOL, "rotor": {"omega0": -15.0}},
         ),
     ]
-    t_end = 0.08
+    t_end = 0.05
     want = cpu.run_ensemble(members, t_end, record_interval=RECORD)
     got = gpu_backend.run_ensemble(
         members, t_end, record_interval=RECORD, threads_per_block=2, chunk_steps=40
@@ -174,7 +175,7 @@ def test_noise_same_seed_same_trajectory(small_config: Callable[..., RotorConfig
     noisy = {"noise": {"sigma": 2.0 * inertia, "seed": 11}, "protocol": PROTOCOL}
     cfg = small_config(TINY, noisy, {"geometry": {"asymmetry": 0.04}})
     other = small_config(TINY, noisy, {"geometry": {"asymmetry": 0.04}, "noise": {"seed": 12}})
-    t_end = 0.1
+    t_end = 0.06
     want = cpu.run_ensemble([cfg, other], t_end, record_interval=RECORD)
     got = gpu_backend.run_ensemble(
         [cfg], t_end, record_interval=RECORD, threads_per_block=2, chunk_steps=7
