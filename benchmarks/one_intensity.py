@@ -31,7 +31,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from pde_rotor.crossing import DECAY_LEVEL, level_crossing, report_crossing
+from pde_rotor.crossing import DECAY_LEVEL, report_crossing
 
 ROOT = Path(__file__).resolve().parents[1]
 PLATEAU, PLATEAU_STOP, PLATEAU_ASYMMETRY = 0.2, 3.0, 2e-5
@@ -81,11 +81,7 @@ def main() -> None:
     decay = load(args.data, "science_one_intensity_decay")
     plateau = load(args.data, "science_one_intensity_plateau")
     if calibration is not None:
-        curve = along_sigma([calibration])
-        s = curve["sigma"].values
-        cal = level_crossing(
-            s, curve["P"].values, curve["P_low"].values, curve["P_high"].values, PLATEAU, False
-        )
+        cal = report_crossing(along_sigma([calibration]), PLATEAU, "sigma", falling=False)
         print(f"1. plateau P(3, 2e-5) = 0.2: {cal.describe('sigma')}")
     if fig5 is not None:
         found = report_crossing(fig5.squeeze(drop=True), DECAY_LEVEL)

@@ -405,9 +405,9 @@ def draw_crossing(ax: Any, prefix: str, ds: xr.Dataset, level: float, name: str)
     low = t.min() if found.low is None else found.low
     high = t.max() if found.high is None else found.high
     ax.hlines(level, low, high, color="k", lw=2.5, alpha=0.5, zorder=3)
-    for end, is_open in ((low, found.low is None), (high, found.high is None)):
+    for end, is_open, reach in ((low, found.low is None, -0.1), (high, found.high is None, 0.1)):
         if is_open:
-            ax.hlines(level, end, end + (0.1 if end == high else -0.1), color="k", ls=":")
+            ax.hlines(level, end, end + reach, color="k", ls=":")
     ax.plot([found.value], [level], "kD", ms=6, zorder=4, label=f"{name}: {found.describe()}")
     return line
 

@@ -121,12 +121,14 @@ def level_crossing(
     )
 
 
-def report_crossing(ds: xr.Dataset, level: float, x_dim: str = "t_stop") -> Crossing:
-    """:func:`level_crossing` of a one-curve report (:func:`pde_rotor.sweep.stored.curve`),
-    P falling along `x_dim`."""
-    return level_crossing(
-        ds[x_dim].values, ds["P"].values, ds["P_low"].values, ds["P_high"].values, level
-    )
+def report_crossing(
+    ds: xr.Dataset, level: float, x_dim: str = "t_stop", falling: bool = True
+) -> Crossing:
+    """:func:`level_crossing` of a one-curve report (:func:`pde_rotor.sweep.stored.curve`)
+    along `x_dim`, P falling along it unless `falling` is False (P(3, 2e-5) against
+    sigma rises)."""
+    values = (ds[k].values for k in (x_dim, "P", "P_low", "P_high"))
+    return level_crossing(*values, level, falling)
 
 
 def report_crossings(

@@ -88,6 +88,9 @@ def test_report_crossing_reads_a_report_curve() -> None:
     assert crossing.value == pytest.approx(1.8125)
     assert crossing.points == 3
     assert crossing.describe() == "P = 0.75 at t_stop = 1.81 [1.75, 1.88] (95 %)"
+    rising = ds.assign(P=1.0 - ds["P"], P_low=0.95 - ds["P"], P_high=1.05 - ds["P"])
+    assert report_crossing(rising, 0.25, falling=False).value == pytest.approx(1.8125)
+    assert report_crossing(rising, 0.25).value == 1.5  # read as falling: below from the start
 
 
 def test_every_curve_of_a_report_gets_its_crossing() -> None:
