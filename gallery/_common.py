@@ -25,7 +25,6 @@ from typing import Any
 
 import numpy as np
 import xarray as xr
-from matplotlib.figure import Figure
 
 from pde_rotor.config import (
     PAPER_SCHEME_SIGMA,
@@ -50,7 +49,7 @@ from pde_rotor.figures import save_figure as save
 from pde_rotor.sweep import stored
 from pde_rotor.sweep.estimates import POOLED
 from pde_rotor.sweep.stored import PAPER_REPORTS, SweepData, curve
-from pde_rotor.trackers import OMEGA_UNITS, TIME_UNITS
+from pde_rotor.trackers import TIME_UNITS
 
 __all__ = [
     "ASYMMETRY_LABEL",
@@ -75,7 +74,6 @@ __all__ = [
     "probability_footer",
     "save",
     "sweep_data",
-    "timeseries_main",
     "wilson_text",
 ]
 
@@ -416,117 +414,6 @@ STOP_LABEL = f"stop duration t_stop [{TIME_UNITS}]"
 """Axis label of t_stop."""
 ASYMMETRY_LABEL = "asymmetry \u0394 [rad]"
 """Axis label of Delta."""
-
-
-# ---------------------------------------------------------------------------------------
-# time series (Figs. 4 and 6)
-# ---------------------------------------------------------------------------------------
-
-
-def _cycles_option(parser: argparse.ArgumentParser) -> None:
-    """``--cycles M``: the number of stop-and-release cycles of the time-series runs."""
-    parser.add_argument(
-        "--cycles",
-        type=int,
-        default=None,
-        help="stop-and-release cycles per run [default: the fidelity's; full: the paper's 100]",
-    )
-
-
-def timeseries_figure(
-    title: str, panels: Sequence[tuple[str, Path]], fid: Fidelity, cycles: int | None = None
-) -> tuple[Figure, list[str]]:
-    """phi(t) (row 1) and omega(t) (row 2) of one run per column, stops shaded.
-
-    Each config (a paper config from configs/) is run by :func:`pde_rotor.api.run` in
-    memory, with the fidelity's grid and protocol.
-
-    Args:
-        title: figure title.
-        panels: (panel letter, config path) per column.
-        fid: fidelity.
-        cycles: number of cycles M per run (None: the fidelity's protocol).
-
-    Returns:
-        The figure and one summary line per panel (inversions with the Wilson interval).
-    """
-    from pde_rotor.api import run
-    from pde_rotor.plotting import stop_intervals
-
-    fig = new_figure(5.2 * len(panels), 6.4)
-    axes = fig.subplots(2, len(panels), squeeze=False, sharex="col")
-    lines = []
-    config = None
-    walls = []
-    for col, (letter, path) in enumerate(panels):
-        extra = () if cycles is None else (f"protocol.cycles={cycles}",)
-        config = fid.config(path, *fid.protocol, *extra)
-        result = run(config, progress=False)
-        walls.append(result.wall_time)
-        ts = result.timeseries
-        t = ts["time"].values
-        events = result.events
-        n = int(events.sizes.get("cycle", 0))
-        k = int(events["inverted"].values.sum()) if n else 0
-        committed = int(events["committed"].values.sum()) if n else 0
-        p = config.protocol
-        summary = f"({letter}) t_stop = {p.t_stop:g}: inversions {wilson_text(k, n)}" + (
-            f", {n - committed} not committed" if committed < n else ""
-        )
-        lines.append(summary)
-        for row, (name, label) in enumerate(
-            (("phi", "angle \u03c6 [rad]"), ("omega", f"angular velocity \u03c9 [{OMEGA_UNITS}]"))
-        ):
-            ax = axes[row, col]
-            for a, b in stop_intervals(config, float(t[-1]) if t.size else None):
-                ax.axvspan(a, b, color="tab:red", alpha=0.25, lw=0)
-            ax.plot(t, ts[name].values, color="k", lw=0.8)
-            ax.grid(alpha=0.3)
-            if col == 0:
-                ax.set_ylabel(f"({row + 1}) {label}")
-        axes[0, col].set_title(
-            f"({letter}) t_stop = {p.t_stop:g}, \u0394 = {config.geometry.asymmetry:g}: "
-            f"{k}/{n} inverted",
-            fontsize=10,
-        )
-        axes[1, col].set_xlabel(f"time t [{TIME_UNITS}] (stops shaded)")
-        if result.status != "completed":
-            axes[0, col].text(
-                0.02, 0.95, f"run {result.status}", transform=axes[0, col].transAxes, color="r"
-            )
-    fig.suptitle(title, fontsize=11)
-    assert config is not None
-    p = config.protocol
-    add_footer(
-        fig,
-        fidelity_label(
-            fid,
-            config,
-            f"t_ini = {p.t_ini:g}, t_release = {p.t_release:g}, M = {p.cycles} cycles per run; "
-            f"wall {sum(walls):.0f} s",
-        ),
-    )
-    return fig, lines
-
-
-def timeseries_main(
-    name: str,
-    title: str,
-    panels: Sequence[tuple[str, Path]],
-    description: str,
-    argv: Sequence[str] | None = None,
-) -> list[Path]:
-    """The whole script of a time-series figure (Figs. 4 and 6).
-
-    Parses ``[--quick | --tiny] [--out DIR] [--cycles M]``, runs one config per panel
-    (:func:`timeseries_figure`), prints the inversion counts and writes `name` as PNG and
-    PDF.
-    """
-    args = parse_args(description, argv, extra=_cycles_option)
-    fig, lines = timeseries_figure(title, panels, args.fidelity, args.cycles)
-    for line in lines:
-        print(f"{name}: {line}")
-    return save(fig, args.out, name)
 
 
 def probability_footer(fid: Fidelity, data: SweepData) -> str:

@@ -7,7 +7,8 @@ phi(t) and (2) the angular velocity dphi/dt of Eq. (eq_motion), stop phases shad
 paper: the direction is inverted after every stop for t_stop = 0.5 and random for
 t_stop = 2.
 
-Run: ``python gallery/fig4_timeseries.py [--quick | --tiny] [--cycles M]``.
+Run: ``python gallery/fig4_timeseries.py [--quick | --tiny] [--cycles M] [--runs DIR]``
+(``--runs``: read the two runs from run directories, :mod:`_timeseries`).
 """
 
 from __future__ import annotations
@@ -15,7 +16,8 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-from _common import CONFIGS, timeseries_main
+from _common import CONFIGS
+from _timeseries import timeseries_main
 
 NAME = "fig4_timeseries"
 PANELS = (("a", CONFIGS / "paper_fig4a.yaml"), ("b", CONFIGS / "paper_fig4b.yaml"))

@@ -7,7 +7,8 @@ phi(t) and (2) the angular velocity dphi/dt of Eq. (eq_motion), stop phases shad
 paper: perfect inversion for t_stop = 0.5; for t_stop = 2 no inversion, the rotor always
 turns in its preferred direction (clockwise for Delta > 0).
 
-Run: ``python gallery/fig6_timeseries.py [--quick | --tiny] [--cycles M]``.
+Run: ``python gallery/fig6_timeseries.py [--quick | --tiny] [--cycles M] [--runs DIR]``
+(``--runs``: read the two runs from run directories, :mod:`_timeseries`).
 """
 
 from __future__ import annotations
@@ -15,7 +16,8 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-from _common import CONFIGS, timeseries_main
+from _common import CONFIGS
+from _timeseries import timeseries_main
 
 NAME = "fig6_timeseries"
 PANELS = (("a", CONFIGS / "paper_fig6a.yaml"), ("b", CONFIGS / "paper_fig6b.yaml"))

@@ -323,3 +323,39 @@ def test_footers_are_readable_at_100_percent():
     fig = Figure(figsize=(6, 4), layout="constrained")
     common.add_footer(fig, "pde_rotor, full fidelity")
     assert min(text.get_fontsize() for text in fig.texts) >= 9
+
+
+def test_time_series_runs_are_read_from_run_directories(tmp_path, monkeypatch):
+    """``--runs DIR`` computes a missing panel run into DIR/<config name> and reads it
+    back the next time without running anything; a stored run of another config or one
+    that did not complete is refused with the keys (or status) named."""
+    module = load_script(gallery_dir() / "fig4_timeseries.py")
+    series = sys.modules["_timeseries"]
+    runs, out = tmp_path / "runs", tmp_path / "out"
+    args = ["--tiny", "--out", str(out), "--runs", str(runs)]
+    module.main(args)
+    first = series.RunResult.load(runs / "paper_fig4a")
+    assert first.ok and first.config.protocol.cycles == 2
+
+    def no_run(*_: object, **__: object) -> None:
+        raise AssertionError("a stored run was computed again")
+
+    monkeypatch.setattr(series, "run", no_run)
+    assert (out / "fig4_timeseries.png").is_file()
+    (out / "fig4_timeseries.png").unlink()
+    module.main(args)
+    assert (out / "fig4_timeseries.png").is_file()
+    fid = sys.modules["_common"].fidelity("tiny")
+    config = fid.config(module.PANELS[0][1], *fid.protocol)
+    assert series.stored_run(runs / "paper_fig4a", config) is not None
+    other = fid.config(module.PANELS[0][1], *fid.protocol, "protocol.cycles=3")
+    with pytest.raises(ValueError, match=r"protocol\.cycles = 2 \(wanted 3\)$"):
+        series.stored_run(runs / "paper_fig4a", other)
+    assert series.stored_run(tmp_path / "nothing", config) is None
+    path = runs / "paper_fig4a" / "timeseries.nc"
+    with xr.open_dataset(path, engine="h5netcdf") as ds:
+        cut = ds.load()
+    cut.attrs.update(status="interrupted", message="SIGTERM at t = 1.5")
+    cut.to_netcdf(path, engine="h5netcdf")
+    with pytest.raises(ValueError, match=r"the run is interrupted \(SIGTERM at t = 1\.5\)"):
+        series.stored_run(runs / "paper_fig4a", config)

@@ -1,0 +1,221 @@
+"""Time-series figures of the gallery (paper Figs. 4 and 6): phi(t) and omega(t) per run.
+
+Each panel is one run of a paper config (configs/paper_fig4a.yaml, ...). At the paper's
+M = 100 cycles a run takes more than an hour, so a script can read its runs from run
+directories instead of computing them (``--runs DIR``): the panel of config
+``configs/NAME.yaml`` is ``DIR/NAME``, as written by
+``pde-rotor run configs/NAME.yaml --out DIR/NAME`` (the runs of one figure can then go
+in parallel, on this machine or elsewhere). A stored run is used only if it completed
+and its physics (everything but output, solver and the drawn noise seed) is the
+config's at the chosen fidelity; a missing one is computed and written there.
+"""
+
+from __future__ import annotations
+
+import argparse
+from collections.abc import Iterator, Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+from _common import (
+    Fidelity,
+    add_footer,
+    fidelity_label,
+    new_figure,
+    parse_args,
+    save,
+    wilson_text,
+)
+from matplotlib.figure import Figure
+
+from pde_rotor.api import RunResult, run
+from pde_rotor.config import RotorConfig
+from pde_rotor.plotting import stop_intervals
+from pde_rotor.trackers import OMEGA_UNITS, TIME_UNITS
+
+_RECORDING = {"output", "solver"}
+"""Config sections that change what a run records or where it runs, not its physics."""
+
+
+def _options(parser: argparse.ArgumentParser) -> None:
+    """``--cycles M`` and ``--runs DIR`` of the time-series scripts."""
+    parser.add_argument(
+        "--cycles",
+        type=int,
+        default=None,
+        help="stop-and-release cycles per run [default: the fidelity's; full: the paper's 100]",
+    )
+    parser.add_argument(
+        "--runs",
+        type=Path,
+        default=None,
+        help="read each panel's run from DIR/<config name> (pde-rotor run CONFIG --out "
+        "DIR/<config name>), computing and writing there the ones missing [default: "
+        "compute every run in memory]",
+    )
+
+
+def _leaves(data: Mapping[str, Any], prefix: str = "") -> Iterator[tuple[str, Any]]:
+    """(dotted key, value) of every leaf of a nested mapping."""
+    for key, value in data.items():
+        if isinstance(value, Mapping):
+            yield from _leaves(value, f"{prefix}{key}.")
+        else:
+            yield f"{prefix}{key}", value
+
+
+def differing_keys(stored: RotorConfig, wanted: RotorConfig) -> list[str]:
+    """Dotted keys whose values differ between two configs' physics.
+
+    The output and solver sections are left out, and so is the noise seed where
+    `wanted` draws it (seed null): a stored run's seed is the one it drew.
+    """
+    mine = dict(_leaves(stored.model_dump(mode="json", exclude=_RECORDING)))
+    theirs = dict(_leaves(wanted.model_dump(mode="json", exclude=_RECORDING)))
+    if wanted.noise.seed is None:
+        mine.pop("noise.seed", None)
+        theirs.pop("noise.seed", None)
+    return sorted(k for k in mine.keys() | theirs.keys() if mine.get(k) != theirs.get(k))
+
+
+def stored_run(run_dir: Path, config: RotorConfig) -> RunResult | None:
+    """The completed run in `run_dir` if it is a run of `config`, None if there is none.
+
+    Raises:
+        ValueError: `run_dir` holds a run of another config (the keys named) or one that
+            did not complete (its status and message).
+    """
+    if not (run_dir / "config.yaml").is_file():
+        return None
+    result = RunResult.load(run_dir)
+    differ = differing_keys(result.config, config)
+    if differ:
+        values = ", ".join(
+            f"{k} = {_value(result.config, k)} (wanted {_value(config, k)})" for k in differ
+        )
+        msg = f"{run_dir} holds a run of another config: {values}"
+        raise ValueError(msg)
+    if not result.ok:
+        msg = f"{run_dir}: the run is {result.status} ({result.message or 'no message'})"
+        raise ValueError(msg)
+    return result
+
+
+def _value(config: RotorConfig, key: str) -> Any:
+    value: Any = config.model_dump(mode="json")
+    for part in key.split("."):
+        value = value.get(part) if isinstance(value, Mapping) else None
+    return value
+
+
+def panel_run(path: Path, fid: Fidelity, cycles: int | None, runs: Path | None) -> RunResult:
+    """The run of one panel: config `path` at fidelity `fid` (and `cycles`), read from
+    ``runs/<config name>`` where it is stored there, else computed (and written there
+    when `runs` is given)."""
+    extra = () if cycles is None else (f"protocol.cycles={cycles}",)
+    config = fid.config(path, *fid.protocol, *extra)
+    if runs is None:
+        return run(config, progress=False)
+    run_dir = runs / path.stem
+    found = stored_run(run_dir, config)
+    if found is not None:
+        print(f"{path.name}: read from {run_dir}")
+        return found
+    return run(config, run_dir, progress=False)
+
+
+def timeseries_figure(
+    title: str,
+    panels: Sequence[tuple[str, Path]],
+    fid: Fidelity,
+    cycles: int | None = None,
+    runs: Path | None = None,
+) -> tuple[Figure, list[str]]:
+    """phi(t) (row 1) and omega(t) (row 2) of one run per column, stops shaded.
+
+    Args:
+        title: figure title.
+        panels: (panel letter, config path) per column.
+        fid: fidelity.
+        cycles: number of cycles M per run (None: the fidelity's protocol).
+        runs: directory of stored runs (:func:`panel_run`); None: every run in memory.
+
+    Returns:
+        The figure and one summary line per panel (inversions with the Wilson interval).
+    """
+    fig = new_figure(5.2 * len(panels), 6.4)
+    axes = fig.subplots(2, len(panels), squeeze=False, sharex="col")
+    lines = []
+    results = [panel_run(path, fid, cycles, runs) for _, path in panels]
+    for col, ((letter, _), result) in enumerate(zip(panels, results, strict=True)):
+        config = result.config
+        ts = result.timeseries
+        t = ts["time"].values
+        events = result.events
+        n = int(events.sizes.get("cycle", 0))
+        k = int(events["inverted"].values.sum()) if n else 0
+        committed = int(events["committed"].values.sum()) if n else 0
+        p = config.protocol
+        summary = f"({letter}) t_stop = {p.t_stop:g}: inversions {wilson_text(k, n)}" + (
+            f", {n - committed} not committed" if committed < n else ""
+        )
+        lines.append(summary)
+        for row, (name, label) in enumerate(
+            (("phi", "angle \u03c6 [rad]"), ("omega", f"angular velocity \u03c9 [{OMEGA_UNITS}]"))
+        ):
+            ax = axes[row, col]
+            for a, b in stop_intervals(config, float(t[-1]) if t.size else None):
+                ax.axvspan(a, b, color="tab:red", alpha=0.25, lw=0)
+            ax.plot(t, ts[name].values, color="k", lw=0.8)
+            ax.grid(alpha=0.3)
+            if col == 0:
+                ax.set_ylabel(f"({row + 1}) {label}")
+        axes[0, col].set_title(
+            f"({letter}) t_stop = {p.t_stop:g}, \u0394 = {config.geometry.asymmetry:g}: "
+            f"{k}/{n} inverted",
+            fontsize=10,
+        )
+        axes[1, col].set_xlabel(f"time t [{TIME_UNITS}] (stops shaded)")
+        if result.status != "completed":
+            axes[0, col].text(
+                0.02, 0.95, f"run {result.status}", transform=axes[0, col].transAxes, color="r"
+            )
+    fig.suptitle(title, fontsize=11)
+    config = results[-1].config
+    p = config.protocol
+    stored = [r.run_dir for r in results if r.run_dir is not None]
+    where = (
+        f"runs in {stored[0].parent}"
+        if stored
+        else f"wall {sum(r.wall_time for r in results):.0f} s"
+    )
+    add_footer(
+        fig,
+        fidelity_label(
+            fid,
+            config,
+            f"t_ini = {p.t_ini:g}, t_release = {p.t_release:g}, M = {p.cycles} cycles per run; "
+            f"{where}",
+        ),
+    )
+    return fig, lines
+
+
+def timeseries_main(
+    name: str,
+    title: str,
+    panels: Sequence[tuple[str, Path]],
+    description: str,
+    argv: Sequence[str] | None = None,
+) -> list[Path]:
+    """The whole script of a time-series figure (Figs. 4 and 6).
+
+    Parses ``[--quick | --tiny] [--out DIR] [--cycles M] [--runs DIR]``, gets one run per
+    panel (:func:`timeseries_figure`), prints the inversion counts and writes `name` as
+    PNG and PDF.
+    """
+    args = parse_args(description, argv, extra=_options)
+    fig, lines = timeseries_figure(title, panels, args.fidelity, args.cycles, args.runs)
+    for line in lines:
+        print(f"{name}: {line}")
+    return save(fig, args.out, name)
