@@ -185,7 +185,7 @@ def timeseries_figure(
     p = config.protocol
     stored = [r.run_dir for r in results if r.run_dir is not None]
     where = (
-        f"runs in {stored[0].parent}"
+        f"runs stored in {stored[0].parent}/"
         if stored
         else f"wall {sum(r.wall_time for r in results):.0f} s"
     )
