@@ -33,9 +33,6 @@ from pde_rotor.config import RotorConfig
 from pde_rotor.plotting import stop_intervals
 from pde_rotor.trackers import OMEGA_UNITS, TIME_UNITS
 
-_RECORDING = {"output", "solver"}
-"""Config sections that change what a run records or where it runs, not its physics."""
-
 
 def _options(parser: argparse.ArgumentParser) -> None:
     """``--cycles M`` and ``--runs DIR`` of the time-series scripts."""
@@ -64,22 +61,12 @@ def _leaves(data: Mapping[str, Any], prefix: str = "") -> Iterator[tuple[str, An
             yield f"{prefix}{key}", value
 
 
-def differing_keys(stored: RotorConfig, wanted: RotorConfig) -> list[str]:
-    """Dotted keys whose values differ between two configs' physics.
-
-    The output and solver sections are left out, and so is the noise seed where
-    `wanted` draws it (seed null): a stored run's seed is the one it drew.
-    """
-    mine = dict(_leaves(stored.model_dump(mode="json", exclude=_RECORDING)))
-    theirs = dict(_leaves(wanted.model_dump(mode="json", exclude=_RECORDING)))
-    if wanted.noise.seed is None:
-        mine.pop("noise.seed", None)
-        theirs.pop("noise.seed", None)
-    return sorted(k for k in mine.keys() | theirs.keys() if mine.get(k) != theirs.get(k))
-
-
 def stored_run(run_dir: Path, config: RotorConfig) -> RunResult | None:
     """The completed run in `run_dir` if it is a run of `config`, None if there is none.
+
+    Runs match when their physics (:meth:`~pde_rotor.config.RotorConfig.physics`) is
+    the same, apart from the noise seed where `config` draws it (seed null): a stored
+    run's seed is the one it drew.
 
     Raises:
         ValueError: `run_dir` holds a run of another config (the keys named) or one that
@@ -88,24 +75,19 @@ def stored_run(run_dir: Path, config: RotorConfig) -> RunResult | None:
     if not (run_dir / "config.yaml").is_file():
         return None
     result = RunResult.load(run_dir)
-    differ = differing_keys(result.config, config)
+    mine, theirs = (dict(_leaves(c.physics())) for c in (result.config, config))
+    if config.noise.seed is None:
+        mine.pop("noise.seed", None)
+        theirs.pop("noise.seed", None)
+    differ = sorted(k for k in mine.keys() | theirs.keys() if mine.get(k) != theirs.get(k))
     if differ:
-        values = ", ".join(
-            f"{k} = {_value(result.config, k)} (wanted {_value(config, k)})" for k in differ
-        )
+        values = ", ".join(f"{k} = {mine.get(k)} (wanted {theirs.get(k)})" for k in differ)
         msg = f"{run_dir} holds a run of another config: {values}"
         raise ValueError(msg)
     if not result.ok:
         msg = f"{run_dir}: the run is {result.status} ({result.message or 'no message'})"
         raise ValueError(msg)
     return result
-
-
-def _value(config: RotorConfig, key: str) -> Any:
-    value: Any = config.model_dump(mode="json")
-    for part in key.split("."):
-        value = value.get(part) if isinstance(value, Mapping) else None
-    return value
 
 
 def panel_run(path: Path, fid: Fidelity, cycles: int | None, runs: Path | None) -> RunResult:

@@ -487,6 +487,16 @@ class RotorConfig(_Section):
         rates.append(self.rotor.friction * polar_moment / self.rotor.inertia)
         return 2.0 / max(rates)
 
+    def physics(self) -> dict[str, Any]:
+        """The config as a JSON mapping without what changes no result: the output section
+        (what is recorded), the solver section (where it runs) and the numerics settings
+        its scheme ignores (:meth:`NumericsConfig.acting`). Runs with equal mappings give
+        the same result on every machine and backend (sweep run keys, stored gallery runs).
+        """
+        data = self.model_dump(mode="json", exclude={"output", "solver"})
+        data["numerics"] = self.numerics.acting()
+        return data
+
     def config_hash(self) -> str:
         """Short SHA-256 of the canonical JSON of the model, protocol, noise and grid.
 

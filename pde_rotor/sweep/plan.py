@@ -172,7 +172,7 @@ class Sweep:
                     seed = run_seed(self.spec.seed, coords, sample, direction)
                     resolved = config.model_copy(deep=True)
                     resolved.noise.seed = seed
-                    cfg = _physics(resolved)
+                    cfg = resolved.physics()
                     stop_seed = (
                         run_seed(self.spec.seed, stop_coords, sample, direction, STOP_STREAM)
                         if bank
@@ -192,17 +192,6 @@ def _set(data: dict[str, Any], key: str, value: Any, where: str) -> None:
         set_key(data, key, value)
     except ConfigError as err:
         raise SweepError(f"{where}: {key}: {err}") from None
-
-
-def _physics(config: RotorConfig) -> dict[str, Any]:
-    """The config as a JSON mapping without what changes no result: the output section
-    (what is recorded), the solver section (where it runs) and the numerics settings
-    its scheme ignores (:meth:`~pde_rotor.config.NumericsConfig.acting`), so that a run
-    has the same key on every machine and backend, and a paper-scheme run keeps its key
-    when the consistent scheme's settings change."""
-    data = config.model_dump(mode="json", exclude={"output", "solver"})
-    data["numerics"] = config.numerics.acting()
-    return data
 
 
 def _check_restart(config: RotorConfig, estimator: RestartEstimator, where: str) -> None:
