@@ -1,4 +1,4 @@
-"""Run configuration: one validated schema holding every parameter of the model.
+"""The schema: one validated pydantic model holding every parameter of the model.
 
 Every default is the value used in the paper's section "Numerical results"
 (Koyano, Kitahata, Nakata & Gorecki, Chaos 2020). Scripts, tests and the CLI build
@@ -6,12 +6,6 @@ Every default is the value used in the paper's section "Numerical results"
 
 Units are the paper's dimensionless units: length in units of the camphor
 diffusion length sqrt(D/a), time in units of 1/a.
-
-Configs are written as YAML (:func:`load_config`, :func:`dump_config`) and can be
-changed from the command line with ``--set key.path=value`` (:func:`apply_overrides`).
-Every invalid input raises :class:`ConfigError` whose message is one line that names
-the key path and the allowed values (:func:`format_validation_error`), before anything
-is compiled.
 """
 
 from __future__ import annotations
@@ -19,15 +13,11 @@ from __future__ import annotations
 import hashlib
 import json
 import math
-import re
-import types
-from collections.abc import Iterable, Mapping
-from pathlib import Path
-from typing import Annotated, Any, Literal, Union, get_args, get_origin
+from typing import Annotated, Any, Literal
 
-import yaml
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, ValidationError, model_validator
-from pydantic.fields import FieldInfo
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, model_validator
+
+from .errors import FieldError
 
 
 def _reject_bool(value: Any) -> Any:
@@ -44,29 +34,6 @@ NonNegativeFloat = Annotated[float, _NoBool, Field(ge=0, allow_inf_nan=False)]
 FiniteFloat = Annotated[float, _NoBool, Field(allow_inf_nan=False)]
 Fraction = Annotated[float, _NoBool, Field(gt=0, le=1, allow_inf_nan=False)]
 Int = Annotated[int, _NoBool]
-
-
-class FieldError(ValueError):
-    """A cross-field check failed; carries the key path it is about.
-
-    Attributes:
-        path: dotted key path relative to the model that raised it (e.g. ``pill_radius``
-            inside ``geometry``, or ``grid.dx`` at the top level).
-        value: the offending value.
-    """
-
-    def __init__(self, path: str, value: Any, message: str):
-        super().__init__(message)
-        self.path = path
-        self.value = value
-
-    def __reduce__(self) -> tuple[type[FieldError], tuple[str, Any, str]]:
-        """Pickle with all three arguments (a worker process sends its errors back)."""
-        return type(self), (self.path, self.value, str(self))
-
-
-class ConfigError(ValueError):
-    """Invalid configuration input; ``str(err)`` is one readable line."""
 
 
 class _Section(BaseModel):
@@ -421,7 +388,7 @@ class RotorConfig(_Section):
                 f"geometry.radius + 2 dx = {self.geometry.radius + 2 * dx:g})"
             )
             raise FieldError("grid.domain_radius", self.grid.domain_radius, msg)
-        from .core import X_SATURATION
+        from ..core import X_SATURATION
 
         n = self.geometry.n_corners
         support = self.geometry.radius + X_SATURATION * smoothing / math.cos(math.pi / n)
@@ -506,320 +473,3 @@ class RotorConfig(_Section):
         data = self.model_dump(mode="json", exclude={"solver", "output"})
         text = json.dumps(data, sort_keys=True, separators=(",", ":"))
         return hashlib.sha256(text.encode()).hexdigest()[:16]
-
-
-# ---------------------------------------------------------------------------------------
-# YAML in and out
-# ---------------------------------------------------------------------------------------
-
-PROVENANCE_KEY = "provenance"
-"""Top-level key of a run's config.yaml holding versions and hash; ignored when loading."""
-
-
-class _Loader(yaml.SafeLoader):
-    """Safe YAML loader that reads 1e-4 as a float and refuses duplicate keys."""
-
-
-_Loader.add_implicit_resolver(
-    "tag:yaml.org,2002:float",
-    re.compile(r"^[-+]?(?:[0-9][0-9_]*)(?:\.[0-9_]*)?[eE][-+]?[0-9]+$"),
-    list("-+0123456789"),
-)
-
-
-def _construct_mapping(loader: _Loader, node: yaml.MappingNode, deep: bool = False) -> dict:
-    loader.flatten_mapping(node)
-    result: dict = {}
-    for key_node, value_node in node.value:
-        key = loader.construct_object(key_node, deep=deep)
-        if key in result:
-            mark = key_node.start_mark
-            msg = f"line {mark.line + 1}: duplicate key {key!r}"
-            raise ConfigError(msg)
-        result[key] = loader.construct_object(value_node, deep=deep)
-    return result
-
-
-_Loader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, _construct_mapping)
-
-
-def parse_yaml(text: str, source: str = "<string>") -> Any:
-    """Parse YAML text (floats like 1e-4 included); errors become one-line ConfigErrors."""
-    try:
-        return yaml.load(text, Loader=_Loader)
-    except ConfigError as err:
-        msg = f"{source}: {err}"
-        raise ConfigError(msg) from None
-    except yaml.YAMLError as err:
-        mark = getattr(err, "problem_mark", None)
-        where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
-        problem = getattr(err, "problem", None) or str(err).splitlines()[0]
-        msg = f"{source}: invalid YAML{where}: {problem}"
-        raise ConfigError(msg) from None
-
-
-def read_config_data(path: str | Path) -> dict[str, Any]:
-    """Read a YAML config file into a plain dict (provenance removed), without validating."""
-    path = Path(path)
-    if path.is_dir():
-        path = path / "config.yaml"
-    if not path.exists():
-        msg = f"config file {str(path)!r} not found"
-        raise ConfigError(msg)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as err:
-        msg = f"config file {str(path)!r} cannot be read: {err}"
-        raise ConfigError(msg) from None
-    data = parse_yaml(text, source=str(path))
-    if data is None:
-        msg = (
-            f"{path}: the file is empty or holds only comments; a config names at least one "
-            "section (e.g. protocol: {t_stop: 1.0}); write {} to run every default (the "
-            "paper's grid and 100 stop-and-release cycles)"
-        )
-        raise ConfigError(msg)
-    if not isinstance(data, dict):
-        msg = (
-            f"{path}: the top level must be a mapping of sections "
-            f"({', '.join(RotorConfig.model_fields)}), got {type(data).__name__}"
-        )
-        raise ConfigError(msg)
-    data.pop(PROVENANCE_KEY, None)
-    return data
-
-
-def load_config(path: str | Path, overrides: Iterable[str] = ()) -> RotorConfig:
-    """Load and validate a YAML config file, then apply ``--set`` overrides.
-
-    Args:
-        path: YAML file (or a run directory holding config.yaml).
-        overrides: strings ``key.path=value``; value is parsed as YAML.
-
-    Raises:
-        ConfigError: one line naming the file or key path and the allowed values.
-    """
-    data = read_config_data(path)
-    if {"axes", "samples"} & set(data) and not set(RotorConfig.model_fields) & set(data):
-        msg = (
-            f"{path} is a sweep file (keys {', '.join(data)}), not a run config: "
-            "`pde-rotor sweep FILE --dry-run` checks it"
-        )
-        raise ConfigError(msg)
-    data = apply_overrides(data, overrides)
-    return validate_config(data)
-
-
-def validate_config(data: Mapping[str, Any]) -> RotorConfig:
-    """Build a :class:`RotorConfig` from a nested mapping; errors become ConfigErrors."""
-    try:
-        return RotorConfig.model_validate(dict(data))
-    except ValidationError as err:
-        raise ConfigError(format_validation_error(err)) from None
-
-
-_KEY_PATH = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z_][A-Za-z0-9_]*)*$")
-
-
-def parse_override(text: str) -> tuple[list[str], Any]:
-    """Split ``key.path=value`` into the key path and the YAML-parsed value."""
-    key, sep, raw = text.partition("=")
-    key = key.strip()
-    if not sep or not _KEY_PATH.match(key):
-        msg = (
-            f"--set {text!r}: expected KEY.PATH=VALUE with a dotted key path, "
-            "e.g. --set protocol.t_stop=1.5"
-        )
-        raise ConfigError(msg)
-    if raw.strip() == "":
-        msg = f"--set {text!r}: missing value after '=' for {key}"
-        raise ConfigError(msg)
-    value = parse_yaml(raw, source=f"--set {key}")
-    return key.split("."), value
-
-
-def set_key(data: dict[str, Any], key: str, value: Any) -> None:
-    """Set the dotted key `key` (``protocol.t_stop``) of a nested mapping, creating sections.
-
-    The one dotted-key setter of the package: overrides, sweep axes and the gallery use it.
-
-    Raises:
-        ConfigError: a part of the key path holds a value, not a section (one line).
-    """
-    path = key.split(".")
-    node = data
-    for depth, part in enumerate(path[:-1]):
-        child = node.get(part)
-        if child is None:
-            child = node[part] = {}
-        if not isinstance(child, dict):
-            msg = f"{'.'.join(path[: depth + 1])} is a value, not a section"
-            raise ConfigError(msg)
-        node = child
-    node[path[-1]] = value
-
-
-def apply_overrides(data: Mapping[str, Any], overrides: Iterable[str]) -> dict[str, Any]:
-    """Return a copy of `data` with every ``key.path=value`` override applied (in order).
-
-    Unknown keys are left for the schema to reject, so overrides and files give the
-    same error messages.
-    """
-    result = json.loads(json.dumps(data, default=str)) if data else {}
-    for text in overrides:
-        path, value = parse_override(text)
-        try:
-            set_key(result, ".".join(path), value)
-        except ConfigError as err:
-            raise ConfigError(f"--set {text!r}: {err}") from None
-    return result
-
-
-def dump_config(config: RotorConfig, provenance: Mapping[str, Any] | None = None) -> str:
-    """The fully resolved config as YAML (every key), optionally with a provenance block.
-
-    :func:`load_config` reads it back to an equal :class:`RotorConfig`.
-    """
-    data: dict[str, Any] = {}
-    if provenance:
-        data[PROVENANCE_KEY] = dict(provenance)
-    data.update(config.model_dump(mode="json"))
-    return yaml.safe_dump(data, sort_keys=False, default_flow_style=False)
-
-
-# ---------------------------------------------------------------------------------------
-# one-line error messages
-# ---------------------------------------------------------------------------------------
-
-_PROBLEMS = {
-    "extra_forbidden": "unknown key",
-    "float_parsing": "expected a number",
-    "float_type": "expected a number",
-    "int_parsing": "expected an integer",
-    "int_type": "expected an integer",
-    "int_from_float": "expected an integer, got a fraction",
-    "bool_parsing": "expected true or false",
-    "bool_type": "expected true or false",
-    "finite_number": "must be finite",
-    "literal_error": "not one of the allowed values",
-    "model_type": "expected a section (a mapping of keys)",
-    "model_attributes_type": "expected a section (a mapping of keys)",
-    "dict_type": "expected a section (a mapping of keys)",
-    "greater_than": "out of range",
-    "greater_than_equal": "out of range",
-    "less_than": "out of range",
-    "less_than_equal": "out of range",
-}
-
-
-def _model_at(path: tuple[str, ...]) -> type[BaseModel] | None:
-    """The section model that the key path leads into (None if it leaves the schema)."""
-    model: type[BaseModel] = RotorConfig
-    for part in path:
-        field = model.model_fields.get(part)
-        if field is None:
-            return None
-        ann = field.annotation
-        if not (isinstance(ann, type) and issubclass(ann, BaseModel)):
-            return None
-        model = ann
-    return model
-
-
-def _unwrap(ann: Any) -> tuple[Any, list[Any], bool]:
-    """Split an annotation into (base type, constraint metadata, whether None is allowed)."""
-    optional = False
-    if get_origin(ann) in (Union, types.UnionType):
-        args = [arg for arg in get_args(ann) if arg is not type(None)]
-        optional = len(args) < len(get_args(ann))
-        ann = args[0]
-    metadata: list[Any] = []
-    if get_origin(ann) is Annotated:
-        ann, *extras = get_args(ann)
-        for extra in extras:
-            metadata.extend(extra.metadata if isinstance(extra, FieldInfo) else [extra])
-    return ann, metadata, optional
-
-
-def allowed_values(path: tuple[str, ...]) -> str:
-    """Describe the allowed values of the field at `path` (e.g. ``float > 0``)."""
-    if not path:
-        return "sections " + ", ".join(RotorConfig.model_fields)
-    parent = _model_at(path[:-1])
-    if parent is None or path[-1] not in parent.model_fields:
-        return ""
-    field = parent.model_fields[path[-1]]
-    sub = _model_at(path)
-    if sub is not None:
-        return "a section with keys " + ", ".join(sub.model_fields)
-    base, metadata, optional = _unwrap(field.annotation)
-    metadata = [*field.metadata, *metadata]
-    if get_origin(base) is Literal:
-        kind = "one of " + ", ".join(str(arg) for arg in get_args(base))
-    elif base is bool:
-        kind = "true or false"
-    elif base is int:
-        kind = "integer"
-    else:
-        kind = "number"
-    lower = upper = ""
-    for meta in metadata:  # annotated_types.Gt(gt=...), Ge, Lt, Le
-        if getattr(meta, "gt", None) is not None:
-            lower = f"{meta.gt:g} <"
-        elif getattr(meta, "ge", None) is not None:
-            lower = f"{meta.ge:g} <="
-        elif getattr(meta, "lt", None) is not None:
-            upper = f"< {meta.lt:g}"
-        elif getattr(meta, "le", None) is not None:
-            upper = f"<= {meta.le:g}"
-    if lower and not upper:
-        value, sym = lower.split(" ")
-        kind += f", {path[-1]} {sym.replace('<', '>')} {value}"
-    elif lower or upper:
-        kind += ", " + " ".join(part for part in (lower, path[-1], upper) if part)
-    if optional:
-        kind += " or null"
-    return kind
-
-
-def _show(value: Any) -> str:
-    if isinstance(value, dict):
-        return "{...}"
-    text = repr(value) if isinstance(value, str) else json.dumps(value, default=str)
-    return text if len(text) <= 40 else text[:37] + "..."
-
-
-def _format_one(error: Mapping[str, Any]) -> str:
-    loc = tuple(str(part) for part in error["loc"])
-    kind = error["type"]
-    ctx = error.get("ctx") or {}
-    cause = ctx.get("error")
-    if kind == "value_error" and isinstance(cause, FieldError):
-        path = ".".join((*loc, cause.path))
-        return f"{path} = {_show(cause.value)}: {cause}"
-    path = ".".join(loc) if loc else "<top level>"
-    if kind == "extra_forbidden":
-        parent = _model_at(loc[:-1])
-        keys = ", ".join(parent.model_fields) if parent else ""
-        where = ".".join(loc[:-1]) or "top level"
-        return f"{path}: unknown key (allowed keys in {where}: {keys})"
-    value = error.get("input")
-    if kind == "value_error":
-        message = str(cause) if cause is not None else error["msg"]
-    elif isinstance(value, float) and not math.isfinite(value):
-        message = "must be a finite number"
-    else:
-        message = _PROBLEMS.get(kind, error["msg"].lower())
-    allowed = allowed_values(loc)
-    suffix = f" (allowed: {allowed})" if allowed else ""
-    return f"{path} = {_show(value)}: {message}{suffix}"
-
-
-def format_validation_error(err: ValidationError, limit: int = 3) -> str:
-    """One line describing the first `limit` problems of a validation error."""
-    errors = err.errors()
-    parts = [_format_one(e) for e in errors[:limit]]
-    more = len(errors) - limit
-    if more > 0:
-        parts.append(f"and {more} more")
-    return "; ".join(parts)

@@ -1,0 +1,79 @@
+"""Run configuration: one validated schema holding every parameter of the model.
+
+Every default is the value used in the paper's section "Numerical results"
+(Koyano, Kitahata, Nakata & Gorecki, Chaos 2020). Scripts, tests and the CLI build
+:class:`RotorConfig` objects; no other module repeats a parameter value.
+
+Units are the paper's dimensionless units: length in units of the camphor
+diffusion length sqrt(D/a), time in units of 1/a.
+
+Configs are written as YAML (:func:`load_config`, :func:`dump_config`) and can be
+changed from the command line with ``--set key.path=value`` (:func:`apply_overrides`).
+Every invalid input raises :class:`ConfigError` whose message is one line that names
+the key path and the allowed values (:func:`format_validation_error`), before anything
+is compiled.
+"""
+
+from __future__ import annotations
+
+from .errors import ConfigError, FieldError
+from .messages import allowed_values, format_validation_error
+from .schema import (
+    CALIBRATED_SIGMA,
+    PAPER_SCHEME_SIGMA,
+    PAPER_STEADY_OMEGA,
+    TIME_KEYS,
+    CamphorConfig,
+    FlowConfig,
+    GeometryConfig,
+    GridConfig,
+    NoiseConfig,
+    NumericsConfig,
+    OutputConfig,
+    ProtocolConfig,
+    RotorConfig,
+    RotorDynamicsConfig,
+    SolverConfig,
+)
+from .yaml_io import (
+    PROVENANCE_KEY,
+    apply_overrides,
+    dump_config,
+    load_config,
+    parse_override,
+    parse_yaml,
+    read_config_data,
+    set_key,
+    validate_config,
+)
+
+__all__ = [
+    "CALIBRATED_SIGMA",
+    "PAPER_SCHEME_SIGMA",
+    "PAPER_STEADY_OMEGA",
+    "PROVENANCE_KEY",
+    "TIME_KEYS",
+    "CamphorConfig",
+    "ConfigError",
+    "FieldError",
+    "FlowConfig",
+    "GeometryConfig",
+    "GridConfig",
+    "NoiseConfig",
+    "NumericsConfig",
+    "OutputConfig",
+    "ProtocolConfig",
+    "RotorConfig",
+    "RotorDynamicsConfig",
+    "SolverConfig",
+    "allowed_values",
+    "apply_overrides",
+    "dump_config",
+    "format_validation_error",
+    "load_config",
+    "parse_override",
+    "parse_yaml",
+    "read_config_data",
+    "set_key",
+    "validate_config",
+]
