@@ -49,7 +49,7 @@ from pde_rotor.figures import save_figure as save
 from pde_rotor.sweep import stored
 from pde_rotor.sweep.estimates import POOLED
 from pde_rotor.sweep.stored import PAPER_REPORTS, SweepData, curve
-from pde_rotor.trackers import TIME_UNITS
+from pde_rotor.units import TIME_UNITS
 
 __all__ = [
     "ASYMMETRY_LABEL",

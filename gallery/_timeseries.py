@@ -31,7 +31,7 @@ from matplotlib.figure import Figure
 from pde_rotor.api import RunResult, run
 from pde_rotor.config import RotorConfig
 from pde_rotor.plotting import stop_intervals
-from pde_rotor.trackers import OMEGA_UNITS, TIME_UNITS
+from pde_rotor.units import OMEGA_UNITS, TIME_UNITS
 
 
 def _options(parser: argparse.ArgumentParser) -> None:

@@ -53,7 +53,7 @@ from pde_rotor.analysis import stopped_torque
 from pde_rotor.config import CALIBRATED_SIGMA, RotorConfig
 from pde_rotor.output import atomic_path
 from pde_rotor.simulation import Simulation
-from pde_rotor.trackers import OMEGA_UNITS
+from pde_rotor.units import OMEGA_UNITS
 
 NAME = "convergence"
 PAPER_PAIRS = ((0.05, 4e-4), (1 / 30, 2e-4), (0.025, 1e-4), (1 / 60, 4e-5))

@@ -33,7 +33,7 @@ from pde_rotor.geometry import (
     pill_indicator,
     plate_indicator,
 )
-from pde_rotor.trackers import LENGTH_UNITS
+from pde_rotor.units import LENGTH_UNITS
 
 NAME = "fig1_geometry"
 CONFIG = CONFIGS / "paper_fig6a.yaml"

@@ -22,7 +22,7 @@ from matplotlib.patches import Circle, Polygon
 from pde_rotor.geometry import RotorShape, pill_centres
 from pde_rotor.plotting import plate_corners
 from pde_rotor.simulation import Simulation
-from pde_rotor.trackers import LENGTH_UNITS, OMEGA_UNITS, TIME_UNITS
+from pde_rotor.units import LENGTH_UNITS, OMEGA_UNITS, TIME_UNITS
 
 NAME = "fig3_fields"
 HALF_WIDTH = 1.5

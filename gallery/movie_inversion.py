@@ -31,7 +31,7 @@ from pde_rotor.mp4 import Mp4Writer
 from pde_rotor.output import atomic_path
 from pde_rotor.plotting import RotorFrame
 from pde_rotor.simulation import Simulation
-from pde_rotor.trackers import OMEGA_UNITS, TIME_UNITS
+from pde_rotor.units import OMEGA_UNITS, TIME_UNITS
 
 NAME = "movie_inversion"
 T_STOP = 0.5

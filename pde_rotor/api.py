@@ -30,6 +30,7 @@ import xarray as xr
 from .backends import backend_for, device_name
 from .config import ConfigError, RotorConfig, dump_config, load_config, validate_config
 from .output import RunDirectory, atomic_path, detach_log, write_text_atomic
+from .units import LENGTH_UNITS, TIME_UNITS
 
 _logger = logging.getLogger(__name__)
 
@@ -272,8 +273,7 @@ def run(
         "device": device,
         "config": dump_config(cfg),
         "units": (
-            f"lengths in {tr.LENGTH_UNITS}, times in {tr.TIME_UNITS} (the paper's "
-            "dimensionless units)"
+            f"lengths in {LENGTH_UNITS}, times in {TIME_UNITS} (the paper's dimensionless units)"
         ),
     }
     log_handler = None

@@ -8,7 +8,7 @@ phi(t) and omega(t) with the stop phases shaded (the paper's Figs. 4 and 6), the
 of inversion events, and a snapshot of c and v (the paper's Fig. 3).
 
 Labels use the symbols of the paper (φ, ω, Δ) and the units of the output files
-(:data:`pde_rotor.trackers.TIME_UNITS` and its companions; a time series read from
+(:data:`pde_rotor.units.TIME_UNITS` and its companions; a time series read from
 timeseries.nc brings its own ``units`` attributes).
 
 Figures are plain :class:`matplotlib.figure.Figure` objects (no pyplot state), so they
@@ -27,7 +27,7 @@ from matplotlib.patches import Circle, Polygon
 
 from .config import RotorConfig
 from .geometry import RotorShape, pill_centres
-from .trackers import LENGTH_UNITS, OMEGA_UNITS, TIME_UNITS
+from .units import LENGTH_UNITS, OMEGA_UNITS, TIME_UNITS
 
 SUMMARY_SIZE = (13.0, 8.5)
 """Size of the summary figure in inches."""

@@ -20,7 +20,7 @@ from pde_rotor.plotting import (
     stop_intervals,
     summary_figure,
 )
-from pde_rotor.trackers import OMEGA_UNITS, TIME_UNITS
+from pde_rotor.units import OMEGA_UNITS, TIME_UNITS
 
 
 @pytest.mark.parametrize("phi", [0.0, 1.0, -2.5])

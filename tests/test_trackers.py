@@ -21,8 +21,8 @@ from pde_rotor.trackers import (
     ProgressBarTracker,
     SnapshotTracker,
     TimeSeriesTracker,
-    _sampling_times,
 )
+from pde_rotor.trackers.base import sampling_times
 
 TINY = {
     "grid": {"dx": 0.05, "dt": 4e-4, "domain_radius": 1.75},
@@ -56,7 +56,7 @@ def drive(tracker, omega_of_t, t_end: float) -> list[float]:
 def test_sampling_times_hit_every_stop_exactly():
     config = RotorConfig.model_validate(TINY)
     schedule = StopSchedule.from_config(config.protocol, config.grid.dt)
-    times = _sampling_times(schedule, 0.03, config.protocol.t_end)
+    times = sampling_times(schedule, 0.03, config.protocol.t_end)
     for m in range(schedule.cycles):
         start = schedule.n_ini + m * schedule.n_period
         assert start * schedule.dt == schedule.stop_times()[m]

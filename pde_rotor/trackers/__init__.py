@@ -1,0 +1,37 @@
+"""py-pde trackers that watch a rotor run: progress, time series, inversion events, fields, movie.
+
+py-pde's :class:`~pde.solvers.Controller` calls every tracker at the times its
+``interrupts`` ask for, before advancing the state further (see pde/trackers/base.py).
+The fused solver advances whole steps of dt, so every interrupt time used here is an
+integer number of steps; the trackers that record the rotor ask in addition for the
+start and the end of every stop phase (:meth:`StopSchedule.stop_times`), so that the
+angular velocity just before each stop is sampled exactly.
+
+The rotor state is not part of py-pde's FieldCollection; trackers read it from the
+:class:`~pde_rotor.simulation.Simulation` given to their constructor: ``sim.rotor``
+holds phi, omega (Eq. (eq_motion)) and the torque T (Eq. (torque)) and friction torque
+of the last step.
+
+One module per tracker; this package hands them on under one name, as py-pde's
+``pde.trackers`` does.
+"""
+
+from __future__ import annotations
+
+from .events import EVENT_ATTRS, EVENT_COLUMNS, InversionEvent, InversionTracker
+from .movie import MovieTracker
+from .progress import ProgressBarTracker
+from .snapshots import SnapshotTracker
+from .timeseries import TIMESERIES_VARIABLES, TimeSeriesTracker
+
+__all__ = [
+    "EVENT_ATTRS",
+    "EVENT_COLUMNS",
+    "TIMESERIES_VARIABLES",
+    "InversionEvent",
+    "InversionTracker",
+    "MovieTracker",
+    "ProgressBarTracker",
+    "SnapshotTracker",
+    "TimeSeriesTracker",
+]

@@ -1,0 +1,154 @@
+"""The time series of a run: phi, omega, torques and total camphor in timeseries.nc."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+import xarray as xr
+from pde import FieldCollection
+from pde.trackers.interrupts import FixedInterrupts
+
+from ..output import write_netcdf_atomic
+from ..protocol import StopSchedule
+from ..units import OMEGA_UNITS, TIME_UNITS
+from .base import RotorTracker, sampling_times
+
+if TYPE_CHECKING:
+    from ..simulation import Simulation
+
+
+TIMESERIES_VARIABLES: dict[str, dict[str, str]] = {
+    "phi": {
+        "long_name": "rotor angle phi",
+        "units": "rad",
+        "equation": "Eq. (eq_motion): dphi/dt = omega",
+    },
+    "omega": {
+        "long_name": "angular velocity dphi/dt",
+        "units": OMEGA_UNITS,
+        "equation": "Eq. (eq_motion)",
+    },
+    "torque": {
+        "long_name": "surface tension torque T (of the last step)",
+        "units": "model units (k, D, a = 1)",
+        "equation": "Eq. (torque)",
+    },
+    "friction": {
+        "long_name": "friction torque -mu int F (|r|^2 omega - r x v) dA (of the last step)",
+        "units": "model units (k, D, a = 1)",
+        "equation": "Eq. (eq_motion)",
+    },
+    "camphor_total": {
+        "long_name": "total camphor int c dA over the domain",
+        "units": "model units",
+        "equation": "Eq. (eqc)",
+    },
+    "stopped": {
+        "long_name": "1 if the last step was in a stop phase (phi frozen, omega = 0)",
+        "units": "1",
+        "equation": "protocol (section Model)",
+    },
+    "cycle": {
+        "long_name": "stop-and-release cycle m of the last step (0: before the first stop)",
+        "units": "1",
+        "equation": "protocol (section Model)",
+    },
+}
+"""Variables of timeseries.nc with their attributes."""
+
+
+class TimeSeriesTracker(RotorTracker):
+    """Records t, phi, omega, torque, friction, total camphor; writes timeseries.nc.
+
+    Samples every ``interval`` and at the start and end of every stop phase. The file
+    is rewritten atomically every ``checkpoint_seconds`` of wall time and at the end.
+    """
+
+    def __init__(
+        self,
+        sim: Simulation,
+        interval: float,
+        path: str | Path | None = None,
+        *,
+        checkpoint_seconds: float = 60.0,
+        attrs: dict[str, Any] | None = None,
+    ):
+        """
+        Args:
+            sim: the simulation.
+            interval: time between samples (a multiple of dt).
+            path: NetCDF file to write (None: keep in memory only).
+            checkpoint_seconds: wall time between intermediate writes.
+            attrs: global attributes of the Dataset (config hash, versions, ...).
+        """
+        times = sampling_times(
+            StopSchedule.from_config(sim.config.protocol, sim.config.grid.dt),
+            interval,
+            sim.config.protocol.t_end,
+        )
+        super().__init__(sim, FixedInterrupts(times))
+        self.interval = interval
+        self.path = Path(path) if path is not None else None
+        self.checkpoint_seconds = checkpoint_seconds
+        self.attrs = dict(attrs or {})
+        self.rows: dict[str, list[float]] = {"time": [], **{k: [] for k in TIMESERIES_VARIABLES}}
+        self._cell_area = sim.pde.domain.cell_area
+        self._last_write = time.monotonic()
+
+    def handle(self, field: FieldCollection, t: float) -> None:
+        """Append one sample of the rotor state and the total camphor of `field`."""
+        self.sample(t, float(field.data[0].sum()) * self._cell_area)
+
+    def sample(self, t: float, camphor_total: float) -> None:
+        """Append one sample: the rotor state ``sim.rotor`` at time t and int c dA.
+
+        Called by :meth:`handle`, and directly when the samples come from an ensemble
+        backend's records (:mod:`pde_rotor.single_run`).
+        """
+        rotor = self.sim.rotor
+        step = self.step_of(t)
+        values = {
+            "time": step * self.schedule.dt,
+            "phi": rotor.phi,
+            "omega": rotor.omega,
+            "torque": rotor.torque,
+            "friction": rotor.friction,
+            "camphor_total": camphor_total,
+            "stopped": int(rotor.stopped),
+            "cycle": self.schedule.cycle(max(step - 1, 0)),
+        }
+        if self.rows["time"] and values["time"] <= self.rows["time"][-1]:
+            return  # the same time handed twice (py-pde handles t_end once more)
+        for key, value in values.items():
+            self.rows[key].append(value)
+        if self.path is not None and time.monotonic() - self._last_write > self.checkpoint_seconds:
+            self.write({"status": "running", "message": "", "t_final": values["time"]})
+
+    def to_dataset(self, status: dict[str, Any] | None = None) -> xr.Dataset:
+        """The samples so far as an xarray Dataset over ``time``."""
+        data_vars = {}
+        for name, attrs in TIMESERIES_VARIABLES.items():
+            dtype = np.int64 if name in ("stopped", "cycle") else np.float64
+            data_vars[name] = ("time", np.asarray(self.rows[name], dtype=dtype), attrs)
+        coords = {"time": ("time", np.asarray(self.rows["time"]), {"units": TIME_UNITS})}
+        ds = xr.Dataset(data_vars, coords=coords)
+        ds.attrs.update(self.attrs)
+        ds.attrs["sample_interval"] = self.interval
+        ds.attrs["sampling"] = "every sample_interval and at the start and end of every stop"
+        if status is not None:
+            ds.attrs["status"] = status["status"]
+            ds.attrs["message"] = status["message"]
+        return ds
+
+    def write(self, status: dict[str, Any]) -> None:
+        """Write timeseries.nc atomically (no-op without a path)."""
+        if self.path is None:
+            return
+        write_netcdf_atomic(self.to_dataset(status), self.path)
+        self._last_write = time.monotonic()
+
+    def _finish(self, status: dict[str, Any]) -> None:
+        self.write(status)
