@@ -388,13 +388,15 @@ def draw_crossing(ax: Any, prefix: str, ds: xr.Dataset, level: float, name: str)
     95 % interval (:func:`pde_rotor.crossing.report_crossing`) as a horizontal bar at the
     level, open ends drawn to the curve's last point and dashed. Prints and returns the
     line ``PREFIX NAME: P = level at t_stop = ... [..., ...]``; draws nothing where the
-    curve has fewer than two points or does not cross."""
+    curve has fewer than two complete points (partial points, whose runs are not all
+    done, are left out) or does not cross."""
     from pde_rotor.crossing import report_crossing
 
     measured = ds.where(np.isfinite(ds["P"]), drop=True)
-    if measured.sizes.get("t_stop", 0) < 2:
+    try:
+        found = report_crossing(measured, level)
+    except ValueError:
         return ""
-    found = report_crossing(measured, level)
     line = f"{prefix}{name}: {found.describe()}"
     print(line)
     if found.value is None:

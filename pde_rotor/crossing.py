@@ -18,13 +18,19 @@ An end that the band does not close within the measured points is open (None). W
 the measured curve does not cross the level at all the estimate is None, but the band
 may still bound the crossing from one side: the lower end where the bounds cross
 within the points.
+
+A sweep's report may hold a point that is still being computed (a sweep stopped and
+resumed across sessions): its interval is honest but wide, and as an interior point of
+the band it would widen the crossing's interval to its own. :func:`report_crossing`
+therefore reads only complete points (``runs_done == runs_expected``) and says how
+many partial ones it left out.
 """
 
 from __future__ import annotations
 
 import itertools
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -48,6 +54,7 @@ class Crossing:
         low: lower end of the 95 % interval (None: below the first point).
         high: upper end (None: beyond the last point).
         points: number of curve points behind it.
+        partial: measured points left out because their runs are not all done.
     """
 
     level: float
@@ -55,17 +62,23 @@ class Crossing:
     low: float | None
     high: float | None
     points: int
+    partial: int = 0
 
     def describe(self, name: str = "t_stop") -> str:
-        """One line: ``P = 0.75 at t_stop = 1.86 [1.79, 1.93]``, open ends as ``<``/``>``."""
+        """One line: ``P = 0.75 at t_stop = 1.86 [1.79, 1.93] (95 %)``, open ends as
+        ``open``, and the partial points left out, if any."""
         if self.value is None:
             text = f"P does not cross {self.level:g} within the {self.points} points"
             if self.low is not None:
                 text += f"; the crossing lies beyond {name} = {self.low:.3g} (95 %)"
-            return text
-        low = "open" if self.low is None else f"{self.low:.3g}"
-        high = "open" if self.high is None else f"{self.high:.3g}"
-        return f"P = {self.level:g} at {name} = {self.value:.3g} [{low}, {high}] (95 %)"
+        else:
+            low = "open" if self.low is None else f"{self.low:.3g}"
+            high = "open" if self.high is None else f"{self.high:.3g}"
+            text = f"P = {self.level:g} at {name} = {self.value:.3g} [{low}, {high}] (95 %)"
+        if self.partial:
+            points = "point" if self.partial == 1 else "points"
+            text += f"; {self.partial} partial {points} left out"
+        return text
 
 
 def _first_crossing(x: np.ndarray, y: np.ndarray, level: float, falling: bool) -> float | None:
@@ -121,14 +134,39 @@ def level_crossing(
     )
 
 
+def partial_points(ds: xr.Dataset) -> np.ndarray:
+    """Boolean mask of the report's measured points whose runs are not all done
+    (``runs_done < runs_expected``; all False where the report does not count runs)."""
+    p = np.asarray(ds["P"].values, dtype=float)
+    if "runs_done" not in ds or "runs_expected" not in ds:
+        return np.zeros(p.shape, dtype=bool)
+    return np.isfinite(p) & (ds["runs_done"].values < ds["runs_expected"].values)
+
+
 def report_crossing(
     ds: xr.Dataset, level: float, x_dim: str = "t_stop", falling: bool = True
 ) -> Crossing:
     """:func:`level_crossing` of a one-curve report (:func:`pde_rotor.sweep.stored.curve`)
     along `x_dim`, P falling along it unless `falling` is False (P(3, 2e-5) against
-    sigma rises)."""
-    values = (ds[k].values for k in (x_dim, "P", "P_low", "P_high"))
-    return level_crossing(*values, level, falling)
+    sigma rises).
+
+    Where the report counts its runs (``runs_done``, ``runs_expected``), points with
+    runs still to do are left out (module doc) and counted in ``Crossing.partial``.
+
+    Raises:
+        ValueError: fewer than two complete measured points.
+    """
+    partial = partial_points(ds)
+    left_out = int(partial.sum())
+    values = [np.where(partial, np.nan, ds[k].values) for k in ("P", "P_low", "P_high")]
+    try:
+        found = level_crossing(ds[x_dim].values, *values, level, falling)
+    except ValueError as err:
+        if not left_out:
+            raise
+        msg = f"{err} complete ({left_out} partial left out)"
+        raise ValueError(msg) from err
+    return replace(found, partial=left_out)
 
 
 def report_crossings(

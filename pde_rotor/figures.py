@@ -16,6 +16,7 @@ import xarray as xr
 from matplotlib.figure import Figure
 
 from .config import RotorConfig
+from .crossing import partial_points
 from .output import atomic_path
 from .stats import wilson_interval
 
@@ -80,12 +81,27 @@ def new_figure(width: float, height: float) -> Figure:
 
 
 def errorbar_p(ax: Any, x: np.ndarray, ds: xr.Dataset, **kwargs: Any) -> None:
-    """Plot P with its 95 % interval (P_low, P_high) as error bars against `x`."""
+    """Plot P with its 95 % interval (P_low, P_high) as error bars against `x`; points
+    whose runs are not all done (:func:`pde_rotor.crossing.partial_points`) are drawn
+    hollow and labelled."""
     p = np.asarray(ds["P"].values, dtype=float)
     lo = np.asarray(ds["P_low"].values, dtype=float)
     hi = np.asarray(ds["P_high"].values, dtype=float)
     yerr = np.vstack([np.clip(p - lo, 0, None), np.clip(hi - p, 0, None)])
-    ax.errorbar(x, p, yerr=yerr, capsize=3, **kwargs)
+    lines = ax.errorbar(x, p, yerr=yerr, capsize=3, **kwargs)
+    partial = partial_points(ds)
+    if partial.any():
+        color = lines[0].get_color()
+        x_partial = np.asarray(x, dtype=float)[partial]
+        ax.plot(
+            x_partial,
+            p[partial],
+            "o",
+            mfc="white",
+            mec=color,
+            zorder=5,
+            label="partial point (runs still to do)",
+        )
 
 
 def probability_axes(ax: Any, xlabel: str) -> None:

@@ -2,11 +2,19 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 import xarray as xr
 
-from pde_rotor.crossing import DECAY_LEVEL, level_crossing, report_crossing, report_crossings
+from pde_rotor.crossing import (
+    DECAY_LEVEL,
+    level_crossing,
+    partial_points,
+    report_crossing,
+    report_crossings,
+)
 from pde_rotor.stats import wilson_interval
 
 
@@ -110,3 +118,32 @@ def test_every_curve_of_a_report_gets_its_crossing() -> None:
     assert second == {"asymmetry": 2e-5} and "has 1" in reason
     with pytest.raises(ValueError, match="no dimension 'sigma'"):
         report_crossings(ds, 0.5, "sigma")
+
+
+def test_partial_points_are_left_out_of_the_crossing() -> None:
+    """A point whose runs are not all done (a sweep stopped mid-way) is an honest but
+    wide point; inside the band it would widen the interval to its own. The crossing
+    reads only the complete points and counts the partial one."""
+    t = np.array([0.5, 0.75, 1.5, 1.75, 2.0])
+    p = np.array([1.0, 1.0, 0.95, 0.8, 0.6])
+    low = np.array([0.98, 0.21, 0.9, 0.74, 0.52])  # 0.75: one run done, interval [0.21, 1]
+    ds = xr.Dataset(
+        {
+            "P": ("t_stop", p),
+            "P_low": ("t_stop", low),
+            "P_high": ("t_stop", np.minimum(p + 0.05, 1.0)),
+            "runs_done": ("t_stop", [200, 1, 200, 200, 200]),
+            "runs_expected": ("t_stop", [200] * 5),
+        },
+        coords={"t_stop": t},
+    )
+    assert partial_points(ds).tolist() == [False, True, False, False, False]
+    complete = ds.drop_sel(t_stop=0.75).drop_vars(["runs_done", "runs_expected"])
+    crossing = report_crossing(ds, DECAY_LEVEL)
+    assert crossing == replace(report_crossing(complete, DECAY_LEVEL), partial=1)
+    assert crossing.low == pytest.approx(1.5 + 0.25 * 0.15 / 0.16)  # with the partial: 0.575
+    assert crossing.describe().endswith("(95 %); 1 partial point left out")
+    counted = ds.assign(runs_done=ds["runs_expected"])
+    assert report_crossing(counted, DECAY_LEVEL).low == pytest.approx(0.5 + 0.25 * 0.23 / 0.77)
+    with pytest.raises(ValueError, match=r"has 1 complete \(1 partial left out\)"):
+        report_crossing(ds.sel(t_stop=[0.5, 0.75]), DECAY_LEVEL)
