@@ -29,7 +29,7 @@ import numpy as np
 
 from pde_rotor import RotorConfig, Simulation
 from pde_rotor.indicators import update_indicators
-from pde_rotor.solver import euler_fields, rotor_integrals, spline_window
+from pde_rotor.stepping import euler_fields, rotor_integrals, spline_window
 
 
 def time_fused(sim: Simulation, n_steps: int) -> float:

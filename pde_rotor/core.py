@@ -2,7 +2,7 @@
 
 The functions below are plain scalar Python functions built by :func:`make_core` for a
 given compiler: :data:`CPU` compiles them with numba's ``njit`` (inlined into the CPU
-loops of :mod:`pde_rotor.solver`), :mod:`pde_rotor.backends.gpu` compiles the same
+loops of :mod:`pde_rotor.stepping`), :mod:`pde_rotor.backends.gpu` compiles the same
 source as CUDA device functions. The loops that call them (rows of a grid on the CPU,
 threads of a block on the GPU) hold no physics of their own, so the two backends cannot
 drift apart. :mod:`pde_rotor.model` keeps an independent numpy version of the same
@@ -10,7 +10,7 @@ equations as the test oracle.
 
 numba caches each compiled loop on disk keyed by its own file: after editing this module,
 delete the ``__pycache__/*.nbi`` and ``*.nbc`` files of the package, or the CPU loops of
-:mod:`pde_rotor.solver` keep the inlined old version.
+:mod:`pde_rotor.stepping` keep the inlined old version.
 
 State layout: a flat float64 buffer holding c, v_x, v_y of one member one after the
 other, each an n x n grid with x along axis 0; the cell (i, j) of a field starting at

@@ -5,7 +5,7 @@ State: a FieldCollection [ScalarField c, VectorField v] on the Cartesian grid of
 :attr:`RotorPDE.rotor` (py-pde has no built-in coupling of ODEs to fields).
 
 :meth:`RotorPDE.evolution_rate` and :meth:`RotorPDE.rotor_torques` are the executable
-specification used by the tests; :mod:`pde_rotor.solver` computes the same right-hand
+specification used by the tests; :mod:`pde_rotor.stepping` computes the same right-hand
 side in one fused compiled loop, and :meth:`RotorPDE.make_operator_stepper` composes it
 from py-pde's compiled operators (the benchmark's reference).
 

@@ -18,7 +18,7 @@ from scipy.special import i0, i1, k0, k1
 
 from pde_rotor import RotorConfig, Simulation
 from pde_rotor.model import RotorPDE
-from pde_rotor.solver import euler_fields
+from pde_rotor.stepping import euler_fields
 
 # fine enough for < 1 % against the Bessel solutions, small enough to take ~1 s each
 ANALYTIC_GRID = {"domain_radius": 1.5, "dx": 0.025, "dt": 1e-5}

@@ -22,7 +22,7 @@ from pde_rotor.core import CPU
 from pde_rotor.geometry import edge_normal_angles, plate_indicator
 from pde_rotor.model import RotorPDE
 from pde_rotor.schemes import contour_cross_grad, interpolate_spline, sech2_gauss
-from pde_rotor.solver import rotor_integrals, spline_window
+from pde_rotor.stepping import rotor_integrals, spline_window
 
 
 @pytest.mark.parametrize("n_nodes", [2, 4, 8])

@@ -1,6 +1,6 @@
 """GPU ensemble backend: E members of the rotor model in one batched CUDA computation.
 
-The same physics as the CPU solver (:mod:`pde_rotor.solver`), member by member, from
+The same physics as the CPU solver (:mod:`pde_rotor.stepping`), member by member, from
 the same source: the kernel below only maps cells to threads and calls the CUDA build
 of the physics core (:mod:`pde_rotor.core`, compiled here as device functions):
 
@@ -584,7 +584,7 @@ def run_ensemble(
 
     start = np.array(state.data, dtype=np.float64)  # a copy, C-contiguous
     for m, cfg in enumerate(plan.configs):
-        if not cfg.flow.enabled:  # as solver.advance: v = 0 without flow
+        if not cfg.flow.enabled:  # as stepping.advance: v = 0 without flow
             start[m, 1:] = 0.0
     size = start.size
     d_buf = cuda.device_array(2 * size)  # both buffers start as the initial state
