@@ -44,9 +44,11 @@ from _common import (
     add_footer,
     fidelity_label,
     new_figure,
-    paper_points,
     parse_args,
     save,
+)
+from _sweeps import (
+    paper_points,
 )
 
 from pde_rotor.analysis import stopped_torque

@@ -17,19 +17,21 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from _common import (
-    STOP_LABEL,
     add_footer,
+    new_figure,
+    parse_args,
+    save,
+)
+from _sweeps import (
+    STOP_LABEL,
     curve,
     draw_conditionals,
     draw_crossing,
     draw_paper_points,
     errorbar_p,
-    new_figure,
-    parse_args,
     print_points,
     probability_axes,
     probability_footer,
-    save,
     sweep_data,
 )
 

@@ -17,13 +17,15 @@ from pathlib import Path
 
 import numpy as np
 from _common import (
-    ASYMMETRY_LABEL,
-    STOP_LABEL,
     add_footer,
     new_figure,
     parse_args,
-    probability_footer,
     save,
+)
+from _sweeps import (
+    ASYMMETRY_LABEL,
+    STOP_LABEL,
+    probability_footer,
     sweep_data,
 )
 

@@ -129,12 +129,6 @@ def draw_conditionals(ax: Any, x: np.ndarray, ds: xr.Dataset) -> None:
             )
 
 
-def format_p(ds: xr.Dataset) -> str:
-    """``P = 0.83 [0.66, 0.93] (k/n)`` for a scalar (one-point) selection of a report."""
-    p, lo, hi = (float(ds[v]) for v in ("P", "P_low", "P_high"))
-    return f"P = {p:.2f} [{lo:.2f}, {hi:.2f}] ({int(ds['inversions'])}/{int(ds['stops'])})"
-
-
 def wilson_text(k: int, n: int) -> str:
     """``k/n, 95 % CI [lo, hi]``."""
     lo, hi = wilson_interval(k, n)

@@ -188,29 +188,29 @@ def test_fidelity_footer_names_grid_and_samples():
 
 def test_stored_report_is_preferred(tiny_gallery, tmp_path, monkeypatch):
     """With a report under data/, quick mode reads it instead of running the sweep."""
-    common = sys.modules["_common"]
+    common, sweeps = sys.modules["_common"], sys.modules["_sweeps"]
     source = tiny_gallery.out / "sweeps" / "fig5_tiny" / "report.nc"
     data = tmp_path / "data" / "fig5_quick"
     data.mkdir(parents=True)
     (data / "report.nc").write_bytes(source.read_bytes())
     monkeypatch.setattr(common, "DATA", tmp_path / "data")
     monkeypatch.setattr(common, "SWEEPS", tmp_path / "no_sweeps")  # running would fail
-    found = common.sweep_data("fig5", common.fidelity("quick"), tmp_path)
+    found = sweeps.sweep_data("fig5", common.fidelity("quick"), tmp_path)
     assert not found.computed
     assert found.source == data / "report.nc"
     assert "stops per point" in found.label()
 
 
 def test_curve_requires_the_other_axes_fixed(tiny_gallery):
-    common = sys.modules["_common"]
+    sweeps = sys.modules["_sweeps"]
     path = tiny_gallery.out / "sweeps" / "fig9_tiny" / "report.nc"
     with xr.open_dataset(path, engine="h5netcdf") as ds:
         with pytest.raises(ValueError, match="asymmetry"):
-            common.curve(ds, "t_stop")
-        one = common.curve(ds, "t_stop", asymmetry=0.0)
+            sweeps.curve(ds, "t_stop")
+        one = sweeps.curve(ds, "t_stop", asymmetry=0.0)
         assert one["P"].dims == ("t_stop",)
         with pytest.raises(ValueError, match="no dimension"):
-            common.curve(ds, "sigma")
+            sweeps.curve(ds, "sigma")
 
 
 def test_gallery_dir_is_the_checkout():
@@ -233,20 +233,19 @@ def _report(dims: dict[str, list[float]], base: dict, p: float) -> xr.Dataset:
 
 
 def _stored_predictions(tmp_path, monkeypatch):
-    """The gallery's _common module reading tmp_path as its data folder, which holds a
-    predictions.nc with P = 0.7 at Delta in {0, 1e-4} and t_stop in {0.5, 3}."""
-    load_script(gallery_dir() / "fig1_geometry.py")
-    common = sys.modules["_common"]
-    monkeypatch.setattr(common, "DATA", tmp_path)
+    """The gallery's _sweeps module reading tmp_path as its data folder (``_common.DATA``),
+    which holds a predictions.nc with P = 0.7 at Delta in {0, 1e-4} and t_stop in {0.5, 3}."""
+    load_script(gallery_dir() / "fig5_probability.py")
+    monkeypatch.setattr(sys.modules["_common"], "DATA", tmp_path)
     axes = {"asymmetry": [0.0, 1e-4], "t_stop": [0.5, 3.0], "sigma": [0.0, 2e-8]}
     _report(axes, {}, 0.7).to_netcdf(tmp_path / "predictions.nc", engine="h5netcdf")
-    return common
+    return sys.modules["_sweeps"]
 
 
 def test_paper_points_combine_stored_reports_on_one_curve(tmp_path, monkeypatch):
     """Points of a curve come from every stored paper-resolution report that holds them;
     settings that are not axes are read from a report's base config."""
-    common = _stored_predictions(tmp_path, monkeypatch)
+    sweeps = _stored_predictions(tmp_path, monkeypatch)
     sigma = {"sigma": [0.0, 2e-8]}
     _report(
         {"asymmetry": [0.0, 2e-5, 1e-4], "t_stop": [0.5, 3.0], **sigma},
@@ -256,18 +255,18 @@ def test_paper_points_combine_stored_reports_on_one_curve(tmp_path, monkeypatch)
     _report({"t_stop": [3.0], **sigma}, {"geometry": {"asymmetry": 2e-5}}, 0.2).to_netcdf(
         tmp_path / "calibration.nc", engine="h5netcdf"
     )
-    flow = common.paper_points("t_stop", asymmetry=0.0, sigma=2e-8, enabled=1.0)
+    flow = sweeps.paper_points("t_stop", asymmetry=0.0, sigma=2e-8, enabled=1.0)
     assert flow["t_stop"].values.tolist() == [0.5, 3.0]
     assert np.allclose(flow["P"], 0.7)
     assert set(flow["report"].values) == {"predictions"}
-    no_flow = common.paper_points("t_stop", asymmetry=2e-5, sigma=2e-8, enabled=0.0)
+    no_flow = sweeps.paper_points("t_stop", asymmetry=2e-5, sigma=2e-8, enabled=0.0)
     assert np.allclose(no_flow["P"], 0.3)
     # P against Delta at t_stop = 3: two points from predictions, one from calibration
-    across = common.paper_points("asymmetry", t_stop=3.0, sigma=2e-8, enabled=1.0)
+    across = sweeps.paper_points("asymmetry", t_stop=3.0, sigma=2e-8, enabled=1.0)
     assert across["asymmetry"].values.tolist() == [0.0, 2e-5, 1e-4]
     assert across["P"].values.tolist() == [0.7, 0.2, 0.7]
     assert across["report"].values.tolist() == ["predictions", "calibration", "predictions"]
-    assert common.paper_points("t_stop", asymmetry=0.0, sigma=5e-8, enabled=1.0) is None
+    assert sweeps.paper_points("t_stop", asymmetry=0.0, sigma=5e-8, enabled=1.0) is None
 
 
 def test_the_report_with_more_stops_is_drawn(tmp_path):
@@ -301,15 +300,15 @@ def test_paper_points_footer_names_its_files_and_stop_counts(tmp_path, monkeypat
     "data/{predictions}.nc" and "60-60"); two reports: both files."""
     from matplotlib.figure import Figure
 
-    common = _stored_predictions(tmp_path, monkeypatch)
+    sweeps = _stored_predictions(tmp_path, monkeypatch)
     sigma = {"sigma": [0.0, 2e-8]}
     ax = Figure().add_subplot()
-    one = common.draw_paper_points(ax, "", "t_stop", asymmetry=0.0, enabled=1.0)
+    one = sweeps.draw_paper_points(ax, "", "t_stop", asymmetry=0.0, enabled=1.0)
     assert one.endswith("60 stops per point; stored: data/predictions.nc")
     report = _report({"t_stop": [3.0], **sigma}, {"geometry": {"asymmetry": 2e-5}}, 0.2)
     report["stops"][:] = 120
     report.to_netcdf(tmp_path / "calibration.nc", engine="h5netcdf")
-    two = common.draw_paper_points(ax, "", "asymmetry", t_stop=3.0, enabled=1.0)
+    two = sweeps.draw_paper_points(ax, "", "asymmetry", t_stop=3.0, enabled=1.0)
     assert two.endswith("60-120 stops per point; stored: data/calibration.nc, data/predictions.nc")
     capsys.readouterr()
 

@@ -1,0 +1,268 @@
+"""The sweeps of the gallery's probability figures (Figs. 5, 7, 8, 9 and the convergence
+page): which sweep file a fidelity runs, the stored reports under data/ that go before
+running anything, and the drawing of P curves, crossings and paper-resolution points.
+
+Paths and the dask scheduler are read from :mod:`_common` when a function runs (tests
+point ``_common.DATA`` and ``_common.SWEEPS`` elsewhere).
+"""
+
+from __future__ import annotations
+
+import logging
+from pathlib import Path
+from typing import Any
+
+import _common
+import numpy as np
+import xarray as xr
+from _common import CPU_BACKEND, Fidelity, fidelity
+
+from pde_rotor.config import PAPER_SCHEME_SIGMA, set_key
+from pde_rotor.figures import (
+    count_range,
+    draw_conditionals,
+    errorbar_p,
+    probability_axes,
+)
+from pde_rotor.sweep import stored
+from pde_rotor.sweep.estimates import POOLED
+from pde_rotor.sweep.stored import SweepData, curve
+from pde_rotor.units import TIME_UNITS
+
+__all__ = [
+    "ASYMMETRY_LABEL",
+    "STOP_LABEL",
+    "curve",
+    "draw_conditionals",
+    "draw_crossing",
+    "draw_paper_points",
+    "errorbar_p",
+    "print_points",
+    "probability_axes",
+    "probability_footer",
+    "sweep_data",
+]
+
+_logger = logging.getLogger("gallery")
+
+
+def sweep_file(name: str, fid: Fidelity) -> Path:
+    """The sweep specification configs/sweeps/<name><variant>.yaml for this fidelity.
+
+    Raises:
+        FileNotFoundError: the statistics module provides no such sweep.
+    """
+    path = _common.SWEEPS / f"{name}{fid.sweep_variant}.yaml"
+    if not path.exists():
+        msg = f"{path} not found: the sweeps of the probability figures live in {_common.SWEEPS}"
+        raise FileNotFoundError(msg)
+    return path
+
+
+def tiny_sweep(spec_path: Path, work: Path) -> Any:
+    """A smoke-test version of a sweep file: tiny domain, two values per axis, 1 sample.
+
+    The base, estimator kind, axes keys and seed are those of the file; only sizes and
+    times shrink, so the tiny run exercises the same code path as the real one.
+    """
+    import yaml
+
+    from pde_rotor.sweep import Sweep, SweepSpec
+
+    data = yaml.safe_load(spec_path.read_text(encoding="utf-8"))
+    spec = SweepSpec.model_validate(data)
+    sweep = Sweep.from_spec(spec, root=spec_path.parent)
+    tiny = fidelity("tiny")
+    base = dict(sweep.base)
+    for text in tiny.grid:
+        key, value = text.split("=")
+        set_key(base, key, float(value))
+    set_key(base, "protocol.t_ini", 1.0)
+    set_key(base, "protocol.t_release", 1.0)
+    set_key(base, "protocol.cycles", 2)
+    axes = {}
+    for key, values in sweep.axes.items():
+        picked = [values[0], values[-1]] if len(values) > 1 else list(values)
+        if key == "protocol.t_stop":  # short stops on the tiny time scale
+            picked = [0.4, 0.8][: len(picked)]
+        axes[key] = picked
+    estimator = spec.estimator.model_dump(mode="json")
+    if estimator.get("kind") == "restart":
+        estimator.update(warmup=2.0, release_cap=1.6, check_interval=0.04)
+    new = SweepSpec.model_validate(
+        {
+            "name": f"{spec.name}_tiny",
+            "base": base,
+            "axes": axes,
+            "estimator": estimator,
+            "samples": 1,
+            "seed": spec.seed,
+        }
+    )
+    return Sweep.from_spec(new)
+
+
+def stored_reports(name: str) -> list[Path]:
+    """Stored reports of sweep `name` under data/, best fidelity first
+    (:func:`pde_rotor.sweep.stored.stored_reports`)."""
+    return stored.stored_reports(name, _common.DATA)
+
+
+def paper_points(x_dim: str, **fixed: float) -> xr.Dataset | None:
+    """The paper-resolution points of data/ on one curve
+    (:func:`pde_rotor.sweep.stored.paper_points`)."""
+    return stored.paper_points(_common.DATA, x_dim, **fixed)
+
+
+def sweep_data(name: str, fid: Fidelity, out: Path) -> SweepData:
+    """The report of sweep `name` (e.g. "fig5") at fidelity `fid`.
+
+    * full and quick: a stored report from data/ if there is one (the best fidelity
+      stored, which the footer names); otherwise the sweep configs/sweeps/<name>.yaml
+      (full) or <name>_quick.yaml (quick, with at most ``fid.sweep_samples`` restarts per
+      direction and point) is run through :func:`pde_rotor.sweep.run_sweep` into
+      data/sweeps/<file stem> (resumable: a rerun continues where it stopped; the
+      directory ``pde-rotor sweep`` uses by default) and its report is written there;
+    * tiny: a shrunken copy of the quick sweep (:func:`tiny_sweep`) run into
+      `out`/sweeps/.
+    """
+    from pde_rotor.sweep import REPORT_FILE, report, run_sweep
+
+    if not fid.is_tiny:
+        for path in stored_reports(name):
+            _logger.info("%s: stored report %s", name, path)
+            return SweepData(stored.load_report(path), path, computed=False)
+    spec_path = sweep_file(name, fid)
+    if fid.is_tiny:
+        sweep: Any = tiny_sweep(spec_path, out)
+        sweep_dir = out / "sweeps" / f"{name}_tiny"
+        workers = 1
+    else:
+        from pde_rotor.sweep import Sweep
+
+        sweep = Sweep.load(spec_path)
+        if fid.sweep_samples is not None and sweep.spec.samples > fid.sweep_samples:
+            fewer = sweep.spec.model_copy(update={"samples": fid.sweep_samples})
+            sweep = Sweep.from_spec(fewer)
+        sweep_dir = _common.SWEEP_RUNS / spec_path.stem
+        workers = None
+    _logger.info("%s: running sweep %s into %s", name, spec_path, sweep_dir)
+    outcome = run_sweep(
+        sweep, sweep_dir, scheduler=_common.SCHEDULER, workers=workers, progress=not fid.is_tiny
+    )
+    if outcome.failed:
+        key, message = outcome.failed[0]
+        msg = f"sweep {spec_path}: {len(outcome.failed)} runs failed, e.g. {key}: {message}"
+        raise RuntimeError(msg)
+    ds = report(sweep_dir, echo=not fid.is_tiny)
+    return SweepData(ds, sweep_dir / REPORT_FILE, computed=True)
+
+
+def print_points(prefix: str, x_name: str, x: np.ndarray, ds: xr.Dataset) -> None:
+    """Print ``PREFIX X_NAME = x: P = p [lo, hi] (n stops)`` for every point of a 1-D curve."""
+    for xv, p, lo, hi, n in zip(
+        x, ds["P"].values, ds["P_low"].values, ds["P_high"].values, ds["stops"].values, strict=True
+    ):
+        print(f"{prefix}{x_name} = {xv:g}: P = {p:.3f} [{lo:.3f}, {hi:.3f}] ({int(n)} stops)")
+
+
+def draw_crossing(ax: Any, prefix: str, ds: xr.Dataset, level: float, name: str) -> str:
+    """Mark where the curve `ds` (P against t_stop) crosses `level`: the estimate and its
+    95 % interval (:func:`pde_rotor.crossing.report_crossing`) as a horizontal bar at the
+    level, open ends drawn to the curve's last point and dashed. Prints and returns the
+    line ``PREFIX NAME: P = level at t_stop = ... [..., ...]``; draws nothing where the
+    curve has fewer than two complete points (partial points, whose runs are not all
+    done, are left out) or does not cross."""
+    from pde_rotor.crossing import report_crossing
+
+    measured = ds.where(np.isfinite(ds["P"]), drop=True)
+    try:
+        found = report_crossing(measured, level)
+    except ValueError:
+        return ""
+    line = f"{prefix}{name}: {found.describe()}"
+    print(line)
+    if found.value is None:
+        return line
+    t = measured["t_stop"].values
+    low = t.min() if found.low is None else found.low
+    high = t.max() if found.high is None else found.high
+    ax.hlines(level, low, high, color="k", lw=2.5, alpha=0.5, zorder=3)
+    for end, is_open, reach in ((low, found.low is None, -0.1), (high, found.high is None, 0.1)):
+        if is_open:
+            ax.hlines(level, end, end + reach, color="k", ls=":")
+    ax.plot([found.value], [level], "kD", ms=6, zorder=4, label=f"{name}: {found.describe()}")
+    return line
+
+
+STOP_LABEL = f"stop duration t_stop [{TIME_UNITS}]"
+"""Axis label of t_stop."""
+ASYMMETRY_LABEL = "asymmetry \u0394 [rad]"
+"""Axis label of Delta."""
+
+
+def probability_footer(fid: Fidelity, data: SweepData) -> str:
+    """Footer of a probability figure: the report's fidelity and where it came from."""
+    where = "computed now" if data.computed else f"stored: {_relative(data.source)}"
+    chain = "two-state chain of the 97.5 % Wilson bounds of P(inv | CCW), P(inv | CW)"
+    kinds = set(np.unique(data.report["P_estimator"])) if "P_estimator" in data.report else set()
+    if data.report.attrs.get("estimator") == "protocol":
+        interval = "Wilson score"
+    elif kinds == {POOLED}:
+        interval = "Wilson score of the count pooled over both directions (\u0394 = 0)"
+    else:
+        interval = chain
+    return (
+        f"pde_rotor, {fid.name} run of the gallery; {data.label()}; {where}; "
+        f"95 % interval: {interval}; backend {CPU_BACKEND}"
+    )
+
+
+def draw_paper_points(
+    ax: Any, prefix: str, x_dim: str, style: dict[str, Any] | None = None, **fixed: float
+) -> str:
+    """Draw the paper-resolution points of one curve (diamonds) and print them.
+
+    The stored reports are of the ``paper`` scheme; the noise is the one calibrated
+    on it, :data:`pde_rotor.config.PAPER_SCHEME_SIGMA`, unless `fixed` names sigma.
+
+    Args:
+        ax: the axes.
+        prefix: start of the printed lines.
+        x_dim: the curve's variable.
+        style: errorbar keywords replacing the default black-and-gold diamonds.
+        fixed: the curve's other settings (see :func:`paper_points`).
+
+    Returns:
+        A footer line naming their fidelity, or "" if there are none.
+    """
+    fixed.setdefault("sigma", PAPER_SCHEME_SIGMA)
+    pts = paper_points(x_dim, **fixed)
+    if pts is None:
+        return ""
+    x = pts[x_dim].values
+    kwargs: dict[str, Any] = {
+        "fmt": "D",
+        "color": "k",
+        "mfc": "gold",
+        "ms": 7,
+        "zorder": 5,
+        "label": f"paper resolution, paper scheme, \u03c3 = {fixed['sigma']:g}",
+    }
+    kwargs.update(style or {})
+    errorbar_p(ax, x, pts, **kwargs)
+    print_points(f"{prefix}paper resolution: ", x_dim, x, pts)
+    files = ", ".join(f"data/{name}.nc" for name in sorted(set(pts["report"].values.tolist())))
+    return (
+        f"Diamonds: paper resolution dx = \u03b4 = 0.025, dt = 1e-4, paper scheme (lattice "
+        f"torque), bank estimator, \u03c3 = {fixed['sigma']:g}, "
+        f"{count_range(pts['stops'].values)} stops per "
+        f"point; stored: {files}"
+    )
+
+
+def _relative(path: Path) -> str:
+    try:
+        return str(path.resolve().relative_to(_common.ROOT))
+    except ValueError:
+        return str(path)
