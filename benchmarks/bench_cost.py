@@ -2,10 +2,13 @@
 
 Times the fused solver on the paper's grid (dx = delta = 0.025) and on the coarse grid
 (dx = delta = 0.05) of a turning rotor, fits the cost per interior cell and per support
-cell of one step to the two, checks the fit on a third grid (dx = delta = 1/30), and
-times the movie frames of configs/quickstart.yaml. pde_rotor/cost.py holds the constants
-fitted to the README's 0.29 ms/step on the paper's grid and the coarse/paper ratio this
-script measures (0.44-0.50); a machine that is faster or slower scales both.
+cell of one step to the two, checks the fit on a third grid (dx = delta = 1/30); times
+a stopped plate on the same grids (F and G are not recomputed: only the rotor integrals
+cost on the support cells) and fits its cost per support cell with the interior cost of
+the turning fit; and times the movie frames of configs/quickstart.yaml.
+pde_rotor/cost.py holds the constants fitted to the README's 0.29 ms/step on the paper's
+grid and the coarse/paper ratio this script measures (0.44-0.50), and the stopped/turning
+ratio it measures; a machine that is faster or slower scales them all.
 
 Run:  python benchmarks/bench_cost.py [--steps 3000] [--scheme consistent|paper]
 """
@@ -20,19 +23,29 @@ import numpy as np
 
 from pde_rotor import Simulation, run
 from pde_rotor.config import load_config, validate_config
-from pde_rotor.cost import SECONDS_PER_CELL_STEP, SECONDS_PER_SUPPORT_CELL_STEP, cell_counts
+from pde_rotor.cost import (
+    SECONDS_PER_CELL_STEP,
+    SECONDS_PER_STOPPED_SUPPORT_CELL_STEP,
+    SECONDS_PER_SUPPORT_CELL_STEP,
+    cell_counts,
+)
 
 GRIDS = {"paper": (0.025, 1e-4), "coarse": (0.05, 4e-4), "third": (1 / 30, 2e-4)}
 QUICKSTART = Path(__file__).resolve().parents[1] / "configs" / "quickstart.yaml"
 
 
-def ms_per_step(dx: float, dt: float, n_steps: int, scheme: str) -> tuple[float, tuple[int, int]]:
-    """Milliseconds per step of a rotating plate on the grid, and its cell counts."""
+def ms_per_step(
+    dx: float, dt: float, n_steps: int, scheme: str, stopped: bool = False
+) -> tuple[float, tuple[int, int]]:
+    """Milliseconds per step of a rotating (or, with `stopped`, a stopped) plate on the
+    grid, and its cell counts."""
+    long = 1e3 * dt * n_steps  # a stop from t = 0 that outlasts the timing
+    protocol = {"t_ini": 0.0, "t_stop": long, "cycles": 1} if stopped else {"cycles": 0}
     config = validate_config(
         {
             "grid": {"dx": dx, "dt": dt},
             "geometry": {"smoothing": dx},
-            "protocol": {"cycles": 0},
+            "protocol": protocol,
             "numerics": {"scheme": scheme},
         }
     )
@@ -62,6 +75,17 @@ def main() -> None:
     ms, (interior, support) = measured["third"]
     predicted = 1e3 * (interior * per_cell + support * per_support)
     print(f"third grid: predicted {predicted:.3f} ms/step, measured {ms:.3f}")
+    stopped = {
+        name: ms_per_step(dx, dt, args.steps, args.scheme, stopped=True)[0]
+        for name, (dx, dt) in GRIDS.items()
+    }
+    for name, ms in stopped.items():
+        ratio = ms / measured[name][0]
+        print(f"{name:<7} stopped plate: {ms:.3f} ms/step, {ratio:.2f} of a turning one")
+    fit = [(measured[name][1], stopped[name]) for name in ("paper", "coarse")]
+    per_stopped = sum((1e-3 * ms - i * per_cell) / s for (i, s), ms in fit) / len(fit)
+    now = SECONDS_PER_STOPPED_SUPPORT_CELL_STEP[args.scheme]
+    print(f"fit: {per_stopped:.3g} s per support cell-step of a stopped plate (now {now:.3g})")
     config = load_config(QUICKSTART, ["output.progress=false"])
     with_movie = run(config, "runs/bench_cost", movie=True, overwrite=True).wall_time
     without = run(config, "runs/bench_cost", movie=False, overwrite=True).wall_time

@@ -14,7 +14,10 @@ edge width delta). The two constants below are fitted to two grids:
   measures on the same machine.
 
 A cost per cell alone would put the coarse grid at a quarter of the paper's; it costs
-about half, because the support shrinks less than the disk. ``benchmarks/bench_cost.py``
+about half, because the support shrinks less than the disk. A stopped plate keeps its F
+and G, so on the support cells a stop step costs only the rotor integrals (the torque of
+Eq. (torque) is still computed every step): a third constant per scheme, fitted by the
+same benchmark to a stopped plate on both grids. ``benchmarks/bench_cost.py``
 re-measures both and predicts a third grid (dx = delta = 1/30) within 3-10 %. Every
 figure here is an estimate for one core like the project's (numba, single-threaded);
 other machines, and a loaded one, differ by their speed.
@@ -40,12 +43,16 @@ SECONDS_PER_SUPPORT_CELL_STEP: dict[str, float] = {"paper": 3.4e-8, "consistent"
 ``numerics.scheme``: the consistent scheme's filtered F and G and contour torque cost
 1.4 times the paper scheme's step on the paper's grid (``benchmarks/bench_solver.py``,
 ratio (c)/(a)), all of it on the support cells."""
+SECONDS_PER_STOPPED_SUPPORT_CELL_STEP: dict[str, float] = {"paper": 1.0e-8, "consistent": 2.6e-8}
+"""Wall time of one step of a stopped plate per support cell (the rotor integrals only;
+F and G keep the stop angle), per ``numerics.scheme`` (``benchmarks/bench_cost.py``,
+"stopped plate")."""
 SECONDS_PER_MOVIE_FRAME = 0.07
 """Wall time to render and encode one movie frame at ``output.movie_dpi = 100``
 (configs/quickstart.yaml: 215 frames add 15 s)."""
-COMMIT_TIME = 1.0
-"""Release time until a restart has committed to a direction (1/a): the mean over every
-stored report (data/*.nc) lies between 0.70 and 0.94."""
+COMMIT_TIME = 0.8
+"""Release time until a restart has committed to a direction: the mean ``t_commit`` of
+the 6814 releases stored under data/sweeps/ is 0.82 (0.77 to 0.87 by sweep)."""
 LONG_RUN_SECONDS = 600.0
 """Runs estimated to take longer than this announce their estimate before they start."""
 
@@ -60,11 +67,20 @@ def cell_counts(config: RotorConfig) -> tuple[int, int]:
     )
 
 
-def step_seconds(config: RotorConfig) -> float:
-    """Estimated wall time of one solver step on the config's grid."""
+def step_seconds(config: RotorConfig, stopped: bool = False) -> float:
+    """Estimated wall time of one solver step on the config's grid, of a turning plate
+    or (`stopped`) of a stopped one."""
     interior, support = cell_counts(config)
-    per_support = SECONDS_PER_SUPPORT_CELL_STEP[config.numerics.scheme]
-    return interior * SECONDS_PER_CELL_STEP + support * per_support
+    table = SECONDS_PER_STOPPED_SUPPORT_CELL_STEP if stopped else SECONDS_PER_SUPPORT_CELL_STEP
+    return interior * SECONDS_PER_CELL_STEP + support * table[config.numerics.scheme]
+
+
+def protocol_seconds(config: RotorConfig) -> float:
+    """Estimated wall time of the whole protocol (t_end), its M stops at the cost of a
+    stopped plate."""
+    n_stopped = config.protocol.cycles * steps(config.protocol.t_stop, config)
+    n_moving = steps(config.protocol.t_end, config) - n_stopped
+    return n_moving * step_seconds(config) + n_stopped * step_seconds(config, stopped=True)
 
 
 def steps(duration: float, config: RotorConfig) -> int:
@@ -114,7 +130,7 @@ def estimate_run(config: RotorConfig, movie: bool | None = None) -> RunEstimate:
     movie = config.output.movie if movie is None else movie
     frames = math.floor(config.protocol.t_end / config.output.movie_interval + 1e-9) + 1
     frames = frames if movie else 0
-    seconds = n * step_seconds(config) + frames * SECONDS_PER_MOVIE_FRAME
+    seconds = protocol_seconds(config) + frames * SECONDS_PER_MOVIE_FRAME
     return RunEstimate(n, cell_counts(config)[0], frames, seconds)
 
 
@@ -147,10 +163,10 @@ class SweepEstimate:
 def estimate_sweep(runs: Sequence[Run], workers: int | None) -> SweepEstimate:
     """Estimated cost of computing `runs` of one sweep (no trackers, no movie).
 
-    * protocol estimator: t_end of each run;
-    * restart: the stop and a release of :data:`COMMIT_TIME` (at most the release cap)
-      per run, plus the noise-free spin-up (``warmup``) that each worker computes once
-      per spin-up state it meets (:func:`pde_rotor.sweep.warm_key`);
+    * protocol estimator: t_end of each run (:func:`protocol_seconds`);
+    * restart: the stop (steps of a stopped plate) and a release of :data:`COMMIT_TIME`
+      (at most the release cap) per run, plus the noise-free spin-up (``warmup``) that
+      each worker computes once per spin-up state it meets (:func:`pde_rotor.sweep.warm_key`);
     * bank: as restart, with one stop per group of runs that share it.
 
     Args:
@@ -160,7 +176,7 @@ def estimate_sweep(runs: Sequence[Run], workers: int | None) -> SweepEstimate:
     """
     from .sweep import RestartEstimator, stop_group, warm_key
 
-    points: dict[tuple[tuple[int, ...], int], tuple[RotorConfig, float, str | None, float]] = {}
+    points: dict[tuple[tuple[int, ...], int], tuple[RotorConfig, str | None, float, float]] = {}
     stops: set[str] = set()
     warm: dict[str, int] = {}
     total = 0.0
@@ -168,27 +184,27 @@ def estimate_sweep(runs: Sequence[Run], workers: int | None) -> SweepEstimate:
         # the runs of a point and direction differ only in their noise seed
         if (run.point, run.direction) not in points:
             config = RotorConfig.model_validate(run.config)
-            per_step = step_seconds(config)
             if run.estimator["kind"] == "protocol":
-                points[run.point, run.direction] = (config, per_step, None, 0.0)
+                points[run.point, run.direction] = (config, None, protocol_seconds(config), 0.0)
             else:
                 estimator = RestartEstimator.model_validate({**run.estimator, "kind": "restart"})
                 spin_up = warm_key(config, estimator, run.direction)
                 cap = estimator.release_cap or config.protocol.t_release
-                release = steps(min(cap, COMMIT_TIME), config) * per_step
-                points[run.point, run.direction] = (config, per_step, spin_up, release)
-        config, per_step, spin_up, release = points[run.point, run.direction]
-        if spin_up is None:  # protocol estimator: one run of the whole protocol
-            total += steps(config.protocol.t_end, config) * per_step
+                release = steps(min(cap, COMMIT_TIME), config) * step_seconds(config)
+                stop = steps(config.protocol.t_stop, config) * step_seconds(config, stopped=True)
+                points[run.point, run.direction] = (config, spin_up, release, stop)
+        # per run: its release (restart, bank) or its whole protocol (protocol estimator)
+        config, spin_up, per_run, stop = points[run.point, run.direction]
+        total += per_run
+        if spin_up is None:
             continue
-        total += release
         group = stop_group(run)
         if group not in stops:
             stops.add(group)
-            total += steps(config.protocol.t_stop, config) * per_step
+            total += stop
         warm[spin_up] = warm.get(spin_up, 0) + 1
         if warm[spin_up] <= (workers or 1):
-            total += steps(run.estimator["warmup"], config) * per_step
+            total += steps(run.estimator["warmup"], config) * step_seconds(config)
     return SweepEstimate(len(runs), total, workers)
 
 

@@ -8,11 +8,13 @@ from pde_rotor.config import validate_config
 from pde_rotor.cost import (
     COMMIT_TIME,
     LONG_RUN_SECONDS,
+    SECONDS_PER_CELL_STEP,
     cell_counts,
     estimate_run,
     estimate_sweep,
     format_count,
     format_duration,
+    protocol_seconds,
     step_seconds,
 )
 from pde_rotor.domain import make_domain
@@ -88,16 +90,17 @@ def sweep_of(estimator: dict, axes: dict, samples: int = 3) -> Sweep:
 
 @pytest.mark.parametrize("workers", [1, 2])
 def test_restart_sweep_costs_stops_releases_and_one_spin_up_per_worker(workers):
-    """3 samples per direction at 2 points: 12 stops and releases of COMMIT_TIME; every
-    worker spins up each point's rotor in both directions once."""
+    """3 samples per direction at 2 points: 12 stops (at the cost of a stopped plate) and
+    releases of COMMIT_TIME; every worker spins up each point's rotor in both directions
+    once."""
     sweep = sweep_of({"kind": "restart", "warmup": 2.0}, {"protocol.t_stop": [0.4, 0.8]})
     config = validate_config(sweep.base)
     per_step, dt = step_seconds(config), config.grid.dt
-    release = round(COMMIT_TIME / dt)
-    expected = 6 * (round(0.4 / dt) + release) + 6 * (round(0.8 / dt) + release)
-    expected += 2 * 2 * workers * round(2.0 / dt)
+    stopped = step_seconds(config, stopped=True)
+    turning = 12 * round(COMMIT_TIME / dt) + 2 * 2 * workers * round(2.0 / dt)
+    expected = turning * per_step + 6 * (round(0.4 / dt) + round(0.8 / dt)) * stopped
     estimate = estimate_sweep(sweep.runs(), workers)
-    assert estimate.core_seconds == pytest.approx(expected * per_step)
+    assert estimate.core_seconds == pytest.approx(expected)
     assert estimate.runs == 12
     assert f"on {workers} workers" in estimate.describe()
 
@@ -106,7 +109,7 @@ def test_bank_sweep_shares_the_stop_across_the_noise_axis():
     bank = sweep_of({"kind": "bank", "warmup": 2.0}, {"noise.sigma": [0.0, 1e-6, 1e-5]}, 2)
     restart = sweep_of({"kind": "restart", "warmup": 2.0}, {"noise.sigma": [0.0, 1e-6, 1e-5]}, 2)
     config = validate_config(bank.base)
-    stops_saved = (12 - 4) * round(0.4 / config.grid.dt) * step_seconds(config)
+    stops_saved = (12 - 4) * round(0.4 / config.grid.dt) * step_seconds(config, stopped=True)
     difference = (
         estimate_sweep(restart.runs(), 1).core_seconds - estimate_sweep(bank.runs(), 1).core_seconds
     )
@@ -116,5 +119,25 @@ def test_bank_sweep_shares_the_stop_across_the_noise_axis():
 def test_protocol_sweep_costs_whole_protocol_runs():
     sweep = sweep_of({"kind": "protocol"}, {}, samples=5)
     config = validate_config(sweep.base)
-    expected = 5 * round(config.protocol.t_end / config.grid.dt) * step_seconds(config)
+    expected = 5 * protocol_seconds(config)
     assert estimate_sweep(sweep.runs(), None).core_seconds == pytest.approx(expected)
+
+
+@pytest.mark.parametrize("scheme", ["paper", "consistent"])
+def test_stops_cost_the_steps_of_a_stopped_plate(scheme):
+    """A stopped plate keeps F and G, so its step costs less than a turning one but more
+    than the field update alone (the torque is computed every step); a protocol's M
+    stops are counted at that cost, its free rotation at the turning one."""
+    config = validate_config(
+        {
+            "numerics": {"scheme": scheme},
+            "protocol": {"t_ini": 1.0, "t_stop": 0.5, "t_release": 1.5, "cycles": 3},
+        }
+    )
+    interior, _ = cell_counts(config)
+    stopped, turning = step_seconds(config, stopped=True), step_seconds(config)
+    assert interior * SECONDS_PER_CELL_STEP < stopped < turning
+    dt = config.grid.dt
+    expected = round(5.5 / dt) * turning + 3 * round(0.5 / dt) * stopped
+    assert protocol_seconds(config) == pytest.approx(expected)
+    assert estimate_run(config, movie=False).seconds == pytest.approx(expected)
