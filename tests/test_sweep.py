@@ -744,3 +744,19 @@ def test_science_sweeps_run_the_default_scheme_on_paper_parameters(path):
         assert (cfg.geometry.smoothing, cfg.grid.dt) == (0.025, 1e-4)
     assert sweep.spec.estimator.kind == "bank"
     assert 2 * sweep.spec.samples >= 100
+
+
+def test_report_label_counts_stops_of_measured_points_only():
+    """A report of a sweep in progress: the label gives the stops of the measured points
+    and how many of the design's points are measured (it said "0-200 stops")."""
+    from pde_rotor.sweep.stored import SweepData
+
+    ds = xr.Dataset(
+        {"stops": ("t_stop", [200, 200, 0])},
+        coords={"t_stop": [0.5, 1.0, 1.5]},
+        attrs={"sweep": "s", "estimator": "restart", "grid_dx": 0.025, "grid_dt": 1e-4},
+    )
+    label = SweepData(ds, Path("s.nc"), computed=False).label()
+    assert "200 stops per point (2 of 3 points measured);" in label
+    done = SweepData(ds.isel(t_stop=[0, 1]), Path("s.nc"), computed=False).label()
+    assert "200 stops per point;" in done

@@ -34,16 +34,21 @@ class SweepData:
     computed: bool
 
     def label(self) -> str:
-        """Fidelity of the report: estimator, samples, grid."""
+        """Fidelity of the report: estimator, stops per measured point (and how many of
+        the design's points are measured, where some are not yet), grid."""
         attrs = self.report.attrs
-        n = count_range(self.report["stops"].values)
+        stops = np.asarray(self.report["stops"].values).ravel()
+        measured = stops[stops > 0]
+        n = f"{count_range(measured) if measured.size else 0} stops per point"
+        if 0 < measured.size < stops.size:
+            n += f" ({measured.size} of {stops.size} points measured)"
         base = attrs.get("base_config", "{}")
         sigma = _base_value(base, ("noise", "sigma"), 0.0)
         smoothing = _base_value(base, ("geometry", "smoothing"), math.nan)
         radius = _base_value(base, ("grid", "domain_radius"), 3.0)
         return (
             f"sweep {attrs.get('sweep', '?')}: {attrs.get('estimator', '?')} estimator, "
-            f"{n} stops per point; dx = {float(attrs.get('grid_dx', math.nan)):.4g}, "
+            f"{n}; dx = {float(attrs.get('grid_dx', math.nan)):.4g}, "
             f"dt = {float(attrs.get('grid_dt', math.nan)):.3g}, \u03b4 = {smoothing:.4g}, "
             f"L = {radius:g}, \u03c3 = {sigma:g}"
         )
