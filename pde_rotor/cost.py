@@ -43,10 +43,12 @@ SECONDS_PER_SUPPORT_CELL_STEP: dict[str, float] = {"paper": 3.4e-8, "consistent"
 ``numerics.scheme``: the consistent scheme's filtered F and G and contour torque cost
 1.4 times the paper scheme's step on the paper's grid (``benchmarks/bench_solver.py``,
 ratio (c)/(a)), all of it on the support cells."""
-SECONDS_PER_STOPPED_SUPPORT_CELL_STEP: dict[str, float] = {"paper": 1.0e-8, "consistent": 2.6e-8}
+SECONDS_PER_STOPPED_SUPPORT_CELL_STEP: dict[str, float] = {"paper": 1.2e-8, "consistent": 2.6e-8}
 """Wall time of one step of a stopped plate per support cell (the rotor integrals only;
-F and G keep the stop angle), per ``numerics.scheme`` (``benchmarks/bench_cost.py``,
-"stopped plate")."""
+F and G keep the stop angle), per ``numerics.scheme``: paper from
+``benchmarks/bench_cost.py --scheme paper`` ("stopped plate", 1.24e-8); consistent from
+the wall times of 800 stored fig5 restarts (docs/statistics.md, "Dry run"), which the
+benchmark's second-long timings on a shared machine scatter around (2.2e-8, 7.7e-8)."""
 SECONDS_PER_MOVIE_FRAME = 0.07
 """Wall time to render and encode one movie frame at ``output.movie_dpi = 100``
 (configs/quickstart.yaml: 215 frames add 15 s)."""
