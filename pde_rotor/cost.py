@@ -16,11 +16,12 @@ edge width delta). The two constants below are fitted to two grids:
 A cost per cell alone would put the coarse grid at a quarter of the paper's; it costs
 about half, because the support shrinks less than the disk. A stopped plate keeps its F
 and G, so on the support cells a stop step costs only the rotor integrals (the torque of
-Eq. (torque) is still computed every step): a third constant per scheme, fitted by the
-same benchmark to a stopped plate on both grids. ``benchmarks/bench_cost.py``
-re-measures both and predicts a third grid (dx = delta = 1/30) within 3-10 %. Every
-figure here is an estimate for one core like the project's (numba, single-threaded);
-other machines, and a loaded one, differ by their speed.
+Eq. (torque) is still computed every step): a third constant per scheme
+(:data:`SECONDS_PER_STOPPED_SUPPORT_CELL_STEP` says where each was measured).
+``benchmarks/bench_cost.py`` re-measures the turning constants and predicts a third
+grid (dx = delta = 1/30) within 3-10 %, and times a stopped plate. Every figure here
+is an estimate for one core like the project's (numba, single-threaded); other
+machines, and a loaded one, differ by their speed.
 """
 
 from __future__ import annotations
