@@ -13,9 +13,8 @@ config's at the chosen fidelity; a missing one is computed and written there.
 from __future__ import annotations
 
 import argparse
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
 
 from _common import (
     Fidelity,
@@ -29,7 +28,7 @@ from _common import (
 from matplotlib.figure import Figure
 
 from pde_rotor.api import RunResult, run
-from pde_rotor.config import RotorConfig
+from pde_rotor.config import RotorConfig, physics_differences
 from pde_rotor.plotting import stop_intervals
 from pde_rotor.units import OMEGA_UNITS, TIME_UNITS
 
@@ -52,15 +51,6 @@ def _options(parser: argparse.ArgumentParser) -> None:
     )
 
 
-def _leaves(data: Mapping[str, Any], prefix: str = "") -> Iterator[tuple[str, Any]]:
-    """(dotted key, value) of every leaf of a nested mapping."""
-    for key, value in data.items():
-        if isinstance(value, Mapping):
-            yield from _leaves(value, f"{prefix}{key}.")
-        else:
-            yield f"{prefix}{key}", value
-
-
 def stored_run(run_dir: Path, config: RotorConfig) -> RunResult | None:
     """The completed run in `run_dir` if it is a run of `config`, None if there is none.
 
@@ -75,13 +65,10 @@ def stored_run(run_dir: Path, config: RotorConfig) -> RunResult | None:
     if not (run_dir / "config.yaml").is_file():
         return None
     result = RunResult.load(run_dir)
-    mine, theirs = (dict(_leaves(c.physics())) for c in (result.config, config))
-    if config.noise.seed is None:
-        mine.pop("noise.seed", None)
-        theirs.pop("noise.seed", None)
-    differ = sorted(k for k in mine.keys() | theirs.keys() if mine.get(k) != theirs.get(k))
+    ignore = ("noise.seed",) if config.noise.seed is None else ()
+    differ = physics_differences(result.config, config, ignore)
     if differ:
-        values = ", ".join(f"{k} = {mine.get(k)} (wanted {theirs.get(k)})" for k in differ)
+        values = ", ".join(f"{k} = {a} (wanted {b})" for k, (a, b) in differ.items())
         msg = f"{run_dir} holds a run of another config: {values}"
         raise ValueError(msg)
     if not result.ok:

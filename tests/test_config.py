@@ -371,3 +371,20 @@ def test_acting_numerics_are_those_of_the_scheme():
     consistent = NumericsConfig()
     assert consistent.acting() == consistent.model_dump(mode="json")
     assert NumericsConfig(pill_filter_width=1.2).acting() != consistent.acting()
+
+
+def test_physics_differences_name_the_settings_that_change_a_result():
+    """Keys with both values; what changes no result (output, solver) and ignored keys
+    are left out; equal configs differ in nothing."""
+    from pde_rotor.config import physics_differences
+
+    base = RotorConfig()
+    other = validate_config(
+        {"grid": {"dx": 0.05}, "protocol": {"t_stop": 3.0}, "solver": {"backend": "auto"}}
+    )
+    assert physics_differences(base, base) == {}
+    assert physics_differences(base, other) == {
+        "grid.dx": (base.grid.dx, 0.05),
+        "protocol.t_stop": (base.protocol.t_stop, 3.0),
+    }
+    assert list(physics_differences(base, other, ignore={"protocol.t_stop"})) == ["grid.dx"]

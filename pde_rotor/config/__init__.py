@@ -16,6 +16,7 @@ is compiled.
 
 from __future__ import annotations
 
+from .compare import physics_differences
 from .errors import ConfigError, FieldError
 from .messages import allowed_values, format_validation_error
 from .schema import (
@@ -73,6 +74,7 @@ __all__ = [
     "load_config",
     "parse_override",
     "parse_yaml",
+    "physics_differences",
     "read_config_data",
     "set_key",
     "validate_config",
