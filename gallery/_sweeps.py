@@ -36,6 +36,7 @@ __all__ = [
     "draw_conditionals",
     "draw_crossing",
     "draw_paper_points",
+    "draw_shared_points",
     "errorbar_p",
     "print_points",
     "probability_axes",
@@ -110,8 +111,8 @@ def stored_reports(name: str) -> list[Path]:
 
 def paper_points(x_dim: str, **fixed: float) -> xr.Dataset | None:
     """The paper-resolution points of data/ on one curve
-    (:func:`pde_rotor.sweep.stored.paper_points`)."""
-    return stored.paper_points(_common.DATA, x_dim, **fixed)
+    (:func:`pde_rotor.sweep.stored.curve_points`)."""
+    return stored.curve_points(_common.DATA, x_dim, **fixed)
 
 
 def sweep_data(name: str, fid: Fidelity, out: Path) -> SweepData:
@@ -240,7 +241,6 @@ def draw_paper_points(
     pts = paper_points(x_dim, **fixed)
     if pts is None:
         return ""
-    x = pts[x_dim].values
     kwargs: dict[str, Any] = {
         "fmt": "D",
         "color": "k",
@@ -250,15 +250,60 @@ def draw_paper_points(
         "label": f"paper resolution, paper scheme, \u03c3 = {fixed['sigma']:g}",
     }
     kwargs.update(style or {})
-    errorbar_p(ax, x, pts, **kwargs)
-    print_points(f"{prefix}paper resolution: ", x_dim, x, pts)
-    files = ", ".join(f"data/{name}.nc" for name in sorted(set(pts["report"].values.tolist())))
+    files = _draw_points(ax, f"{prefix}paper resolution: ", x_dim, pts, kwargs)
     return (
         f"Diamonds: paper resolution dx = \u03b4 = 0.025, dt = 1e-4, paper scheme (lattice "
         f"torque), bank estimator, \u03c3 = {fixed['sigma']:g}, "
-        f"{count_range(pts['stops'].values)} stops per "
-        f"point; stored: {files}"
+        f"{count_range(pts['stops'].values)} stops per point; stored: {files}"
     )
+
+
+def draw_shared_points(
+    ax: Any, prefix: str, x_dim: str, sweeps: tuple[str, ...], like: str, **fixed: float
+) -> str:
+    """Draw the points that other sweeps measured on this curve (squares) and print them.
+
+    Fig. 7(c) (P against Delta at t_stop = 3) shares its points at Delta = 0, 2e-5 and
+    1e-4 with the t_stop curves of Figs. 5, 7(a) and 7(b): their stored reports
+    (data/<sweep>.nc) give them where they hold the same model as the full-fidelity
+    sweep `like` (same grid, scheme and noise; :func:`pde_rotor.sweep.stored.curve_points`),
+    so the curve's sweep need not measure them again.
+
+    Args:
+        ax: the axes.
+        prefix: start of the printed lines.
+        x_dim: the curve's variable.
+        sweeps: names of the sweeps whose reports may hold points of the curve.
+        like: name of the curve's own sweep (configs/sweeps/<like>.yaml).
+        fixed: the curve's other settings (e.g. ``t_stop=3.0``).
+
+    Returns:
+        A footer line naming the reports, or "" if none holds such points.
+    """
+    from pde_rotor.sweep import Sweep
+
+    base = Sweep.load(sweep_file(like, fidelity("full"))).base
+    pts = stored.curve_points(_common.DATA, x_dim, sweeps, like=base, **fixed)
+    if pts is None:
+        return ""
+    setting = ", ".join(f"{k} = {v:g}" for k, v in fixed.items())
+    names = ", ".join(sorted(set(pts["report"].values.tolist())))
+    kwargs = {"fmt": "s", "color": "tab:blue", "mfc": "w", "ms": 7, "zorder": 4}
+    kwargs["label"] = f"P (95 % CI) from sweeps {names}"
+    files = _draw_points(ax, f"{prefix}from other sweeps: ", x_dim, pts, kwargs)
+    return (
+        f"Squares: the {setting} points of sweeps {names}, the model of {like} "
+        f"({count_range(pts['stops'].values)} stops per point); stored: {files}"
+    )
+
+
+def _draw_points(ax: Any, prefix: str, x_dim: str, pts: xr.Dataset, style: dict[str, Any]) -> str:
+    """Draw and print the points of :func:`pde_rotor.sweep.stored.curve_points`; return
+    their report files, comma-separated."""
+    x = pts[x_dim].values
+    errorbar_p(ax, x, pts, **style)
+    print_points(prefix, x_dim, x, pts)
+    return ", ".join(f"data/{name}.nc" for name in sorted(set(pts["report"].values.tolist())))
 
 
 def _relative(path: Path) -> str:

@@ -8,7 +8,10 @@ its 95 % interval; faintly the conditional probabilities from CCW and from CW ro
 (for Delta > 0 CW is favoured: P(inv | CCW) > P(inv | CW)); in (a) the onset, where P
 falls through 0.5, with its 95 % interval (:mod:`pde_rotor.crossing`). The paper:
 (a) P = 1 for small t_stop, decaying near t_stop = 1 to 0; (b) a plateau near 0.2, as
-in the experiment; (c) P falls from 0.5 to 0 as Delta grows.
+in the experiment; (c) P falls from 0.5 to 0 as Delta grows. Panel (c) also draws the
+t_stop = 3 points of the curves of Figs. 5, 7(a) and 7(b) (open squares) where their
+stored reports hold the model of ``fig7c``: fig7c need not measure Delta = 0, 2e-5 and
+1e-4 again.
 
 Run: ``python gallery/fig7_probability.py [--quick | --tiny]``.
 """
@@ -31,6 +34,7 @@ from _sweeps import (
     draw_conditionals,
     draw_crossing,
     draw_paper_points,
+    draw_shared_points,
     errorbar_p,
     print_points,
     probability_axes,
@@ -48,6 +52,8 @@ PANELS = (
 )
 CURVES = ({"asymmetry": 1e-4}, {"asymmetry": 2e-5}, {"t_stop": 3.0})
 """The fixed setting of each panel, to find its paper-resolution points."""
+SHARED = ("fig5", "fig7a", "fig7b")
+"""Sweeps whose t_stop = 3 points lie on panel (c): Delta = 0, 1e-4 and 2e-5."""
 
 
 def main(argv: Sequence[str] | None = None) -> list[Path]:
@@ -56,7 +62,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     fig = new_figure(15.0, 5.2)
     axes = fig.subplots(1, 3)
     footers = []
-    paper = ""
+    paper = shared = ""
     for ax, (sweep, x_dim, title), fixed in zip(axes, PANELS, CURVES, strict=True):
         data = sweep_data(sweep, args.fidelity, args.out)
         ds = curve(data.report, x_dim)
@@ -66,6 +72,8 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
         prefix = f"{NAME} {sweep}: "
         if sweep == "fig7a":
             draw_crossing(ax, prefix, ds, ONSET_LEVEL, "onset")
+        if sweep == "fig7c":
+            shared = draw_shared_points(ax, prefix, x_dim, SHARED, sweep, t_stop=3.0)
         paper = draw_paper_points(ax, prefix, x_dim, enabled=1.0, **fixed) or paper
         probability_axes(ax, STOP_LABEL if x_dim == "t_stop" else ASYMMETRY_LABEL)
         if x_dim == "asymmetry":
@@ -76,7 +84,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
         print_points(f"{NAME} {sweep}: ", x_dim, x, ds)
     fig.suptitle("Fig. 7: inversion probability of asymmetric rotors", fontsize=11)
     # one footer paragraph per panel: the three sweeps may come at different fidelities
-    add_footer(fig, "\n".join(filter(None, [*footers, paper])))
+    add_footer(fig, "\n".join(filter(None, [*footers, shared, paper])))
     return save(fig, args.out, NAME)
 
 

@@ -272,6 +272,46 @@ def test_paper_points_combine_stored_reports_on_one_curve(tmp_path, monkeypatch)
     assert sweeps.paper_points("t_stop", asymmetry=0.0, sigma=5e-8, enabled=1.0) is None
 
 
+def test_shared_points_come_from_sweeps_of_the_same_model(tmp_path, monkeypatch, capsys):
+    """Panel (c) of Fig. 7 takes its t_stop = 3 points from the t_stop curves' reports, but
+    only from reports of the full fig7c model (a coarser grid is refused) and only points
+    whose runs are all done (a partial point is left out)."""
+    from matplotlib.figure import Figure
+
+    sweeps = _stored_predictions(tmp_path, monkeypatch)
+    model = {"grid": {"dx": 0.025, "dt": 1e-4}, "geometry": {"smoothing": 0.025}}
+    model["noise"] = {"sigma": 1.5e-7}
+    t_stop = {"t_stop": [2.5, 3.0]}
+    done = {"runs_done": [200, 200], "runs_expected": [200, 200]}
+    for name, delta, runs in (("fig5", 0.0, done), ("fig7a", 1e-4, done)):
+        report = _report(
+            t_stop, {**model, "geometry": {"smoothing": 0.025, "asymmetry": delta}}, 0.4
+        )
+        for var, values in runs.items():
+            report[var] = ("t_stop", values)
+        report.to_netcdf(tmp_path / f"{name}.nc", engine="h5netcdf")
+    partial = _report(t_stop, {**model, "geometry": {"smoothing": 0.025, "asymmetry": 2e-5}}, 0.2)
+    partial["runs_done"] = ("t_stop", [200, 120])
+    partial["runs_expected"] = ("t_stop", [200, 200])
+    partial.to_netcdf(tmp_path / "fig7b.nc", engine="h5netcdf")
+    coarse = {**model, "grid": {"dx": 0.05, "dt": 4e-4}}
+    _report(t_stop, coarse, 0.9).to_netcdf(tmp_path / "fig8.nc", engine="h5netcdf")
+    names = ("fig5", "fig7a", "fig7b", "fig8")
+    pts = sweeps.stored.curve_points(tmp_path, "asymmetry", names, like=model, t_stop=3.0)
+    assert pts["asymmetry"].values.tolist() == [0.0, 1e-4]
+    assert pts["report"].values.tolist() == ["fig5", "fig7a"]
+    assert np.allclose(pts["P"], 0.4)
+    # the fig7c sweep file names the model; the footer names the reports used
+    footer = sweeps.draw_shared_points(
+        Figure().add_subplot(), "", "asymmetry", names, "fig7c", t_stop=3.0
+    )
+    assert footer.startswith(
+        "Squares: the t_stop = 3 points of sweeps fig5, fig7a, the model of fig7c"
+    )
+    assert footer.endswith("stored: data/fig5.nc, data/fig7a.nc")
+    assert "asymmetry = 0: P = 0.400" in capsys.readouterr().out
+
+
 def test_the_report_with_more_stops_is_drawn(tmp_path):
     """A whole design's partial report (data/fig5.nc: three of five points measured)
     goes before the report of the sweep's last subset run (two points, all measured)."""

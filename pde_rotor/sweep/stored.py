@@ -1,5 +1,6 @@
 """Stored sweep reports: find them under a data directory, read their curves and the
-paper-resolution points that lie on a curve (the probability figures of the gallery)."""
+stored points that lie on a curve, from other reports (the probability figures of the
+gallery)."""
 
 from __future__ import annotations
 
@@ -12,7 +13,8 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from ..config import RotorConfig
+from ..config import RotorConfig, physics_differences
+from ..crossing import partial_points
 from ..figures import count_range
 from ..stats import wilson_interval
 from .estimates import CHAIN, POOLED
@@ -166,27 +168,47 @@ def _base_setting(config: RotorConfig, key: str) -> float:
     return float(getattr(getattr(config, section), name))
 
 
-def paper_points(data_dir: Path, x_dim: str, **fixed: float) -> xr.Dataset | None:
-    """Points of the stored paper-resolution reports (:data:`PAPER_REPORTS`) on one curve.
+def curve_points(
+    data_dir: Path,
+    x_dim: str,
+    reports: tuple[str, ...] = PAPER_REPORTS,
+    like: dict[str, Any] | None = None,
+    **fixed: float,
+) -> xr.Dataset | None:
+    """Points of stored reports that lie on one curve: by default the paper-resolution
+    reports (:data:`PAPER_REPORTS`), or the named sweeps' reports, e.g. the t_stop = 3
+    points of Figs. 5, 7(a) and 7(b) on the curve of Fig. 7(c).
+
+    Only measured points whose runs are all done count (a partial point,
+    :func:`pde_rotor.crossing.partial_points`, is left out).
 
     Args:
         data_dir: where the reports are (data/ of the repository).
         x_dim: the curve's variable ("t_stop" or "asymmetry").
-        fixed: the other settings by dimension name ("sigma", "asymmetry", "t_stop",
-            "enabled" for flow.enabled); a setting that is not an axis of a report is
-            read from its base config.
+        reports: names of the reports (data_dir/<name>.nc; missing ones are skipped).
+        like: a sweep's base config (overrides of the defaults); if given, a report
+            counts only where its model equals this one in every setting but the
+            curve's (`x_dim`, `fixed`) and the report's own axes.
+        fixed: the curve's other settings by dimension name ("sigma", "asymmetry",
+            "t_stop", "enabled" for flow.enabled); a setting that is not an axis of a
+            report is read from its base config.
 
     Returns:
         P, P_low, P_high, stops and the report's name against `x_dim` (sorted), or None
         if no stored report has such points.
     """
+    reference = None if like is None else RotorConfig.model_validate(like)
     rows = []
-    for name in PAPER_REPORTS:
+    for name in reports:
         path = data_dir / f"{name}.nc"
         if not path.exists():
             continue
         ds = load_report(path)
         config = RotorConfig.model_validate(json.loads(ds.attrs["base_config"]))
+        if reference is not None:
+            free = {_BASE_KEYS[d] for d in (x_dim, *fixed, *ds.dims) if d in _BASE_KEYS}
+            if physics_differences(config, reference, free):
+                continue
         index: dict[str, int] = {}
         for dim, value in fixed.items():
             if dim in ds.dims:
@@ -204,7 +226,10 @@ def paper_points(data_dir: Path, x_dim: str, **fixed: float) -> xr.Dataset | Non
             else:
                 xs = np.array([_base_setting(config, _BASE_KEYS[x_dim])])
                 sub = sub.squeeze(drop=True).expand_dims(x_dim)
+            done = np.isfinite(np.ravel(sub["P"].values)) & ~np.ravel(partial_points(sub))
             for k, x in enumerate(xs):
+                if not done[k]:
+                    continue
                 row = {v: float(np.ravel(sub[v].values)[k]) for v in ("P", "P_low", "P_high")}
                 rows.append((float(x), row, int(np.ravel(sub["stops"].values)[k]), name))
     if not rows:
