@@ -2,7 +2,7 @@
 
 The functions below are plain scalar Python functions built by :func:`make_core` for a
 given compiler: :data:`CPU` compiles them with numba's ``njit`` (inlined into the CPU
-loops of :mod:`pde_rotor.stepping`), :mod:`pde_rotor.backends.gpu` compiles the same
+loops of :mod:`pde_rotor.stepping`), :mod:`pde_rotor.backends.gpu_kernel` compiles the same
 source as CUDA device functions. The loops that call them (rows of a grid on the CPU,
 threads of a block on the GPU) hold no physics of their own, so the two backends cannot
 drift apart. :mod:`pde_rotor.model` keeps an independent numpy version of the same
