@@ -83,16 +83,20 @@ def new_figure(width: float, height: float) -> Figure:
 def errorbar_p(ax: Any, x: np.ndarray, ds: xr.Dataset, **kwargs: Any) -> None:
     """Plot P with its 95 % interval (P_low, P_high) as error bars against `x`; points
     whose runs are not all done (:func:`pde_rotor.crossing.partial_points`) are drawn
-    hollow and labelled."""
+    hollow and labelled. Points not measured yet (P is NaN) are left out, so the line
+    joins the measured points of a design that is run region by region."""
     p = np.asarray(ds["P"].values, dtype=float)
-    lo = np.asarray(ds["P_low"].values, dtype=float)
-    hi = np.asarray(ds["P_high"].values, dtype=float)
+    measured = np.isfinite(p)
+    x = np.asarray(x, dtype=float)[measured]
+    p = p[measured]
+    lo = np.asarray(ds["P_low"].values, dtype=float)[measured]
+    hi = np.asarray(ds["P_high"].values, dtype=float)[measured]
     yerr = np.vstack([np.clip(p - lo, 0, None), np.clip(hi - p, 0, None)])
     lines = ax.errorbar(x, p, yerr=yerr, capsize=3, **kwargs)
-    partial = partial_points(ds)
+    partial = partial_points(ds)[measured]
     if partial.any():
         color = lines[0].get_color()
-        x_partial = np.asarray(x, dtype=float)[partial]
+        x_partial = x[partial]
         ax.plot(
             x_partial,
             p[partial],

@@ -34,3 +34,15 @@ def test_errorbar_p_marks_partial_points_hollow() -> None:
     complete = new_figure(4, 3).add_subplot()
     errorbar_p(complete, ds["t_stop"].values, _curve([100, 100, 100]), fmt="o-", label="P")
     assert not [line for line in complete.get_lines() if line.get_label().startswith("partial")]
+
+
+def test_errorbar_p_joins_the_measured_points_across_unmeasured_ones() -> None:
+    """A design run region by region has NaN at the points still to run: the curve's
+    line joins the measured points on either side instead of breaking there."""
+    ax = new_figure(4, 3).add_subplot()
+    ds = _curve([100, 0, 100])
+    ds["P"][1] = np.nan
+    errorbar_p(ax, ds["t_stop"].values, ds, fmt="o-", label="P")
+    line = ax.containers[0].lines[0]  # the data line of the errorbar
+    assert line.get_xdata().tolist() == [0.5, 1.5]
+    assert line.get_ydata().tolist() == [1.0, 0.4]
