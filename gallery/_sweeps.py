@@ -288,11 +288,11 @@ def draw_shared_points(
         return ""
     setting = ", ".join(f"{k} = {v:g}" for k, v in fixed.items())
     names = ", ".join(sorted(set(pts["report"].values.tolist())))
-    kwargs = {"fmt": "s", "color": "tab:blue", "mfc": "w", "ms": 7, "zorder": 4}
+    kwargs = {"fmt": "s", "color": "tab:green", "mfc": "w", "mew": 1.5, "ms": 9, "zorder": 4}
     kwargs["label"] = f"P (95 % CI) from sweeps {names}"
     files = _draw_points(ax, f"{prefix}from other sweeps: ", x_dim, pts, kwargs)
     return (
-        f"Squares: the {setting} points of sweeps {names}, the model of {like} "
+        f"Squares: the {setting} points of sweeps {names}, at the model of {like} "
         f"({count_range(pts['stops'].values)} stops per point); stored: {files}"
     )
 

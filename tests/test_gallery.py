@@ -306,7 +306,7 @@ def test_shared_points_come_from_sweeps_of_the_same_model(tmp_path, monkeypatch,
         Figure().add_subplot(), "", "asymmetry", names, "fig7c", t_stop=3.0
     )
     assert footer.startswith(
-        "Squares: the t_stop = 3 points of sweeps fig5, fig7a, the model of fig7c"
+        "Squares: the t_stop = 3 points of sweeps fig5, fig7a, at the model of fig7c"
     )
     assert footer.endswith("stored: data/fig5.nc, data/fig7a.nc")
     assert "asymmetry = 0: P = 0.400" in capsys.readouterr().out
