@@ -8,6 +8,7 @@ point ``_common.DATA`` and ``_common.SWEEPS`` elsewhere).
 
 from __future__ import annotations
 
+import json
 import logging
 from pathlib import Path
 from typing import Any
@@ -35,6 +36,7 @@ __all__ = [
     "curve",
     "draw_conditionals",
     "draw_crossing",
+    "draw_model",
     "draw_paper_points",
     "draw_shared_points",
     "errorbar_p",
@@ -294,6 +296,66 @@ def draw_shared_points(
     return (
         f"Squares: the {setting} points of sweeps {names}, at the model of {like} "
         f"({count_range(pts['stops'].values)} stops per point); stored: {files}"
+    )
+
+
+MODEL_POINTS = 200
+"""Points of a drawn model curve."""
+
+
+def draw_model(
+    ax: Any,
+    prefix: str,
+    ds: xr.Dataset,
+    x_dim: str,
+    color: str,
+    span: tuple[float, float] | None = None,
+) -> str:
+    """Draw the decision model's P along the curve `ds` (issue 14 §4) as a dashed line.
+
+    The table is the one of data/decision/ that holds the curve's model
+    (:func:`pde_rotor.decision_check.table_for`: same grid, scheme, flow and smoothing);
+    the noise and the curve's fixed t_stop or Delta are those of the report. The line
+    is a prediction from the noise-free stop curves, not a fit to the points. Nothing
+    is drawn for a curve of another model (the quick coarse grid).
+
+    Args:
+        ax: the axes.
+        prefix: start of the printed line.
+        ds: the curve (:func:`curve` of a report).
+        x_dim: its variable.
+        color: the line's colour.
+        span: the range of `x_dim` drawn; default: that of the measured points.
+
+    Returns:
+        A footer line naming the table, or "" if none holds the curve's model.
+    """
+    from pde_rotor.config import RotorConfig
+    from pde_rotor.decision_check import table_for
+    from pde_rotor.decision_plot import model_curve
+
+    found = table_for(ds, _common.DATA / "decision")
+    measured = ds[x_dim].values[np.isfinite(ds["P"].values)]
+    if found is None or measured.size < 2:
+        return ""
+    path, table = found
+    config = RotorConfig.model_validate(json.loads(ds.attrs.get("base_config", "{}")))
+    settings = {"t_stop": config.protocol.t_stop, "asymmetry": config.geometry.asymmetry}
+    settings.update({k: float(ds[k]) for k in settings if k in ds.coords and k != x_dim})
+    sigma = config.noise.sigma
+    low, high = span or (measured.min(), measured.max())
+    if x_dim == "t_stop":
+        low, high = max(low, 0.0), min(high, table.t_max)
+    x = np.linspace(low, high, MODEL_POINTS)
+    fixed = {k: v for k, v in settings.items() if k != x_dim}
+    p = model_curve(table, x_dim, x, sigma, **fixed)
+    ax.plot(x, p, "--", color=color, lw=1.2, alpha=0.8, label="decision model (§4)")
+    name = _relative(path)
+    print(f"{prefix}decision model {name}: P = {p[0]:.3f} ... {p[-1]:.3f} over {x_dim} = "
+          f"{low:g} ... {high:g}")  # fmt: skip
+    return (
+        f"Dashed: the decision model ({name}: noise-free stop curves, λ = "
+        f"{table.growth_rate:.3g}) at \u03c3 = {sigma:g}, predicted, not fitted to the points"
     )
 
 

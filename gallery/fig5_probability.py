@@ -5,8 +5,9 @@ from data/ if present, else it runs configs/sweeps/fig5.yaml (full) or fig5_quic
 (``--quick``) through :mod:`pde_rotor.sweep` (``--tiny``: a shrunken copy). P is drawn
 with its 95 % interval, and faintly the conditional probabilities from CCW and CW
 rotation, and the decay point, where P falls through 0.75, with its 95 % interval
-(:mod:`pde_rotor.crossing`). The paper: P = 1 for small t_stop, decaying near
-t_stop = 1.4 to 0.5.
+(:mod:`pde_rotor.crossing`), and dashed the decision model's prediction where
+data/decision/ holds the report's model (issue 14 §4). The paper: P = 1 for small
+t_stop, decaying near t_stop = 1.4 to 0.5.
 
 Run: ``python gallery/fig5_probability.py [--quick | --tiny]``.
 """
@@ -27,6 +28,7 @@ from _sweeps import (
     curve,
     draw_conditionals,
     draw_crossing,
+    draw_model,
     draw_paper_points,
     errorbar_p,
     print_points,
@@ -54,6 +56,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     errorbar_p(ax, x, ds, fmt="o-", color="tab:red", label="P (95 % CI)")
     draw_conditionals(ax, x, ds)
     draw_crossing(ax, f"{NAME}: ", ds, DECAY_LEVEL, "decay point")
+    model = draw_model(ax, f"{NAME}: ", ds, "t_stop", "tab:red")
     paper = draw_paper_points(ax, f"{NAME}: ", "t_stop", asymmetry=0.0, enabled=1.0)
     ax.axvline(PAPER_DECAY, color="0.6", ls="--", lw=0.8, label="paper: decay near 1.4")
     probability_axes(ax, STOP_LABEL)
@@ -63,7 +66,9 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
         "\u2192 0.5 for long stops",
         fontsize=10,
     )
-    add_footer(fig, "\n".join(filter(None, [probability_footer(args.fidelity, data), paper])))
+    add_footer(
+        fig, "\n".join(filter(None, [probability_footer(args.fidelity, data), model, paper]))
+    )
     print_points(f"{NAME}: ", "t_stop", x, ds)
     return save(fig, args.out, NAME)
 

@@ -11,7 +11,8 @@ falls through 0.5, with its 95 % interval (:mod:`pde_rotor.crossing`). The paper
 in the experiment; (c) P falls from 0.5 to 0 as Delta grows. Panel (c) also draws the
 t_stop = 3 points of the curves of Figs. 5, 7(a) and 7(b) (open squares) where their
 stored reports hold the model of ``fig7c``: fig7c need not measure Delta = 0, 2e-5 and
-1e-4 again.
+1e-4 again. Dashed: the decision model's prediction (issue 14 §4), where data/decision/
+holds a panel's model.
 
 Run: ``python gallery/fig7_probability.py [--quick | --tiny]``.
 """
@@ -33,6 +34,7 @@ from _sweeps import (
     curve,
     draw_conditionals,
     draw_crossing,
+    draw_model,
     draw_paper_points,
     draw_shared_points,
     errorbar_p,
@@ -62,7 +64,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     fig = new_figure(15.0, 5.2)
     axes = fig.subplots(1, 3)
     footers = []
-    paper = shared = ""
+    paper = shared = model = ""
     for ax, (sweep, x_dim, title), fixed in zip(axes, PANELS, CURVES, strict=True):
         data = sweep_data(sweep, args.fidelity, args.out)
         ds = curve(data.report, x_dim)
@@ -72,8 +74,11 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
         prefix = f"{NAME} {sweep}: "
         if sweep == "fig7a":
             draw_crossing(ax, prefix, ds, ONSET_LEVEL, "onset")
+        span = None
         if sweep == "fig7c":
             shared = draw_shared_points(ax, prefix, x_dim, SHARED, sweep, t_stop=3.0)
+            span = (0.0, 1e-4)
+        model = draw_model(ax, prefix, ds, x_dim, "tab:blue", span) or model
         paper = draw_paper_points(ax, prefix, x_dim, enabled=1.0, **fixed) or paper
         probability_axes(ax, STOP_LABEL if x_dim == "t_stop" else ASYMMETRY_LABEL)
         if x_dim == "asymmetry":
@@ -84,7 +89,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
         print_points(f"{NAME} {sweep}: ", x_dim, x, ds)
     fig.suptitle("Fig. 7: inversion probability of asymmetric rotors", fontsize=11)
     # one footer paragraph per panel: the three sweeps may come at different fidelities
-    add_footer(fig, "\n".join(filter(None, [*footers, shared, paper])))
+    add_footer(fig, "\n".join(filter(None, [*footers, model, shared, paper])))
     return save(fig, args.out, NAME)
 
 

@@ -6,7 +6,8 @@ fig8_quick.yaml through :mod:`pde_rotor.sweep`; ``--tiny``: a shrunken copy). Ma
 in the paper: red closed circles Delta = 0, green open triangles 2e-5, blue open squares
 1e-4. The paper: no systematic inversion for any t_stop; random direction for Delta = 0,
 always the favourable direction for 1e-4, the favourable one with probability 0.8 for
-2e-5.
+2e-5. Dashed: the decision model's prediction without flow (issue 14 §4), where
+data/decision/ holds the report's model.
 
 Run: ``python gallery/fig8_no_flow.py [--quick | --tiny]``.
 """
@@ -25,6 +26,7 @@ from _common import (
 from _sweeps import (
     STOP_LABEL,
     curve,
+    draw_model,
     draw_paper_points,
     errorbar_p,
     print_points,
@@ -50,7 +52,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     deltas = report["asymmetry"].values if "asymmetry" in report.dims else [None]
     fig = new_figure(7.0, 5.0)
     ax = fig.subplots()
-    paper = ""
+    paper = model = ""
     for k, delta in enumerate(deltas):
         ds = curve(report, "t_stop", **({} if delta is None else {"asymmetry": delta}))
         value = float(ds["asymmetry"]) if "asymmetry" in ds.coords else 0.0
@@ -60,6 +62,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
         errorbar_p(ax, x + dodge, ds, label=f"\u0394 = {value:g}", **style)
         print_points(f"{NAME}: Delta = {value:g}, ", "t_stop", x, ds)
         colour = style["color"]
+        model = draw_model(ax, f"{NAME}: Delta = {value:g}, ", ds, "t_stop", colour) or model
         found = draw_paper_points(
             ax,
             f"{NAME}: Delta = {value:g}, ",
@@ -77,7 +80,9 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
         "Fig. 8: no flow (v = 0); paper: no systematic inversion for any t_stop",
         fontsize=10,
     )
-    add_footer(fig, "\n".join(filter(None, [probability_footer(args.fidelity, data), paper])))
+    add_footer(
+        fig, "\n".join(filter(None, [probability_footer(args.fidelity, data), model, paper]))
+    )
     return save(fig, args.out, NAME)
 
 

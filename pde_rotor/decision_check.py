@@ -13,13 +13,14 @@ import json
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 import xarray as xr
 
-from .config import RotorConfig
-from .decision import DecisionTable, diffusion_of
+from .config import RotorConfig, physics_differences
+from .decision import DecisionTable, diffusion_of, load_table
 
 COLUMNS = ("P", "P_ccw", "P_cw")
 """The report's probabilities that the model predicts (each with _low and _high)."""
@@ -32,6 +33,26 @@ MATCHED = (
     ("numerics", "scheme"),
 )
 """Settings a report's base_config must share with the table where it names them."""
+
+
+PREDICTED = ("protocol.t_stop", "geometry.asymmetry", "noise.sigma")
+"""The settings a table predicts over: every other physics setting is the table's own."""
+
+
+def table_for(ds: xr.Dataset, directory: Path) -> tuple[Path, DecisionTable] | None:
+    """The decision table under `directory` (``*.nc``, by name) that holds the model of
+    report `ds`: the same physics (:func:`pde_rotor.config.physics_differences`) in
+    every setting but :data:`PREDICTED`. None where no table does, e.g. for a report on
+    another grid, or one whose axes vary anything else (a grid comparison)."""
+    if set(ds["P"].dims) - {"t_stop", "asymmetry", "sigma"}:
+        return None
+    config = RotorConfig.model_validate(json.loads(ds.attrs.get("base_config", "{}")))
+    for path in sorted(Path(directory).glob("*.nc")):
+        table = load_table(path)
+        other = RotorConfig.model_validate_json(table.attrs["config"])
+        if not physics_differences(config, other, ignore=PREDICTED):
+            return path, table
+    return None
 
 
 def report_points(ds: xr.Dataset) -> list[dict[str, float]]:

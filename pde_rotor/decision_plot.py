@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from .decision import DecisionTable, sigma_of
+from .decision import DecisionTable, diffusion_of, sigma_of
 from .decision_check import mismatch, table_points
 from .figures import add_footer, new_figure, save_figure
 
@@ -36,6 +36,30 @@ def ensemble_points(
         for p in table_points(table, ds)
         if abs(p["sigma"] - sigma) <= 0.02 * max(abs(p["sigma"]), abs(sigma))
     ]
+
+
+def model_curve(
+    table: DecisionTable, x_dim: str, x: np.ndarray, sigma: float, **fixed: float
+) -> np.ndarray:
+    """The model's P along one curve of the paper's figures (Figs. 5, 7, 8).
+
+    Args:
+        table: the decision table.
+        x_dim: the curve's variable, "t_stop" or "asymmetry".
+        x: its values (t_stop within the table's range).
+        sigma: the noise intensity of Eq. (eq_motion) (Dw = (sigma/I)²).
+        fixed: the other of t_stop and asymmetry.
+
+    Returns:
+        P at every `x` (:meth:`pde_rotor.decision.DecisionTable.probability`).
+    """
+    diffusion = diffusion_of(sigma, table.inertia)
+    if x_dim == "t_stop":
+        return np.asarray(table.probability(x, fixed["asymmetry"], diffusion), dtype=float)
+    if x_dim == "asymmetry":
+        return np.array([float(table.probability(fixed["t_stop"], d, diffusion)) for d in x])
+    msg = f"x_dim must be 't_stop' or 'asymmetry', not {x_dim!r}"
+    raise ValueError(msg)
 
 
 def draw_map(

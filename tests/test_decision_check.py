@@ -11,7 +11,7 @@ from test_decision import synthetic
 
 from pde_rotor.config import RotorConfig
 from pde_rotor.decision import diffusion_of
-from pde_rotor.decision_check import compare, report_points
+from pde_rotor.decision_check import compare, report_points, table_for
 
 
 def model_report(shift: float = 0.0, **base: dict) -> xr.Dataset:
@@ -100,3 +100,22 @@ def test_master_points_of_the_model_lie_on_the_normal_cdf() -> None:
     for p in points:
         assert p["P"] == pytest.approx(norm.cdf(p["x"]), abs=1e-9)
         assert p["low"] <= p["P"] <= p["high"]
+
+
+def test_the_table_of_a_report_is_the_one_holding_its_model(tmp_path) -> None:
+    """Of several tables the one whose physics equals the report's in all but t_stop,
+    Delta and sigma; none for a report of another grid or one comparing grids."""
+    from dataclasses import replace
+
+    flow = synthetic()
+    no_flow_config = RotorConfig.model_validate({"flow": {"enabled": False}})
+    no_flow = replace(flow, attrs={**flow.attrs, "config": no_flow_config.model_dump_json()})
+    no_flow.save(tmp_path / "a_no_flow.nc")
+    flow.save(tmp_path / "b_flow.nc")
+    path, table = table_for(model_report(), tmp_path)
+    assert path.name == "b_flow.nc" and table.growth_rate == flow.growth_rate
+    path, _ = table_for(model_report(flow={"enabled": False}), tmp_path)
+    assert path.name == "a_no_flow.nc"
+    assert table_for(model_report(grid={"dx": 0.05}), tmp_path) is None
+    grids = xr.concat([model_report(), model_report()], dim=xr.DataArray([0.025, 0.05], dims="dx"))
+    assert table_for(grids, tmp_path) is None

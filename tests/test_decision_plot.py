@@ -6,10 +6,12 @@ import json
 from pathlib import Path
 
 import numpy as np
+import pytest
 import xarray as xr
 from test_decision import synthetic
 
-from pde_rotor.decision_plot import draw_map, ensemble_points
+from pde_rotor.decision import diffusion_of
+from pde_rotor.decision_plot import draw_map, ensemble_points, model_curve
 
 
 def report(sigmas: list[float]) -> xr.Dataset:
@@ -67,3 +69,30 @@ def test_reports_of_another_scheme_or_flow_are_left_out() -> None:
     for other in ({"numerics": {"scheme": "paper"}}, {"flow": {"enabled": False}}):
         ds.attrs["base_config"] = json.dumps(other)
         assert ensemble_points(synthetic(), [ds], sigma=1.5e-7) == []
+
+
+def test_model_curve_is_the_closed_form_escape_along_either_axis() -> None:
+    """Along t_stop and along Delta the curve is the chain value 2ab/(a + b) of the
+    closed-form conditionals a = 1 - Phi(beta_CCW / s), b = Phi(beta_CW / s),
+    s = sqrt(lambda Dw) (:func:`test_decision.closed_bias`), and the two axes meet."""
+    from scipy.stats import norm
+    from test_decision import LAM, closed_bias
+
+    table, sigma = synthetic(), 1.5e-7
+    scale = np.sqrt(LAM * diffusion_of(sigma, table.inertia))
+
+    def closed(t: np.ndarray, delta: float) -> np.ndarray:
+        a = 1 - norm.cdf(closed_bias(t, 1, delta) / scale)
+        b = norm.cdf(closed_bias(t, -1, delta) / scale)
+        return 2 * a * b / (a + b)
+
+    t = np.array([0.5, 1.0, 1.5, 3.0])
+    along_t = model_curve(table, "t_stop", t, sigma, asymmetry=2e-5)
+    np.testing.assert_allclose(along_t, closed(t, 2e-5), atol=2e-3)
+    deltas = np.array([1e-5, 2e-5, 4e-5])
+    along_delta = model_curve(table, "asymmetry", deltas, sigma, t_stop=3.0)
+    want = [closed(np.array([3.0]), d)[0] for d in deltas]
+    np.testing.assert_allclose(along_delta, want, atol=2e-3)
+    assert along_delta[1] == pytest.approx(along_t[-1], abs=1e-12)
+    with pytest.raises(ValueError, match="x_dim"):
+        model_curve(table, "sigma", deltas, sigma, t_stop=3.0)

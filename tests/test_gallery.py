@@ -401,3 +401,36 @@ def test_time_series_runs_are_read_from_run_directories(tmp_path, monkeypatch):
     cut.to_netcdf(path, engine="h5netcdf")
     with pytest.raises(ValueError, match=r"the run is interrupted \(SIGTERM at t = 1\.5\)"):
         series.stored_run(runs / "paper_fig4a", config)
+
+
+def test_the_model_line_is_the_decision_table_of_the_curves_model(tmp_path, monkeypatch, capsys):
+    """The dashed line is the table's P at the report's noise and at the curve's own Delta
+    (a coordinate of the report, not its base config's); a report of another grid has
+    no table, so nothing is drawn."""
+    from matplotlib.figure import Figure
+    from test_decision import synthetic
+
+    from pde_rotor.decision import diffusion_of
+
+    sweeps = _stored_predictions(tmp_path, monkeypatch)
+    (tmp_path / "decision").mkdir()
+    table = synthetic()
+    table.save(tmp_path / "decision" / "dx40.nc")
+    base = {"noise": {"sigma": 1.5e-7}}
+    axes = {"asymmetry": [0.0, 2e-5], "t_stop": [0.5, 1.5, 3.0]}
+    ds = sweeps.curve(_report(axes, base, 0.4), "t_stop", asymmetry=2e-5)
+    ax = Figure().add_subplot()
+    footer = sweeps.draw_model(ax, "", ds, "t_stop", "tab:blue")
+    assert footer.startswith("Dashed: the decision model (") and "dx40.nc" in footer
+    ((line),) = ax.get_lines()
+    x, y = line.get_data()
+    assert (x[0], x[-1]) == (0.5, 3.0)
+    want = table.probability(x, 2e-5, diffusion_of(1.5e-7, table.inertia))
+    np.testing.assert_allclose(y, want, rtol=1e-12)
+    assert "decision model" in capsys.readouterr().out
+    coarse = sweeps.curve(
+        _report(axes, {**base, "grid": {"dx": 0.05}}, 0.4), "t_stop", asymmetry=0.0
+    )
+    ax = Figure().add_subplot()
+    assert sweeps.draw_model(ax, "", coarse, "t_stop", "tab:blue") == ""
+    assert ax.get_lines() == []
