@@ -32,6 +32,7 @@ from pde_rotor.units import TIME_UNITS
 
 __all__ = [
     "ASYMMETRY_LABEL",
+    "MODEL_LABEL",
     "STOP_LABEL",
     "curve",
     "draw_conditionals",
@@ -301,6 +302,8 @@ def draw_shared_points(
 
 MODEL_POINTS = 200
 """Points of a drawn model curve."""
+MODEL_LABEL = "decision model (\u00a74)"
+"""Legend entry of the model's dashed curves."""
 
 
 def draw_model(
@@ -310,6 +313,7 @@ def draw_model(
     x_dim: str,
     color: str,
     span: tuple[float, float] | None = None,
+    label: str | None = MODEL_LABEL,
 ) -> str:
     """Draw the decision model's P along the curve `ds` (issue 14 §4) as a dashed line.
 
@@ -325,7 +329,10 @@ def draw_model(
         ds: the curve (:func:`curve` of a report).
         x_dim: its variable.
         color: the line's colour.
-        span: the range of `x_dim` drawn; default: that of the measured points.
+        span: the range of `x_dim` drawn; default: that of the measured points (at
+            least two).
+        label: the legend entry (None: none, for a figure that keys several model
+            lines once).
 
     Returns:
         A footer line naming the table, or "" if none holds the curve's model.
@@ -336,7 +343,7 @@ def draw_model(
 
     found = table_for(ds, _common.DATA / "decision")
     measured = ds[x_dim].values[np.isfinite(ds["P"].values)]
-    if found is None or measured.size < 2:
+    if found is None or (span is None and measured.size < 2):
         return ""
     path, table = found
     config = RotorConfig.model_validate(json.loads(ds.attrs.get("base_config", "{}")))
@@ -349,7 +356,7 @@ def draw_model(
     x = np.linspace(low, high, MODEL_POINTS)
     fixed = {k: v for k, v in settings.items() if k != x_dim}
     p = model_curve(table, x_dim, x, sigma, **fixed)
-    ax.plot(x, p, "--", color=color, lw=1.2, alpha=0.8, label="decision model (§4)")
+    ax.plot(x, p, "--", color=color, lw=1.2, alpha=0.8, label=label)
     name = _relative(path)
     print(f"{prefix}decision model {name}: P = {p[0]:.3f} ... {p[-1]:.3f} over {x_dim} = "
           f"{low:g} ... {high:g}")  # fmt: skip

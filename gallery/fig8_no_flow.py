@@ -24,6 +24,7 @@ from _common import (
     save,
 )
 from _sweeps import (
+    MODEL_LABEL,
     STOP_LABEL,
     curve,
     draw_model,
@@ -62,7 +63,10 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
         errorbar_p(ax, x + dodge, ds, label=f"\u0394 = {value:g}", **style)
         print_points(f"{NAME}: Delta = {value:g}, ", "t_stop", x, ds)
         colour = style["color"]
-        model = draw_model(ax, f"{NAME}: Delta = {value:g}, ", ds, "t_stop", colour) or model
+        # over the whole design: without flow the prediction is flat, measured or not
+        span = (float(x.min()), float(x.max()))
+        prefix = f"{NAME}: Delta = {value:g}, "
+        model = draw_model(ax, prefix, ds, "t_stop", colour, span, label=None) or model
         found = draw_paper_points(
             ax,
             f"{NAME}: Delta = {value:g}, ",
@@ -73,6 +77,8 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
         )
         paper = found or paper
     probability_axes(ax, STOP_LABEL)
+    if model:
+        ax.plot([], [], "--", color="0.5", label=f"{MODEL_LABEL}, in the curve colours")
     if paper:
         ax.plot([], [], "D", color="0.5", mec="k", label="paper resolution (diamonds)")
     ax.legend(fontsize=8)

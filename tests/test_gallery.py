@@ -428,6 +428,14 @@ def test_the_model_line_is_the_decision_table_of_the_curves_model(tmp_path, monk
     want = table.probability(x, 2e-5, diffusion_of(1.5e-7, table.inertia))
     np.testing.assert_allclose(y, want, rtol=1e-12)
     assert "decision model" in capsys.readouterr().out
+    # one measured point: no line of its own span, but one over a span given
+    one = ds.copy()
+    one["P"] = ("t_stop", [0.4, np.nan, np.nan])
+    ax = Figure().add_subplot()
+    assert sweeps.draw_model(ax, "", one, "t_stop", "tab:blue") == ""
+    assert sweeps.draw_model(ax, "", one, "t_stop", "tab:blue", (0.25, 3.0), label=None)
+    ((line),) = ax.get_lines()
+    assert line.get_xdata()[[0, -1]].tolist() == [0.25, 3.0] and line.get_label().startswith("_")
     coarse = sweeps.curve(
         _report(axes, {**base, "grid": {"dx": 0.05}}, 0.4), "t_stop", asymmetry=0.0
     )
