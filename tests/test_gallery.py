@@ -42,6 +42,7 @@ EXPECTED = (
     "fig8_no_flow",
     "fig9_map",
     "fig9_predicted",
+    "master_curve",
     "movie_inversion",
 )
 """The figures the issue asks for (paper Figs. 1, 3-9, the movie, the convergence page)."""
@@ -442,3 +443,33 @@ def test_the_model_line_is_the_decision_table_of_the_curves_model(tmp_path, monk
     ax = Figure().add_subplot()
     assert sweeps.draw_model(ax, "", coarse, "t_stop", "tab:blue") == ""
     assert ax.get_lines() == []
+
+
+def test_master_curve_places_each_curve_with_the_table_of_its_physics(tmp_path):
+    """Flow and no-flow curves each take the table of their own physics, so all their
+    conditionals (here the model's own values) lie on Phi(x); a curve of another grid has
+    no table and is left out."""
+    from dataclasses import replace
+
+    from scipy.stats import norm
+    from test_decision import synthetic
+    from test_decision_check import model_report
+
+    from pde_rotor.config import RotorConfig
+
+    module = load_script(gallery_dir() / "master_curve.py")
+    (tmp_path / "decision").mkdir()
+    flow = synthetic()
+    no_flow_config = RotorConfig.model_validate({"flow": {"enabled": False}})
+    replace(flow, attrs={**flow.attrs, "config": no_flow_config.model_dump_json()}).save(
+        tmp_path / "decision" / "dx40_no_flow.nc"
+    )
+    flow.save(tmp_path / "decision" / "dx40.nc")
+    model_report().to_netcdf(tmp_path / "fig5.nc", engine="h5netcdf")
+    model_report(flow={"enabled": False}).to_netcdf(tmp_path / "fig8.nc", engine="h5netcdf")
+    model_report(grid={"dx": 0.05}).to_netcdf(tmp_path / "fig7a.nc", engine="h5netcdf")
+    points, tables = module.curve_points(tmp_path)
+    assert tables == ["dx40.nc", "dx40_no_flow.nc"]
+    assert len(points) == 24
+    for p in points:
+        assert p["P"] == pytest.approx(norm.cdf(p["x"]), abs=1e-9)
