@@ -473,3 +473,23 @@ def test_master_curve_places_each_curve_with_the_table_of_its_physics(tmp_path):
     assert len(points) == 24
     for p in points:
         assert p["P"] == pytest.approx(norm.cdf(p["x"]), abs=1e-9)
+
+
+def test_measured_map_places_points_on_the_union_of_their_axes():
+    """Every point in its cell, NaN where nothing was measured, and of two points in one
+    cell the one with the narrower interval."""
+    module = load_script(gallery_dir() / "fig9_map.py")
+    points = [
+        (3.0, 2e-5, 0.25, 0.20, 0.30),
+        (3.0, 2e-5, 0.30, 0.20, 0.40),
+        (0.5, 0.0, 1.00, 0.95, 1.00),
+        (3.0, 1e-4, 0.00, 0.00, 0.09),
+    ]
+    ds = module.measured_map(points)
+    assert ds["t_stop"].values.tolist() == [0.5, 3.0]
+    assert ds["asymmetry"].values.tolist() == [0.0, 2e-5, 1e-4]
+    assert ds["P"].sel(t_stop=3.0, asymmetry=2e-5) == 0.25
+    assert ds["P_high"].sel(t_stop=3.0, asymmetry=2e-5) == 0.30
+    assert ds["P"].sel(t_stop=0.5, asymmetry=0.0) == 1.0
+    assert np.isnan(ds["P"].sel(t_stop=0.5, asymmetry=1e-4))
+    assert int(np.isfinite(ds["P"]).sum()) == 3
