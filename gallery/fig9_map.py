@@ -68,15 +68,6 @@ def measured_map(points: Sequence[tuple]) -> xr.Dataset:
     )
 
 
-def edges(values: np.ndarray) -> np.ndarray:
-    """Cell edges around sorted axis values (midpoints; end cells symmetric)."""
-    v = np.asarray(values, dtype=float)
-    if v.size == 1:
-        return np.array([v[0] - 0.5, v[0] + 0.5]) if v[0] == 0 else v[0] * np.array([0.5, 1.5])
-    mid = 0.5 * (v[1:] + v[:-1])
-    return np.concatenate([[v[0] - (mid[0] - v[0])], mid, [v[-1] + (v[-1] - mid[-1])]])
-
-
 def main(argv: Sequence[str] | None = None) -> list[Path]:
     """Load or run the sweep, write Fig. 9 as PNG and PDF."""
     args = parse_args(__doc__.splitlines()[0], argv)
@@ -105,13 +96,12 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     # values are not evenly spaced, and its cells stay wide enough to carry their labels)
     rows = np.arange(delta.size)
     cols = np.arange(t_stop.size)
+    row_edges, col_edges = np.arange(delta.size + 1) - 0.5, np.arange(t_stop.size + 1) - 0.5
     fig = new_figure(12.5, 5.2)
     ax_p, ax_w = fig.subplots(1, 2)
     p = ds["P"].values
     width = ds["P_high"].values - ds["P_low"].values
-    mesh = ax_p.pcolormesh(
-        edges(cols.astype(float)), edges(rows.astype(float)), p, cmap="coolwarm", vmin=0, vmax=1
-    )
+    mesh = ax_p.pcolormesh(col_edges, row_edges, p, cmap="coolwarm", vmin=0, vmax=1)
     fig.colorbar(mesh, ax=ax_p, label="inversion probability P")
     for i in rows:
         for j, t in enumerate(t_stop):
@@ -122,9 +112,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
                     f"[{float(ds['P_low'].values[i, j]):.3f}, "
                     f"{float(ds['P_high'].values[i, j]):.3f}]"
                 )
-    mesh_w = ax_w.pcolormesh(
-        edges(cols.astype(float)), edges(rows.astype(float)), width, cmap="Greys", vmin=0, vmax=1
-    )
+    mesh_w = ax_w.pcolormesh(col_edges, row_edges, width, cmap="Greys", vmin=0, vmax=1)
     fig.colorbar(mesh_w, ax=ax_w, label="width of the 95 % interval of P")
     for ax, title in (
         (ax_p, "(a) P(t_stop, \u0394); paper: red short stops, blue long stops and large \u0394"),

@@ -18,6 +18,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from _common import DATA, parse_args
+from scipy.special import ndtr
 
 from pde_rotor.decision_check import master_points, table_for
 from pde_rotor.decision_plot import draw_master
@@ -55,20 +56,13 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     if not points:
         msg = f"{DATA}: no curve report ({', '.join(CURVES)}) with a decision table"
         raise FileNotFoundError(msg)
-    inside = sum(p["low"] <= _phi(p["x"]) <= p["high"] for p in points)
+    inside = sum(p["low"] <= ndtr(p["x"]) <= p["high"] for p in points)
     print(f"{NAME}: {len(points)} conditionals, {inside} hold Φ(x) in their 95 % interval")
     footer = (
         f"the conditionals of data/{{{','.join(CURVES)}}}.nc, each placed with its decision "
         f"table ({', '.join(tables)}); {inside} of {len(points)} intervals hold \u03a6(x)"
     )
     return draw_master(points, args.out, NAME, footer=footer)
-
-
-def _phi(x: float) -> float:
-    """The standard normal distribution function Φ(x)."""
-    from scipy.special import ndtr
-
-    return float(ndtr(x))
 
 
 if __name__ == "__main__":
