@@ -8,6 +8,13 @@ directories instead of computing them (``--runs DIR``): the panel of config
 in parallel, on this machine or elsewhere). A stored run is used only if it completed
 and its physics (everything but output, solver and the drawn noise seed) is the
 config's at the chosen fidelity; a missing one is computed and written there.
+
+The runs behind the committed full-fidelity figures are kept in the repository, in
+data/runs/<config name> (:data:`ARCHIVE`), written by ``--archive DIR`` (:func:`archive_run`):
+the run's config (with its drawn seed), events and log, and its time series thinned to
+every :data:`ARCHIVE_INTERVAL` time units plus both samples of every stop and release;
+no field snapshots. At full fidelity a script reads them from there when no ``--runs``
+is given, so the figure is redrawn in seconds from the committed data.
 """
 
 from __future__ import annotations
@@ -16,7 +23,11 @@ import argparse
 from collections.abc import Sequence
 from pathlib import Path
 
+import numpy as np
+import xarray as xr
 from _common import (
+    DATA,
+    ROOT,
     Fidelity,
     add_footer,
     fidelity_label,
@@ -29,8 +40,15 @@ from matplotlib.figure import Figure
 
 from pde_rotor.api import RunResult, run
 from pde_rotor.config import RotorConfig, physics_differences
+from pde_rotor.output import RunDirectory, write_netcdf_atomic, write_text_atomic
 from pde_rotor.plotting import stop_intervals
 from pde_rotor.units import OMEGA_UNITS, TIME_UNITS
+
+ARCHIVE = DATA / "runs"
+"""The committed runs of the full-fidelity time-series figures (:func:`archive_run`)."""
+ARCHIVE_INTERVAL = 0.05
+"""Sample spacing of an archived time series: 0.05 time units, 20 samples over the
+shortest stop, far finer than a line over the M = 100 cycles of a figure can show."""
 
 
 def _options(parser: argparse.ArgumentParser) -> None:
@@ -47,7 +65,15 @@ def _options(parser: argparse.ArgumentParser) -> None:
         default=None,
         help="read each panel's run from DIR/<config name> (pde-rotor run CONFIG --out "
         "DIR/<config name>), computing and writing there the ones missing [default: "
-        "compute every run in memory]",
+        "full fidelity reads the committed data/runs/ where it holds the run; otherwise "
+        "every run is computed in memory]",
+    )
+    parser.add_argument(
+        "--archive",
+        type=Path,
+        default=None,
+        help="also write each panel's run, its time series thinned, to DIR/<config name> "
+        "(data/runs keeps the committed ones); needs --runs",
     )
 
 
@@ -77,12 +103,70 @@ def stored_run(run_dir: Path, config: RotorConfig) -> RunResult | None:
     return result
 
 
-def panel_run(path: Path, fid: Fidelity, cycles: int | None, runs: Path | None) -> RunResult:
+def thin(ts: xr.Dataset, interval: float) -> xr.Dataset:
+    """The samples of a time series on multiples of `interval`, the first and the last,
+    and both samples of every stop and release (where omega jumps).
+
+    Args:
+        ts: a run's time series (``stopped`` and ``time``, as written by a run).
+        interval: the new spacing; a multiple of the series' own sample interval.
+    """
+    t = ts["time"].values
+    steps = t / interval
+    keep = np.isclose(steps, np.round(steps), rtol=0.0, atol=1e-6)
+    keep[[0, -1]] = True
+    edges = np.flatnonzero(np.diff(ts["stopped"].values) != 0)
+    keep[edges] = keep[edges + 1] = True
+    out = ts.isel(time=keep)
+    out.attrs["sampling"] = (
+        f"thinned to every {interval:g} and both samples of every stop and release, "
+        f"from {ts.attrs.get('sampling', 'the run')}"
+    )
+    out.attrs["sample_interval"] = interval
+    return out
+
+
+def archive_run(source: Path, dest: Path, interval: float = ARCHIVE_INTERVAL) -> Path:
+    """Write the completed run in `source` to `dest`, small enough to commit: the config
+    (with the run's drawn seed), events and log as they are, the time series thinned
+    (:func:`thin`), no snapshots or movie. :meth:`pde_rotor.api.RunResult.load` reads it.
+
+    Returns:
+        `dest`.
+    """
+    src, run_dir = RunDirectory(source), RunDirectory.create(dest, overwrite=True)
+    for name in ("config.yaml", "events.csv", "run.log"):
+        write_text_atomic(run_dir / name, (src / name).read_text(encoding="utf-8"))
+    for name, transform in (("events.nc", None), ("timeseries.nc", interval)):
+        with xr.open_dataset(src / name, engine="h5netcdf") as ds:
+            data = ds.load()
+        write_netcdf_atomic(data if transform is None else thin(data, transform), run_dir / name)
+    return dest
+
+
+def panel_run(
+    path: Path,
+    fid: Fidelity,
+    cycles: int | None,
+    runs: Path | None,
+    archive: Path | None = None,
+) -> RunResult:
     """The run of one panel: config `path` at fidelity `fid` (and `cycles`), read from
     ``runs/<config name>`` where it is stored there, else computed (and written there
-    when `runs` is given)."""
+    when `runs` is given). Without `runs`, a matching run in ``archive/<config name>``
+    is read instead of computing one (a run of another config there is named and
+    passed over)."""
     extra = () if cycles is None else (f"protocol.cycles={cycles}",)
     config = fid.config(path, *fid.protocol, *extra)
+    if runs is None and archive is not None:
+        try:
+            found = stored_run(archive / path.stem, config)
+        except ValueError as err:
+            print(f"{path.name}: not reading the committed run: {err}; computing it")
+            found = None
+        if found is not None:
+            print(f"{path.name}: read from {archive / path.stem}")
+            return found
     if runs is None:
         return run(config, progress=False)
     run_dir = runs / path.stem
@@ -107,7 +191,8 @@ def timeseries_figure(
         panels: (panel letter, config path) per column.
         fid: fidelity.
         cycles: number of cycles M per run (None: the fidelity's protocol).
-        runs: directory of stored runs (:func:`panel_run`); None: every run in memory.
+        runs: directory of stored runs (:func:`panel_run`); None: the committed
+            :data:`ARCHIVE` at full fidelity where it holds the run, else in memory.
 
     Returns:
         The figure and one summary line per panel (inversions with the Wilson interval).
@@ -115,7 +200,8 @@ def timeseries_figure(
     fig = new_figure(5.2 * len(panels), 6.4)
     axes = fig.subplots(2, len(panels), squeeze=False, sharex="col")
     lines = []
-    results = [panel_run(path, fid, cycles, runs) for _, path in panels]
+    archive = ARCHIVE if fid.name == "full" and cycles is None else None
+    results = [panel_run(path, fid, cycles, runs, archive) for _, path in panels]
     for col, ((letter, _), result) in enumerate(zip(panels, results, strict=True)):
         config = result.config
         ts = result.timeseries
@@ -152,9 +238,10 @@ def timeseries_figure(
     fig.suptitle(title, fontsize=11)
     config = results[-1].config
     p = config.protocol
-    stored = [r.run_dir for r in results if r.run_dir is not None]
+    stored = [r.run_dir.parent for r in results if r.run_dir is not None]
+    stored = [d.relative_to(ROOT) if d.is_relative_to(ROOT) else d for d in stored]
     where = (
-        f"runs stored in {stored[0].parent}/"
+        f"runs stored in {stored[0]}/"
         if stored
         else f"wall {sum(r.wall_time for r in results):.0f} s"
     )
@@ -179,12 +266,18 @@ def timeseries_main(
 ) -> list[Path]:
     """The whole script of a time-series figure (Figs. 4 and 6).
 
-    Parses ``[--quick | --tiny] [--out DIR] [--cycles M] [--runs DIR]``, gets one run per
-    panel (:func:`timeseries_figure`), prints the inversion counts and writes `name` as
-    PNG and PDF.
+    Parses ``[--quick | --tiny] [--out DIR] [--cycles M] [--runs DIR] [--archive DIR]``,
+    gets one run per panel (:func:`timeseries_figure`), prints the inversion counts,
+    archives the runs if asked (:func:`archive_run`) and writes `name` as PNG and PDF.
     """
     args = parse_args(description, argv, extra=_options)
+    if args.archive is not None and args.runs is None:
+        msg = "--archive thins the runs of --runs DIR: give --runs too"
+        raise SystemExit(msg)
     fig, lines = timeseries_figure(title, panels, args.fidelity, args.cycles, args.runs)
     for line in lines:
         print(f"{name}: {line}")
+    for _, path in panels if args.archive is not None else ():
+        dest = archive_run(args.runs / path.stem, args.archive / path.stem)
+        print(f"{name}: {path.name} archived in {dest}")
     return save(fig, args.out, name)

@@ -16,8 +16,9 @@ what it does not give, always with delta = dx (the paper's choice):
 (d) the inversion probability at (t_stop, Delta) in {0.5, 3} x {0, 2e-5, 1e-4} against
     dx at the calibrated noise, with 95 % intervals, from bank-estimator sweeps
     (:mod:`pde_rotor.sweep`) at the paper-ratio (dx, dt) pairs; at the paper's pair
-    (0.025, 1e-4) the stored paper-resolution reports (data/calibration.nc,
-    data/predictions.nc) are used where they hold the point, since they are larger.
+    (0.025, 1e-4) the points of the stored Fig. 5 and 7 reports (data/fig5.nc,
+    data/fig7a.nc, data/fig7b.nc) are used where they hold the same model, since they
+    are larger (200 stops per point).
     dx = 1/60 is left out of (d): a restart costs about 5 times the paper's there.
 
 Numbers are also written to convergence.csv next to the figure.
@@ -47,14 +48,12 @@ from _common import (
     parse_args,
     save,
 )
-from _sweeps import (
-    paper_points,
-)
 
 from pde_rotor.analysis import stopped_torque
 from pde_rotor.config import CALIBRATED_SIGMA, RotorConfig
 from pde_rotor.output import atomic_path
 from pde_rotor.simulation import Simulation
+from pde_rotor.sweep import stored
 from pde_rotor.units import OMEGA_UNITS
 
 NAME = "convergence"
@@ -68,6 +67,9 @@ ASYMMETRIES = (2e-5, 1e-4)
 """Delta of the asymmetry torques compared with the lattice torque."""
 POINTS_T_STOP = (0.5, 3.0)
 POINTS_DELTA = (0.0, 2e-5, 1e-4)
+STORED_SWEEPS = ("fig5", "fig7b", "fig7a")
+"""Sweeps whose stored reports (data/<name>.nc) hold the panel (d) points at the paper's
+grid: the t_stop curves of Delta = 0, 2e-5 and 1e-4."""
 
 
 @dataclass(frozen=True)
@@ -228,14 +230,19 @@ def inversion_points(
 ) -> dict[tuple[float, float, float], tuple[float, float, float, int, str]]:
     """P, its bounds, stops and source per (dx, t_stop, Delta) at one (dx, dt) pair.
 
-    At the paper's resolution the stored reports are used when they hold any point (a
-    point they lack is left out); otherwise the bank sweep runs.
+    Where the stored reports of :data:`STORED_SWEEPS` hold the model of this pair (same
+    grid, scheme and noise as the bank sweep would run,
+    :func:`pde_rotor.sweep.stored.curve_points`) their points are used (a point they
+    lack is left out); otherwise the bank sweep runs.
     """
     sigma = CALIBRATED_SIGMA
     found = {}
-    if not fid.is_tiny and math.isclose(dx, 0.025):
+    if not fid.is_tiny:
+        like = grid_config(fid, dx, dt, f"noise.sigma={sigma!r}").model_dump(mode="json")
         for delta in p.deltas:
-            pts = paper_points("t_stop", asymmetry=delta, sigma=sigma, enabled=1.0)
+            pts = stored.curve_points(
+                _common.DATA, "t_stop", STORED_SWEEPS, like=like, asymmetry=delta, sigma=sigma
+            )
             for t_stop in p.t_stops if pts is not None else ():
                 match = np.isclose(pts["t_stop"].values, t_stop)
                 if match.any():
@@ -405,7 +412,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
             None,
             f"L = {config.grid.domain_radius:g}; (a)-(c) no noise, dt as labelled; (d) bank "
             f"estimator, \u03c3 = {CALIBRATED_SIGMA:g}, {p.samples} stops per direction "
-            f"and point where computed, stored paper-resolution reports where available; "
+            f"and point where computed, the stored Fig. 5 and 7 reports where they hold the model; "
             f"warm-up {p.warmup:g}; wall {wall:.0f} s",
         ),
     )

@@ -404,6 +404,57 @@ def test_time_series_runs_are_read_from_run_directories(tmp_path, monkeypatch):
         series.stored_run(runs / "paper_fig4a", config)
 
 
+def test_thinning_keeps_the_grid_and_both_samples_of_every_stop_and_release():
+    """An archived time series keeps the samples on multiples of the new interval, the
+    first and last, and the samples on both sides of every phase change, unchanged."""
+    load_script(gallery_dir() / "fig4_timeseries.py")
+    series = sys.modules["_timeseries"]
+    t = np.union1d(np.round(np.arange(0.0, 2.0001, 0.01), 10), [0.523, 1.237, 2.003])
+    stopped = ((t >= 0.523) & (t < 1.237)).astype(int)
+    ts = xr.Dataset(
+        {"omega": ("time", np.sin(t)), "stopped": ("time", stopped)},
+        coords={"time": t},
+        attrs={"sample_interval": 0.01, "sampling": "every 0.01"},
+    )
+    thinned = series.thin(ts, 0.05)
+    grid = np.round(np.arange(0.0, 2.0001, 0.05), 10)
+    expected = np.union1d(grid, [0.52, 0.523, 1.23, 1.237, 2.003])
+    np.testing.assert_allclose(thinned["time"].values, expected)
+    xr.testing.assert_identical(thinned["omega"], ts["omega"].sel(time=thinned["time"]))
+    assert thinned.attrs["sample_interval"] == 0.05
+    assert "thinned to every 0.05" in thinned.attrs["sampling"]
+
+
+def test_time_series_archive_is_read_back_instead_of_computing(tmp_path, monkeypatch):
+    """``--archive DIR`` writes each panel's run small enough to commit (same config,
+    seed and events, thinned time series, no snapshots); a script given that archive
+    reads the run from it without computing anything. ``--archive`` without ``--runs``
+    is refused before any compute."""
+    module = load_script(gallery_dir() / "fig4_timeseries.py")
+    series = sys.modules["_timeseries"]
+    runs, archive, out = tmp_path / "runs", tmp_path / "archive", tmp_path / "out"
+    with pytest.raises(SystemExit, match="give --runs too"):
+        module.main(["--tiny", "--out", str(out), "--archive", str(archive)])
+    module.main(["--tiny", "--out", str(out), "--runs", str(runs), "--archive", str(archive)])
+    full = series.RunResult.load(runs / "paper_fig4a")
+    kept = series.RunResult.load(archive / "paper_fig4a")
+    assert kept.ok and kept.config == full.config
+    xr.testing.assert_identical(kept.events, full.events)
+    xr.testing.assert_identical(
+        kept.timeseries.drop_attrs(), full.timeseries.sel(time=kept.timeseries["time"]).drop_attrs()
+    )
+    assert not (archive / "paper_fig4a" / "snapshots.h5").exists()
+
+    def no_run(*_: object, **__: object) -> None:
+        raise AssertionError("an archived run was computed again")
+
+    monkeypatch.setattr(series, "run", no_run)
+    fid = sys.modules["_common"].fidelity("tiny")
+    path = module.PANELS[0][1]
+    again = series.panel_run(path, fid, None, None, archive)
+    assert again.run_dir == archive / "paper_fig4a" and again.config == kept.config
+
+
 def test_the_model_line_is_the_decision_table_of_the_curves_model(tmp_path, monkeypatch, capsys):
     """The dashed line is the table's P at the report's noise and at the curve's own Delta
     (a coordinate of the report, not its base config's); a report of another grid has
