@@ -52,7 +52,7 @@ shortest stop, far finer than a line over the M = 100 cycles of a figure can sho
 
 
 def _options(parser: argparse.ArgumentParser) -> None:
-    """``--cycles M`` and ``--runs DIR`` of the time-series scripts."""
+    """``--cycles M``, ``--runs DIR`` and ``--archive DIR`` of the time-series scripts."""
     parser.add_argument(
         "--cycles",
         type=int,
@@ -273,6 +273,9 @@ def timeseries_main(
     args = parse_args(description, argv, extra=_options)
     if args.archive is not None and args.runs is None:
         msg = "--archive thins the runs of --runs DIR: give --runs too"
+        raise SystemExit(msg)
+    if args.archive is not None and args.archive.resolve() == args.runs.resolve():
+        msg = f"--archive {args.archive} is the --runs directory: the archive needs its own"
         raise SystemExit(msg)
     fig, lines = timeseries_figure(title, panels, args.fidelity, args.cycles, args.runs)
     for line in lines:

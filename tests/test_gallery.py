@@ -428,13 +428,16 @@ def test_thinning_keeps_the_grid_and_both_samples_of_every_stop_and_release():
 def test_time_series_archive_is_read_back_instead_of_computing(tmp_path, monkeypatch):
     """``--archive DIR`` writes each panel's run small enough to commit (same config,
     seed and events, thinned time series, no snapshots); a script given that archive
-    reads the run from it without computing anything. ``--archive`` without ``--runs``
-    is refused before any compute."""
+    reads the run from it without computing anything. ``--archive`` without ``--runs``,
+    or onto the ``--runs`` directory itself, is refused before any compute."""
     module = load_script(gallery_dir() / "fig4_timeseries.py")
     series = sys.modules["_timeseries"]
     runs, archive, out = tmp_path / "runs", tmp_path / "archive", tmp_path / "out"
     with pytest.raises(SystemExit, match="give --runs too"):
         module.main(["--tiny", "--out", str(out), "--archive", str(archive)])
+    with pytest.raises(SystemExit, match="is the --runs directory"):
+        module.main(["--tiny", "--out", str(out), "--runs", str(runs), "--archive", str(runs)])
+    assert not runs.exists()
     module.main(["--tiny", "--out", str(out), "--runs", str(runs), "--archive", str(archive)])
     full = series.RunResult.load(runs / "paper_fig4a")
     kept = series.RunResult.load(archive / "paper_fig4a")
