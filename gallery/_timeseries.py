@@ -134,13 +134,12 @@ def archive_run(source: Path, dest: Path, interval: float = ARCHIVE_INTERVAL) ->
     Returns:
         `dest`.
     """
+    result = RunResult.load(source)
     src, run_dir = RunDirectory(source), RunDirectory.create(dest, overwrite=True)
     for name in ("config.yaml", "events.csv", "run.log"):
         write_text_atomic(run_dir / name, (src / name).read_text(encoding="utf-8"))
-    for name, transform in (("events.nc", None), ("timeseries.nc", interval)):
-        with xr.open_dataset(src / name, engine="h5netcdf") as ds:
-            data = ds.load()
-        write_netcdf_atomic(data if transform is None else thin(data, transform), run_dir / name)
+    write_netcdf_atomic(result.events, run_dir.events_nc)
+    write_netcdf_atomic(thin(result.timeseries, interval), run_dir.timeseries)
     return dest
 
 
@@ -158,21 +157,15 @@ def panel_run(
     passed over)."""
     extra = () if cycles is None else (f"protocol.cycles={cycles}",)
     config = fid.config(path, *fid.protocol, *extra)
-    if runs is None and archive is not None:
+    run_dir = None if runs is None else runs / path.stem
+    found = None if run_dir is None else stored_run(run_dir, config)
+    if run_dir is None and archive is not None:
         try:
             found = stored_run(archive / path.stem, config)
         except ValueError as err:
             print(f"{path.name}: not reading the committed run: {err}; computing it")
-            found = None
-        if found is not None:
-            print(f"{path.name}: read from {archive / path.stem}")
-            return found
-    if runs is None:
-        return run(config, progress=False)
-    run_dir = runs / path.stem
-    found = stored_run(run_dir, config)
     if found is not None:
-        print(f"{path.name}: read from {run_dir}")
+        print(f"{path.name}: read from {found.run_dir}")
         return found
     return run(config, run_dir, progress=False)
 
