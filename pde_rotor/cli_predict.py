@@ -55,6 +55,17 @@ def _table(path: Path):
         fail(f"{path}: not a decision table ({err})")
 
 
+def _reports(paths: list[Path], label: str) -> list:
+    """The sweep reports at `paths`, read as the gallery reads them (P by the current
+    rule, :func:`pde_rotor.sweep.stored.load_report`); a missing file fails naming it."""
+    from .sweep.stored import load_report
+
+    for path in paths:
+        if not path.is_file():
+            fail(f"{label}{path}: no such report")
+    return [load_report(path) for path in paths]
+
+
 def _sweep_outcomes(table, sweep_dirs: list[Path]) -> list:
     """The releases of `sweep_dirs` that match the table (grid, smoothing, flow,
     scheme), run by run: a sweep along dx gives the runs of the table's dx, and says
@@ -233,17 +244,11 @@ def register(app: typer.Typer) -> None:
         ] = None,
     ) -> None:
         """Compare the model with every point of stored sweep reports (coverage, deviation)."""
-        import xarray as xr
-
         from .decision_check import compare, master_points
         from .decision_plot import draw_master
 
         table = _table(table_path)
-        reports = []
-        for path in report:
-            if not path.is_file():
-                fail(f"{path}: no such report")
-            reports.append(xr.load_dataset(path))
+        reports = _reports(report, "")
         try:
             result = compare(table, reports)
         except ValueError as err:
@@ -294,8 +299,6 @@ def register(app: typer.Typer) -> None:
         resolution: Annotated[int, typer.Option(min=2, help="Points along t_stop.")] = 160,
     ) -> None:
         """Draw the Fig. 9 map P(t_stop, Delta) predicted at one noise intensity."""
-        import xarray as xr
-
         from .decision import sigma_of
         from .decision_plot import draw_map, ensemble_points
 
@@ -303,11 +306,7 @@ def register(app: typer.Typer) -> None:
         diffusion = _diffusion(dw, sigma, table.inertia)
         if t_stop_max > table.t_max:
             fail(f"--t-stop-max {t_stop_max:g}: beyond the table's {table.t_max:g}")
-        reports = []
-        for path in report or []:
-            if not path.is_file():
-                fail(f"--report {path}: no such file")
-            reports.append(xr.load_dataset(path))
+        reports = _reports(report or [], "--report ")
         points = ensemble_points(table, reports, sigma_of(diffusion, table.inertia))
         out = out or Path.cwd()
         out.mkdir(parents=True, exist_ok=True)

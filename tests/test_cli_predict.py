@@ -161,3 +161,23 @@ def test_calibrate_refuses_a_sweep_of_another_grid(table_path: Path, tmp_path: P
     missing = invoke("calibrate", str(table_path), "--sweep", str(tmp_path))
     assert missing.exit_code == 2
     assert "not a sweep directory" in missing.output
+
+
+def test_check_reads_an_older_report_with_the_current_rule(
+    table_path: Path, tmp_path: Path
+) -> None:
+    """A report written before the Delta = 0 rule holds the chain value in P; check
+    compares the model with the pooled fraction that the gallery draws."""
+    from test_decision_check import model_report
+
+    from pde_rotor.stats import wilson_interval
+
+    old = model_report(geometry={"asymmetry": 0.0}).isel(t_stop=[2], sigma=[0])
+    old["inversions"] = (("t_stop", "sigma"), [[14]])
+    old["stops"] = (("t_stop", "sigma"), [[40]])
+    old.attrs["estimator"] = "restart"
+    old.to_netcdf(tmp_path / "old.nc", engine="h5netcdf")
+    result = invoke("check", str(table_path), str(tmp_path / "old.nc"))
+    assert result.exit_code == 0, result.output
+    low, high = wilson_interval(14, 40)
+    assert f"P = 0.350 [{low:.3f}, {high:.3f}]" in result.output
