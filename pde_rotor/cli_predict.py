@@ -307,7 +307,10 @@ def register(app: typer.Typer) -> None:
         if t_stop_max > table.t_max:
             fail(f"--t-stop-max {t_stop_max:g}: beyond the table's {table.t_max:g}")
         reports = _reports(report or [], "--report ")
-        points = ensemble_points(table, reports, sigma_of(diffusion, table.inertia))
+        try:
+            points = ensemble_points(table, reports, sigma_of(diffusion, table.inertia))
+        except ValueError as err:
+            fail(str(err))
         out = out or Path.cwd()
         out.mkdir(parents=True, exist_ok=True)
         paths, _ = draw_map(

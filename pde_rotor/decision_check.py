@@ -108,15 +108,29 @@ def _same(a: Any, b: Any) -> bool:
 def table_points(table: DecisionTable, ds: xr.Dataset) -> list[dict[str, float]]:
     """The measured points of `ds` on the table's grid: all of them, or those of its dx
     along a dx axis (a report that compares grids, issue 14 §1). Points without a
-    finished stop (a partial report of a sweep still running) are left out."""
+    finished stop (a partial report of a sweep still running) are left out.
+
+    Raises:
+        ValueError: a point's t_stop lies beyond the table's t_max (named, with the
+            table's range).
+    """
     dx = RotorConfig.model_validate_json(table.attrs["config"]).grid.dx
-    return [
+    points = [
         p
         for p in report_points(ds)
         if (math.isnan(p["dx"]) or math.isclose(p["dx"], dx, rel_tol=1e-6))
         and p.get("stops", 1) > 0
         and math.isfinite(p["P"])
     ]
+    beyond = sorted({p["t_stop"] for p in points if p["t_stop"] > table.t_max + 1e-12})
+    if beyond:
+        msg = (
+            f"report {ds.attrs.get('sweep', '?')}: t_stop = {beyond[0]:g} lies beyond the "
+            f"table's range [0, {table.t_max:g}] (measure the table with --t-max "
+            f"{beyond[-1]:g} or more)"
+        )
+        raise ValueError(msg)
+    return points
 
 
 @dataclass(frozen=True)

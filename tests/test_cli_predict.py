@@ -181,3 +181,16 @@ def test_check_reads_an_older_report_with_the_current_rule(
     assert result.exit_code == 0, result.output
     low, high = wilson_interval(14, 40)
     assert f"P = 0.350 [{low:.3f}, {high:.3f}]" in result.output
+
+
+def test_map_names_a_report_point_beyond_the_table(table_path: Path, tmp_path: Path) -> None:
+    from test_decision_check import model_report
+
+    model_report().assign_coords(t_stop=[1.0, 2.0, 3.75]).to_netcdf(tmp_path / "far.nc")
+    result = invoke(
+        "map", str(table_path), "--dw", "2e-4", "--out", str(tmp_path / "figs"),
+        "--report", str(tmp_path / "far.nc"),
+    )  # fmt: skip
+    assert result.exit_code == 2
+    assert result.output.count("error:") == 1
+    assert "t_stop = 3.75 lies beyond the table's range [0, 3.5]" in result.output

@@ -62,6 +62,15 @@ def test_a_report_of_another_grid_or_flow_is_refused() -> None:
         compare(table, [model_report(flow={"enabled": False})])
 
 
+def test_a_point_beyond_the_table_is_named() -> None:
+    """A stop longer than the table's t_max has no prediction: the error names the
+    report, the stop and the table's range, not a bare interpolation failure."""
+    report = model_report().assign_coords(t_stop=[1.0, 2.0, 3.75])
+    message = r"report model: t_stop = 3\.75 lies beyond the table's range \[0, 3\.5\]"
+    with pytest.raises(ValueError, match=message):
+        compare(synthetic(), [report])
+
+
 def test_a_grid_comparison_contributes_the_points_of_the_tables_grid() -> None:
     """A report with a dx axis (issue 14 §1) is accepted whatever its base dx; only the
     table's dx is compared (the other grid's values here are off by 0.3)."""
