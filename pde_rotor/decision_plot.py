@@ -75,9 +75,15 @@ def draw_map(
 ) -> tuple[list[Path], np.ndarray]:
     """Draw P(t_stop, Δ) at `diffusion` and write out/name.png and .pdf.
 
+    The ensemble `points` (t_stop, Δ, P, ...) inside the drawn range are drawn and
+    counted in the title; those outside it are left out of both.
+
     Returns:
         The written paths and the map (n_asymmetry, n_t_stop).
     """
+    points = [
+        q for q in points if t_range[0] <= q[0] <= t_range[1] and 0.0 <= q[1] <= asymmetry_max
+    ]
     t_stop = np.linspace(*t_range, resolution[0])
     asymmetry = np.linspace(0.0, asymmetry_max, resolution[1])
     p = np.array([table.probability(t_stop, d, diffusion) for d in asymmetry])

@@ -96,3 +96,24 @@ def test_model_curve_is_the_closed_form_escape_along_either_axis() -> None:
     assert along_delta[1] == pytest.approx(along_t[-1], abs=1e-12)
     with pytest.raises(ValueError, match="x_dim"):
         model_curve(table, "sigma", deltas, sigma, t_stop=3.0)
+
+
+def test_map_draws_and_counts_only_the_points_in_its_frame(tmp_path: Path, monkeypatch) -> None:
+    """A point beyond the drawn t_stop range is neither drawn nor counted in the title."""
+    import pde_rotor.decision_plot as module
+
+    drawn = {}
+    original = module.save_figure
+
+    def keep(fig, *args, **kwargs):
+        drawn["title"] = fig.axes[0].get_title()
+        drawn["markers"] = len(fig.axes[0].collections)
+        return original(fig, *args, **kwargs)
+
+    monkeypatch.setattr(module, "save_figure", keep)
+    inside, beyond = (1.0, 2e-5, 0.9, 0.8, 1.0), (3.75, 0.0, 0.6, 0.5, 0.7)
+    draw_map(synthetic(), 2e-4, tmp_path, resolution=(12, 5), points=[inside, beyond])
+    with_one = (drawn["title"], drawn["markers"])
+    draw_map(synthetic(), 2e-4, tmp_path, resolution=(12, 5), points=[inside])
+    assert with_one == (drawn["title"], drawn["markers"])
+    assert "; 1 ensemble points (markers)" in with_one[0]
