@@ -502,7 +502,7 @@ def test_the_model_line_is_the_decision_table_of_the_curves_model(tmp_path, monk
 def test_master_curve_places_each_curve_with_the_table_of_its_physics(tmp_path):
     """Flow and no-flow curves each take the table of their own physics, so all their
     conditionals (here the model's own values) lie on Phi(x); a curve of another grid has
-    no table and is left out."""
+    no table and is left out, and the unmeasured cells of a partial map give no point."""
     from dataclasses import replace
 
     from scipy.stats import norm
@@ -522,9 +522,13 @@ def test_master_curve_places_each_curve_with_the_table_of_its_physics(tmp_path):
     model_report().to_netcdf(tmp_path / "fig5.nc", engine="h5netcdf")
     model_report(flow={"enabled": False}).to_netcdf(tmp_path / "fig8.nc", engine="h5netcdf")
     model_report(grid={"dx": 0.05}).to_netcdf(tmp_path / "fig7a.nc", engine="h5netcdf")
+    partial_map = model_report()
+    for name in ("P", "P_ccw", "P_cw"):
+        partial_map[name][0, :] = np.nan
+    partial_map.to_netcdf(tmp_path / "fig9.nc", engine="h5netcdf")
     points, tables = module.curve_points(tmp_path)
     assert tables == ["dx40.nc", "dx40_no_flow.nc"]
-    assert len(points) == 24
+    assert len(points) == 24 + 8
     for p in points:
         assert p["P"] == pytest.approx(norm.cdf(p["x"]), abs=1e-9)
 
