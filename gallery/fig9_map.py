@@ -3,9 +3,10 @@
 At full fidelity the map is the measured one: every ensemble point of the stored reports
 (data/*.nc) on the paper's grid and the default scheme at the calibrated noise (the
 points :func:`pde_rotor.decision_plot.ensemble_points` finds for the table
-data/decision/dx40.nc: the curves of Figs. 5 and 7, the grid probes and the one-intensity
-sweep; a stored data/fig9.nc would join them), on the union of their t_stop and Delta,
-blank where nothing was measured; the model's full map is gallery/fig9_predicted.py.
+data/decision/dx40.nc: the curves of Figs. 5 and 7, the grid probes, the one-intensity
+sweep and the measured cells of the fig9 sweep itself, data/fig9.nc), on the union of
+their t_stop and Delta, blank where nothing was measured; the model's full map is
+gallery/fig9_predicted.py.
 ``--quick`` reads the coarse report of configs/sweeps/fig9_quick.yaml (stored in data/,
 else run through :mod:`pde_rotor.sweep`), ``--tiny`` a shrunken copy of it. (a) P with
 the paper's colours (red: high, blue: low, grey-white near 0.5), each cell labelled with
