@@ -165,7 +165,10 @@ def register(app: typer.Typer) -> None:
     @predict.command("point")
     def point_command(
         table_path: TableArgument,
-        t_stop: Annotated[list[float], typer.Option("--t-stop", help="Stop duration(s).")],
+        t_stop: Annotated[
+            list[float],
+            typer.Option("--t-stop", help="Stop duration; repeatable (--t-stop 1 --t-stop 1.5)."),
+        ],
         asymmetry: Annotated[float, typer.Option("--asymmetry", help="Delta.")] = 0.0,
         dw: DwOption = None,
         sigma: SigmaOption = None,

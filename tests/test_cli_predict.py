@@ -32,6 +32,16 @@ def test_point_prints_the_table_probabilities(table_path: Path) -> None:
     assert f"P = {p:.3f}" in result.output
 
 
+def test_point_takes_the_stop_duration_repeated(table_path: Path) -> None:
+    args = ["--t-stop", "1", "--t-stop", "2.5", "--asymmetry", "2e-5", "--dw", "1e-4"]
+    result = invoke("point", str(table_path), *args)
+    assert result.exit_code == 0, result.output
+    lines = result.output.splitlines()
+    assert [line.split(",")[0] for line in lines] == ["t_stop = 1", "t_stop = 2.5"]
+    for t, line in zip((1.0, 2.5), lines, strict=True):
+        assert f"P = {float(synthetic().probability(t, 2e-5, 1e-4)):.3f}" in line
+
+
 def test_sigma_and_dw_give_the_same_point(table_path: Path) -> None:
     by_dw = invoke("point", str(table_path), "--t-stop", "2", "--dw", "4e-4")
     by_sigma = invoke("point", str(table_path), "--t-stop", "2", "--sigma", "2e-7")
