@@ -191,8 +191,8 @@ def register(app: typer.Typer) -> None:
     def calibrate_command(
         table_path: TableArgument,
         target: Annotated[float, typer.Option(help="P to reach.")] = 0.2,
-        t_stop: Annotated[float, typer.Option("--t-stop")] = 3.0,
-        asymmetry: Annotated[float, typer.Option("--asymmetry")] = 2e-5,
+        t_stop: Annotated[float, typer.Option("--t-stop", help="Stop duration of P.")] = 3.0,
+        asymmetry: Annotated[float, typer.Option("--asymmetry", help="Delta of P.")] = 2e-5,
         sweep: Annotated[
             list[Path] | None,
             typer.Option(
@@ -295,10 +295,12 @@ def register(app: typer.Typer) -> None:
         ] = None,
         report: Annotated[
             list[Path] | None,
-            typer.Option(help="Sweep report (NetCDF) whose points are drawn on the map."),
+            typer.Option(
+                help="Sweep report (NetCDF) whose points are drawn on the map (repeatable)."
+            ),
         ] = None,
-        t_stop_max: Annotated[float, typer.Option()] = 3.5,
-        asymmetry_max: Annotated[float, typer.Option()] = 1e-4,
+        t_stop_max: Annotated[float, typer.Option(help="Longest stop drawn.")] = 3.5,
+        asymmetry_max: Annotated[float, typer.Option(help="Largest Delta drawn.")] = 1e-4,
         resolution: Annotated[int, typer.Option(min=2, help="Points along t_stop.")] = 160,
     ) -> None:
         """Draw the Fig. 9 map P(t_stop, Delta) predicted at one noise intensity."""
