@@ -77,6 +77,8 @@ def register(app: typer.Typer) -> None:
             Sweep,
             SweepError,
             finished,
+            format_table,
+            gather,
             report,
             run_sweep,
             sweep_backend,
@@ -132,7 +134,10 @@ def register(app: typer.Typer) -> None:
             f"runs: {outcome.total} ({outcome.skipped} already done, {outcome.computed} "
             f"computed, {len(outcome.failed)} failed)"
         )
-        report(sweep_dir)
+        # the table of the runs asked for; report.nc of the directory's design, which a
+        # run of a subset of it leaves whole (store.prepare)
+        typer.echo(format_table(gather(spec, sweep_dir)))
+        report(sweep_dir, echo=False)
         typer.echo(f"report: {sweep_dir / 'report.nc'}")
         if outcome.failed:
             for key, message in outcome.failed[:5]:
@@ -145,9 +150,8 @@ def register(app: typer.Typer) -> None:
             Path,
             typer.Argument(
                 metavar="SWEEP",
-                help="Directory written by `pde-rotor sweep`, or a sweep file: its whole "
-                "design, read from data/sweeps/<file stem> (a run of a subset, --set "
-                "axes.KEY=[...], narrows the directory's own sweep.yaml).",
+                help="Directory written by `pde-rotor sweep` (the design in its sweep.yaml), "
+                "or a sweep file: its whole design, read from data/sweeps/<file stem>.",
             ),
         ],
         out: Annotated[

@@ -639,25 +639,39 @@ def test_cli_sweep_and_report(two_worker_sweep, tmp_path):
     assert result.exit_code == 2 and "not a sweep directory" in result.output
 
 
-def test_report_of_a_sweep_file_shows_its_whole_design(two_worker_sweep, tmp_path, monkeypatch):
-    """A run of a subset narrows the directory's sweep.yaml (its report then shows the
-    subset); ``pde-rotor report FILE`` reports the file's whole design from
-    data/sweeps/<stem>, every finished run included."""
+def test_a_subset_run_keeps_the_directory_design(two_worker_sweep, tmp_path, monkeypatch):
+    """A run of a subset (``--set axes.KEY=[...]``) prints the subset's table but leaves
+    the directory's sweep.yaml, and so its report.nc, the whole design; a sweep with runs
+    outside the recorded design replaces it; ``pde-rotor report FILE`` reports the file's
+    whole design from data/sweeps/<stem>."""
     from typer.testing import CliRunner
 
     from pde_rotor.cli import app
-    from pde_rotor.sweep.store import prepare
+    from pde_rotor.sweep.store import holds, prepare
 
     sweep_dir, ds = two_worker_sweep
     monkeypatch.chdir(tmp_path)
     store = tmp_path / "data" / "sweeps" / "tiny"
     shutil.copytree(sweep_dir, store)
-    prepare(tiny_sweep(axes={"protocol.t_stop": [0.2]}), store)
+    recorded = (store / "sweep.yaml").read_text()
+    path = write_sweep(tmp_path / "tiny.yaml", TINY_SWEEP)
     runner = CliRunner()
-    narrowed = runner.invoke(app, ["report", str(store), "-o", "subset.nc"])
-    assert narrowed.exit_code == 0, narrowed.output
-    assert xr.load_dataset("subset.nc", engine="h5netcdf").sizes["t_stop"] == 1
-    whole = runner.invoke(app, ["report", str(write_sweep(tmp_path / "tiny.yaml", TINY_SWEEP))])
+    subset = ["sweep", str(path), "-o", str(store), "--set", "axes.protocol.t_stop=[1.2]"]
+    result = runner.invoke(app, [*subset, "--set", "samples=2"])
+    assert result.exit_code == 0, result.output
+    assert "4 already done, 0 computed" in result.output
+    asked = gather(tiny_sweep(axes={"protocol.t_stop": [1.2]}, samples=2), store)
+    assert asked.sizes["t_stop"] == 1 and format_table(asked) in result.output
+    assert (store / "sweep.yaml").read_text() == recorded
+    xr.testing.assert_identical(xr.load_dataset(store / "report.nc", engine="h5netcdf"), ds)
+    assert holds(tiny_sweep(), tiny_sweep(samples=1))
+    assert not holds(tiny_sweep(), tiny_sweep(seed=8))
+    assert not holds(tiny_sweep(), tiny_sweep(axes={"protocol.t_stop": [0.2, 1.3]}))
+    prepare(tiny_sweep(axes={"protocol.t_stop": [0.2, 2.2]}), store)
+    grown = runner.invoke(app, ["report", str(store), "-o", "grown.nc"])
+    assert grown.exit_code == 0, grown.output
+    assert list(xr.load_dataset("grown.nc", engine="h5netcdf").t_stop) == [0.2, 2.2]
+    whole = runner.invoke(app, ["report", str(path)])
     assert whole.exit_code == 0, whole.output
     xr.testing.assert_identical(xr.load_dataset(store / "report.nc", engine="h5netcdf"), ds)
     missing = runner.invoke(app, ["report", str(write_sweep(tmp_path / "other.yaml", TINY_SWEEP))])

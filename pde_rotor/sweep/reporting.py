@@ -202,8 +202,8 @@ def report(
         out: NetCDF path (default: SWEEP_DIR/report.nc); written atomically with the
             h5netcdf engine.
         echo: print the table (:func:`format_table`).
-        sweep: the design to report (default: SWEEP_DIR/sweep.yaml, the last run's,
-            which a run of a subset narrows); points without finished runs are NaN.
+        sweep: the design to report (default: SWEEP_DIR/sweep.yaml, which a run of a
+            subset of it leaves whole); points without finished runs are NaN.
     """
     sweep_dir = Path(sweep_dir)
     ds = gather(sweep if sweep is not None else Sweep.load(sweep_dir), sweep_dir)

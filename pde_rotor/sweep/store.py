@@ -20,6 +20,7 @@ import yaml
 
 from ..output import write_text_atomic
 from .plan import SPEC_FILE, Run, Sweep
+from .spec import SweepError
 
 RUNS_DIR = "runs"
 """Sub-directory of a sweep directory holding one JSON file per finished run."""
@@ -60,10 +61,30 @@ def finished(sweep_dir: str | Path, runs: Sequence[Run]) -> set[str]:
     return done
 
 
+def holds(design: Sweep, sweep: Sweep) -> bool:
+    """Whether every run of `sweep` is a run of `design` (same run keys: a subset of its
+    axis values or samples, everything else equal)."""
+    keys = {run.key for run in design.runs()}
+    return all(run.key in keys for run in sweep.runs())
+
+
 def prepare(sweep: Sweep, sweep_dir: str | Path) -> Path:
-    """Create the sweep directory and write the specification (base inlined) into it."""
+    """Create the sweep directory and record the design (base inlined) in its sweep.yaml.
+
+    A design already recorded there that holds every run of `sweep` (:func:`holds`) is
+    kept: a run of a subset (``--set axes.KEY=[...]``) adds runs to the directory without
+    narrowing its design, so the directory's report and a resume from a clone still
+    cover the whole design. Any other sweep (or an unreadable sweep.yaml) replaces it.
+    """
     sweep_dir = Path(sweep_dir)
     (sweep_dir / RUNS_DIR).mkdir(parents=True, exist_ok=True)
+    spec_path = sweep_dir / SPEC_FILE
+    if spec_path.is_file():
+        try:
+            if holds(Sweep.load(spec_path), sweep):
+                return sweep_dir
+        except SweepError:
+            pass  # a record that no longer loads is replaced by this sweep's
     text = yaml.safe_dump(sweep.spec.model_dump(mode="json"), sort_keys=False)
-    write_text_atomic(sweep_dir / SPEC_FILE, text)
+    write_text_atomic(spec_path, text)
     return sweep_dir
