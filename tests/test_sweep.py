@@ -33,6 +33,7 @@ from pde_rotor.sweep import (
     Sweep,
     SweepError,
     SweepSpec,
+    base_config,
     execute,
     execute_group,
     finished,
@@ -137,6 +138,26 @@ def test_base_from_a_file_and_set_overrides(tmp_path):
     assert sweep.base["geometry"]["asymmetry"] == 2e-5
     inline = tiny_sweep(set={"geometry.asymmetry": 2e-5})
     assert [r.key for r in sweep.runs()] == [r.key for r in inline.runs()]
+
+
+def test_base_config_reads_a_large_design_without_planning_it(tmp_path, monkeypatch):
+    """base_config gives the validated base of a sweep file (base file, ``set`` applied)
+    without planning its runs; an invalid base is the same one-line error as Sweep.load."""
+    (tmp_path / "base.yaml").write_text(yaml.safe_dump(TINY_BASE), encoding="utf-8")
+    axes = {"protocol.t_stop": {"start": 0.1, "stop": 4.0, "num": 400}}
+    data = {**TINY_SWEEP, "base": "base.yaml", "set": {"grid.dx": 0.04}, "axes": axes}
+    path = write_sweep(tmp_path / "s.yaml", data)
+
+    def no_planning(self):
+        raise AssertionError("base_config planned the runs")
+
+    monkeypatch.setattr(Sweep, "runs", no_planning)
+    config = base_config(path)
+    assert isinstance(config, RotorConfig)
+    assert (config.grid.dx, config.grid.domain_radius) == (0.04, 1.75)
+    write_sweep(path, {**data, "set": {"grid.dx": -1.0}})
+    with pytest.raises(SweepError, match=r"grid\.dx"):
+        base_config(path)
 
 
 def test_set_changes_the_sweep_files_own_keys(tmp_path):

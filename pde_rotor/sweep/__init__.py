@@ -59,7 +59,7 @@ from __future__ import annotations
 
 from .estimates import CHAIN, P_DEFINITIONS, POOLED, mcnemar_p, point_statistics
 from .execution import SweepOutcome, run_sweep, sweep_backend, usable_cores
-from .plan import SCHEMA_VERSION, SPEC_FILE, Run, Sweep, run_key, run_seed
+from .plan import SCHEMA_VERSION, SPEC_FILE, Run, Sweep, base_config, run_key, run_seed
 from .reporting import format_table, gather, report
 from .spec import (
     BASES_DIR,
@@ -108,6 +108,7 @@ __all__ = [
     "SweepOutcome",
     "SweepSpec",
     "apply_sweep_overrides",
+    "base_config",
     "execute",
     "execute_group",
     "finished",

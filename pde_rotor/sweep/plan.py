@@ -88,12 +88,7 @@ class Sweep:
         Raises:
             SweepError: one line naming the problem (unknown key, invalid value, file).
         """
-        if isinstance(spec.base, str):
-            base = read_base(spec.base, root)
-        else:
-            base = copy.deepcopy(spec.base)
-        for key, value in spec.set.items():
-            _set(base, key, value, "set")
+        base = resolve_base(spec, root)
         validate_point(base, "base")
         inlined = spec.model_copy(update={"base": base, "set": {}})
         sweep = cls(spec=inlined, base=base, axes=spec.axis_values())
@@ -109,31 +104,7 @@ class Sweep:
             overrides: ``KEY=VALUE`` changes of the file's keys
                 (:func:`apply_sweep_overrides`).
         """
-        path = Path(path)
-        if path.is_dir():
-            path = path / SPEC_FILE
-        try:
-            data = parse_yaml(path.read_text(encoding="utf-8"), source=str(path))
-        except OSError as err:
-            msg = f"sweep file {str(path)!r} cannot be read: {err}"
-            raise SweepError(msg) from None
-        except ConfigError as err:
-            raise SweepError(str(err)) from None
-        if looks_like_run_config(data):
-            msg = (
-                f"{path} is a run config (sections {', '.join(data)}), not a sweep file: "
-                f"{sweep_format()}; `pde-rotor run` runs a config"
-            )
-            raise SweepError(msg)
-        if not isinstance(data, dict):
-            msg = f"{path}: expected a sweep file, got {type(data).__name__}: {sweep_format()}"
-            raise SweepError(msg)
-        data = apply_sweep_overrides(data, overrides)
-        try:
-            spec = SweepSpec.model_validate(data)
-        except ValidationError as err:
-            raise SweepError(f"{path}: {spec_error(err)}") from None
-        return cls.from_spec(spec, root=path.parent)
+        return cls.from_spec(*read_spec(path, overrides))
 
     @property
     def shape(self) -> tuple[int, ...]:
@@ -184,6 +155,65 @@ class Sweep:
                     )
         self._runs = runs
         return runs
+
+
+def read_spec(path: str | Path, overrides: Iterable[str] = ()) -> tuple[SweepSpec, Path]:
+    """Read and validate a sweep YAML file's specification, without planning its runs.
+
+    Args:
+        path: the sweep file or directory (its sweep.yaml).
+        overrides: ``KEY=VALUE`` changes of the file's keys (:func:`apply_sweep_overrides`).
+
+    Returns:
+        The specification and the directory a relative ``base`` file is read from.
+
+    Raises:
+        SweepError: one line naming the file and the problem.
+    """
+    path = Path(path)
+    if path.is_dir():
+        path = path / SPEC_FILE
+    try:
+        data = parse_yaml(path.read_text(encoding="utf-8"), source=str(path))
+    except OSError as err:
+        msg = f"sweep file {str(path)!r} cannot be read: {err}"
+        raise SweepError(msg) from None
+    except ConfigError as err:
+        raise SweepError(str(err)) from None
+    if looks_like_run_config(data):
+        msg = (
+            f"{path} is a run config (sections {', '.join(data)}), not a sweep file: "
+            f"{sweep_format()}; `pde-rotor run` runs a config"
+        )
+        raise SweepError(msg)
+    if not isinstance(data, dict):
+        msg = f"{path}: expected a sweep file, got {type(data).__name__}: {sweep_format()}"
+        raise SweepError(msg)
+    data = apply_sweep_overrides(data, overrides)
+    try:
+        spec = SweepSpec.model_validate(data)
+    except ValidationError as err:
+        raise SweepError(f"{path}: {spec_error(err)}") from None
+    return spec, path.parent
+
+
+def resolve_base(spec: SweepSpec, root: Path | None = None) -> dict[str, Any]:
+    """The base configuration mapping of `spec`: its base file or mapping, ``set`` applied."""
+    base = read_base(spec.base, root) if isinstance(spec.base, str) else copy.deepcopy(spec.base)
+    for key, value in spec.set.items():
+        _set(base, key, value, "set")
+    return base
+
+
+def base_config(path: str | Path) -> RotorConfig:
+    """The validated base configuration of a sweep file, without planning its runs (a
+    paper-resolution map plans tens of thousands).
+
+    Raises:
+        SweepError: the file or its base is invalid.
+    """
+    spec, root = read_spec(path)
+    return validate_point(resolve_base(spec, root), f"{path}: base")
 
 
 def _set(data: dict[str, Any], key: str, value: Any, where: str) -> None:
