@@ -32,10 +32,9 @@ import numpy as np
 import xarray as xr
 
 from pde_rotor.crossing import DECAY_LEVEL, report_crossing
+from pde_rotor.paper import DECAY_STOP, PLATEAU, PLATEAU_ASYMMETRY, PLATEAU_STOP
 
 ROOT = Path(__file__).resolve().parents[1]
-PLATEAU, PLATEAU_STOP, PLATEAU_ASYMMETRY = 0.2, 3.0, 2e-5
-PAPER_DECAY = 1.4
 
 
 def load(data: Path, name: str) -> xr.Dataset | None:
@@ -87,7 +86,7 @@ def main() -> None:
         found = report_crossing(fig5.squeeze(drop=True), DECAY_LEVEL)
         print(f"2. decay at the calibrated sigma, Delta = 0: {found.describe()}")
         if found.value is not None:
-            inside = (found.low or -np.inf) <= PAPER_DECAY <= (found.high or np.inf)
+            inside = (found.low or -np.inf) <= DECAY_STOP <= (found.high or np.inf)
             print(f"   the paper's 1.4 {'lies' if inside else 'does not lie'} in it")
     if decay is None:
         return

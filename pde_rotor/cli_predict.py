@@ -14,6 +14,7 @@ from typing import Annotated
 import typer
 
 from .cli_common import SetOption, fail
+from .paper import PLATEAU, PLATEAU_ASYMMETRY, PLATEAU_STOP
 
 
 def _diffusion(dw: float | None, sigma: float | None, inertia: float) -> float:
@@ -190,9 +191,15 @@ def register(app: typer.Typer) -> None:
     @predict.command("calibrate")
     def calibrate_command(
         table_path: TableArgument,
-        target: Annotated[float, typer.Option(help="P to reach.")] = 0.2,
-        t_stop: Annotated[float, typer.Option("--t-stop", help="Stop duration of P.")] = 3.0,
-        asymmetry: Annotated[float, typer.Option("--asymmetry", help="Delta of P.")] = 2e-5,
+        target: Annotated[
+            float, typer.Option(help="P to reach (default: the experiment's plateau).")
+        ] = PLATEAU,
+        t_stop: Annotated[
+            float, typer.Option("--t-stop", help="Stop duration of P.")
+        ] = PLATEAU_STOP,
+        asymmetry: Annotated[
+            float, typer.Option("--asymmetry", help="Delta of P.")
+        ] = PLATEAU_ASYMMETRY,
         sweep: Annotated[
             list[Path] | None,
             typer.Option(

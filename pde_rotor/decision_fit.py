@@ -28,6 +28,7 @@ from typing import Any
 import numpy as np
 
 from .decision import DIRECTIONS, DecisionTable, diffusion_of, escape_probability
+from .paper import PLATEAU, PLATEAU_ASYMMETRY, PLATEAU_STOP
 
 SCALE_GRID = np.exp(np.linspace(math.log(1e-3), math.log(1e3), 4001))
 """Candidate κ: 1e-3 to 1e3, 0.35 % apart (finer than any ensemble resolves)."""
@@ -145,9 +146,9 @@ def _best_scale(log_p: np.ndarray, log_q: np.ndarray, k: np.ndarray, n: np.ndarr
 def fit_noise(
     table: DecisionTable,
     outcomes: Sequence[Outcome],
-    target: float = 0.2,
-    t_stop: float = 3.0,
-    asymmetry: float = 2e-5,
+    target: float = PLATEAU,
+    t_stop: float = PLATEAU_STOP,
+    asymmetry: float = PLATEAU_ASYMMETRY,
     resamples: int = RESAMPLES,
     seed: int = 0,
 ) -> NoiseFit:
