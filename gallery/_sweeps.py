@@ -106,10 +106,15 @@ def tiny_sweep(spec_path: Path, work: Path) -> Any:
     return Sweep.from_spec(new)
 
 
-def stored_reports(name: str) -> list[Path]:
-    """Stored reports of sweep `name` under data/, best fidelity first
-    (:func:`pde_rotor.sweep.stored.stored_reports`)."""
-    return stored.stored_reports(name, _common.DATA)
+def stored_reports(name: str, fid: Fidelity) -> list[Path]:
+    """Stored reports of sweep `name` under data/ on the grid of the sweep file that
+    `fid` runs (:func:`sweep_file`), best first
+    (:func:`pde_rotor.sweep.stored.stored_reports`): the full gallery draws the paper
+    grid's reports, ``--quick`` the coarse ones."""
+    from pde_rotor.sweep import base_config
+
+    grid_dx = base_config(sweep_file(name, fid)).grid.dx
+    return stored.stored_reports(name, _common.DATA, grid_dx)
 
 
 def paper_points(x_dim: str, **fixed: float) -> xr.Dataset | None:
@@ -121,8 +126,9 @@ def paper_points(x_dim: str, **fixed: float) -> xr.Dataset | None:
 def sweep_data(name: str, fid: Fidelity, out: Path) -> SweepData:
     """The report of sweep `name` (e.g. "fig5") at fidelity `fid`.
 
-    * full and quick: a stored report from data/ if there is one (the best fidelity
-      stored, which the footer names); otherwise the sweep configs/sweeps/<name>.yaml
+    * full and quick: a stored report from data/ on the grid of this fidelity's sweep
+      file if there is one (:func:`stored_reports`; the footer names it); otherwise the
+      sweep configs/sweeps/<name>.yaml
       (full) or <name>_quick.yaml (quick, with at most ``fid.sweep_samples`` restarts per
       direction and point) is run through :func:`pde_rotor.sweep.run_sweep` into
       data/sweeps/<file stem> (resumable: a rerun continues where it stopped; the
@@ -133,7 +139,7 @@ def sweep_data(name: str, fid: Fidelity, out: Path) -> SweepData:
     from pde_rotor.sweep import REPORT_FILE, report, run_sweep
 
     if not fid.is_tiny:
-        for path in stored_reports(name):
+        for path in stored_reports(name, fid):
             _logger.info("%s: stored report %s", name, path)
             return SweepData(stored.load_report(path), path, computed=False)
     spec_path = sweep_file(name, fid)

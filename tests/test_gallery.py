@@ -190,6 +190,10 @@ def test_fidelity_footer_names_grid_and_samples():
     assert (full.grid.dx, full.grid.dt) == (0.025, 1e-4)  # the paper's resolution
 
 
+def _no_sweep(*args, **kwargs):
+    raise AssertionError("a stored report was expected, not a sweep run")
+
+
 def test_stored_report_is_preferred(tiny_gallery, tmp_path, monkeypatch):
     """With a report under data/, quick mode reads it instead of running the sweep."""
     common, sweeps = sys.modules["_common"], sys.modules["_sweeps"]
@@ -198,11 +202,32 @@ def test_stored_report_is_preferred(tiny_gallery, tmp_path, monkeypatch):
     data.mkdir(parents=True)
     (data / "report.nc").write_bytes(source.read_bytes())
     monkeypatch.setattr(common, "DATA", tmp_path / "data")
-    monkeypatch.setattr(common, "SWEEPS", tmp_path / "no_sweeps")  # running would fail
+    monkeypatch.setattr("pde_rotor.sweep.run_sweep", _no_sweep)
     found = sweeps.sweep_data("fig5", common.fidelity("quick"), tmp_path)
     assert not found.computed
     assert found.source == data / "report.nc"
     assert "stops per point" in found.label()
+
+
+def test_each_fidelity_draws_the_stored_report_of_its_own_grid(tmp_path, monkeypatch):
+    """The full gallery draws data/fig5.nc (dx = 0.025), --quick data/fig5_quick.nc
+    (dx = 0.05), though the finer report has more stops: quick coarse data only in
+    --quick, and the paper grid's only in the full gallery."""
+    load_script(gallery_dir() / "fig5_probability.py")
+    common, sweeps = sys.modules["_common"], sys.modules["_sweeps"]
+    monkeypatch.setattr(common, "DATA", tmp_path)
+    monkeypatch.setattr("pde_rotor.sweep.run_sweep", _no_sweep)
+    for name, dx, stops in (("fig5", 0.025, 200), ("fig5_quick", 0.05, 100)):
+        ds = _report({"t_stop": [0.5, 3.0]}, {}, 0.8)
+        ds["stops"][:] = stops
+        ds.attrs["grid_dx"] = dx
+        ds.to_netcdf(tmp_path / f"{name}.nc", engine="h5netcdf")
+    full = sweeps.sweep_data("fig5", common.fidelity("full"), tmp_path)
+    quick = sweeps.sweep_data("fig5", common.fidelity("quick"), tmp_path)
+    assert (full.source.name, quick.source.name) == ("fig5.nc", "fig5_quick.nc")
+    (tmp_path / "fig5_quick.nc").unlink()
+    with pytest.raises(AssertionError, match="not a sweep run"):
+        sweeps.sweep_data("fig5", common.fidelity("quick"), tmp_path)
 
 
 def test_curve_requires_the_other_axes_fixed(tiny_gallery):
@@ -337,6 +362,8 @@ def test_the_report_with_more_stops_is_drawn(tmp_path):
         "sweeps/fig5/report.nc",
         "fig5_quick.nc",
     ]
+    coarse = stored_reports("fig5", tmp_path, grid_dx=0.05)
+    assert [p.relative_to(tmp_path).as_posix() for p in coarse] == ["fig5_quick.nc"]
 
 
 def test_paper_points_footer_names_its_files_and_stop_counts(tmp_path, monkeypatch, capsys):

@@ -105,31 +105,40 @@ def load_report(path: Path) -> xr.Dataset:
     return ds
 
 
-def stored_reports(name: str, data_dir: Path) -> list[Path]:
+def stored_reports(name: str, data_dir: Path, grid_dx: float | None = None) -> list[Path]:
     """Stored reports of sweep `name` under `data_dir` (any variant), best fidelity first.
 
     A report is a NetCDF file whose name (or directory name) is `name` or starts with
     `name` followed by "_" or "-"; the finest grid is preferred, then more stops in all
     (a whole design's partial report, data/NAME.nc, before the report of its last
     subset run that a sweep directory holds).
+
+    Args:
+        name: the sweep's name (e.g. "fig5").
+        data_dir: where to look (recursively).
+        grid_dx: only reports computed at this dx (their ``grid_dx`` attribute), so that a
+            coarse fidelity never draws the paper grid's data nor the other way round;
+            None: every grid.
     """
     if not data_dir.is_dir():
         return []
-    found = []
+    found: list[tuple[tuple[float, float], Path]] = []
     for path in data_dir.rglob("*.nc"):
         label = path.stem if path.stem != "report" else path.parent.name
         if label == name or label.startswith((f"{name}_", f"{name}-")):
-            found.append(path)
+            dx, stops = _grid_and_stops(path)
+            if grid_dx is None or math.isclose(dx, grid_dx, rel_tol=1e-6):
+                found.append(((dx, -stops), path))
+    return [path for _, path in sorted(found)]
 
-    def rank(path: Path) -> tuple[float, float]:
-        """Finer grid first, then more stops in all."""
-        try:
-            with xr.open_dataset(path, engine="h5netcdf") as ds:
-                return (float(ds.attrs.get("grid_dx", math.inf)), -float(ds["stops"].sum()))
-        except (OSError, ValueError, KeyError):
-            return (math.inf, 0.0)
 
-    return sorted(found, key=rank)
+def _grid_and_stops(path: Path) -> tuple[float, float]:
+    """dx and the stops in all of a stored report (inf and 0 where it cannot be read)."""
+    try:
+        with xr.open_dataset(path, engine="h5netcdf") as ds:
+            return float(ds.attrs.get("grid_dx", math.inf)), float(ds["stops"].sum())
+    except (OSError, ValueError, KeyError):
+        return math.inf, 0.0
 
 
 def curve(ds: xr.Dataset, x_dim: str, **fixed: float) -> xr.Dataset:
