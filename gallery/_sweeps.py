@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import json
 import logging
+import math
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -25,6 +27,15 @@ from pde_rotor.figures import (
     errorbar_p,
     probability_axes,
 )
+from pde_rotor.paper import (
+    DECAY_STOP,
+    NO_FLOW_FAVOURED,
+    ONSET_ASYMMETRY,
+    ONSET_STOP,
+    PLATEAU,
+    PLATEAU_ASYMMETRY,
+)
+from pde_rotor.stats import chain_probability
 from pde_rotor.sweep import stored
 from pde_rotor.sweep.estimates import POOLED
 from pde_rotor.sweep.stored import SweepData, curve
@@ -33,11 +44,13 @@ from pde_rotor.units import TIME_UNITS
 __all__ = [
     "ASYMMETRY_LABEL",
     "MODEL_LABEL",
+    "PAPER_CLAIMS",
     "STOP_LABEL",
     "curve",
     "draw_conditionals",
     "draw_crossing",
     "draw_model",
+    "draw_paper_claims",
     "draw_paper_points",
     "draw_shared_points",
     "errorbar_p",
@@ -226,6 +239,83 @@ def probability_footer(fid: Fidelity, data: SweepData) -> str:
         f"pde_rotor, {fid.name} run of the gallery; {data.label()}; {where}; "
         f"95 % interval: {interval}; backend {CPU_BACKEND}"
     )
+
+
+@dataclass(frozen=True)
+class PaperClaim:
+    """A value the paper states in words for one of its probability figures.
+
+    Attributes:
+        text: the statement, as the legend gives it after "paper: ".
+        level: the stated P (a horizontal line), or None.
+        at: the stated t_stop or Delta (a vertical line), or None; with `level`, a star at
+            (at, level).
+        asymmetry: the curve of a multi-curve figure it belongs to (Fig. 8), or None.
+    """
+
+    text: str
+    level: float | None = None
+    at: float | None = None
+    asymmetry: float | None = None
+
+
+_CHAIN_NO_FLOW = chain_probability(NO_FLOW_FAVOURED, 1 - NO_FLOW_FAVOURED)
+PAPER_CLAIMS: dict[str, tuple[PaperClaim, ...]] = {
+    "fig5": (
+        PaperClaim(f"P decays near t_stop \u2248 {DECAY_STOP:g}", at=DECAY_STOP),
+        PaperClaim("\u2192 0.5 for long stops", level=0.5),
+    ),
+    "fig7a": (
+        PaperClaim(f"P starts to decay near t_stop \u2248 {ONSET_STOP:g}", at=ONSET_STOP),
+        PaperClaim("\u2192 0 for long stops", level=0.0),
+    ),
+    "fig7b": (PaperClaim(f"long-stop plateau \u2248 {PLATEAU:g} (experiment)", level=PLATEAU),),
+    "fig7c": (
+        PaperClaim("0.5 at \u0394 = 0", level=0.5, at=0.0),
+        PaperClaim("\u2192 0 as \u0394 grows", level=0.0),
+    ),
+    "fig8": (
+        PaperClaim("\u0394 = 0 random", level=0.5, asymmetry=0.0),
+        PaperClaim(
+            f"\u0394 = {PLATEAU_ASYMMETRY:g} favourable w.p. {NO_FLOW_FAVOURED:g}, "
+            f"P = 2ab/(a+b) = {_CHAIN_NO_FLOW:.2f}",
+            level=_CHAIN_NO_FLOW,
+            asymmetry=PLATEAU_ASYMMETRY,
+        ),
+        PaperClaim(
+            f"\u0394 = {ONSET_ASYMMETRY:g} always favourable", level=0.0, asymmetry=ONSET_ASYMMETRY
+        ),
+    ),
+}
+"""The values the paper states for Figs. 5, 7 and 8 (its text; its figures have no
+tabulated data), by sweep name: every probability figure marks them."""
+
+
+def draw_paper_claims(
+    ax: Any, sweep: str, asymmetry: float | None = None, color: str = "0.35"
+) -> list[str]:
+    """Mark the paper's stated values of `sweep` (:data:`PAPER_CLAIMS`) in grey: a
+    dash-dotted line at a stated P, a dashed one at a stated t_stop or Delta, a star where
+    both are stated. With `asymmetry`, only that curve's claims (Fig. 8).
+
+    Returns:
+        The statements drawn.
+    """
+    drawn = []
+    for claim in PAPER_CLAIMS[sweep]:
+        if asymmetry is not None and (
+            claim.asymmetry is None or not math.isclose(claim.asymmetry, asymmetry, abs_tol=1e-12)
+        ):
+            continue
+        label = f"paper: {claim.text}"
+        if claim.level is not None and claim.at is not None:
+            ax.plot(claim.at, claim.level, "*", color=color, mec="k", ms=13, zorder=6, label=label)
+        elif claim.level is not None:
+            ax.axhline(claim.level, color=color, lw=1.1, ls="-.", zorder=1, label=label)
+        elif claim.at is not None:
+            ax.axvline(claim.at, color=color, lw=1.1, ls="--", zorder=1, label=label)
+        drawn.append(claim.text)
+    return drawn
 
 
 def draw_paper_points(

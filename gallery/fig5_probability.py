@@ -7,7 +7,7 @@ with its 95 % interval, and faintly the conditional probabilities from CCW and C
 rotation, and the decay point, where P falls through 0.75, with its 95 % interval
 (:mod:`pde_rotor.crossing`), and dashed the decision model's prediction where
 data/decision/ holds the report's model (issue 14 §4). The paper: P = 1 for small
-t_stop, decaying near t_stop = 1.4 to 0.5.
+t_stop, decaying near t_stop = 1.4 to 0.5 (marked in grey, :data:`_sweeps.PAPER_CLAIMS`).
 
 Run: ``python gallery/fig5_probability.py [--quick | --tiny]``.
 """
@@ -29,6 +29,7 @@ from _sweeps import (
     draw_conditionals,
     draw_crossing,
     draw_model,
+    draw_paper_claims,
     draw_paper_points,
     errorbar_p,
     print_points,
@@ -41,8 +42,6 @@ from pde_rotor.crossing import DECAY_LEVEL
 
 NAME = "fig5_probability"
 SWEEP = "fig5"
-PAPER_DECAY = 1.4
-"""t_stop near which the paper's P decays ("It decayed around t_stop = 1.4")."""
 
 
 def main(argv: Sequence[str] | None = None) -> list[Path]:
@@ -58,7 +57,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     draw_crossing(ax, f"{NAME}: ", ds, DECAY_LEVEL, "decay point")
     model = draw_model(ax, f"{NAME}: ", ds, "t_stop", "tab:red")
     paper = draw_paper_points(ax, f"{NAME}: ", "t_stop", asymmetry=0.0, enabled=1.0)
-    ax.axvline(PAPER_DECAY, color="0.6", ls="--", lw=0.8, label="paper: decay near 1.4")
+    draw_paper_claims(ax, SWEEP)
     probability_axes(ax, STOP_LABEL)
     ax.legend(fontsize=8)
     ax.set_title(

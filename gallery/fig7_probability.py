@@ -8,11 +8,11 @@ its 95 % interval; faintly the conditional probabilities from CCW and from CW ro
 (for Delta > 0 CW is favoured: P(inv | CCW) > P(inv | CW)); in (a) the onset, where P
 falls through 0.5, with its 95 % interval (:mod:`pde_rotor.crossing`). The paper:
 (a) P = 1 for small t_stop, decaying near t_stop = 1 to 0; (b) a plateau near 0.2, as
-in the experiment; (c) P falls from 0.5 to 0 as Delta grows. Panel (c) also draws the
-t_stop = 3 points of the curves of Figs. 5, 7(a) and 7(b) (open squares) where their
-stored reports hold the model of ``fig7c``: fig7c need not measure Delta = 0, 2e-5 and
-1e-4 again. Dashed: the decision model's prediction (issue 14 §4), where data/decision/
-holds a panel's model.
+in the experiment; (c) P falls from 0.5 to 0 as Delta grows (marked in grey,
+:data:`_sweeps.PAPER_CLAIMS`). Panel (c) also draws the t_stop = 3 points of the
+curves of Figs. 5, 7(a) and 7(b) (open squares) where their stored reports hold the
+model of ``fig7c``: fig7c need not measure Delta = 0, 2e-5 and 1e-4 again. Dashed: the
+decision model's prediction (issue 14 §4), where data/decision/ holds a panel's model.
 
 Run: ``python gallery/fig7_probability.py [--quick | --tiny]``.
 """
@@ -35,6 +35,7 @@ from _sweeps import (
     draw_conditionals,
     draw_crossing,
     draw_model,
+    draw_paper_claims,
     draw_paper_points,
     draw_shared_points,
     errorbar_p,
@@ -80,6 +81,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
             span = (0.0, 1e-4)
         model = draw_model(ax, prefix, ds, x_dim, "tab:blue", span) or model
         paper = draw_paper_points(ax, prefix, x_dim, enabled=1.0, **fixed) or paper
+        draw_paper_claims(ax, sweep)
         probability_axes(ax, STOP_LABEL if x_dim == "t_stop" else ASYMMETRY_LABEL)
         if x_dim == "asymmetry":
             ax.ticklabel_format(axis="x", style="sci", scilimits=(0, 0))

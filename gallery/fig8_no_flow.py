@@ -6,8 +6,10 @@ fig8_quick.yaml through :mod:`pde_rotor.sweep`; ``--tiny``: a shrunken copy). Ma
 in the paper: red closed circles Delta = 0, green open triangles 2e-5, blue open squares
 1e-4. The paper: no systematic inversion for any t_stop; random direction for Delta = 0,
 always the favourable direction for 1e-4, the favourable one with probability 0.8 for
-2e-5. Dashed: the decision model's prediction without flow (issue 14 §4), where
-data/decision/ holds the report's model.
+2e-5 (P = 2ab/(a+b) = 0.32 of the two-state chain with a = 0.8, b = 0.2); each is
+marked in its curve's colour (dash-dotted, :data:`_sweeps.PAPER_CLAIMS`). Dashed: the
+decision model's prediction without flow (issue 14 §4), where data/decision/ holds the
+report's model.
 
 Run: ``python gallery/fig8_no_flow.py [--quick | --tiny]``.
 """
@@ -28,6 +30,7 @@ from _sweeps import (
     STOP_LABEL,
     curve,
     draw_model,
+    draw_paper_claims,
     draw_paper_points,
     errorbar_p,
     print_points,
@@ -67,6 +70,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
         span = (float(x.min()), float(x.max()))
         prefix = f"{NAME}: Delta = {value:g}, "
         model = draw_model(ax, prefix, ds, "t_stop", colour, span, label=None) or model
+        draw_paper_claims(ax, SWEEP, asymmetry=value, color=colour)
         found = draw_paper_points(
             ax,
             f"{NAME}: Delta = {value:g}, ",

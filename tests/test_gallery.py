@@ -384,6 +384,33 @@ def test_paper_points_footer_names_its_files_and_stop_counts(tmp_path, monkeypat
     capsys.readouterr()
 
 
+def test_probability_figures_mark_the_papers_stated_values():
+    """Figs. 5, 7 and 8 draw every value the paper states (pde_rotor.paper) in their
+    legends; Fig. 8's Delta = 2e-5 claim, "favourable with probability 0.8", is the chain
+    value 2ab/(a+b) = 0.32 of a = 0.8, b = 0.2, and each curve gets only its own claims."""
+    from matplotlib.figure import Figure
+
+    from pde_rotor.paper import DECAY_STOP, ONSET_STOP, PLATEAU
+
+    load_script(gallery_dir() / "fig5_probability.py")
+    sweeps = sys.modules["_sweeps"]
+    ax = Figure().add_subplot()
+    assert len(sweeps.draw_paper_claims(ax, "fig5")) == 2
+    assert [line.get_xdata()[0] for line in ax.lines] == [DECAY_STOP, 0.0]
+    assert ax.lines[1].get_ydata()[0] == 0.5
+    for sweep, value in (("fig7a", ONSET_STOP), ("fig7b", PLATEAU)):
+        labels = [f"paper: {text}" for text in sweeps.draw_paper_claims(ax, sweep)]
+        assert f"{value:g}" in labels[0]
+        assert labels == [line.get_label() for line in ax.lines[-len(labels) :]]
+    ax = Figure().add_subplot()
+    assert len(sweeps.draw_paper_claims(ax, "fig8", asymmetry=2e-5, color="tab:green")) == 1
+    (line,) = ax.lines
+    assert line.get_ydata()[0] == pytest.approx(2 * 0.8 * 0.2)
+    assert line.get_color() == "tab:green"
+    assert "0.32" in line.get_label()
+    assert sweeps.draw_paper_claims(ax, "fig8", asymmetry=5e-5) == []
+
+
 def test_footers_are_readable_at_100_percent():
     """Footers at 9 pt or more (7 pt was too small to read)."""
     from matplotlib.figure import Figure
