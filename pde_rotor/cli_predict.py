@@ -170,7 +170,14 @@ def register(app: typer.Typer) -> None:
             list[float],
             typer.Option("--t-stop", help="Stop duration; repeatable (--t-stop 1 --t-stop 1.5)."),
         ],
-        asymmetry: Annotated[float, typer.Option("--asymmetry", help="Delta.")] = 0.0,
+        asymmetry: Annotated[
+            list[float] | None,
+            typer.Option(
+                "--asymmetry",
+                help="Delta; repeatable (--asymmetry 0 --asymmetry 2e-5); every t_stop is "
+                "printed at every Delta [default: 0].",
+            ),
+        ] = None,
         dw: DwOption = None,
         sigma: SigmaOption = None,
     ) -> None:
@@ -180,13 +187,14 @@ def register(app: typer.Typer) -> None:
         for t in t_stop:
             if not 0 <= t <= table.t_max:
                 fail(f"--t-stop {t:g}: outside the table's [0, {table.t_max:g}]")
-        for t in t_stop:
-            a, b = table.conditionals(t, asymmetry, diffusion)
-            p = table.probability(t, asymmetry, diffusion)
-            typer.echo(
-                f"t_stop = {t:g}, Delta = {asymmetry:g}, Dw = {diffusion:.3g}: "
-                f"P(inv|CCW) = {float(a):.3f}, P(inv|CW) = {float(b):.3f}, P = {float(p):.3f}"
-            )
+        for delta in asymmetry or [0.0]:
+            for t in t_stop:
+                a, b = table.conditionals(t, delta, diffusion)
+                p = table.probability(t, delta, diffusion)
+                typer.echo(
+                    f"t_stop = {t:g}, Delta = {delta:g}, Dw = {diffusion:.3g}: P(inv|CCW) = "
+                    f"{float(a):.3f}, P(inv|CW) = {float(b):.3f}, P = {float(p):.3f}"
+                )
 
     @predict.command("calibrate")
     def calibrate_command(

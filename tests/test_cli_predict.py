@@ -42,6 +42,19 @@ def test_point_takes_the_stop_duration_repeated(table_path: Path) -> None:
         assert f"P = {float(synthetic().probability(t, 2e-5, 1e-4)):.3f}" in line
 
 
+def test_point_takes_the_asymmetry_repeated(table_path: Path) -> None:
+    """Two --asymmetry values give every t_stop at both (the option kept only the last)."""
+    args = ["--t-stop", "1", "--t-stop", "3", "--asymmetry", "0", "--asymmetry", "2e-5"]
+    result = invoke("point", str(table_path), *args, "--dw", "1e-4")
+    assert result.exit_code == 0, result.output
+    lines = result.output.splitlines()
+    points = [(1.0, 0.0), (3.0, 0.0), (1.0, 2e-5), (3.0, 2e-5)]
+    assert len(lines) == len(points)
+    for (t, delta), line in zip(points, lines, strict=True):
+        assert line.startswith(f"t_stop = {t:g}, Delta = {delta:g},")
+        assert f"P = {float(synthetic().probability(t, delta, 1e-4)):.3f}" in line
+
+
 def test_sigma_and_dw_give_the_same_point(table_path: Path) -> None:
     by_dw = invoke("point", str(table_path), "--t-stop", "2", "--dw", "4e-4")
     by_sigma = invoke("point", str(table_path), "--t-stop", "2", "--sigma", "2e-7")
