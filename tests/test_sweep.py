@@ -145,7 +145,7 @@ def test_base_config_reads_a_large_design_without_planning_it(tmp_path, monkeypa
     without planning its runs; an invalid base is the same one-line error as Sweep.load."""
     (tmp_path / "base.yaml").write_text(yaml.safe_dump(TINY_BASE), encoding="utf-8")
     axes = {"protocol.t_stop": {"start": 0.1, "stop": 4.0, "num": 400}}
-    data = {**TINY_SWEEP, "base": "base.yaml", "set": {"grid.dx": 0.04}, "axes": axes}
+    data = {**TINY_SWEEP, "base": "base.yaml", "set": {"grid.dx": 0.0625}, "axes": axes}
     path = write_sweep(tmp_path / "s.yaml", data)
 
     def no_planning(self):
@@ -154,7 +154,7 @@ def test_base_config_reads_a_large_design_without_planning_it(tmp_path, monkeypa
     monkeypatch.setattr(Sweep, "runs", no_planning)
     config = base_config(path)
     assert isinstance(config, RotorConfig)
-    assert (config.grid.dx, config.grid.domain_radius) == (0.04, 1.75)
+    assert (config.grid.dx, config.grid.domain_radius) == (0.0625, 1.75)
     write_sweep(path, {**data, "set": {"grid.dx": -1.0}})
     with pytest.raises(SweepError, match=r"grid\.dx"):
         base_config(path)
