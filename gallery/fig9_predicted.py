@@ -26,12 +26,11 @@ from pde_rotor.cli_predict import table_footer
 from pde_rotor.config import CALIBRATED_SIGMA
 from pde_rotor.decision import diffusion_of, load_table
 from pde_rotor.decision_plot import draw_map, ensemble_points
+from pde_rotor.paper import PLATEAU, PLATEAU_ASYMMETRY, PLATEAU_STOP
 from pde_rotor.sweep.stored import load_report
 
 NAME = "fig9_predicted"
 TABLE = DATA / "decision" / "dx40.nc"
-PLATEAU = (0.2, 3.0, 2e-5)
-"""The calibration target: P = 0.2 at t_stop = 3, Delta = 2e-5 (Fig. 7(b), experiment)."""
 RESOLUTION = {"full": 200, "quick": 100, "tiny": 12}
 """Map points along t_stop (half as many along Delta)."""
 
@@ -43,7 +42,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
         msg = f"{TABLE}: no decision table (pde-rotor predict measure paper ... -o {TABLE})"
         raise FileNotFoundError(msg)
     table = load_table(TABLE)
-    target, t_stop, asymmetry = PLATEAU
+    target, t_stop, asymmetry = PLATEAU, PLATEAU_STOP, PLATEAU_ASYMMETRY
     own = table.calibrate(target, t_stop, asymmetry, (1e-9, 1e2))
     sigma = CALIBRATED_SIGMA
     diffusion = diffusion_of(sigma, table.inertia)

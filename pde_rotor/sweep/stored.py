@@ -5,6 +5,7 @@ gallery)."""
 from __future__ import annotations
 
 import json
+import logging
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -19,6 +20,8 @@ from ..figures import count_range
 from ..stats import wilson_interval
 from .estimates import CHAIN, POOLED
 from .reporting import P_RULE, VARIABLES
+
+_logger = logging.getLogger(__name__)
 
 
 @dataclass
@@ -129,6 +132,8 @@ def stored_reports(name: str, data_dir: Path, grid_dx: float | None = None) -> l
             dx, stops = _grid_and_stops(path)
             if grid_dx is None or math.isclose(dx, grid_dx, rel_tol=1e-6):
                 found.append(((dx, -stops), path))
+            elif math.isinf(dx):
+                _logger.warning("%s: unreadable or without grid_dx, not used for %s", path, name)
     return [path for _, path in sorted(found)]
 
 
