@@ -211,8 +211,9 @@ def test_stored_report_is_preferred(tiny_gallery, tmp_path, monkeypatch):
 
 def test_each_fidelity_draws_the_stored_report_of_its_own_grid(tmp_path, monkeypatch):
     """The full gallery draws data/fig5.nc (dx = 0.025), --quick data/fig5_quick.nc
-    (dx = 0.05), though the finer report has more stops: quick coarse data only in
-    --quick, and the paper grid's only in the full gallery."""
+    (dx = 0.05), which the finest-grid-first ranking alone would not choose: quick
+    coarse data only in --quick, and the paper grid's only in the full gallery; without
+    a report on its grid, --quick runs its sweep."""
     load_script(gallery_dir() / "fig5_probability.py")
     common, sweeps = sys.modules["_common"], sys.modules["_sweeps"]
     monkeypatch.setattr(common, "DATA", tmp_path)
@@ -385,30 +386,38 @@ def test_paper_points_footer_names_its_files_and_stop_counts(tmp_path, monkeypat
 
 
 def test_probability_figures_mark_the_papers_stated_values():
-    """Figs. 5, 7 and 8 draw every value the paper states (pde_rotor.paper) in their
-    legends; Fig. 8's Delta = 2e-5 claim, "favourable with probability 0.8", is the chain
-    value 2ab/(a+b) = 0.32 of a = 0.8, b = 0.2, and each curve gets only its own claims."""
+    """draw_paper_claims draws each value of pde_rotor.paper where it belongs: a vertical
+    line at a stated t_stop, a horizontal one at a stated P, a star at a stated point;
+    Fig. 8's "favourable with probability 0.8" at Delta = 2e-5 is the chain value
+    2ab/(a+b) = 0.32 of a = 0.8, b = 0.2, and each of its curves gets only its own."""
     from matplotlib.figure import Figure
 
     from pde_rotor.paper import DECAY_STOP, ONSET_STOP, PLATEAU
 
     load_script(gallery_dir() / "fig5_probability.py")
     sweeps = sys.modules["_sweeps"]
-    ax = Figure().add_subplot()
-    assert len(sweeps.draw_paper_claims(ax, "fig5")) == 2
-    assert [line.get_xdata()[0] for line in ax.lines] == [DECAY_STOP, 0.0]
-    assert ax.lines[1].get_ydata()[0] == 0.5
-    for sweep, value in (("fig7a", ONSET_STOP), ("fig7b", PLATEAU)):
-        labels = [f"paper: {text}" for text in sweeps.draw_paper_claims(ax, sweep)]
-        assert f"{value:g}" in labels[0]
-        assert labels == [line.get_label() for line in ax.lines[-len(labels) :]]
-    ax = Figure().add_subplot()
-    assert len(sweeps.draw_paper_claims(ax, "fig8", asymmetry=2e-5, color="tab:green")) == 1
-    (line,) = ax.lines
-    assert line.get_ydata()[0] == pytest.approx(2 * 0.8 * 0.2)
-    assert line.get_color() == "tab:green"
-    assert "0.32" in line.get_label()
-    assert sweeps.draw_paper_claims(ax, "fig8", asymmetry=5e-5) == []
+
+    def drawn(sweep: str, **kwargs) -> list:
+        ax = Figure().add_subplot()
+        sweeps.draw_paper_claims(ax, sweep, **kwargs)
+        return ax.lines
+
+    decay, limit = drawn("fig5")
+    assert list(decay.get_xdata()) == [DECAY_STOP, DECAY_STOP]
+    assert list(limit.get_ydata()) == [0.5, 0.5]
+    onset, zero = drawn("fig7a")
+    assert list(onset.get_xdata()) == [ONSET_STOP, ONSET_STOP]
+    assert list(zero.get_ydata()) == [0.0, 0.0]
+    (plateau,) = drawn("fig7b")
+    assert list(plateau.get_ydata()) == [PLATEAU, PLATEAU]
+    star, _ = drawn("fig7c")
+    assert (star.get_marker(), list(star.get_xdata()), list(star.get_ydata())) == ("*", [0], [0.5])
+    (favoured,) = drawn("fig8", asymmetry=2e-5, color="tab:green")
+    assert favoured.get_ydata()[0] == pytest.approx(2 * 0.8 * 0.2 / (0.8 + 0.2))
+    assert favoured.get_color() == "tab:green"
+    assert "0.32" in favoured.get_label()
+    assert [line.get_ydata()[0] for line in drawn("fig8", asymmetry=1e-4)] == [0.0]
+    assert len(drawn("fig8", asymmetry=5e-5)) == 0
 
 
 def test_footers_are_readable_at_100_percent():

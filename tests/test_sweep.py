@@ -142,7 +142,7 @@ def test_base_from_a_file_and_set_overrides(tmp_path):
 
 def test_base_config_reads_a_large_design_without_planning_it(tmp_path, monkeypatch):
     """base_config gives the validated base of a sweep file (base file, ``set`` applied)
-    without planning its runs; an invalid base is the same one-line error as Sweep.load."""
+    without planning its runs; an invalid base is one SweepError naming the key."""
     (tmp_path / "base.yaml").write_text(yaml.safe_dump(TINY_BASE), encoding="utf-8")
     axes = {"protocol.t_stop": {"start": 0.1, "stop": 4.0, "num": 400}}
     data = {**TINY_SWEEP, "base": "base.yaml", "set": {"grid.dx": 0.0625}, "axes": axes}
