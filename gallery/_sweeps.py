@@ -379,9 +379,9 @@ def draw_shared_points(
     Returns:
         A footer line naming the reports, or "" if none holds such points.
     """
-    from pde_rotor.sweep import Sweep
+    from pde_rotor.sweep.plan import read_spec, resolve_base
 
-    base = Sweep.load(sweep_file(like, fidelity("full"))).base
+    base = resolve_base(*read_spec(sweep_file(like, fidelity("full"))))
     pts = stored.curve_points(_common.DATA, x_dim, sweeps, like=base, **fixed)
     if pts is None:
         return ""
