@@ -6,7 +6,7 @@ noise-free and one stop is shared by all noise intensities (and in the stored ba
 reports, written before run-file version 2, the stop angles follow a golden-ratio
 sequence instead of uniform random draws). This script compares
 two stored reports on their common points: P(inv | CCW) and P(inv | CW) with Fisher's
-exact test, Holm-corrected over all tests (pde_rotor.stats.two_proportion_test).
+exact test, Holm-corrected over all tests (pde_rotor.statistics.proportions.two_proportion_test).
 
 Default: the restart pilot data/calibration_pilot.nc (paper resolution, 20 restarts per
 direction) against the bank calibration data/calibration.nc (60 per direction), at
@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from pde_rotor.stats import Proportion, two_proportion_test
+from pde_rotor.statistics.proportions import Proportion, two_proportion_test
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -1,4 +1,4 @@
-"""Measure the constants of the cost estimate (pde_rotor.cost) on this machine.
+"""Measure the constants of the cost estimate (pde_rotor.sweep.cost) on this machine.
 
 Times the fused solver on the paper's grid (dx = delta = 0.025) and on the coarse grid
 (dx = delta = 0.05) of a turning rotor, fits the cost per interior cell and per support
@@ -6,7 +6,7 @@ cell of one step to the two, checks the fit on a third grid (dx = delta = 1/30);
 a stopped plate on the same grids (F and G are not recomputed: only the rotor integrals
 cost on the support cells) and fits its cost per support cell with the interior cost of
 the turning fit; and times the movie frames of configs/quickstart.yaml.
-pde_rotor/cost.py holds the constants fitted to the README's 0.29 ms/step on the paper's
+pde_rotor/sweep/cost.py holds the constants fitted to the README's 0.29 ms/step on the paper's
 grid and the coarse/paper ratio this script measures (0.44-0.50), and the stopped/turning
 ratio it measures; a machine that is faster or slower scales them all.
 
@@ -23,7 +23,7 @@ import numpy as np
 
 from pde_rotor import Simulation, run
 from pde_rotor.config import load_config, validate_config
-from pde_rotor.cost import (
+from pde_rotor.sweep.cost import (
     SECONDS_PER_CELL_STEP,
     SECONDS_PER_STOPPED_SUPPORT_CELL_STEP,
     SECONDS_PER_SUPPORT_CELL_STEP,
@@ -71,7 +71,10 @@ def main() -> None:
     per_cell, per_support = np.linalg.solve(matrix, [1e-3 * ms for ms, _ in rows])
     print(f"fit: {per_cell:.3g} s per interior cell-step, {per_support:.3g} s per support one")
     per_support_now = SECONDS_PER_SUPPORT_CELL_STEP[args.scheme]
-    print(f"pde_rotor.cost ({args.scheme}): {SECONDS_PER_CELL_STEP:.3g} and {per_support_now:.3g}")
+    print(
+        f"pde_rotor.sweep.cost ({args.scheme}): "
+        f"{SECONDS_PER_CELL_STEP:.3g} and {per_support_now:.3g}"
+    )
     ms, (interior, support) = measured["third"]
     predicted = 1e3 * (interior * per_cell + support * per_support)
     print(f"third grid: predicted {predicted:.3f} ms/step, measured {ms:.3f}")

@@ -3,7 +3,7 @@
 Prints, at the paper's resolution (dx = 0.025, dt = 1e-4: 242 x 242 cells, 45 244 of them
 inside the disk of radius 3):
 
-(a) ms/step of the fused kernel (pde_rotor.solver) with the ``paper`` scheme, single
+(a) ms/step of the fused kernel (pde_rotor.solver.rotor) with the ``paper`` scheme, single
     thread, full physics;
 (b) ms/step of RotorPDE.make_operator_stepper, the equations composed from py-pde's
     compiled operators (grid.make_operator) with F and G evaluated on the whole grid;
@@ -11,7 +11,7 @@ their ratio, the largest relative difference of the two states after the same st
 (c) ms/step of the fused kernel with the ``consistent`` scheme (numerics.scheme, the
     default) and its ratio to (a), timed in the same run;
 (d) for each scheme, ms per call of the parts of a step (the compiled functions of
-    pde_rotor.solver): F and G at a new angle, the rotor integrals of Eq. (eq_motion)
+    pde_rotor.solver.rotor): F and G at a new angle, the rotor integrals of Eq. (eq_motion)
     (with, for ``consistent``, the spline window of c for the contour torque) and the
     Euler update of Eqs. (eqc), (eqv): where a step's time goes;
 and the steady angular velocity omega(t = 8) without noise for each scheme (paper: ~176;
@@ -28,8 +28,8 @@ import time
 import numpy as np
 
 from pde_rotor import RotorConfig, Simulation
-from pde_rotor.indicators import update_indicators
-from pde_rotor.stepping import euler_fields, rotor_integrals, spline_window
+from pde_rotor.kernels.cpu import euler_fields, rotor_integrals, spline_window
+from pde_rotor.kernels.indicators import update_indicators
 
 
 def time_fused(sim: Simulation, n_steps: int) -> float:

@@ -1,9 +1,9 @@
 """Lattice torque of the contour-form torque with different interpolants of c.
 
-The ``consistent`` scheme (:mod:`pde_rotor.schemes`) takes the torque of Eq. (torque) as
+The ``consistent`` scheme (:mod:`pde_rotor.model.schemes`) takes the torque of Eq. (torque) as
 a contour integral whose nodes turn with the plate, so its lattice torque comes from how
 c is interpolated between cell centres (and from the discrete c itself). This script
-holds the steady c of a stopped symmetric plate (sparse solve, :mod:`pde_rotor.analysis`)
+holds the steady c of a stopped symmetric plate (sparse solve, :mod:`pde_rotor.model.analysis`)
 at `--angles` angles over one period pi/6 and evaluates the contour torque with:
 a Catmull-Rom interpolant (``cr``, the scheme's first version), tensor-product Lagrange interpolants
 on 4, 6 and 8 points (``lag4`` ...) and interpolating cubic and quintic splines
@@ -23,10 +23,10 @@ import numpy as np
 from scipy.interpolate import RectBivariateSpline
 
 from pde_rotor import RotorConfig
-from pde_rotor.analysis import stopped_concentration
-from pde_rotor.geometry import edge_normal_angles
-from pde_rotor.model import RotorPDE
-from pde_rotor.schemes import Scheme
+from pde_rotor.model.analysis import stopped_concentration
+from pde_rotor.model.geometry import edge_normal_angles
+from pde_rotor.model.pde import RotorPDE
+from pde_rotor.model.schemes import Scheme
 
 Interpolant = Callable[[np.ndarray, float, float, np.ndarray, np.ndarray], np.ndarray]
 

@@ -42,9 +42,9 @@ from typing import Any
 import numpy as np
 
 from pde_rotor import RotorConfig, Simulation
-from pde_rotor.analysis import stopped_torque
 from pde_rotor.config import NumericsConfig
-from pde_rotor.output import write_text_atomic
+from pde_rotor.io.output import write_text_atomic
+from pde_rotor.model.analysis import stopped_torque
 
 STORE = Path(__file__).resolve().parents[1] / "data" / "convergence"
 SMOOTHING = 0.025

@@ -22,7 +22,7 @@ import time
 import numpy as np
 
 from pde_rotor import RotorConfig, Simulation
-from pde_rotor.analysis import stopped_torque
+from pde_rotor.model.analysis import stopped_torque
 
 ASYMMETRY = 2e-5
 T_SPIN = 6.0

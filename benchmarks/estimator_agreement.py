@@ -6,7 +6,7 @@ M = 100 stop-and-release cycles with t_release = 10, and (b) the restart estimat
 sweeps (pde_rotor.sweep) on a LocalCluster. It then compares P(inversion | CCW) and
 P(inversion | CW) of the two estimators with Fisher's exact test (Holm-corrected), and
 the protocol's inversions / M with the restarts' two-state-chain combination by the
-overlap of their 95 % intervals (pde_rotor.stats.compare_estimators).
+overlap of their 95 % intervals (pde_rotor.statistics.proportions.compare_estimators).
 
 Default case: coarse grid (the shipped base pde_rotor/bases/coarse.yaml), Delta = 1e-4 and
 t_stop = 3, where the two conditional probabilities differ (Delta > 0 favours CW), so
@@ -23,7 +23,7 @@ from pathlib import Path
 
 import yaml
 
-from pde_rotor.stats import DirectionCounts, Proportion, compare_estimators
+from pde_rotor.statistics.proportions import DirectionCounts, Proportion, compare_estimators
 from pde_rotor.sweep import Sweep, SweepSpec, gather, run_sweep, shipped_base
 
 ROOT = Path(__file__).resolve().parents[1]

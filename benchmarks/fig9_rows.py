@@ -32,7 +32,7 @@ import xarray as xr
 from scipy.stats import chi2 as chi2_dist
 from scipy.stats import norm, poisson
 
-from pde_rotor.decision import diffusion_of, load_table
+from pde_rotor.decision.table import diffusion_of, load_table
 from pde_rotor.sweep.stored import load_report
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -40,7 +40,7 @@ CHI2_MIN_EXPECTED = 5.0
 """Smallest expected count of either outcome for a cell to enter the chi2 sum."""
 SIDES = ("ccw", "cw")
 """The report's suffixes of the two directions, in the order of the table's
-conditionals (pde_rotor.decision.DIRECTIONS: CCW, CW)."""
+conditionals (pde_rotor.decision.table.DIRECTIONS: CCW, CW)."""
 
 
 def row_cells(

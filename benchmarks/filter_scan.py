@@ -8,7 +8,7 @@ For each choice of the prefilters of F (plate) and G (pills) (``numerics.plate_f
   table, benchmarks/convergence.py);
 * the lattice torque of a stopped symmetric plate over `--angles` angles per pi/6 at
   dx = delta = 0.05 (goal rms <= 1e-6) and at dx = delta = 0.025 (goals rms <= 1e-7,
-  max <= 2e-7), sparse steady solves (:func:`pde_rotor.analysis.stopped_torque`);
+  max <= 2e-7), sparse steady solves (:func:`pde_rotor.model.analysis.stopped_torque`);
 * the asymmetry torque T(Delta = 2e-5) - T(0) at fixed delta = 0.025 on dx = 1/30, 1/40,
   1/60 (12 angles) and its spread (max - min) / |mean| (goal <= 2 %).
 
@@ -26,7 +26,7 @@ from typing import Any
 import numpy as np
 
 from pde_rotor import RotorConfig, Simulation
-from pde_rotor.analysis import stopped_torque
+from pde_rotor.model.analysis import stopped_torque
 
 SPREAD_GRIDS = (30, 40, 60)
 ASYMMETRY = 2e-5

@@ -26,7 +26,7 @@ from pathlib import Path
 
 import xarray as xr
 
-from pde_rotor.stats import Proportion, two_proportion_test
+from pde_rotor.statistics.proportions import Proportion, two_proportion_test
 
 ROOT = Path(__file__).resolve().parents[1]
 SIGMA = 1.5e-7

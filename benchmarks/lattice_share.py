@@ -25,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pde_rotor.stats import restart_counts, two_state_chain
+from pde_rotor.statistics.proportions import restart_counts, two_state_chain
 from pde_rotor.sweep import Sweep, load_run, run_path
 
 

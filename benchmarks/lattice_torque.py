@@ -1,11 +1,11 @@
 """Spurious lattice torque on a stopped symmetric plate, and the asymmetry torque.
 
 For each grid spacing, the steady camphor field of a plate held at angle phi (sparse
-solve of the discrete Eq. (eqc) with v = 0, :mod:`pde_rotor.analysis`) gives the torque
+solve of the discrete Eq. (eqc) with v = 0, :mod:`pde_rotor.model.analysis`) gives the torque
 T(phi), Eq. (torque). In the continuum T = 0 for Delta = 0; the Cartesian grid breaks the
 hexagon's symmetry and leaves a torque of period pi/6 in phi. The asymmetry torque is
 T(Delta) - T(0) at the same angles, for each discretisation scheme
-(``numerics.scheme``, :mod:`pde_rotor.schemes`). Evidence for docs/model.md.
+(``numerics.scheme``, :mod:`pde_rotor.model.schemes`). Evidence for docs/model.md.
 
 Run:  python benchmarks/lattice_torque.py [--angles 48] [--asymmetry 2e-5 1e-4]
       [--dx 0.05 0.025] [--schemes paper consistent] [--smoothing 0.025]
@@ -22,7 +22,7 @@ import argparse
 import numpy as np
 
 from pde_rotor import RotorConfig
-from pde_rotor.analysis import stopped_torque
+from pde_rotor.model.analysis import stopped_torque
 
 
 def stable_dt(dx: float) -> float:

@@ -2,7 +2,7 @@
 
 Issue 14 §3 asks this of the model on the paper's grid (dx = delta = 0.025, dt = 1e-4,
 default scheme), with data. Four readings of stored reports (no runs), each a level
-crossing with its 95 % interval (:mod:`pde_rotor.crossing`: straight lines between the
+crossing with its 95 % interval (:mod:`pde_rotor.statistics.crossing`: straight lines between the
 points and between their Wilson bounds):
 
     1. sigma_cal: where the Fig. 7(b) plateau P(t_stop = 3, Delta = 2e-5) rises through
@@ -31,8 +31,8 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from pde_rotor.crossing import DECAY_LEVEL, report_crossing
 from pde_rotor.paper import DECAY_STOP, PLATEAU, PLATEAU_ASYMMETRY, PLATEAU_STOP
+from pde_rotor.statistics.crossing import DECAY_LEVEL, report_crossing
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from pde_rotor.config import RotorConfig, load_config, read_config_data
-from pde_rotor.figures import (
+from pde_rotor.plotting.figures import (
     FOOTER_FONTSIZE,
     add_footer,
     count_range,
@@ -33,7 +33,7 @@ from pde_rotor.figures import (
     new_figure,
     wilson_text,
 )
-from pde_rotor.figures import save_figure as save
+from pde_rotor.plotting.figures import save_figure as save
 
 __all__ = [
     "FOOTER_FONTSIZE",

@@ -21,12 +21,6 @@ import xarray as xr
 from _common import CPU_BACKEND, Fidelity, fidelity
 
 from pde_rotor.config import PAPER_SCHEME_SIGMA, set_key
-from pde_rotor.figures import (
-    count_range,
-    draw_conditionals,
-    errorbar_p,
-    probability_axes,
-)
 from pde_rotor.paper import (
     DECAY_STOP,
     NO_FLOW_FAVOURED,
@@ -35,7 +29,13 @@ from pde_rotor.paper import (
     PLATEAU,
     PLATEAU_ASYMMETRY,
 )
-from pde_rotor.stats import chain_probability
+from pde_rotor.plotting.figures import (
+    count_range,
+    draw_conditionals,
+    errorbar_p,
+    probability_axes,
+)
+from pde_rotor.statistics.proportions import chain_probability
 from pde_rotor.sweep import stored
 from pde_rotor.sweep.estimates import POOLED
 from pde_rotor.sweep.stored import SweepData, curve
@@ -191,12 +191,12 @@ def print_points(prefix: str, x_name: str, x: np.ndarray, ds: xr.Dataset) -> Non
 
 def draw_crossing(ax: Any, prefix: str, ds: xr.Dataset, level: float, name: str) -> str:
     """Mark where the curve `ds` (P against t_stop) crosses `level`: the estimate and its
-    95 % interval (:func:`pde_rotor.crossing.report_crossing`) as a horizontal bar at the
+    95 % interval (:func:`pde_rotor.statistics.crossing.report_crossing`) as a horizontal bar at the
     level, open ends drawn to the curve's last point and dashed. Prints and returns the
     line ``PREFIX NAME: P = level at t_stop = ... [..., ...]``; draws nothing where the
     curve has fewer than two complete points (partial points, whose runs are not all
     done, are left out) or does not cross."""
-    from pde_rotor.crossing import report_crossing
+    from pde_rotor.statistics.crossing import report_crossing
 
     measured = ds.where(np.isfinite(ds["P"]), drop=True)
     try:
@@ -414,7 +414,7 @@ def draw_model(
     """Draw the decision model's P along the curve `ds` (issue 14 §4) as a dashed line.
 
     The table is the one of data/decision/ that holds the curve's model
-    (:func:`pde_rotor.decision_check.table_for`: same grid, scheme, flow and smoothing);
+    (:func:`pde_rotor.decision.check.table_for`: same grid, scheme, flow and smoothing);
     the noise and the curve's fixed t_stop or Delta are those of the report. The line
     is a prediction from the noise-free stop curves, not a fit to the points. Nothing
     is drawn for a curve of another model (the quick coarse grid).
@@ -434,8 +434,8 @@ def draw_model(
         A footer line naming the table, or "" if none holds the curve's model.
     """
     from pde_rotor.config import RotorConfig
-    from pde_rotor.decision_check import table_for
-    from pde_rotor.decision_plot import model_curve
+    from pde_rotor.decision.check import table_for
+    from pde_rotor.plotting.decision_map import model_curve
 
     found = table_for(ds, _common.DATA / "decision")
     measured = ds[x_dim].values[np.isfinite(ds["P"].values)]

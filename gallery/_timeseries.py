@@ -40,8 +40,8 @@ from matplotlib.figure import Figure
 
 from pde_rotor.api import RunResult, run
 from pde_rotor.config import RotorConfig, physics_differences
-from pde_rotor.output import RunDirectory, write_netcdf_atomic, write_text_atomic
-from pde_rotor.plotting import stop_intervals
+from pde_rotor.io.output import RunDirectory, write_netcdf_atomic, write_text_atomic
+from pde_rotor.plotting.run import stop_intervals
 from pde_rotor.units import OMEGA_UNITS, TIME_UNITS
 
 ARCHIVE = DATA / "runs"

@@ -9,7 +9,7 @@ what it does not give, always with delta = dx (the paper's choice):
     (0.05, 4e-4) [the quick grid], (1/30, 2e-4) [ratio 0.18: the nearest dt on which
     every protocol time is a whole number of steps], (0.025, 1e-4) [the paper], (1/60, 4e-5);
 (b) the spurious torque on a stopped symmetric plate (Delta = 0), Eq. (torque), from the
-    steady camphor field (:func:`pde_rotor.analysis.stopped_torque`, as in
+    steady camphor field (:func:`pde_rotor.model.analysis.stopped_torque`, as in
     benchmarks/lattice_torque.py): rms and max over one period pi/6 of the plate angle,
     against dx, next to the asymmetry torques T(Delta) - T(0) of Delta = 2e-5 and 1e-4;
 (c) that lattice torque against the plate angle for each dx;
@@ -49,10 +49,10 @@ from _common import (
     save,
 )
 
-from pde_rotor.analysis import stopped_torque
 from pde_rotor.config import CALIBRATED_SIGMA, RotorConfig
-from pde_rotor.output import atomic_path
-from pde_rotor.simulation import Simulation
+from pde_rotor.io.output import atomic_path
+from pde_rotor.model.analysis import stopped_torque
+from pde_rotor.solver.simulation import Simulation
 from pde_rotor.sweep import stored
 from pde_rotor.units import OMEGA_UNITS
 

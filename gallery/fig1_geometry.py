@@ -6,9 +6,9 @@ edge normals e_j of Eq. (ejt0). (b) One corner magnified: F shows the tanh edge 
 delta, the pill (G = 1/2) sits at distance R_c, Eq. (rc), from the centre, turned by the
 shift Delta from the line to the corner (Delta magnified so that it can be seen); the
 point A at distance R - rho / cos(pi / N) is where a pill would touch both sides of the
-corner, and p = |A| - R_c. All shapes come from :func:`pde_rotor.geometry.plate_indicator`,
-:func:`pde_rotor.geometry.pill_indicator`, :func:`pde_rotor.geometry.pill_centres` and
-:func:`pde_rotor.geometry.edge_normal_angles`; the pills are at the corners (Erratum 2 of
+corner, and p = |A| - R_c. All shapes come from :func:`pde_rotor.model.geometry.plate_indicator`,
+:func:`pde_rotor.model.geometry.pill_indicator`, :func:`pde_rotor.model.geometry.pill_centres` and
+:func:`pde_rotor.model.geometry.edge_normal_angles`; the pills are at the corners (Erratum 2 of
 docs/model.md).
 
 Run: ``python gallery/fig1_geometry.py [--quick | --tiny]`` (no time stepping; the
@@ -26,7 +26,7 @@ import numpy as np
 from _common import CONFIGS, add_footer, fidelity_label, new_figure, parse_args, save
 from matplotlib.colors import LinearSegmentedColormap
 
-from pde_rotor.geometry import (
+from pde_rotor.model.geometry import (
     RotorShape,
     edge_normal_angles,
     pill_centres,

@@ -19,9 +19,9 @@ import numpy as np
 from _common import PAPER_CONFIG, add_footer, fidelity_label, new_figure, parse_args, save
 from matplotlib.patches import Circle, Polygon
 
-from pde_rotor.geometry import RotorShape, pill_centres
-from pde_rotor.plotting import plate_corners
-from pde_rotor.simulation import Simulation
+from pde_rotor.model.geometry import RotorShape, pill_centres
+from pde_rotor.plotting.run import plate_corners
+from pde_rotor.solver.simulation import Simulation
 from pde_rotor.units import LENGTH_UNITS, OMEGA_UNITS, TIME_UNITS
 
 NAME = "fig3_fields"

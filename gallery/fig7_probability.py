@@ -6,7 +6,7 @@ present, else the sweep configs/sweeps/<name>.yaml (full) or <name>_quick.yaml
 (``--quick``) is run through :mod:`pde_rotor.sweep` (``--tiny``: a shrunken copy). P with
 its 95 % interval; faintly the conditional probabilities from CCW and from CW rotation
 (for Delta > 0 CW is favoured: P(inv | CCW) > P(inv | CW)); in (a) the onset, where P
-falls through 0.5, with its 95 % interval (:mod:`pde_rotor.crossing`). The paper:
+falls through 0.5, with its 95 % interval (:mod:`pde_rotor.statistics.crossing`). The paper:
 (a) P = 1 for small t_stop, decaying near t_stop = 1 to 0; (b) a plateau near 0.2, as
 in the experiment; (c) P falls from 0.5 to 0 as Delta grows (marked in grey,
 :data:`_sweeps.PAPER_CLAIMS`). Panel (c) also draws the t_stop = 3 points of the
@@ -45,7 +45,7 @@ from _sweeps import (
     sweep_data,
 )
 
-from pde_rotor.crossing import ONSET_LEVEL
+from pde_rotor.statistics.crossing import ONSET_LEVEL
 
 NAME = "fig7_probability"
 PANELS = (

@@ -1,6 +1,6 @@
 """Paper Fig. 9 from the reduced decision model: P(t_stop, Delta) at the calibrated noise.
 
-The model (docs/decision.md, :mod:`pde_rotor.decision`) turns a table of noise-free
+The model (docs/decision.md, :mod:`pde_rotor.decision.table`) turns a table of noise-free
 stop curves and the release growth rate into P at any point; this page draws it on a
 fine grid, at the calibrated noise (pde_rotor.config.CALIBRATED_SIGMA, from the ensemble
 of configs/sweeps/science_calibration.yaml; the table's own Delta = 2e-5 plateau crosses
@@ -22,11 +22,11 @@ from pathlib import Path
 
 from _common import DATA, parse_args
 
-from pde_rotor.cli_predict import table_footer
+from pde_rotor.cli.predict import table_footer
 from pde_rotor.config import CALIBRATED_SIGMA
-from pde_rotor.decision import diffusion_of, load_table
-from pde_rotor.decision_plot import draw_map, ensemble_points
+from pde_rotor.decision.table import diffusion_of, load_table
 from pde_rotor.paper import PLATEAU, PLATEAU_ASYMMETRY, PLATEAU_STOP
+from pde_rotor.plotting.decision_map import draw_map, ensemble_points
 from pde_rotor.sweep.stored import load_report
 
 NAME = "fig9_predicted"

@@ -6,7 +6,7 @@ stop's end over the noise scale. If it holds, every conditional of every curve, 
 (Figs. 5, 7 and the measured cells of the map of Fig. 9; table data/decision/dx40.nc)
 and without (Fig. 8; dx40_no_flow.nc), whatever its t_stop, Δ and direction, falls on
 the one line Φ(x). Each report of the figures' sweeps is placed with the table of its
-own physics (:func:`pde_rotor.decision_check.table_for`); the points come from the
+own physics (:func:`pde_rotor.decision.check.table_for`); the points come from the
 committed data only, so every fidelity draws the same page.
 
 Run: ``python gallery/master_curve.py [--quick | --tiny]``.
@@ -20,8 +20,8 @@ from pathlib import Path
 from _common import DATA, parse_args
 from scipy.special import ndtr
 
-from pde_rotor.decision_check import master_points, table_for
-from pde_rotor.decision_plot import draw_master
+from pde_rotor.decision.check import master_points, table_for
+from pde_rotor.plotting.decision_map import draw_master
 from pde_rotor.sweep.stored import load_report
 
 NAME = "master_curve"

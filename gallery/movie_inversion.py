@@ -3,7 +3,7 @@
 The symmetric rotor of configs/paper_fig4a.yaml (Delta = 0) spins up freely, is stopped
 once for t_stop = 0.5 and released. The movie shows the camphor concentration c of
 Eq. (eqc) with the surface flow v of Eq. (eqv) as arrows
-(:class:`pde_rotor.plotting.RotorFrame`) next to omega(t), Eq. (eq_motion). While the
+(:class:`pde_rotor.plotting.run.RotorFrame`) next to omega(t), Eq. (eq_motion). While the
 plate turns, frames are 0.002 (before the stop) and 0.0025 (after the release) time units
 apart: at omega = 176 the hexagon turns at most 0.44 rad per frame, below half its symmetry
 angle pi/3, so the eye sees the true direction; during the stop, 0.01 apart. Written:
@@ -26,11 +26,11 @@ from _common import PAPER_CONFIG, add_footer, fidelity_label, new_figure, parse_
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from pde_rotor.geometry import RotorShape
-from pde_rotor.mp4 import Mp4Writer
-from pde_rotor.output import atomic_path
-from pde_rotor.plotting import RotorFrame
-from pde_rotor.simulation import Simulation
+from pde_rotor.io.mp4 import Mp4Writer
+from pde_rotor.io.output import atomic_path
+from pde_rotor.model.geometry import RotorShape
+from pde_rotor.plotting.run import RotorFrame
+from pde_rotor.solver.simulation import Simulation
 from pde_rotor.units import OMEGA_UNITS, TIME_UNITS
 
 NAME = "movie_inversion"
@@ -144,7 +144,7 @@ def write_gif(frames: list[np.ndarray], times: np.ndarray, path: Path) -> None:
 
 
 def write_mp4(frames: list[np.ndarray], path: Path) -> None:
-    """H.264 mp4 by the package's one encoder (:class:`pde_rotor.mp4.Mp4Writer`)."""
+    """H.264 mp4 by the package's one encoder (:class:`pde_rotor.io.mp4.Mp4Writer`)."""
     writer = Mp4Writer(path, FPS)
     for frame in frames:
         writer.append(frame)

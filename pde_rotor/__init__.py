@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from .api import RunResult, run
 from .config import RotorConfig
-from .simulation import Simulation
+from .solver.simulation import Simulation
 
 __all__ = ["RotorConfig", "RunResult", "Simulation", "run"]
 __version__ = "0.1.0"

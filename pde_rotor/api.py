@@ -29,7 +29,7 @@ import xarray as xr
 
 from .backends import backend_for, device_name
 from .config import ConfigError, RotorConfig, dump_config, load_config, validate_config
-from .output import RunDirectory, atomic_path, detach_log, write_text_atomic
+from .io.output import RunDirectory, atomic_path, detach_log, write_text_atomic
 from .units import LENGTH_UNITS, TIME_UNITS
 
 _logger = logging.getLogger(__name__)
@@ -151,10 +151,10 @@ class RunResult:
         )
 
     def snapshot(self, index: int = -1):
-        """One stored field snapshot (:class:`pde_rotor.plotting.Snapshot`), or None."""
+        """One stored field snapshot (:class:`pde_rotor.plotting.run.Snapshot`), or None."""
         from pde.storage import FileStorage
 
-        from .plotting import Snapshot
+        from .plotting.run import Snapshot
 
         if self.run_dir is None:
             return None
@@ -180,7 +180,7 @@ class RunResult:
 
     def summary_figure(self):
         """The ``pde-rotor show`` figure of this run (a matplotlib Figure)."""
-        from .plotting import summary_figure
+        from .plotting.run import summary_figure
 
         return summary_figure(self.config, self.timeseries, self.events, self.snapshot())
 
@@ -210,7 +210,7 @@ def run(
 
     Args:
         config: RotorConfig, nested mapping, or path of a YAML config.
-        out: run directory to write (see :mod:`pde_rotor.output`); None: in memory only.
+        out: run directory to write (see :mod:`pde_rotor.io.output`); None: in memory only.
         movie: override ``output.movie`` (only with `out`).
         progress: override ``output.progress``.
         overwrite: replace the files of an earlier run in `out`.
@@ -247,9 +247,9 @@ def run(
     run_dir = RunDirectory.create(out, overwrite=overwrite) if out is not None else None
 
     from . import trackers as tr
-    from .simulation import Simulation
-    from .single_run import run_single
-    from .solver import SimulationDivergedError
+    from .solver.rotor import SimulationDivergedError
+    from .solver.simulation import Simulation
+    from .solver.single_run import run_single
 
     vers = versions()
     provenance = {

@@ -25,7 +25,7 @@ from numba.np import numpy_support
 from pde import FieldCollection
 
 from pde_rotor.config import RotorConfig
-from pde_rotor.model import RotorPDE
+from pde_rotor.model.pde import RotorPDE
 
 COARSE: dict[str, Any] = {"grid": {"dx": 0.05, "dt": 4e-4}, "geometry": {"smoothing": 0.05}}
 """Coarse resolution of the issue's spin-up test (about 0.26 ms per step with L = 3)."""
@@ -171,8 +171,8 @@ def fast_simulator(monkeypatch: pytest.MonkeyPatch) -> Iterator[None]:
 
 def compiled_indicators(pde: RotorPDE, phi: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """F and G (n, n) of the compiled core on the support cells at angle phi, and the
-    rotor table it filled (:func:`pde_rotor.indicators.update_indicators`)."""
-    from pde_rotor.indicators import update_indicators
+    rotor table it filled (:func:`pde_rotor.kernels.indicators.update_indicators`)."""
+    from pde_rotor.kernels.indicators import update_indicators
 
     dom = pde.domain
     F = np.zeros(dom.grid.shape)

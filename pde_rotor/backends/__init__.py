@@ -5,11 +5,11 @@ configuration: parameters (Delta, t_stop, sigma, ...), noise seed, stop schedule
 initial rotor state. Members of one ensemble share the grid (``grid`` section).
 
 * :mod:`pde_rotor.backends.cpu`: the members one after the other with the fused CPU
-  solver (:class:`pde_rotor.solver.RotorSolver`, driven through its py-pde stepper);
+  solver (:class:`pde_rotor.solver.rotor.RotorSolver`, driven through its py-pde stepper);
   the reference the GPU backend is checked against.
 * :mod:`pde_rotor.backends.gpu`: all members in one batched CUDA computation
   (numba-cuda, fp64), with the same discretisation, stop logic and noise stream; its
-  kernel is :mod:`pde_rotor.backends.gpu_kernel`.
+  kernel is :mod:`pde_rotor.kernels.cuda`.
 
 Both return an :class:`~pde_rotor.backends.ensemble.EnsembleResult`;
 :func:`~pde_rotor.backends.batch.run_batch` runs a sweep's members in batches and

@@ -5,7 +5,7 @@ samples of a sweep), groups the members that can share one ensemble (same ``grid
 ``numerics`` sections, same starting step), runs each group through
 :func:`pde_rotor.backends.run_ensemble` in chunks of at most ``max_members`` and
 returns one :class:`MemberRun` per config, in the order given. Each member's stops are
-classified by the one inversion rule (:mod:`pde_rotor.inversion`) with its own
+classified by the one inversion rule (:mod:`pde_rotor.statistics.inversion`) with its own
 ``output.event_interval`` and ``output.commit_fraction``, exactly as the
 :class:`~pde_rotor.trackers.InversionTracker` of a single run does.
 """
@@ -19,8 +19,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..config import RotorConfig
-from ..inversion import ReleaseEvent
-from ..protocol import StopSchedule, steps_of
+from ..model.protocol import StopSchedule, steps_of
+from ..statistics.inversion import ReleaseEvent
 from .ensemble import EnsembleResult, EnsembleState
 
 
@@ -31,10 +31,10 @@ class MemberRun:
     Attributes:
         config: the member's configuration.
         backend: the backend that ran it, "cpu" or "gpu".
-        events: one classified release per stop reached (:mod:`pde_rotor.inversion`).
+        events: one classified release per stop reached (:mod:`pde_rotor.statistics.inversion`).
         protocol_omegas: omega just before each stop reached, then at the member's
             ``protocol.t_end`` (if reached): the input of
-            :func:`pde_rotor.stats.protocol_counts`, the paper's estimator.
+            :func:`pde_rotor.statistics.proportions.protocol_counts`, the paper's estimator.
         diverged_at: time at which the state stopped being finite (NaN: never).
         rotor: final [phi, omega, torque, friction, stopped] at the batch's end time.
     """

@@ -1,7 +1,7 @@
 """CPU ensemble backend: the members one after the other with the fused CPU solver.
 
-Each member is a :class:`~pde_rotor.simulation.Simulation`; its py-pde stepper
-(:meth:`pde_rotor.solver.RotorSolver.make_stepper`) is called from record to record,
+Each member is a :class:`~pde_rotor.solver.simulation.Simulation`; its py-pde stepper
+(:meth:`pde_rotor.solver.rotor.RotorSolver.make_stepper`) is called from record to record,
 exactly as py-pde's Controller calls it between tracker times. This is the reference
 that :mod:`pde_rotor.backends.gpu` is cross-validated against, and the fallback of
 ``backend = "auto"`` on machines without a GPU.
@@ -15,9 +15,9 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from ..config import RotorConfig
-from ..model import RotorState
-from ..simulation import Simulation
-from ..solver import SimulationDivergedError
+from ..model.pde import RotorState
+from ..solver.rotor import SimulationDivergedError
+from ..solver.simulation import Simulation
 from .ensemble import RECORD_FIELDS, EnsembleResult, EnsembleState, default_rngs, make_plan
 
 
@@ -39,7 +39,7 @@ def run_ensemble(
 
     Arguments as for :func:`pde_rotor.backends.run_ensemble`. A member whose state stops
     being finite is recorded as diverged (the solver's
-    :class:`~pde_rotor.solver.SimulationDivergedError`, resolved to the start of the record
+    :class:`~pde_rotor.solver.rotor.SimulationDivergedError`, resolved to the start of the record
     interval in which it was raised) and the others go on.
     """
     start = time.perf_counter()

@@ -16,10 +16,10 @@ import numpy as np
 import xarray as xr
 
 from ..config import RotorConfig
-from ..domain import Domain, make_domain
-from ..geometry import RotorShape
-from ..inversion import ReleaseEvent, release_events
-from ..protocol import StopSchedule, steps_of
+from ..model.domain import Domain, make_domain
+from ..model.geometry import RotorShape
+from ..model.protocol import StopSchedule, steps_of
+from ..statistics.inversion import ReleaseEvent, release_events
 
 ROTOR_FIELDS = ("phi", "omega", "torque", "friction", "stopped")
 """Columns of the rotor arrays (the order of :meth:`RotorState.as_array`)."""
@@ -166,7 +166,7 @@ def default_rngs(configs: Sequence[RotorConfig]) -> list[np.random.Generator]:
 def kick_scale(config: RotorConfig) -> float:
     """Euler-Maruyama factor of the noise, sqrt(2 dt) sigma / I (Eq. (noiseav)); 0: no noise.
 
-    The same expression as :meth:`pde_rotor.solver.FusedStepper.kicks`.
+    The same expression as :meth:`pde_rotor.solver.rotor.FusedStepper.kicks`.
     """
     sigma = config.noise.sigma
     if sigma == 0:
@@ -246,7 +246,7 @@ class EnsembleResult:
     def release_events(
         self, member: int, commit_fraction: float, check_interval: float | None = None
     ) -> list[ReleaseEvent]:
-        """Inversion events of one member, classified by :mod:`pde_rotor.inversion`.
+        """Inversion events of one member, classified by :mod:`pde_rotor.statistics.inversion`.
 
         Each stop's omega_before is the record at its start; the release is checked at
         every record from the release to the next stop (or the last record), or, with

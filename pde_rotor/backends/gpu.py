@@ -3,9 +3,9 @@
 The host side: whether a GPU (or numba's CUDA simulator) is there, the members'
 parameters packed for the kernel, the noise drawn on the host, and the launches in
 chunks of steps with the records copied back. The kernel and what it computes per
-step are in :mod:`pde_rotor.backends.gpu_kernel`: the same physics as the CPU solver
-(:mod:`pde_rotor.stepping`) from the same source, the physics core
-(:mod:`pde_rotor.core`).
+step are in :mod:`pde_rotor.kernels.cuda`: the same physics as the CPU solver
+(:mod:`pde_rotor.kernels.cpu`) from the same source, the physics core
+(:mod:`pde_rotor.kernels.core`).
 
 The noise: one standard normal per step per member, drawn on the host from a numpy
 Generator seeded like the CPU solver's (``default_rng(noise.seed)``) in step order, so
@@ -26,9 +26,10 @@ import numpy as np
 from numba import cuda
 
 from ..config import RotorConfig
-from ..core import M_CONTOUR, N_PAR, N_SCHEME
-from ..model import RotorPDE
-from ..protocol import StopSchedule
+from ..kernels.core import M_CONTOUR, N_PAR, N_SCHEME
+from ..kernels.cuda import FLAG_FLOW, FLAG_NOISY, MAX_CORNERS, advance_kernel, simulator_enabled
+from ..model.pde import RotorPDE
+from ..model.protocol import StopSchedule
 from .ensemble import (
     RECORD_FIELDS,
     EnsemblePlan,
@@ -38,7 +39,6 @@ from .ensemble import (
     kick_scale,
     make_plan,
 )
-from .gpu_kernel import FLAG_FLOW, FLAG_NOISY, MAX_CORNERS, advance_kernel, simulator_enabled
 
 SIMULATOR_THREADS = 2
 """Default threads per block in numba's CUDA simulator (one Python thread each): the
@@ -127,7 +127,7 @@ def _member_arrays(plan: EnsemblePlan) -> dict[str, np.ndarray]:
 def _interior_rows(plan: EnsemblePlan, support: np.ndarray) -> np.ndarray:
     """[i0, i1): the rows with interior cells; checks that every support lies inside them.
 
-    :func:`pde_rotor.domain.make_domain` guarantees that the support of F and G (radius
+    :func:`pde_rotor.model.domain.make_domain` guarantees that the support of F and G (radius
     R + 20 delta / cos(pi/N)) lies inside the interior; the kernel relies on it.
 
     Raises:

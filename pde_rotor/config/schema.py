@@ -388,7 +388,7 @@ class RotorConfig(_Section):
                 f"geometry.radius + 2 dx = {self.geometry.radius + 2 * dx:g})"
             )
             raise FieldError("grid.domain_radius", self.grid.domain_radius, msg)
-        from ..core import X_SATURATION
+        from ..kernels.core import X_SATURATION
 
         n = self.geometry.n_corners
         support = self.geometry.radius + X_SATURATION * smoothing / math.cos(math.pi / n)

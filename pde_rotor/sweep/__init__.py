@@ -29,7 +29,7 @@ One module per job:
 * :mod:`.execution`: :func:`run_sweep`, the seam between dask on CPUs and GPU batches;
 * :mod:`.estimates`, :mod:`.reporting`: the statistics of a point and the report.
 
-Estimators (see :mod:`pde_rotor.stats` and docs/statistics.md):
+Estimators (see :mod:`pde_rotor.statistics.proportions` and docs/statistics.md):
 
 * ``protocol``: the paper's stop-and-release protocol, t_ini then M = protocol.cycles
   cycles in one run; the direction is the sign of omega just before each stop and at

@@ -30,8 +30,8 @@ import numpy as np
 
 from ..backends import EnsembleResult, EnsembleState
 from ..config import RotorConfig
-from ..protocol import steps_of
-from ..stats import protocol_counts
+from ..model.protocol import steps_of
+from ..statistics.proportions import protocol_counts
 from .plan import Run
 from .spec import BankEstimator, RestartEstimator
 from .tasks import Timing, check_spin_up, period_steps, release_outcome, run_content, spin_up

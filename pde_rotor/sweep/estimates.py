@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 from scipy import stats as sps
 
-from ..stats import DirectionCounts, Proportion, restart_counts, two_state_chain
+from ..statistics.proportions import DirectionCounts, Proportion, restart_counts, two_state_chain
 
 POOLED, CHAIN = 0, 1
 """Codes of the variable ``P_estimator``: which definition P holds at a point."""

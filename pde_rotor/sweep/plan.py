@@ -15,7 +15,7 @@ import numpy as np
 from pydantic import ValidationError
 
 from ..config import ConfigError, RotorConfig, parse_yaml, set_key
-from ..stats import CCW, CW
+from ..statistics.proportions import CCW, CW
 from .spec import (
     RestartEstimator,
     SweepError,

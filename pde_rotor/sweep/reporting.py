@@ -16,8 +16,8 @@ import numpy as np
 import xarray as xr
 
 from ..config import RotorConfig
-from ..output import write_netcdf_atomic
-from ..stats import CONFIDENCE
+from ..io.output import write_netcdf_atomic
+from ..statistics.proportions import CONFIDENCE
 from .estimates import CHAIN, P_DEFINITIONS, POOLED, inverted, mcnemar_p, point_statistics
 from .plan import Run, Sweep
 from .store import REPORT_FILE, load_run, run_path

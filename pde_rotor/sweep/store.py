@@ -6,7 +6,7 @@ determines the run's result (:func:`pde_rotor.sweep.plan.run_key`), never of a p
 machine or the scheduler, so the directory can be committed to the repository (the
 default is ``data/sweeps/<name>``) and a sweep resumed from a clone on another machine
 recomputes nothing that is stored. Every file is written atomically
-(:func:`pde_rotor.output.write_text_atomic`): a file with its final name is complete.
+(:func:`pde_rotor.io.output.write_text_atomic`): a file with its final name is complete.
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ from typing import Any
 
 import yaml
 
-from ..output import write_text_atomic
+from ..io.output import write_text_atomic
 from .plan import SPEC_FILE, Run, Sweep
 from .spec import SweepError
 

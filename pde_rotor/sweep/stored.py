@@ -15,9 +15,9 @@ import numpy as np
 import xarray as xr
 
 from ..config import RotorConfig, physics_differences
-from ..crossing import partial_points
-from ..figures import count_range
-from ..stats import wilson_interval
+from ..plotting.figures import count_range
+from ..statistics.crossing import partial_points
+from ..statistics.proportions import wilson_interval
 from .estimates import CHAIN, POOLED
 from .reporting import P_RULE, VARIABLES
 
@@ -194,7 +194,7 @@ def curve_points(
     points of Figs. 5, 7(a) and 7(b) on the curve of Fig. 7(c).
 
     Only measured points whose runs are all done count (a partial point,
-    :func:`pde_rotor.crossing.partial_points`, is left out).
+    :func:`pde_rotor.statistics.crossing.partial_points`, is left out).
 
     Args:
         data_dir: where the reports are (data/ of the repository).

@@ -18,9 +18,9 @@ from typing import Any
 import numpy as np
 
 from ..config import RotorConfig
-from ..inversion import classify_release
-from ..simulation import Simulation
-from ..stats import protocol_counts
+from ..solver.simulation import Simulation
+from ..statistics.inversion import classify_release
+from ..statistics.proportions import protocol_counts
 from .plan import SCHEMA_VERSION, Run
 from .spec import BankEstimator, RestartEstimator
 
@@ -147,7 +147,7 @@ def release_outcome(
     """The restart and bank estimators' release, classified by the one inversion rule.
 
     omega is checked every check_interval after the release, at most until the release
-    cap, and the checks go to :func:`pde_rotor.inversion.classify_release` (commit once
+    cap, and the checks go to :func:`pde_rotor.statistics.inversion.classify_release` (commit once
     omega != 0 and |omega| >= commit_fraction |omega_before|; never committed: direction
     after 0, not an inversion), which stops reading them at the committing check.
 

@@ -8,7 +8,7 @@ start and the end of every stop phase (:meth:`StopSchedule.stop_times`), so that
 angular velocity just before each stop is sampled exactly.
 
 The rotor state is not part of py-pde's FieldCollection; trackers read it from the
-:class:`~pde_rotor.simulation.Simulation` given to their constructor: ``sim.rotor``
+:class:`~pde_rotor.solver.simulation.Simulation` given to their constructor: ``sim.rotor``
 holds phi, omega (Eq. (eq_motion)) and the torque T (Eq. (torque)) and friction torque
 of the last step.
 

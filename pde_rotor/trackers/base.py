@@ -13,10 +13,10 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from pde.trackers.base import InfoDict, TrackerBase
 
-from ..protocol import StopSchedule
+from ..model.protocol import StopSchedule
 
 if TYPE_CHECKING:
-    from ..simulation import Simulation
+    from ..solver.simulation import Simulation
 
 
 def sampling_times(schedule: StopSchedule, interval: float, t_end: float) -> np.ndarray:

@@ -1,7 +1,7 @@
 """Inversion events of a run: one row per stop-and-release cycle, in events.csv and events.nc.
 
 :class:`InversionTracker` classifies each cycle m by the one rule of
-:mod:`pde_rotor.inversion`:
+:mod:`pde_rotor.statistics.inversion`:
 
 * ``omega_before``: omega at the start of stop m (the last step before the stop);
 * ``direction_after``: the sign of omega when the released rotor has *committed*, i.e.
@@ -29,14 +29,14 @@ from pde import FieldCollection
 from pde.trackers.base import InfoDict
 from pde.trackers.interrupts import FixedInterrupts
 
-from ..inversion import ReleaseWatch, direction
-from ..output import AppendOnlyCSV, write_netcdf_atomic
-from ..protocol import StopSchedule
+from ..io.output import AppendOnlyCSV, write_netcdf_atomic
+from ..model.protocol import StopSchedule
+from ..statistics.inversion import ReleaseWatch, direction
 from ..units import OMEGA_UNITS, TIME_UNITS
 from .base import RotorTracker, sampling_times
 
 if TYPE_CHECKING:
-    from ..simulation import Simulation
+    from ..solver.simulation import Simulation
 
 _logger = logging.getLogger(__name__)
 
@@ -137,7 +137,7 @@ class InversionTracker(RotorTracker):
         return event.t_stop + self.schedule.n_stop * self.schedule.dt
 
     def handle(self, field: FieldCollection, t: float) -> None:
-        """Check the open release (rule of :mod:`pde_rotor.inversion`), open a cycle at its stop.
+        """Check the open release (:mod:`pde_rotor.statistics.inversion`), open a cycle at its stop.
 
         The sample at the start of the next stop is the release's last check; the
         release is closed there, committed or not, before the next cycle opens.

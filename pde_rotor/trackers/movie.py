@@ -10,19 +10,19 @@ from pde import FieldCollection
 from pde.trackers.base import InfoDict
 from pde.trackers.interrupts import FixedInterrupts
 
-from ..mp4 import Mp4Writer, figure_frame
-from ..plotting import RotorFrame, frame_title
+from ..io.mp4 import Mp4Writer, figure_frame
+from ..plotting.run import RotorFrame, frame_title
 from .base import RotorTracker
 
 if TYPE_CHECKING:
-    from ..simulation import Simulation
+    from ..solver.simulation import Simulation
 
 
 class MovieTracker(RotorTracker):
     """Renders a frame (c, v, plate and pills, omega, phase) every interval into an mp4.
 
     Frames are rendered as the run goes, so no field history is kept in memory. The
-    mp4 is encoded by the package's :class:`~pde_rotor.mp4.Mp4Writer` (ffmpeg of the
+    mp4 is encoded by the package's :class:`~pde_rotor.io.mp4.Mp4Writer` (ffmpeg of the
     imageio-ffmpeg wheel), written to ``movie.mp4.part`` and renamed when complete.
     """
 

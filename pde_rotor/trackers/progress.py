@@ -15,7 +15,7 @@ from tqdm.auto import tqdm
 from .base import RotorTracker
 
 if TYPE_CHECKING:
-    from ..simulation import Simulation
+    from ..solver.simulation import Simulation
 
 
 class ProgressBarTracker(RotorTracker):

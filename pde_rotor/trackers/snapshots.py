@@ -12,12 +12,12 @@ from pde.storage.base import StorageTracker
 from pde.trackers.base import InfoDict
 from pde.trackers.interrupts import FixedInterrupts
 
-from ..output import commit, part_path
-from ..protocol import StopSchedule
+from ..io.output import commit, part_path
+from ..model.protocol import StopSchedule
 from .base import run_status, sampling_times
 
 if TYPE_CHECKING:
-    from ..simulation import Simulation
+    from ..solver.simulation import Simulation
 
 
 class SnapshotTracker(StorageTracker):

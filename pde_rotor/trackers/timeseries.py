@@ -11,13 +11,13 @@ import xarray as xr
 from pde import FieldCollection
 from pde.trackers.interrupts import FixedInterrupts
 
-from ..output import write_netcdf_atomic
-from ..protocol import StopSchedule
+from ..io.output import write_netcdf_atomic
+from ..model.protocol import StopSchedule
 from ..units import OMEGA_UNITS, TIME_UNITS
 from .base import RotorTracker, sampling_times
 
 if TYPE_CHECKING:
-    from ..simulation import Simulation
+    from ..solver.simulation import Simulation
 
 
 TIMESERIES_VARIABLES: dict[str, dict[str, str]] = {
@@ -106,7 +106,7 @@ class TimeSeriesTracker(RotorTracker):
         """Append one sample: the rotor state ``sim.rotor`` at time t and int c dA.
 
         Called by :meth:`handle`, and directly when the samples come from an ensemble
-        backend's records (:mod:`pde_rotor.single_run`).
+        backend's records (:mod:`pde_rotor.solver.single_run`).
         """
         rotor = self.sim.rotor
         step = self.step_of(t)

@@ -1,0 +1,8 @@
+"""The ``pde-rotor`` command line (typer).
+
+* :mod:`.main`: the app and run, show, check, info;
+* :mod:`.common`: exit codes, the one-line failure, shared options;
+* :mod:`.sweep`: ``sweep`` and ``report``;
+* :mod:`.predict`: ``predict`` (the decision model);
+* :mod:`.gallery`: ``gallery`` (the paper's figures).
+"""

@@ -1,0 +1,227 @@
+"""The ``pde-rotor`` command line: run, show, check, info (and sweep, report: cli_sweep;
+gallery: cli_gallery; predict: cli_predict).
+
+Exit codes: 0 success; 1 the simulation diverged (NaN/Inf; everything recorded up to
+then is kept); 2 bad input (config, --set, paths, backend), always one line
+``error: ...`` naming the key path and the allowed values, printed before anything is
+compiled; 130 interrupted with Ctrl-C.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from ..api import RunResult, versions
+from ..backends import BackendError, backend_for, gpu_unavailable_reason
+from ..config import ConfigError, dump_config, load_config
+from ..io.output import OutputError, RunDirectory
+from ..sweep.cost import estimate_run
+from .common import EXIT_BAD_INPUT, EXIT_FAILED, EXIT_INTERRUPTED, SetOption, fail
+from .gallery import register as register_gallery_commands
+from .predict import register as register_predict_commands
+from .sweep import register as register_sweep_commands
+
+app = typer.Typer(
+    name="pde-rotor",
+    help="Camphor rotor under stop-and-release operations (Koyano et al., Chaos 2020).",
+    add_completion=False,
+    no_args_is_help=True,
+    pretty_exceptions_enable=False,
+    # plain help: rich markup would eat "[default: ...]" and label every flag <bool>
+    rich_markup_mode=None,
+)
+
+
+@app.command()
+def run(
+    config: Annotated[
+        Path, typer.Argument(metavar="CONFIG", help="YAML config file (see configs/).")
+    ],
+    set_: SetOption = None,
+    out: Annotated[
+        Path | None,
+        typer.Option("--out", "-o", help="Run directory [default: runs/<config>-<time>]."),
+    ] = None,
+    movie: Annotated[
+        bool | None,
+        typer.Option("--movie/--no-movie", help="Render movie.mp4 [default: output.movie]."),
+    ] = None,
+    seed: Annotated[
+        int | None, typer.Option(help="Seed of the noise (sets noise.seed).", show_default=False)
+    ] = None,
+    backend: Annotated[
+        str | None,
+        typer.Option(help="Compute backend: cpu, gpu or auto (sets solver.backend)."),
+    ] = None,
+    overwrite: Annotated[
+        bool, typer.Option(help="Replace the files of an earlier run in --out.")
+    ] = False,
+    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
+) -> None:
+    """Run CONFIG and write a run directory (config, time series, events, fields, movie)."""
+    overrides = list(set_ or [])
+    if seed is not None:
+        overrides.append(f"noise.seed={seed}")
+    if backend is not None:
+        overrides.append(f"solver.backend={backend}")
+    try:
+        cfg = load_config(config, overrides)
+        backend_for(cfg)
+        run_dir = out if out is not None else RunDirectory.default_path(config)
+        RunDirectory.create(run_dir, overwrite=overwrite)
+    except (ConfigError, BackendError, OutputError) as err:
+        fail(str(err))
+
+    from ..api import run as run_config
+
+    estimate = estimate_run(cfg, movie)
+    long_run = f"long run, {estimate.describe()}: " if estimate.long else ""
+    typer.echo(f"pde-rotor: {long_run}running {config} -> {run_dir}")
+    try:
+        result = run_config(
+            cfg,
+            run_dir,
+            movie=movie,
+            progress=False if quiet else None,
+            overwrite=True,
+            check=False,
+        )
+    except (ConfigError, BackendError, OutputError) as err:
+        fail(str(err))
+    _report(result)
+    if result.status == "diverged":
+        fail(result.message, EXIT_FAILED)
+    if result.status != "completed":
+        fail(f"run {result.status}: {result.message}", EXIT_INTERRUPTED)
+
+
+def _report(result: RunResult) -> None:
+    n = result.events.sizes.get("cycle", 0)
+    inversions = int(result.events["inverted"].values.sum()) if n else 0
+    t_final = float(result.timeseries["time"].values[-1]) if result.timeseries.sizes["time"] else 0
+    typer.echo(f"run {result.status} (last sample t = {t_final:g}) after {result.wall_time:.1f} s")
+    typer.echo(f"inversions: {inversions}/{n}" + (f" = {inversions / n:.2f}" if n else ""))
+    typer.echo(f"run directory: {result.run_dir}")
+    for name in result.files:
+        typer.echo(f"  {name}")
+
+
+@app.command()
+def show(
+    run_dir: Annotated[
+        Path, typer.Argument(metavar="RUN_DIR", help="Run directory written by `pde-rotor run`.")
+    ],
+    out: Annotated[
+        Path | None, typer.Option("--out", "-o", help="Image file [default: RUN_DIR/summary.png].")
+    ] = None,
+    display: Annotated[bool, typer.Option(help="Also open the figure in a window.")] = False,
+) -> None:
+    """Plot phi(t) and omega(t) with the stops shaded, the events table and a c/v snapshot."""
+    try:
+        result = RunResult.load(run_dir)
+    except ConfigError as err:
+        fail(str(err))
+    from ..io.output import atomic_path
+    from ..plotting.run import SUMMARY_SIZE, summary_figure
+
+    fig = None
+    if display:
+        import matplotlib.pyplot as plt
+
+        fig = plt.figure(figsize=SUMMARY_SIZE, layout="constrained")
+    fig = summary_figure(
+        result.config, result.timeseries, result.events, result.snapshot(), fig=fig
+    )
+    target = out if out is not None else RunDirectory(run_dir).summary
+    suffix = target.suffix.lstrip(".") or "png"
+    try:
+        with atomic_path(target) as tmp:
+            fig.savefig(tmp, format=suffix, dpi=110)
+    except (OSError, ValueError) as err:
+        fail(f"cannot write {target}: {err}")
+    typer.echo(f"wrote {target}")
+    if display:
+        import matplotlib as mpl
+        import matplotlib.pyplot as plt
+
+        if mpl.get_backend().lower() == "agg":
+            typer.echo("no display available (matplotlib backend Agg); see the image file")
+        else:
+            plt.show()
+
+
+@app.command()
+def check(
+    configs: Annotated[
+        list[Path],
+        typer.Argument(metavar="CONFIG", help="YAML config files (e.g. configs/*.yaml)."),
+    ],
+    set_: SetOption = None,
+) -> None:
+    """Validate CONFIG (with overrides); print it fully resolved, or one line per file."""
+    failed = 0
+    for config in configs:
+        try:
+            cfg = load_config(config, set_ or [])
+        except ConfigError as err:
+            where = "" if len(configs) == 1 or str(config) in str(err) else f"{config}: "
+            typer.echo(f"error: {where}{err}", err=True)
+            failed += 1
+            continue
+        steps = round(cfg.protocol.t_end / cfg.grid.dt)
+        summary = (
+            f"t_end = {cfg.protocol.t_end:g} ({steps} steps), dt limit {cfg.dt_limit():.4g}, "
+            f"config hash {cfg.config_hash()}; run time {estimate_run(cfg).describe()}"
+        )
+        if len(configs) == 1:
+            typer.echo(dump_config(cfg), nl=False)
+            typer.echo(f"# ok: {summary}")
+        else:
+            typer.echo(f"ok: {config}: {summary}")
+    if failed:
+        raise typer.Exit(EXIT_BAD_INPUT)
+
+
+@app.command()
+def info() -> None:
+    """Versions, compute backend and threads."""
+    import matplotlib as mpl
+    import numba
+
+    for name, version in versions().items():
+        typer.echo(f"{name:<12} {version}")
+    typer.echo(f"{'matplotlib':<12} {mpl.__version__}")
+    typer.echo("backend      cpu: numba fused kernel (single-threaded)")
+    reason = gpu_unavailable_reason()
+    typer.echo(f"gpu          {'available' if reason is None else 'unavailable: ' + reason}")
+    try:
+        affinity = len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        affinity = os.cpu_count() or 1
+    typer.echo(
+        f"threads      numba {numba.config.NUMBA_NUM_THREADS} "
+        f"(layer {numba.config.THREADING_LAYER}), cpus usable {affinity}, "
+        f"cpus total {os.cpu_count()}"
+    )
+    try:
+        import imageio_ffmpeg
+
+        typer.echo(f"ffmpeg       {imageio_ffmpeg.get_ffmpeg_exe()}")
+    except (ImportError, RuntimeError) as err:
+        typer.echo(f"ffmpeg       unavailable ({err})")
+    typer.echo(f"executable   {sys.executable}")
+
+
+register_sweep_commands(app)  # pde-rotor sweep / report
+register_gallery_commands(app)  # pde-rotor gallery
+register_predict_commands(app)  # pde-rotor predict
+
+
+def main() -> None:
+    """Entry point equivalent to the ``pde-rotor`` script."""
+    app()

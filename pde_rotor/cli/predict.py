@@ -1,0 +1,346 @@
+"""``pde-rotor predict``: the reduced decision model (measure a table, map, point, calibrate).
+
+Registered on the main typer app by :func:`register` (called from :mod:`pde_rotor.cli.main`).
+``measure`` runs the noise-free stops and releases of :mod:`pde_rotor.decision.runs`
+(minutes); ``map``, ``point`` and ``calibrate`` only read the table (seconds). Exit
+codes: 0 success, 2 bad input (one line ``error: ...``).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from ..paper import PLATEAU, PLATEAU_ASYMMETRY, PLATEAU_STOP
+from .common import SetOption, fail
+
+
+def _diffusion(dw: float | None, sigma: float | None, inertia: float) -> float:
+    """Dw from --dw or --sigma (exactly one)."""
+    from ..decision.table import diffusion_of
+
+    if (dw is None) == (sigma is None):
+        fail("give the noise as exactly one of --dw (angular-velocity diffusion) or --sigma")
+    if dw is not None:
+        if dw < 0:
+            fail(f"--dw {dw:g}: must be >= 0")
+        return dw
+    if sigma < 0:
+        fail(f"--sigma {sigma:g}: must be >= 0")
+    return diffusion_of(sigma, inertia)
+
+
+def table_footer(table, path: Path) -> str:
+    """Fidelity line of a map: the table, its grid and scheme, lambda and the angles."""
+    from ..config import RotorConfig
+    from ..plotting.figures import grid_label
+
+    config = RotorConfig.model_validate_json(table.attrs["config"])
+    return (
+        f"decision model, table {path.name}: {grid_label(config)}, scheme "
+        f"{config.numerics.scheme}, flow {'on' if config.flow.enabled else 'off'}, "
+        f"{table.torque.shape[1]} stop angles per direction, lambda = {table.growth_rate:.4g}"
+    )
+
+
+def _table(path: Path):
+    from ..decision.table import load_table
+
+    if not path.is_file():
+        fail(f"{path}: no such decision table (pde-rotor predict measure writes one)")
+    try:
+        return load_table(path)
+    except (OSError, KeyError, ValueError) as err:
+        fail(f"{path}: not a decision table ({err})")
+
+
+def _reports(paths: list[Path], label: str) -> list:
+    """The sweep reports at `paths`, read as the gallery reads them (P by the current
+    rule, :func:`pde_rotor.sweep.stored.load_report`); a missing file fails naming it."""
+    from ..sweep.stored import load_report
+
+    for path in paths:
+        if not path.is_file():
+            fail(f"{label}{path}: no such report")
+    return [load_report(path) for path in paths]
+
+
+def _sweep_outcomes(table, sweep_dirs: list[Path]) -> list:
+    """The releases of `sweep_dirs` that match the table (grid, smoothing, flow,
+    scheme), run by run: a sweep along dx gives the runs of the table's dx, and says
+    how many it leaves out. Refused with one line where no run of a sweep matches or
+    a sweep holds no restart or bank runs."""
+    from ..decision.check import mismatch
+    from ..decision.fit import sweep_outcomes
+    from ..sweep import SweepError
+
+    outcomes = []
+    for path in sweep_dirs:
+        if not (path / "sweep.yaml").is_file():
+            fail(f"--sweep {path}: holds no sweep.yaml (not a sweep directory)")
+        verdicts: list[str | None] = []
+
+        def accept(config, verdicts=verdicts) -> bool:
+            verdicts.append(mismatch(table, config))
+            return verdicts[-1] is None
+
+        try:
+            found = sweep_outcomes(path, accept)
+        except (SweepError, ValueError) as err:
+            fail(f"--sweep {path}: {verdicts[0] if verdicts and all(verdicts) else err}")
+        problems = [v for v in verdicts if v]
+        if problems:
+            typer.echo(f"--sweep {path}: {len(problems)} runs left out ({problems[0]})")
+        outcomes += found
+    return outcomes
+
+
+DwOption = Annotated[
+    float | None, typer.Option("--dw", help="Angular-velocity diffusion Dw = (sigma/I)^2.")
+]
+SigmaOption = Annotated[float | None, typer.Option("--sigma", help="Noise sigma of the config.")]
+TableArgument = Annotated[
+    Path, typer.Argument(metavar="TABLE", help="Decision table (NetCDF of predict measure).")
+]
+
+
+def register(app: typer.Typer) -> None:
+    """Add the ``predict`` command group to `app`."""
+    predict = typer.Typer(
+        help="Reduced decision model: P(t_stop, Delta, Dw) from noise-free runs.",
+        no_args_is_help=True,
+        rich_markup_mode=None,
+    )
+    app.add_typer(predict, name="predict")
+
+    @predict.command("measure")
+    def measure_command(
+        config: Annotated[
+            Path,
+            typer.Argument(
+                metavar="CONFIG", help="YAML config file, or a shipped sweep base (paper, coarse)."
+            ),
+        ],
+        out: Annotated[Path, typer.Option("--out", "-o", help="Table to write (.nc).")],
+        set_: SetOption = None,
+        angles: Annotated[int, typer.Option(min=1, help="Stop angles per direction.")] = 8,
+        t_max: Annotated[float, typer.Option(min=0.1, help="Longest stop predicted.")] = 3.5,
+        check: Annotated[
+            list[float] | None,
+            typer.Option(help="Stop durations of check releases (repeatable)."),
+        ] = None,
+    ) -> None:
+        """Measure a decision table: noise-free stop curves and the release response."""
+        from ..config import ConfigError, load_config
+        from ..decision.runs import measure_table, table_steps
+        from ..sweep.cost import format_duration, step_seconds
+        from ..sweep.spec import shipped_base, shipped_bases
+
+        if not config.exists() and str(config) in shipped_bases():
+            config = shipped_base(str(config))
+        try:
+            cfg = load_config(config, set_ or [])
+        except ConfigError as err:
+            fail(str(err))
+        if cfg.geometry.asymmetry == 0:
+            fail(
+                "geometry.asymmetry = 0: measure at a nonzero reference Delta "
+                "(e.g. --set geometry.asymmetry=1e-4) so the table predicts every Delta"
+            )
+        checks = sorted(check or [])
+        if checks and (checks[0] <= 0 or checks[-1] > t_max):
+            fail(f"--check values must lie in (0, t_max = {t_max:g}]")
+        n = table_steps(cfg, angles, t_max, len(checks))
+        typer.echo(f"{n:,} steps, about {format_duration(n * step_seconds(cfg))} on one core")
+        table = measure_table(cfg, angles, t_max, checks=checks, progress=typer.echo)
+        out.parent.mkdir(parents=True, exist_ok=True)
+        table.save(out)
+        typer.echo(
+            f"lambda = {table.growth_rate:.4g} (by direction "
+            f"{', '.join(f'{r:.4g}' for r in table.attrs['growth_rate_by_direction'])}), "
+            f"C = {table.response:.3g}; wrote {out}"
+        )
+
+    @predict.command("point")
+    def point_command(
+        table_path: TableArgument,
+        t_stop: Annotated[
+            list[float],
+            typer.Option("--t-stop", help="Stop duration; repeatable (--t-stop 1 --t-stop 1.5)."),
+        ],
+        asymmetry: Annotated[
+            list[float] | None,
+            typer.Option(
+                "--asymmetry",
+                help="Delta; repeatable (--asymmetry 0 --asymmetry 2e-5); every t_stop is "
+                "printed at every Delta [default: 0].",
+            ),
+        ] = None,
+        dw: DwOption = None,
+        sigma: SigmaOption = None,
+    ) -> None:
+        """Print the predicted P(inv | CCW), P(inv | CW) and P at the given points."""
+        table = _table(table_path)
+        diffusion = _diffusion(dw, sigma, table.inertia)
+        for t in t_stop:
+            if not 0 <= t <= table.t_max:
+                fail(f"--t-stop {t:g}: outside the table's [0, {table.t_max:g}]")
+        for delta in asymmetry or [0.0]:
+            for t in t_stop:
+                a, b = table.conditionals(t, delta, diffusion)
+                p = table.probability(t, delta, diffusion)
+                typer.echo(
+                    f"t_stop = {t:g}, Delta = {delta:g}, Dw = {diffusion:.3g}: P(inv|CCW) = "
+                    f"{float(a):.3f}, P(inv|CW) = {float(b):.3f}, P = {float(p):.3f}"
+                )
+
+    @predict.command("calibrate")
+    def calibrate_command(
+        table_path: TableArgument,
+        target: Annotated[
+            float, typer.Option(help="P to reach (default: the experiment's plateau).")
+        ] = PLATEAU,
+        t_stop: Annotated[
+            float, typer.Option("--t-stop", help="Stop duration of P.")
+        ] = PLATEAU_STOP,
+        asymmetry: Annotated[
+            float, typer.Option("--asymmetry", help="Delta of P.")
+        ] = PLATEAU_ASYMMETRY,
+        sweep: Annotated[
+            list[Path] | None,
+            typer.Option(
+                metavar="SWEEP_DIR",
+                help="Fit the noise scale to the releases of these restart or bank sweeps "
+                "and calibrate from the ensemble, with a 95 % range (repeatable).",
+                show_default=False,
+            ),
+        ] = None,
+    ) -> None:
+        """The noise (Dw and sigma) at which P(t_stop, Delta) is `target`: the model's, and
+        with --sweep the ensemble's (the model's noise scale fitted to its releases)."""
+        from ..decision.table import sigma_of
+
+        table = _table(table_path)
+        outcomes = _sweep_outcomes(table, sweep or [])
+        try:
+            dw = table.calibrate(target, t_stop, asymmetry, (1e-9, 1e2))
+        except ValueError as err:
+            fail(str(err))
+        typer.echo(
+            f"P(t_stop = {t_stop:g}, Delta = {asymmetry:g}) = {target:g} at Dw = {dw:.4g} "
+            f"(sigma = {sigma_of(dw, table.inertia):.4g})"
+        )
+        if not outcomes:
+            return
+        from ..decision.fit import fit_noise
+
+        try:
+            fit = fit_noise(table, outcomes, target, t_stop, asymmetry)
+        except ValueError as err:
+            fail(str(err))
+        k_lo, k_hi = fit.scale_range
+        d_lo, d_hi = fit.diffusion_range
+        typer.echo(
+            f"ensemble ({fit.stops} stops, {fit.groups} noisy counts): behaves as the model "
+            f"at kappa Dw, kappa = {fit.scale:.3g} [{k_lo:.3g}, {k_hi:.3g}] (95 %, bootstrap "
+            f"over stops)\ncalibrated: Dw = {fit.diffusion:.3g} [{d_lo:.3g}, {d_hi:.3g}], "
+            f"sigma = {sigma_of(fit.diffusion, table.inertia):.3g} "
+            f"[{sigma_of(d_lo, table.inertia):.3g}, {sigma_of(d_hi, table.inertia):.3g}]"
+        )
+
+    @predict.command("check")
+    def check_command(
+        table_path: TableArgument,
+        report: Annotated[
+            list[Path], typer.Argument(metavar="REPORT...", help="Sweep reports (NetCDF).")
+        ],
+        plot: Annotated[
+            Path | None,
+            typer.Option(help="Also draw the master curve P(+1) against x into this directory."),
+        ] = None,
+    ) -> None:
+        """Compare the model with every point of stored sweep reports (coverage, deviation)."""
+        from ..decision.check import compare, master_points
+        from ..plotting.decision_map import draw_master
+
+        table = _table(table_path)
+        reports = _reports(report, "")
+        try:
+            result = compare(table, reports)
+        except ValueError as err:
+            fail(str(err))
+        for row in result.rows:
+            typer.echo(
+                f"{row['sweep']}: t_stop = {row['t_stop']:g}, Delta = {row['asymmetry']:g}, "
+                f"sigma = {row['sigma']:g}: {row['column']} = {row['measured']:.3f} "
+                f"[{row['low']:.3f}, {row['high']:.3f}], model {row['predicted']:.3f}"
+                + ("" if row["inside"] else "  (outside)")
+            )
+        worst = result.largest_deviation()
+
+        def share(column: str | None = None) -> str:
+            value = result.coverage(column)
+            return "n/a" if value != value else f"{value:.2f}"
+
+        typer.echo(
+            f"coverage: P {share('P')}, P(inv|CCW) {share('P_ccw')}, "
+            f"P(inv|CW) {share('P_cw')}, all {share()} of "
+            f"{len(result.rows)} intervals; largest deviation "
+            f"{worst['predicted'] - worst['measured']:+.3f} ({worst['column']} at t_stop = "
+            f"{worst['t_stop']:g}, Delta = {worst['asymmetry']:g}, sigma = {worst['sigma']:g})"
+        )
+        if plot is not None:
+            plot.mkdir(parents=True, exist_ok=True)
+            points = master_points(table, reports)
+            paths = draw_master(points, plot, footer=table_footer(table, table_path))
+            typer.echo(
+                f"master curve: {len(points)} conditionals; wrote " + ", ".join(map(str, paths))
+            )
+
+    @predict.command("map")
+    def map_command(
+        table_path: TableArgument,
+        dw: DwOption = None,
+        sigma: SigmaOption = None,
+        out: Annotated[
+            Path | None,
+            typer.Option("--out", "-o", help="Output directory [default: the current one]."),
+        ] = None,
+        report: Annotated[
+            list[Path] | None,
+            typer.Option(
+                help="Sweep report (NetCDF) whose points are drawn on the map (repeatable)."
+            ),
+        ] = None,
+        t_stop_max: Annotated[float, typer.Option(help="Longest stop drawn.")] = 3.5,
+        asymmetry_max: Annotated[float, typer.Option(help="Largest Delta drawn.")] = 1e-4,
+        resolution: Annotated[int, typer.Option(min=2, help="Points along t_stop.")] = 160,
+    ) -> None:
+        """Draw the Fig. 9 map P(t_stop, Delta) predicted at one noise intensity."""
+        from ..decision.table import sigma_of
+        from ..plotting.decision_map import draw_map, ensemble_points
+
+        table = _table(table_path)
+        diffusion = _diffusion(dw, sigma, table.inertia)
+        if t_stop_max > table.t_max:
+            fail(f"--t-stop-max {t_stop_max:g}: beyond the table's {table.t_max:g}")
+        reports = _reports(report or [], "--report ")
+        try:
+            points = ensemble_points(table, reports, sigma_of(diffusion, table.inertia))
+        except ValueError as err:
+            fail(str(err))
+        out = out or Path.cwd()
+        out.mkdir(parents=True, exist_ok=True)
+        paths, _ = draw_map(
+            table,
+            diffusion,
+            out,
+            t_range=(0.25, t_stop_max),
+            asymmetry_max=asymmetry_max,
+            resolution=(resolution, max(2, resolution // 2)),
+            points=points,
+            footer=table_footer(table, table_path),
+        )
+        typer.echo("wrote " + ", ".join(str(p) for p in paths))

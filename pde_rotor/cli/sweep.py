@@ -1,0 +1,197 @@
+"""``pde-rotor sweep`` and ``pde-rotor report``: parameter sweeps of inversion statistics.
+
+Registered on the main typer app by :func:`register` (called from :mod:`pde_rotor.cli.main`).
+Exit codes as for ``pde-rotor run``: 0 success, 1 some runs failed (the others are
+stored; rerun the same command to retry them), 2 bad input, 130 interrupted by Ctrl-C
+or SIGTERM (finished runs are kept; rerun to resume).
+"""
+
+from __future__ import annotations
+
+import math
+import signal
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from .common import EXIT_FAILED, EXIT_INTERRUPTED, fail
+
+
+def _interrupt(signum: int, frame: object) -> None:
+    raise KeyboardInterrupt
+
+
+def register(app: typer.Typer) -> None:
+    """Add the ``sweep`` and ``report`` commands to `app`."""
+
+    @app.command("sweep")
+    def sweep_command(
+        sweep: Annotated[
+            Path, typer.Argument(metavar="SWEEP", help="Sweep YAML file (see configs/sweeps/).")
+        ],
+        scheduler: Annotated[
+            str | None,
+            typer.Option(
+                help="Address of a running dask scheduler, e.g. tcp://node:8786 "
+                "[default: start a LocalCluster here]."
+            ),
+        ] = None,
+        workers: Annotated[
+            int | None,
+            typer.Option(min=1, help="LocalCluster worker processes [default: usable cores]."),
+        ] = None,
+        out: Annotated[
+            Path | None,
+            typer.Option(
+                "--out",
+                "-o",
+                help="Sweep directory [default: data/sweeps/<sweep file stem>, in the repository: "
+                "commit it to resume elsewhere].",
+            ),
+        ] = None,
+        quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
+        set_: Annotated[
+            list[str] | None,
+            typer.Option(
+                "--set",
+                metavar="KEY=VALUE",
+                show_default=False,
+                help="Change a key of the sweep file (repeatable): samples=5, seed=1, "
+                "axes.protocol.t_stop=[0.5,3], axes.KEY=null (drop the axis), "
+                "set.noise.sigma=0 (base config), estimator.release_cap=5, base=coarse.",
+            ),
+        ] = None,
+        dry_run: Annotated[
+            bool,
+            typer.Option(
+                "--dry-run",
+                help="Print the number of runs and the estimated cost, compute nothing.",
+            ),
+        ] = False,
+    ) -> None:
+        """Run SWEEP on dask (resumable: finished runs are skipped), then write the report."""
+        from ..sweep import (
+            DEFAULT_ROOT,
+            Sweep,
+            SweepError,
+            finished,
+            format_table,
+            gather,
+            report,
+            run_sweep,
+            sweep_backend,
+            usable_cores,
+        )
+        from ..sweep.cost import estimate_sweep
+
+        try:
+            spec = Sweep.load(sweep, set_ or [])
+            backend = sweep_backend(spec)
+        except SweepError as err:
+            fail(str(err))
+        sweep_dir = out if out is not None else DEFAULT_ROOT / sweep.stem
+        runs = spec.runs()
+        n_runs = len(runs)
+        n = None if scheduler else workers or usable_cores()
+        if backend == "gpu":
+            where = "the GPU in ensemble batches"
+        elif scheduler:
+            where = f"the dask scheduler at {scheduler}"
+        else:
+            where = f"a LocalCluster of {n} worker process{'es' if n != 1 else ''}"
+        if dry_run:
+            done = finished(sweep_dir, runs) if sweep_dir.is_dir() else set()
+            todo = [run for run in runs if run.key not in done]
+            points = math.prod(spec.shape)
+            typer.echo(
+                f"dry run: sweep {spec.spec.name}, {spec.spec.estimator.kind} estimator: "
+                f"{points} point{'s' if points != 1 else ''} x {n_runs // points} runs = "
+                f"{n_runs} runs, {len(done)} already done in {sweep_dir}"
+            )
+            typer.echo(f"to compute: {len(todo)} runs on {where}")
+            typer.echo(f"estimated cost: {estimate_sweep(todo, n).describe()}")
+            return
+        typer.echo(f"pde-rotor: sweep {sweep} ({n_runs} runs) on {where} -> {sweep_dir}", err=True)
+        # SIGTERM (a batch system ending the job, kill PID) stops like Ctrl-C: the
+        # cluster is closed and every finished run is kept
+        previous = signal.signal(signal.SIGTERM, _interrupt)
+        try:
+            outcome = run_sweep(
+                spec, sweep_dir, scheduler=scheduler, workers=workers, progress=not quiet
+            )
+        except KeyboardInterrupt:
+            kept = len(finished(sweep_dir, spec.runs()))
+            typer.echo(
+                f"interrupted: {kept} of {n_runs} runs are kept in {sweep_dir}; rerun the same "
+                "command to resume",
+                err=True,
+            )
+            raise typer.Exit(EXIT_INTERRUPTED) from None
+        finally:
+            signal.signal(signal.SIGTERM, previous)
+        typer.echo(
+            f"runs: {outcome.total} ({outcome.skipped} already done, {outcome.computed} "
+            f"computed, {len(outcome.failed)} failed)"
+        )
+        # the table of the runs asked for; report.nc of the directory's design, which a
+        # run of a subset of it leaves whole (store.prepare)
+        typer.echo(format_table(gather(spec, sweep_dir)))
+        report(sweep_dir, echo=False)
+        typer.echo(f"report: {sweep_dir / 'report.nc'}")
+        if outcome.failed:
+            for key, message in outcome.failed[:5]:
+                typer.echo(f"failed run {key}: {message}", err=True)
+            raise typer.Exit(EXIT_FAILED)
+
+    @app.command("report")
+    def report_command(
+        sweep_dir: Annotated[
+            Path,
+            typer.Argument(
+                metavar="SWEEP",
+                help="Directory written by `pde-rotor sweep` (the design in its sweep.yaml), "
+                "or a sweep file: its whole design, read from data/sweeps/<file stem>.",
+            ),
+        ],
+        out: Annotated[
+            Path | None,
+            typer.Option("--out", "-o", help="NetCDF file [default: SWEEP_DIR/report.nc]."),
+        ] = None,
+        crossing: Annotated[
+            list[float] | None,
+            typer.Option(
+                min=0.0,
+                max=1.0,
+                help="Also print where P crosses this level along t_stop, with its 95 % "
+                "interval (0.75: the Delta = 0 decay point; 0.5: the onset); repeatable.",
+            ),
+        ] = None,
+    ) -> None:
+        """Gather the finished runs of SWEEP into NetCDF and print a table."""
+        from ..statistics.crossing import report_crossings
+        from ..sweep import DEFAULT_ROOT, Sweep, SweepError, report
+
+        design = None
+        if sweep_dir.is_file():
+            try:
+                design = Sweep.load(sweep_dir)
+            except SweepError as err:
+                fail(str(err))
+            sweep_dir = DEFAULT_ROOT / sweep_dir.stem
+        if not (sweep_dir / "sweep.yaml").is_file():
+            fail(f"{sweep_dir} holds no sweep.yaml (not a sweep directory)")
+        try:
+            ds = report(sweep_dir, out, sweep=design)
+        except SweepError as err:
+            fail(str(err))
+        typer.echo(f"report: {out if out is not None else sweep_dir / 'report.nc'}")
+        for level in crossing or []:
+            try:
+                curves = report_crossings(ds, level)
+            except ValueError as err:
+                fail(f"--crossing {level:g}: {err}")
+            for where, found in curves:
+                at = ", ".join(f"{k} = {v:g}" for k, v in where.items())
+                text = found if isinstance(found, str) else found.describe()
+                typer.echo(f"crossing{f' ({at})' if at else ''}: {text}")

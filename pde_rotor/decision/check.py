@@ -1,0 +1,220 @@
+"""The decision model against ensembles: every point of stored sweep reports.
+
+For each point of a report (a ``pde-rotor report`` NetCDF) the model's P, P(inv | CCW)
+and P(inv | CW) at the point's t_stop, Δ and sigma are set beside the ensemble's values
+and their 95 % intervals. The summary gives the coverage: the fraction of the
+intervals that hold the prediction (about 0.95 if the model is right and the intervals
+are exact; the chain intervals are conservative). It also gives the largest deviation.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from ..config import RotorConfig, physics_differences
+from .table import DecisionTable, diffusion_of, load_table
+
+COLUMNS = ("P", "P_ccw", "P_cw")
+"""The report's probabilities that the model predicts (each with _low and _high)."""
+
+MATCHED = (
+    ("grid", "dx"),
+    ("grid", "dt"),
+    ("geometry", "smoothing"),
+    ("flow", "enabled"),
+    ("numerics", "scheme"),
+)
+"""Settings a report's base_config must share with the table where it names them."""
+
+
+PREDICTED = ("protocol.t_stop", "geometry.asymmetry", "noise.sigma")
+"""The settings a table predicts over: every other physics setting is the table's own."""
+
+
+def table_for(ds: xr.Dataset, directory: Path) -> tuple[Path, DecisionTable] | None:
+    """The decision table under `directory` (``*.nc``, by name) that holds the model of
+    report `ds`: the same physics (:func:`pde_rotor.config.physics_differences`) in
+    every setting but :data:`PREDICTED`. None where no table does, e.g. for a report on
+    another grid, or one whose axes vary anything else (a grid comparison)."""
+    if set(ds["P"].dims) - {"t_stop", "asymmetry", "sigma"}:
+        return None
+    config = RotorConfig.model_validate(json.loads(ds.attrs.get("base_config", "{}")))
+    for path in sorted(Path(directory).glob("*.nc")):
+        table = load_table(path)
+        other = RotorConfig.model_validate_json(table.attrs["config"])
+        if not physics_differences(config, other, ignore=PREDICTED):
+            return path, table
+    return None
+
+
+def report_points(ds: xr.Dataset) -> list[dict[str, float]]:
+    """Every point of a report as a dict: t_stop, asymmetry, sigma, dx, stops and the
+    :data:`COLUMNS` with their intervals. Values that are not axes of the report come
+    from its ``base_config``."""
+    fixed = json.loads(ds.attrs.get("base_config", "{}"))
+    defaults = {
+        "t_stop": fixed.get("protocol", {}).get("t_stop", math.nan),
+        "asymmetry": fixed.get("geometry", {}).get("asymmetry", 0.0),
+        "sigma": fixed.get("noise", {}).get("sigma", 0.0),
+        "dx": fixed.get("grid", {}).get("dx", math.nan),
+    }
+    names = [f"{c}{s}" for c in COLUMNS for s in ("", "_low", "_high")] + ["stops"]
+    values = ds[[n for n in names if n in ds]]
+    if not values["P"].dims:
+        values = values.expand_dims("point")
+    points = []
+    for _, row in values.to_dataframe().reset_index().iterrows():
+        point = {k: float(row[k]) if k in row else float(v) for k, v in defaults.items()}
+        point.update({n: float(row[n]) for n in names if n in row})
+        points.append(point)
+    return points
+
+
+def mismatch(
+    table: DecisionTable, fixed: Mapping[str, Any], axes: Sequence[str] = ()
+) -> str | None:
+    """Which setting of an ensemble's base config `fixed` differs from the table's config
+    (or None); settings that `fixed` leaves out are taken to match, and so are those the
+    ensemble varies along its `axes` (dimension names: ``dx`` of a grid comparison,
+    whose points :func:`table_points` selects)."""
+    config = RotorConfig.model_validate_json(table.attrs["config"]).model_dump(mode="json")
+    for section, key in MATCHED:
+        if key in axes:
+            continue
+        if key in fixed.get(section, {}) and not _same(fixed[section][key], config[section][key]):
+            return (
+                f"{section}.{key} = {fixed[section][key]!r} in the ensemble, "
+                f"{config[section][key]!r} in the table"
+            )
+    return None
+
+
+def _same(a: Any, b: Any) -> bool:
+    """Equal settings; numbers to 1e-6 relative (a YAML's 0.0333333333 is dx = 1/30)."""
+    numbers = all(isinstance(x, float | int) and not isinstance(x, bool) for x in (a, b))
+    if numbers:
+        return math.isclose(a, b, rel_tol=1e-6)
+    return a == b
+
+
+def table_points(table: DecisionTable, ds: xr.Dataset) -> list[dict[str, float]]:
+    """The measured points of `ds` on the table's grid: all of them, or those of its dx
+    along a dx axis (a report that compares grids, issue 14 §1). Points without a
+    finished stop (a partial report of a sweep still running) are left out.
+
+    Raises:
+        ValueError: a point's t_stop lies beyond the table's t_max (named, with the
+            table's range).
+    """
+    dx = RotorConfig.model_validate_json(table.attrs["config"]).grid.dx
+    points = [
+        p
+        for p in report_points(ds)
+        if (math.isnan(p["dx"]) or math.isclose(p["dx"], dx, rel_tol=1e-6))
+        and p.get("stops", 1) > 0
+        and math.isfinite(p["P"])
+    ]
+    beyond = sorted({p["t_stop"] for p in points if p["t_stop"] > table.t_max + 1e-12})
+    if beyond:
+        msg = (
+            f"report {ds.attrs.get('sweep', '?')}: t_stop = {beyond[0]:g} lies beyond the "
+            f"table's range [0, {table.t_max:g}] (measure the table with --t-max "
+            f"{beyond[-1]:g} or more)"
+        )
+        raise ValueError(msg)
+    return points
+
+
+@dataclass(frozen=True)
+class Comparison:
+    """Predictions beside ensemble values.
+
+    Attributes:
+        rows: one dict per point and column: where (t_stop, asymmetry, sigma), column,
+            measured, low, high, predicted, inside.
+    """
+
+    rows: list[dict[str, Any]]
+
+    def coverage(self, column: str | None = None) -> float:
+        """Fraction of the intervals (of `column`, default all) holding the prediction."""
+        rows = [r for r in self.rows if column in (None, r["column"])]
+        return float(np.mean([r["inside"] for r in rows])) if rows else math.nan
+
+    def largest_deviation(self) -> dict[str, Any]:
+        """The row with the largest |predicted - measured|."""
+        return max(self.rows, key=lambda r: abs(r["predicted"] - r["measured"]))
+
+
+def compare(table: DecisionTable, reports: Sequence[xr.Dataset]) -> Comparison:
+    """The model's P, P(inv | CCW), P(inv | CW) at every point of `reports`.
+
+    Raises:
+        ValueError: a report was computed with another grid, smoothing, flow or scheme,
+            or a point's t_stop lies outside the table.
+    """
+    rows = []
+    for ds in reports:
+        problem = mismatch(table, json.loads(ds.attrs.get("base_config", "{}")), list(ds.dims))
+        if problem:
+            msg = f"report {ds.attrs.get('sweep', '?')}: {problem}"
+            raise ValueError(msg)
+        for point in table_points(table, ds):
+            dw = diffusion_of(point["sigma"], table.inertia)
+            t, d = point["t_stop"], point["asymmetry"]
+            a, b = table.conditionals(t, d, dw)
+            predicted = {"P": table.probability(t, d, dw), "P_ccw": a, "P_cw": b}
+            for column in COLUMNS:
+                if column not in point or not np.isfinite(point[column]):
+                    continue
+                low, high = point[f"{column}_low"], point[f"{column}_high"]
+                value = float(predicted[column])
+                rows.append(
+                    {
+                        "sweep": ds.attrs.get("sweep", "?"),
+                        "t_stop": t,
+                        "asymmetry": d,
+                        "sigma": point["sigma"],
+                        "column": column,
+                        "measured": point[column],
+                        "low": low,
+                        "high": high,
+                        "predicted": value,
+                        "inside": bool(low - 1e-12 <= value <= high + 1e-12),
+                    }
+                )
+    return Comparison(rows)
+
+
+def master_points(table: DecisionTable, reports: Sequence[xr.Dataset]) -> list[dict[str, float]]:
+    """Every conditional of `reports` on the master curve P(+1) = Φ(x).
+
+    x = β̄ / sqrt(λ Dw), with β̄ the angle-mean bias of the point and direction; the
+    measured P(direction after = +1) is 1 - P(inv | CCW) after CCW and P(inv | CW) after
+    CW. Points without noise (x infinite) are left out. Where the lattice spread of β is
+    small against sqrt(λ Dw) all points fall on Φ(x), whatever t_stop, Δ, sigma and flow.
+    """
+    out = []
+    for ds in reports:
+        for point in table_points(table, ds):
+            if point["sigma"] <= 0:
+                continue
+            scale = math.sqrt(table.growth_rate * diffusion_of(point["sigma"], table.inertia))
+            beta = table.bias(point["t_stop"], point["asymmetry"]).mean(axis=1)
+            for d, (column, flip) in enumerate((("P_ccw", True), ("P_cw", False))):
+                if column not in point or not np.isfinite(point[column]):
+                    continue
+                low, high = point[f"{column}_low"], point[f"{column}_high"]
+                value = point[column]
+                if flip:
+                    value, low, high = 1 - value, 1 - high, 1 - low
+                out.append({"x": float(beta[d]) / scale, "P": value, "low": low, "high": high})
+    return out

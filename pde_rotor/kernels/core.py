@@ -1,0 +1,487 @@
+"""The physics core: every per-cell update and rotor integral of the model, written once.
+
+The functions below are plain scalar Python functions built by :func:`make_core` for a
+given compiler: :data:`CPU` compiles them with numba's ``njit`` (inlined into the CPU
+loops of :mod:`pde_rotor.kernels.cpu`), :mod:`pde_rotor.kernels.cuda` compiles the same
+source as CUDA device functions. The loops that call them (rows of a grid on the CPU,
+threads of a block on the GPU) hold no physics of their own, so the two backends cannot
+drift apart. :mod:`pde_rotor.model.pde` keeps an independent numpy version of the same
+equations as the test oracle.
+
+numba caches each compiled loop on disk keyed by its own file: after editing this module,
+delete the ``__pycache__/*.nbi`` and ``*.nbc`` files of the package, or the CPU loops of
+:mod:`pde_rotor.kernels.cpu` keep the inlined old version.
+
+State layout: a flat float64 buffer holding c, v_x, v_y of one member one after the
+other, each an n x n grid with x along axis 0; the cell (i, j) of a field starting at
+offset ``o0`` sits at ``o0 + i n + j``. So ``buf[o + n]`` is the east (x + dx), ``buf[o + 1]``
+the north (y + dx) neighbour of ``buf[o]``.
+
+Physics (section "Model" of Koyano et al., Chaos 2020):
+
+* :func:`rotor_table`: edge normals e_j, Eq. (ejt0) rotated by phi, and pill centres
+  R_j = R_c e(phi + 2 pi j / N + Delta), Eq. (rc) with the pills at the corners
+  (erratum of Eq. (rj), see :mod:`pde_rotor.model.geometry`);
+* :func:`plate_cell`, :func:`pill_cell`: the smoothed indicators F and G (the
+  equations after Eq. (rj)) at one cell centre (scheme ``paper``), built from the
+  plate's profile of the gauge h(r) (:func:`plate_profile`) and one pill's term
+  (:func:`pill_term`), with the tanh written as a branch-free :func:`logistic` of a
+  polynomial :func:`vector_expm1`; :func:`filtered_plate`, :func:`filtered_pills`: the
+  same after the isotropic Gaussian prefilter of the scheme ``consistent``, from the
+  tables of :mod:`pde_rotor.model.filtering` (:func:`filtered_edge`, :func:`filtered_corner`,
+  :func:`filtered_pill_term`). The GPU calls the cell functions once per cell; the CPU
+  calls the terms in loops over a row's cells, four at a time (SIMD);
+* :func:`cell_rates`: the right-hand sides of Eqs. (eqc) and (eqv) of one cell
+  (5-point Laplacian, central divergence);
+* :func:`cell_integrals`: one cell's share of the integrals of Eq. (eq_motion):
+  F r x grad c (area form of the torque, Eq. (torque)), F |r|^2 and F r x v;
+* :func:`contour_node`: one node of the contour form of the same torque integral
+  (scheme ``consistent``, see :mod:`pde_rotor.model.schemes`), with c from its interpolating
+  cubic spline (:func:`spline_line`, :func:`interpolate`).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import NamedTuple
+
+import numba as nb
+
+X_SATURATION = 20.0
+"""|x| beyond which float64 1/2 (1 + tanh(x)) is exactly 1 (1 - tanh(20) = 8.5e-18 < 2^-54)
+and below 4.3e-18; F and G are evaluated only where some sample point lies within it."""
+
+SPLINE_POLE = math.sqrt(3.0) - 2.0
+"""Pole of the cubic B-spline prefilter (Unser, IEEE Signal Process. Mag. 1999)."""
+
+SPLINE_MARGIN = 24
+"""Cells the spline window extends beyond the contour's taps: |pole|^24 = 2e-14."""
+
+# indices into the float parameter vector of the kernels
+P_DT, P_DX, P_D, P_A, P_SRC, P_K, P_ETA, P_ETAB, P_DETA, P_I, P_MU, P_TSIGN = range(12)
+N_PAR = 12
+
+# indices into the scheme vector of the kernels (schemes.Scheme.as_array)
+(
+    M_CONTOUR,
+    M_TAN_HALF,
+    M_WINDOW_LO,
+    M_WINDOW_HI,
+    M_FILTERED,
+    M_TABLE_N,
+    M_TABLE_X0,
+    M_TABLE_INV_STEP,
+    M_PROFILE_INV_STEP,
+    M_CREASE,
+    M_EDGE_U0,
+    M_EDGE_INV_STEP,
+) = range(12)
+N_SCHEME = 12
+
+# indices into the shape vector of the kernels (geometry.RotorShape.as_array)
+S_N, S_APOTHEM, S_RHO, S_RC, S_ASYM, S_DELTA = range(6)
+
+
+class Core(NamedTuple):
+    """The compiled physics functions for one target (see the module docstring)."""
+
+    vector_expm1: Callable
+    logistic: Callable
+    rotor_table: Callable
+    plate_profile: Callable
+    pill_term: Callable
+    plate_cell: Callable
+    pill_cell: Callable
+    filtered_edge: Callable
+    filtered_corner: Callable
+    filtered_plate: Callable
+    filtered_pill_term: Callable
+    filtered_pills: Callable
+    rate_coefficients: Callable
+    cell_rates: Callable
+    cell_integrals: Callable
+    spline_line: Callable
+    interpolate: Callable
+    contour_node: Callable
+
+
+def make_core(jit: Callable[[Callable], Callable]) -> Core:
+    """Compile the physics functions with `jit` (numba ``njit`` or ``cuda.jit(device=True)``).
+
+    Args:
+        jit: decorator turning a scalar Python function into a compiled one that other
+            compiled functions of the same target can call.
+
+    Returns:
+        The compiled functions; each calls only its siblings, so the set is self-contained.
+    """
+
+    @jit
+    def vector_expm1(x: float) -> float:
+        """exp(x) - 1 for 0 <= x <= 2 X_SATURATION in multiplications and additions only.
+
+        The Taylor polynomial of degree 15 of expm1(x / 64) (remainder below 5e-17), then
+        six doublings of the argument, (1 + q)^2 - 1 = q (2 + q), which keep the relative
+        accuracy (2e-14 over the range, tests/test_core.py; squaring exp(x / 64) itself
+        would lose 64 ulp). libm's exp is a call that stops LLVM from vectorising a loop;
+        this is not, so the CPU loops over a row of cells run it four cells at a time.
+        """
+        r = x * (1.0 / 64.0)
+        p = 1.0 / 1307674368000.0
+        p = p * r + 1.0 / 87178291200.0
+        p = p * r + 1.0 / 6227020800.0
+        p = p * r + 1.0 / 479001600.0
+        p = p * r + 1.0 / 39916800.0
+        p = p * r + 1.0 / 3628800.0
+        p = p * r + 1.0 / 362880.0
+        p = p * r + 1.0 / 40320.0
+        p = p * r + 1.0 / 5040.0
+        p = p * r + 1.0 / 720.0
+        p = p * r + 1.0 / 120.0
+        p = p * r + 1.0 / 24.0
+        p = p * r + 1.0 / 6.0
+        p = p * r + 0.5
+        p = p * r + 1.0
+        q = p * r
+        q = q * (2.0 + q)
+        q = q * (2.0 + q)
+        q = q * (2.0 + q)
+        q = q * (2.0 + q)
+        q = q * (2.0 + q)
+        return q * (2.0 + q)
+
+    @jit
+    def logistic(arg: float) -> float:
+        """1/2 (1 + tanh(arg)) = 1 / (1 + exp(-2 arg)), arg clipped to +-X_SATURATION
+        (where it is 1 exactly, or 4.2e-18), written with E = exp(2 |arg|) >= 1 as
+        E / (E + 1) or 1 / (E + 1): branch-free, so vectorisable, and within 1 ulp of 1."""
+        arg = arg if arg < X_SATURATION else X_SATURATION
+        arg = arg if arg > -X_SATURATION else -X_SATURATION
+        big = 1.0 + vector_expm1(2.0 * abs(arg))
+        return (big if arg >= 0.0 else 1.0) / (big + 1.0)
+
+    @jit
+    def rotor_table(phi, n_corners, r_c, asym, tab):
+        """Fill tab (4, >= N): edge normals (cos, sin), pill centres (x, y) at angle phi."""
+        for k in range(n_corners):
+            a_edge = phi + 2.0 * math.pi * (k + 0.5) / n_corners
+            tab[0, k] = math.cos(a_edge)
+            tab[1, k] = math.sin(a_edge)
+            a_pill = phi + 2.0 * math.pi * (k + 1) / n_corners + asym
+            tab[2, k] = r_c * math.cos(a_pill)
+            tab[3, k] = r_c * math.sin(a_pill)
+
+    @jit
+    def gauge(x, y, tab, n_corners):
+        """h(r) = max_j r . e_j: the plate's level sets h = const are regular N-gons."""
+        proj = x * tab[0, 0] + y * tab[1, 0]
+        for k in range(1, n_corners):
+            proj = max(proj, x * tab[0, k] + y * tab[1, k])
+        return proj
+
+    @jit
+    def plate_profile(h, apothem, inv_delta):
+        """F as a function of the gauge h(r): 1/2 [1 + tanh((R cos(pi/N) - h) / delta)]."""
+        return logistic((apothem - h) * inv_delta)
+
+    @jit
+    def pill_term(dx, dy, rho, inv_delta):
+        """One pill's share of G at the offset (dx, dy) from its centre:
+        1/2 [1 + tanh((rho - |(dx, dy)|) / delta)]."""
+        return logistic((rho - math.sqrt(dx * dx + dy * dy)) * inv_delta)
+
+    @jit
+    def plate_cell(x, y, tab, n_corners, apothem, inv_delta):
+        """F at the cell centre (x, y) (scheme ``paper``)."""
+        return plate_profile(gauge(x, y, tab, n_corners), apothem, inv_delta)
+
+    @jit
+    def pill_cell(x, y, tab, n_corners, rho, inv_delta):
+        """G at the cell centre (x, y) (scheme ``paper``): the sum over the pills within
+        rho + X_SATURATION delta, in order (beyond, a pill's term is below 4.3e-18)."""
+        reach = rho + X_SATURATION / inv_delta
+        g = 0.0
+        for k in range(n_corners):
+            dx = x - tab[2, k]
+            dy = y - tab[3, k]
+            if dx * dx + dy * dy < reach * reach:
+                g += pill_term(dx, dy, rho, inv_delta)
+        return g
+
+    @jit
+    def rate_coefficients(par):
+        """(1/dx^2, 1/(2 dx), D, a, s0/(pi rho^2), eta, eta_b, D_eta) for :func:`cell_rates`,
+        computed once per sweep so that the cell loop holds no division."""
+        dx = par[P_DX]
+        return (
+            1.0 / (dx * dx),
+            0.5 / dx,
+            par[P_D],
+            par[P_A],
+            par[P_SRC],
+            par[P_ETA],
+            par[P_ETAB],
+            par[P_DETA],
+        )
+
+    @jit
+    def cell_rates(buf, o, sx, sy, nn, f, g, omega, x, y, coef, flow, plate):
+        """Right-hand sides of Eqs. (eqc) and (eqv) at cell offset `o`.
+
+        dc/dt = D lap c - div(c v) - a (1 - F) c + s0 / (pi rho^2) G,
+        dv/dt = eta F (omega (-y, x) - v) - eta_b v + D_eta lap v,
+        5-point Laplacian and central divergence, all at the old time level; `coef` is
+        :func:`rate_coefficients` of the parameter vector. `sx`, `sy`
+        are the offsets of the x and y neighbours (n and 1), `nn` that of the next field;
+        all three of the caller's integer type (unsigned on the CPU, so that no index
+        needs a negative-wraparound check). With `plate` False the cell lies outside the
+        support of F and G (both 0) and the plate terms are skipped; without `flow`
+        v = 0 and only c has a rate.
+
+        Returns:
+            (rate of c, rate of v_x, rate of v_y).
+        """
+        inv_dx2, inv_2dx, diff, evap, src, eta, eta_b, d_eta = coef
+        cc = buf[o]
+        lap_c = buf[o + sx] + buf[o - sx] + buf[o + sy] + buf[o - sy]
+        if not flow:
+            rate_c = diff * (lap_c - 4.0 * cc) * inv_dx2 - evap * cc
+            if plate:
+                rate_c += evap * f * cc + src * g
+            return rate_c, 0.0, 0.0
+        ox = o + nn
+        oy = ox + nn
+        ux = buf[ox]
+        uy = buf[oy]
+        div_cv = (
+            buf[o + sx] * buf[ox + sx]
+            - buf[o - sx] * buf[ox - sx]
+            + buf[o + sy] * buf[oy + sy]
+            - buf[o - sy] * buf[oy - sy]
+        )
+        lap_x = buf[ox + sx] + buf[ox - sx] + buf[ox + sy] + buf[ox - sy]
+        lap_y = buf[oy + sx] + buf[oy - sx] + buf[oy + sy] + buf[oy - sy]
+        rate_c = diff * (lap_c - 4.0 * cc) * inv_dx2 - div_cv * inv_2dx - evap * cc
+        rate_x = d_eta * (lap_x - 4.0 * ux) * inv_dx2 - eta_b * ux
+        rate_y = d_eta * (lap_y - 4.0 * uy) * inv_dx2 - eta_b * uy
+        if plate:
+            rate_c += evap * f * cc + src * g
+            rate_x += eta * f * (-omega * y - ux)
+            rate_y += eta * f * (omega * x - uy)
+        return rate_c, rate_x, rate_y
+
+    @jit
+    def cell_integrals(buf, o, sx, sy, nn, f, x, y, inv_2dx, flow):
+        """One cell's F r x grad c (central differences), F |r|^2 and F r x v (no dA).
+
+        r x u = x u_y - y u_x; the three sums over cells, times dx^2, are the integrals
+        of Eqs. (torque) and (eq_motion). Offsets as for :func:`cell_rates`.
+        """
+        dcdx = (buf[o + sx] - buf[o - sx]) * inv_2dx
+        dcdy = (buf[o + sy] - buf[o - sy]) * inv_2dx
+        cross_v = 0.0
+        if flow:
+            ox = o + nn
+            cross_v = f * (x * buf[ox + nn] - y * buf[ox])
+        return f * (x * dcdy - y * dcdx), f * (x * x + y * y), cross_v
+
+    @jit
+    def spline_line(buf, o, stride, count):
+        """Cubic B-spline prefilter, in place, of `count` samples buf[o + k stride].
+
+        Turns samples into the coefficients of the interpolating cubic spline (Unser's
+        recursive filter, pole z = sqrt(3) - 2), taking the samples beyond both ends as 0:
+        a coefficient then errs by |z|^k = 0.268^k times the values k cells beyond the
+        line's ends, so lines cut from a larger field need a margin.
+        """
+        z = SPLINE_POLE
+        prev = buf[o]
+        for k in range(1, count):
+            prev = buf[o + k * stride] + z * prev
+            buf[o + k * stride] = prev
+        last = o + (count - 1) * stride
+        nxt = -z / (1.0 - z * z) * buf[last]
+        buf[last] = 6.0 * nxt
+        for k in range(count - 2, -1, -1):
+            nxt = z * (nxt - buf[o + k * stride])
+            buf[o + k * stride] = 6.0 * nxt
+
+    @jit
+    def bspline_weights(t):
+        """The 4 cubic B-spline weights of the nodes -1, 0, 1, 2 at t in [0, 1)."""
+        u = 1.0 - t
+        t2 = t * t
+        return (
+            u * u * u / 6.0,
+            (t2 * (3.0 * t - 6.0) + 4.0) / 6.0,
+            (t * (t * (3.0 - 3.0 * t) + 3.0) + 1.0) / 6.0,
+            t2 * t / 6.0,
+        )
+
+    @jit
+    def interpolate(coef, o0, n, x0, inv_dx, x, y):
+        """Cubic spline at (x, y) from the n x n B-spline coefficients at offset o0.
+
+        x0 is the coordinate of cell 0's centre; the 4 x 4 taps must lie in the
+        prefiltered window (:func:`spline_line` along both axes).
+        """
+        fx = (x - x0) * inv_dx
+        fy = (y - x0) * inv_dx
+        i = math.floor(fx)
+        j = math.floor(fy)
+        wx0, wx1, wx2, wx3 = bspline_weights(fx - i)
+        wy0, wy1, wy2, wy3 = bspline_weights(fy - j)
+        row = o0 + (i - 1) * n + j - 1
+        acc = wx0 * (
+            wy0 * coef[row] + wy1 * coef[row + 1] + wy2 * coef[row + 2] + wy3 * coef[row + 3]
+        )
+        row += n
+        acc += wx1 * (
+            wy0 * coef[row] + wy1 * coef[row + 1] + wy2 * coef[row + 2] + wy3 * coef[row + 3]
+        )
+        row += n
+        acc += wx2 * (
+            wy0 * coef[row] + wy1 * coef[row + 1] + wy2 * coef[row + 2] + wy3 * coef[row + 3]
+        )
+        row += n
+        acc += wx3 * (
+            wy0 * coef[row] + wy1 * coef[row + 1] + wy2 * coef[row + 2] + wy3 * coef[row + 3]
+        )
+        return acc
+
+    @jit
+    def filtered_edge(h, apothem, edge, e_u0, e_inv):
+        """F_eps = f_eps(apothem - h) away from the corners, from the 1-D edge profile
+        `edge` (first node e_u0, 1 / spacing e_inv, linear): 0 before its first node, 1
+        beyond its last (branch-free: the index is clipped, the value selected)."""
+        last = edge.size - 1
+        u = (apothem - h - e_u0) * e_inv
+        i = min(max(int(u), 0), last - 1)
+        value = edge[i] + (u - i) * (edge[i + 1] - edge[i])
+        value = value if u > 0.0 else 0.0
+        return value if u < last else 1.0
+
+    @jit
+    def filtered_corner(h, q, plate, t_n, t_x0, t_inv):
+        """F_eps near the corner bisectors, at (h, q) in the frame of the nearest edge:
+        the cubic spline of the 2-D `plate` table (t_n x t_n coefficients on the nodes
+        t_x0 + k / t_inv, edge 0's normal along +x), 0 where its taps leave the table."""
+        fx = (h - t_x0) * t_inv
+        fy = (q - t_x0) * t_inv
+        if fx < 1.0 or fy < 1.0 or fx >= t_n - 2.0 or fy >= t_n - 2.0:
+            return 0.0
+        return interpolate(plate, 0, t_n, t_x0, t_inv, h, q)
+
+    @jit
+    def filtered_plate(
+        x, y, tab, n_corners, apothem, tan_half, crease, edge, e_u0, e_inv, plate, t_n, t_x0, t_inv
+    ):
+        """F_eps of the cell centred at (x, y) (``consistent``, :mod:`pde_rotor.model.filtering`).
+
+        The point is written in the frame of its nearest edge j (the one maximising
+        r . e_j; the first of equals): h = r . e_j, q = r . tau_j, tau_j = e_j turned by
+        +pi/2. Where h tan(pi/N) - |q| > `crease` (more than crease cos(pi/N) from the
+        corner bisectors) F_eps comes from :func:`filtered_edge`, closer from
+        :func:`filtered_corner`. Either way F_eps has the hexagon's symmetry exactly.
+        """
+        best = 0
+        h = x * tab[0, 0] + y * tab[1, 0]
+        for k in range(1, n_corners):
+            p = x * tab[0, k] + y * tab[1, k]
+            if p > h:
+                h = p
+                best = k
+        q = y * tab[0, best] - x * tab[1, best]
+        if h * tan_half - abs(q) > crease:
+            return filtered_edge(h, apothem, edge, e_u0, e_inv)
+        return filtered_corner(h, q, plate, t_n, t_x0, t_inv)
+
+    @jit
+    def filtered_pill_term(dx, dy, profile, inv_step):
+        """One pill's share of G_eps at the offset (dx, dy) from its centre: the radial
+        profile `profile` (spacing 1 / inv_step) interpolated linearly, 0 beyond its end
+        (branch-free: the index is clipped, the value selected)."""
+        last = profile.size - 1
+        u = math.sqrt(dx * dx + dy * dy) * inv_step
+        i = min(int(u), last - 1)
+        value = profile[i] + (u - i) * (profile[i + 1] - profile[i])
+        return value if u < last else 0.0
+
+    @jit
+    def filtered_pills(x, y, tab, n_corners, profile, inv_step):
+        """G_eps of the cell centred at (x, y): sum_j g_eps(|r - R_j|) over the pills
+        within the profile's reach, in order (beyond, a term is 0)."""
+        reach = (profile.size - 1) / inv_step
+        g = 0.0
+        for k in range(n_corners):
+            dx = x - tab[2, k]
+            dy = y - tab[3, k]
+            if dx * dx + dy * dy < reach * reach:
+                g += filtered_pill_term(dx, dy, profile, inv_step)
+        return g
+
+    @jit
+    def contour_node(coef, o0, n, x0, inv_dx, tab, apothem, delta, tan_half, quad_s, quad_t, q):
+        """Node q of the contour form of int F r x grad c dA (see :mod:`pde_rotor.model.schemes`).
+
+        With h(r) = max_j r . e_j the level sets of F are N-gons, and
+
+            int F r x grad c dA = - int w(h) sum_j int c(h e_j + t tau_j) t dt dh,
+
+        w(h) = F'(s) / delta, s = (R cos(pi/N) - h) / delta, tau_j = e_j rotated by
+        +pi/2, t in [-h tan(pi/N), h tan(pi/N)]. `quad_s` (2, M) holds the nodes s_m and
+        weights of a Gauss rule for the weight 1/2 sech^2(s), `quad_t` (2, L) the
+        Gauss-Legendre nodes and weights on [-1, 1]. Node q enumerates (edge j, m, l) as
+        q = (j M + m) L + l. `coef` holds the B-spline coefficients of c (:func:`interpolate`).
+
+        Returns:
+            the node's weighted contribution to int F r x grad c dA.
+        """
+        n_s = quad_s.shape[1]
+        n_t = quad_t.shape[1]
+        k_t = q % n_t
+        m = (q // n_t) % n_s
+        j = q // (n_t * n_s)
+        h = apothem - delta * quad_s[0, m]
+        half = h * tan_half
+        t = half * quad_t[0, k_t]
+        ex = tab[0, j]
+        ey = tab[1, j]
+        c = interpolate(coef, o0, n, x0, inv_dx, h * ex - t * ey, h * ey + t * ex)
+        return -quad_s[1, m] * quad_t[1, k_t] * half * t * c
+
+    return Core(
+        vector_expm1=vector_expm1,
+        logistic=logistic,
+        rotor_table=rotor_table,
+        plate_profile=plate_profile,
+        pill_term=pill_term,
+        plate_cell=plate_cell,
+        pill_cell=pill_cell,
+        filtered_edge=filtered_edge,
+        filtered_corner=filtered_corner,
+        filtered_plate=filtered_plate,
+        filtered_pill_term=filtered_pill_term,
+        filtered_pills=filtered_pills,
+        rate_coefficients=rate_coefficients,
+        cell_rates=cell_rates,
+        cell_integrals=cell_integrals,
+        spline_line=spline_line,
+        interpolate=interpolate,
+        contour_node=contour_node,
+    )
+
+
+FASTMATH = {"contract", "arcp", "nsz"}
+"""numba fastmath flags of the CPU kernels: contraction into FMAs, reciprocals, no signed
+zeros; no reassociation, so sums keep their order (and CPU results their bits)."""
+
+
+def _cpu_jit(func: Callable) -> Callable:
+    """numba njit for the CPU loops: inlined into the caller, fastmath without reassociation."""
+    return nb.njit(cache=True, nogil=True, fastmath=FASTMATH, inline="always")(func)
+
+
+CPU: Core = make_core(_cpu_jit)
+"""The physics core compiled for the CPU."""

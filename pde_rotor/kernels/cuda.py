@@ -1,0 +1,385 @@
+"""The CUDA kernel of the GPU ensemble backend (:mod:`pde_rotor.backends.gpu`): E members
+of the rotor model advanced in one launch, block m advancing member m.
+
+The same physics as the CPU solver (:mod:`pde_rotor.kernels.cpu`), member by member, from
+the same source: the kernel below only maps cells to threads and calls the CUDA build
+of the physics core (:mod:`pde_rotor.kernels.core`, compiled here as device functions):
+
+* F and G of the member's scheme at the angle phi of the step's start, computed on the
+  fly on the support cells (``plate_cell``, ``pill_cell``, or ``filtered_plate``,
+  ``filtered_pills`` from the filter tables of the ``consistent`` scheme, shared by all
+  members);
+* the rotor integrals of Eqs. (eq_motion) and (torque) (``cell_integrals``, or
+  ``contour_node`` for the contour-form torque of the ``consistent`` scheme);
+* one forward Euler step of Eqs. (eqc) and (eqv) on the interior cells
+  (``cell_rates``), omega = 0 during a stop; without flow v is set to 0 and stays 0;
+* then phi += dt omega, omega += dt (T + friction) / I, plus the Euler-Maruyama kick
+  of Eq. (noiseav), except in a stop phase, where omega stays 0;
+* the stop schedule in integer steps (:func:`pde_rotor.model.protocol.stopped_at`);
+* the noise: one standard normal per step per member, drawn on the host from a numpy
+  Generator seeded like the CPU solver's (``default_rng(noise.seed)``) in step order,
+  so both backends use the identical noise sequence.
+
+Layout and parallelisation. One thread block advances one member for a whole chunk of
+steps in one kernel launch: members are independent, so a step only needs the block's
+own threads to agree (``syncthreads``), never a grid-wide barrier or a second kernel.
+Each step, the block's threads sweep the member's cells (coalesced along y), compute F
+and G on the fly (no indicator arrays in memory), write the new c, v into the other of
+two buffers and accumulate the three rotor integrals in registers; a tree reduction in
+shared memory (fixed order: bitwise reproducible) and one thread's update of phi and
+omega end the step. Per step and member the kernel reads and writes c, v_x, v_y once
+(48 bytes per interior cell, 2.2 MB at the paper's 242^2 grid).
+
+All arithmetic is fp64. Importing the module compiles nothing; :func:`advance_kernel`
+compiles the kernel on its first launch. With ``NUMBA_ENABLE_CUDASIM=1`` it runs in
+numba's CUDA simulator on the CPU (slowly: for tests on tiny grids).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+
+from numba import cuda, float64
+
+from .core import (
+    M_CONTOUR,
+    M_CREASE,
+    M_EDGE_INV_STEP,
+    M_EDGE_U0,
+    M_FILTERED,
+    M_PROFILE_INV_STEP,
+    M_TABLE_INV_STEP,
+    M_TABLE_N,
+    M_TABLE_X0,
+    M_TAN_HALF,
+    M_WINDOW_HI,
+    M_WINDOW_LO,
+    P_DT,
+    P_DX,
+    P_I,
+    P_K,
+    P_MU,
+    P_TSIGN,
+    S_APOTHEM,
+    S_ASYM,
+    S_DELTA,
+    S_N,
+    S_RC,
+    S_RHO,
+    Core,
+    make_core,
+)
+
+MAX_CORNERS = 24
+"""Largest N the kernel's shared geometry table holds (the config allows 3..24)."""
+
+# columns of the per-member integer flags
+FLAG_FLOW, FLAG_NOISY = 0, 1
+
+
+def simulator_enabled() -> bool:
+    """Whether numba runs CUDA kernels in its CPU simulator (``NUMBA_ENABLE_CUDASIM=1``)."""
+    from numba.cuda.core import config as cuda_config
+
+    return bool(cuda_config.ENABLE_CUDASIM)
+
+
+def _gpu_jit(func: Callable) -> Callable:
+    """numba-cuda device function, inlined into the kernel."""
+    return cuda.jit(device=True, inline=True)(func)
+
+
+GPU: Core = make_core(_gpu_jit)
+"""The physics core (:mod:`pde_rotor.kernels.core`) compiled as CUDA device functions."""
+
+_rotor_table = GPU.rotor_table
+_plate_cell = GPU.plate_cell
+_pill_cell = GPU.pill_cell
+_filtered_plate = GPU.filtered_plate
+_filtered_pills = GPU.filtered_pills
+_cell_rates = GPU.cell_rates
+_rate_coefficients = GPU.rate_coefficients
+_cell_integrals = GPU.cell_integrals
+_contour_node = GPU.contour_node
+_spline_line = GPU.spline_line
+
+
+def _advance(
+    buf,
+    coords,
+    interior,
+    rows,
+    support,
+    par,
+    shape,
+    num,
+    quad_s,
+    quad_t,
+    plate_tab,
+    edge_tab,
+    pill_tab,
+    sched,
+    flags,
+    rotor,
+    kicks,
+    records,
+    status,
+    coef,
+    step0,
+    n_steps,
+    parity0,
+    record_every,
+    record0,
+):
+    """Advance every member by `n_steps` fused Euler steps; block m advances member m.
+
+    Args:
+        buf: two state buffers (2, E, 3, n, n) of (c, v_x, v_y), flattened; buffer
+            `parity0` holds the state at step0, the result ends in buffer
+            (parity0 + n_steps) % 2.
+        coords: (n,) cell-centre coordinates.
+        interior: (2, n) column range [lo, hi) of interior cells per row.
+        rows: [i0, i1), the rows holding interior cells.
+        support: (E, 2, n) column range of each member's support of F and G per row
+            (inside the interior ranges).
+        par: (E, N_PAR) float parameters, the P_* layout of :mod:`pde_rotor.kernels.core`.
+        shape: (E, 6) :meth:`RotorShape.as_array` per member.
+        num: (E, N_SCHEME) :meth:`Scheme.as_array` per member.
+        quad_s, quad_t: the common quadrature rules of the contour torque.
+        plate_tab, edge_tab, pill_tab: the common filter tables (:meth:`Scheme.table_arrays`).
+        sched: (E, 4) :meth:`StopSchedule.as_array` per member.
+        flags: (E, 2) flow enabled, noise on.
+        rotor: (E, 5) [phi, omega, torque, friction, stopped], updated.
+        kicks: (E, n_steps) noise increments of omega (read where noise is on).
+        records: (E, R, 6) receives the rotor and the total camphor int c dA after each
+            step that ends on a multiple of `record_every`, at row
+            (step + 1) // record_every - record0.
+        status: (E,) -1, or the step at which the member's state stopped being finite
+            (the member is then left at the start of that step and not advanced again).
+        coef: (E n^2) scratch for the spline coefficients of c (contour form only).
+        step0: global index of the first step.
+        n_steps: number of steps.
+        parity0: buffer holding the state at step0.
+        record_every: steps between records.
+        record0: record number of row 0 of `records`.
+    """
+    m = cuda.blockIdx.x
+    tid = cuda.threadIdx.x
+    n_threads = cuda.blockDim.x
+    if status[m] >= 0:
+        return
+    red = cuda.shared.array(0, float64)  # 4 * n_threads partial sums
+    tab = cuda.shared.array((4, MAX_CORNERS), float64)  # edge normals, pill centres
+    rot = cuda.shared.array(6, float64)  # phi, omega, torque, friction, stopped, failed
+
+    pm = par[m]
+    rates = _rate_coefficients(pm)
+    dt, dx = pm[P_DT], pm[P_DX]
+    inv_2dx = 0.5 / dx
+    area = dx * dx
+    inv_inertia = 1.0 / pm[P_I]
+    mu = pm[P_MU]
+    tsign_k = pm[P_TSIGN] * pm[P_K]
+    n_corners = int(shape[m, S_N])
+    apothem, rho, r_c = shape[m, S_APOTHEM], shape[m, S_RHO], shape[m, S_RC]
+    asym, delta = shape[m, S_ASYM], shape[m, S_DELTA]
+    inv_delta = 1.0 / delta
+    filtered = num[m, M_FILTERED] != 0.0
+    t_n, t_x0 = int(num[m, M_TABLE_N]), num[m, M_TABLE_X0]
+    t_inv, p_inv = num[m, M_TABLE_INV_STEP], num[m, M_PROFILE_INV_STEP]
+    crease, e_u0, e_inv = num[m, M_CREASE], num[m, M_EDGE_U0], num[m, M_EDGE_INV_STEP]
+    contour = num[m, M_CONTOUR] != 0.0
+    tan_half = num[m, M_TAN_HALF]
+    w_lo = int(num[m, M_WINDOW_LO])
+    width = int(num[m, M_WINDOW_HI]) - w_lo
+    n_nodes = n_corners * quad_s.shape[1] * quad_t.shape[1] if contour else 0
+    n_ini, n_stop, n_period, n_cycles = sched[m, 0], sched[m, 1], sched[m, 2], sched[m, 3]
+    flow = flags[m, FLAG_FLOW] != 0
+    noisy = flags[m, FLAG_NOISY] != 0
+    i0, i1 = rows[0], rows[1]
+    lanes = min(n_threads, 32)  # a warp sweeps a row, coalesced along y
+    group = tid // lanes
+    lane = tid % lanes
+    n_groups = n_threads // lanes
+    n = coords.size
+    nn = n * n
+    x0 = coords[0]
+    inv_dx = 1.0 / dx
+    n_members = status.size
+
+    if tid == 0:
+        for q in range(5):
+            rot[q] = rotor[m, q]
+        rot[5] = 0.0
+    cuda.syncthreads()
+
+    for s in range(n_steps):
+        step = step0 + s
+        p_cur = (parity0 + s) % 2
+        p_nxt = 1 - p_cur
+        # stop schedule, pde_rotor.model.protocol.stopped_at
+        rel = step - n_ini
+        stopped = rel >= 0 and rel < n_cycles * n_period and rel % n_period < n_stop
+        phi = rot[0]
+        omega = rot[1]
+        if stopped:
+            omega = 0.0
+        if tid == 0:
+            _rotor_table(phi, n_corners, r_c, asym, tab)
+        cuda.syncthreads()
+
+        cross_grad = 0.0
+        moment = 0.0
+        cross_v = 0.0
+        camphor = 0.0
+        bad = False
+        cur = (p_cur * n_members + m) * 3 * nn  # offset of the member's c in buf
+        nxt = (p_nxt * n_members + m) * 3 * nn
+        for i in range(i0 + group, i1, n_groups):
+            x = coords[i]
+            s_lo = support[m, 0, i]
+            s_hi = support[m, 1, i]
+            for j in range(interior[0, i] + lane, interior[1, i], lanes):
+                on_support = s_lo <= j and j < s_hi
+                y = coords[j]
+                o = cur + i * n + j
+                f = 0.0
+                g = 0.0
+                if on_support:
+                    if filtered:
+                        f = _filtered_plate(
+                            x,
+                            y,
+                            tab,
+                            n_corners,
+                            apothem,
+                            tan_half,
+                            crease,
+                            edge_tab,
+                            e_u0,
+                            e_inv,
+                            plate_tab,
+                            t_n,
+                            t_x0,
+                            t_inv,
+                        )
+                        g = _filtered_pills(x, y, tab, n_corners, pill_tab, p_inv)
+                    else:
+                        f = _plate_cell(x, y, tab, n_corners, apothem, inv_delta)
+                        g = _pill_cell(x, y, tab, n_corners, rho, inv_delta)
+                    if f != 0.0:
+                        grad, mom, vel = _cell_integrals(buf, o, n, 1, nn, f, x, y, inv_2dx, flow)
+                        cross_grad += grad
+                        moment += mom
+                        cross_v += vel
+                rate_c, rate_x, rate_y = _cell_rates(
+                    buf, o, n, 1, nn, f, g, omega, x, y, rates, flow, on_support
+                )
+                o_new = nxt + i * n + j
+                new_c = buf[o] + dt * rate_c
+                buf[o_new] = new_c
+                camphor += new_c
+                if not math.isfinite(new_c):
+                    bad = True
+                if flow:
+                    new_x = buf[o + nn] + dt * rate_x
+                    new_y = buf[o + 2 * nn] + dt * rate_y
+                    buf[o_new + nn] = new_x
+                    buf[o_new + 2 * nn] = new_y
+                    if not (math.isfinite(new_x) and math.isfinite(new_y)):
+                        bad = True
+        if contour:  # the contour form replaces the area form of int F r x grad c dA
+            o_coef = m * nn
+            for q in range(tid, width * width, n_threads):
+                i = w_lo + q // width
+                j = w_lo + q % width
+                coef[o_coef + i * n + j] = buf[cur + i * n + j]
+            cuda.syncthreads()
+            for q in range(tid, width, n_threads):
+                _spline_line(coef, o_coef + (w_lo + q) * n + w_lo, 1, width)
+            cuda.syncthreads()
+            for q in range(tid, width, n_threads):
+                _spline_line(coef, o_coef + w_lo * n + w_lo + q, n, width)
+            cuda.syncthreads()
+            cross_grad = 0.0
+            for q in range(tid, n_nodes, n_threads):
+                cross_grad += _contour_node(
+                    coef, o_coef, n, x0, inv_dx, tab, apothem, delta, tan_half, quad_s, quad_t, q
+                )
+
+        # block reduction of the rotor integrals in a fixed order
+        red[tid] = cross_grad
+        red[n_threads + tid] = moment
+        red[2 * n_threads + tid] = cross_v
+        red[3 * n_threads + tid] = camphor
+        if bad:
+            rot[5] = 1.0
+        cuda.syncthreads()
+        half = n_threads // 2
+        while half > 0:
+            if tid < half:
+                red[tid] += red[tid + half]
+                red[n_threads + tid] += red[n_threads + tid + half]
+                red[2 * n_threads + tid] += red[2 * n_threads + tid + half]
+                red[3 * n_threads + tid] += red[3 * n_threads + tid + half]
+            cuda.syncthreads()
+            half //= 2
+
+        if tid == 0:
+            torque = tsign_k * (red[0] if contour else red[0] * area)
+            friction = -mu * ((red[n_threads] * area) * omega - red[2 * n_threads] * area)
+            if not (math.isfinite(torque) and math.isfinite(friction)) or rot[5] != 0.0:
+                status[m] = step
+                rot[1] = omega
+                rot[5] = 1.0
+            else:
+                if not stopped:
+                    phi += dt * omega
+                    omega += dt * (friction + torque) * inv_inertia
+                    if noisy:
+                        omega += kicks[m, s]
+                rot[0] = phi
+                rot[1] = omega
+                rot[2] = torque
+                rot[3] = friction
+                rot[4] = 1.0 if stopped else 0.0
+                if (step + 1) % record_every == 0:
+                    row_out = (step + 1) // record_every - record0
+                    for q in range(5):
+                        records[m, row_out, q] = rot[q]
+                    records[m, row_out, 5] = red[3 * n_threads] * area
+        cuda.syncthreads()
+        if rot[5] != 0.0:
+            # diverged: leave the member at the start of this step in both buffers
+            for i in range(i0 + group, i1, n_groups):
+                for j in range(interior[0, i] + lane, interior[1, i], lanes):
+                    for ch in range(3):
+                        buf[nxt + ch * nn + i * n + j] = buf[cur + ch * nn + i * n + j]
+            break
+
+    cuda.syncthreads()
+    if tid == 0:
+        for q in range(5):
+            rotor[m, q] = rot[q]
+
+
+_KERNELS: dict[tuple[int, int], Callable] = {}
+
+
+def advance_kernel(threads_per_block: int, min_blocks_per_sm: int = 0) -> Callable:
+    """The kernel for a block size and launch bound (compiled on its first launch).
+
+    Args:
+        threads_per_block: threads per block (the launch bound the compiler may assume).
+        min_blocks_per_sm: if > 0, ask the compiler to fit this many blocks on one
+            multiprocessor (fewer registers per thread, possibly spills); 0: its choice.
+    """
+    key = (threads_per_block, min_blocks_per_sm)
+    if key not in _KERNELS:
+        if simulator_enabled():
+            _KERNELS[key] = cuda.jit(_advance)
+        else:
+            bounds = (threads_per_block, min_blocks_per_sm) if min_blocks_per_sm else None
+            _KERNELS[key] = cuda.jit(launch_bounds=bounds)(_advance)
+    return _KERNELS[key]

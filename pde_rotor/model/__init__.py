@@ -1,0 +1,15 @@
+"""The model in numpy: geometry, domain, protocol, schemes and the readable reference PDE.
+
+This layer says *what* is computed. It imports only :mod:`pde_rotor.config` and the
+scalar functions of :mod:`pde_rotor.kernels.core`, which it shares with the compiled
+loops so that every indicator is written once.
+
+* :mod:`.geometry`: the rotor's plate indicator F and pill indicator G (Eqs. (F), (G));
+* :mod:`.domain`: the circular domain of radius L on a py-pde CartesianGrid;
+* :mod:`.protocol`: the stop-and-release schedule (section "Model");
+* :mod:`.schemes`, :mod:`.filtering`: the ``paper`` and ``consistent`` discretisations
+  of F, G and the torque, and the prefilter tables of the latter;
+* :mod:`.pde`: :class:`RotorPDE`, the py-pde PDE whose numpy right-hand side is the
+  independent reference of Eqs. (eqc), (eqv) and (eq_motion);
+* :mod:`.analysis`: what needs no time stepping (the stopped plate's steady state).
+"""

@@ -1,0 +1,308 @@
+"""The rotor model as a py-pde PDE: readable numpy reference of Eqs. (eqc), (eqv), (eq_motion).
+
+State: a FieldCollection [ScalarField c, VectorField v] on the Cartesian grid of
+:mod:`pde_rotor.model.domain`; the rotor angle phi and angular velocity omega live in
+:attr:`RotorPDE.rotor` (py-pde has no built-in coupling of ODEs to fields).
+
+:meth:`RotorPDE.evolution_rate` and :meth:`RotorPDE.rotor_torques` are the executable
+specification used by the tests; :mod:`pde_rotor.kernels.cpu` computes the same right-hand
+side in one fused compiled loop, and :meth:`RotorPDE.make_operator_stepper` composes it
+from py-pde's compiled operators (the benchmark's reference).
+
+Torque, Eq. (torque). The force that the surface exerts on the plate is the surface
+tension pulling on its contour, gamma n dl (n the outward normal). Its torque is
+
+    T = oint r x (gamma n) dl = int_Omega (x d_y gamma - y d_x gamma) dA
+      = int_Omega r x grad gamma dA = -k int F r x grad c dA,
+
+by the divergence theorem applied to the field (x gamma, ... ) and gamma = gamma0 - k c,
+Eq. (surfacetension). The paper prints T = int r x (-grad gamma) dA, the opposite sign:
+that torque opposes the rotation and leaves the rotor at rest (tests/test_model.py).
+``rotor.torque = "physical"`` (default) uses the derived sign, ``"printed"`` the printed.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numba as nb
+import numpy as np
+from pde import FieldCollection, ScalarField, VectorField
+from pde.pdes.base import PDEBase
+
+from ..config import RotorConfig
+from .domain import Domain, make_domain
+from .filtering import filtered_indicators
+from .geometry import (
+    RotorShape,
+    edge_normal_angles,
+    pill_indicator,
+    plate_indicator,
+)
+from .schemes import Scheme, contour_cross_grad
+
+BOUNDARY = {"value": 0}
+"""py-pde boundary condition on the square; it never reaches an interior cell."""
+
+TORQUE_SIGN = {"physical": -1.0, "printed": 1.0}
+"""T = sign * k * int F r x grad c dA for the two torque conventions."""
+
+
+@dataclass
+class RotorState:
+    """Rotor degrees of freedom and the rotor diagnostics of the last step.
+
+    Attributes:
+        phi: rotor angle phi [rad].
+        omega: angular velocity dphi/dt.
+        torque: surface tension torque T, Eq. (torque), of the last step.
+        friction: friction torque -mu int F (|r|^2 omega - r x v) dA of the last step.
+        stopped: whether the last step was in a stop phase.
+    """
+
+    phi: float
+    omega: float
+    torque: float = 0.0
+    friction: float = 0.0
+    stopped: bool = False
+
+    def as_array(self) -> np.ndarray:
+        """Pack for the kernel: [phi, omega, torque, friction, stopped]."""
+        return np.array([self.phi, self.omega, self.torque, self.friction, float(self.stopped)])
+
+    def update_from(self, values: np.ndarray) -> None:
+        """Unpack the kernel's array (inverse of :meth:`as_array`)."""
+        self.phi, self.omega, self.torque, self.friction = (float(v) for v in values[:4])
+        self.stopped = bool(values[4])
+
+
+class RotorPDE(PDEBase):
+    """Camphor rotor of Koyano et al. (Chaos 2020): Eqs. (eqc), (eqv), (eq_motion).
+
+    Attributes:
+        config: the run configuration (all parameters).
+        shape: derived rotor geometry.
+        domain: grid and loop ranges.
+        scheme: discretisation of F, G and the torque (``numerics``).
+        rotor: current phi, omega and rotor diagnostics.
+        F, G: plate and pill indicators on the grid, maintained by the solver.
+    """
+
+    check_implementation = False
+
+    def __init__(self, config: RotorConfig):
+        """
+        Args:
+            config: the run configuration.
+        """
+        super().__init__()
+        self.config = config
+        self.shape = RotorShape.from_config(config.geometry)
+        self.domain: Domain = make_domain(config.grid, self.shape)
+        self.scheme = Scheme.from_config(config)
+        self.rotor = RotorState(phi=config.rotor.phi0, omega=config.rotor.omega0)
+        self.F = np.zeros(self.domain.grid.shape)
+        self.G = np.zeros(self.domain.grid.shape)
+
+    def initial_state(self) -> FieldCollection:
+        """c = 0 and v = 0, the paper's initial condition."""
+        grid = self.domain.grid
+        return FieldCollection(
+            [ScalarField(grid, label="c"), VectorField(grid, label="v")], label="rotor state"
+        )
+
+    def kernel_parameters(self, dt: float) -> np.ndarray:
+        """Float parameters of the compiled kernels (index constants P_* in the solver)."""
+        cfg = self.config
+        rho = cfg.geometry.pill_radius
+        return np.array(
+            [
+                dt,
+                cfg.grid.dx,
+                cfg.camphor.diffusion,
+                cfg.camphor.evaporation,
+                cfg.camphor.supply / (math.pi * rho**2),
+                cfg.camphor.tension_slope,
+                cfg.flow.drag,
+                cfg.flow.bulk_drag,
+                cfg.flow.viscosity,
+                cfg.rotor.inertia,
+                cfg.rotor.friction,
+                TORQUE_SIGN[cfg.rotor.torque],
+            ]
+        )
+
+    def cell_coordinates(self) -> tuple[np.ndarray, np.ndarray]:
+        """(x, y) of every cell centre, each of shape (n, n)."""
+        coords = self.domain.coords
+        return np.meshgrid(coords, coords, indexing="ij")
+
+    def indicators(self, phi: float) -> tuple[np.ndarray, np.ndarray]:
+        """F and G of every cell with numpy (reference for the compiled update).
+
+        Point values at the cell centres (scheme ``paper``) or the Gaussian-filtered
+        fields of scheme ``consistent`` (:mod:`pde_rotor.model.filtering`), the latter from
+        the filter tables with scipy's spline and numpy's linear interpolation.
+        """
+        x, y = self.cell_coordinates()
+        tables = self.scheme.tables
+        if tables is None:
+            return plate_indicator(x, y, self.shape, phi), pill_indicator(x, y, self.shape, phi)
+        return filtered_indicators(tables, self.shape, x, y, phi)
+
+    def evolution_rate(self, state: FieldCollection, t: float = 0) -> FieldCollection:
+        """Right-hand sides of Eqs. (eqc) and (eqv) at the current rotor state (numpy).
+
+        The flow term uses omega = ``self.rotor.omega`` (0 during a stop). Cells on and
+        outside the circle of radius L keep c = v = 0.
+        """
+        cfg = self.config
+        c, v = state
+        F, G = self.indicators(self.rotor.phi)
+        mask = self.domain.interior_mask
+        source = cfg.camphor.supply / (math.pi * cfg.geometry.pill_radius**2) * G
+        c_rate = (
+            cfg.camphor.diffusion * c.laplace(BOUNDARY).data
+            - cfg.camphor.evaporation * (1 - F) * c.data
+            + source
+        )
+        v_rate = np.zeros_like(v.data)
+        if cfg.flow.enabled:
+            c_rate -= (c * v).divergence(BOUNDARY).data
+            x, y = self.cell_coordinates()
+            plate_velocity = self.rotor.omega * np.stack([-y, x])
+            v_rate = (
+                cfg.flow.drag * F * (plate_velocity - v.data)
+                - cfg.flow.bulk_drag * v.data
+                + cfg.flow.viscosity * v.laplace(BOUNDARY).data
+            )
+        grid = self.domain.grid
+        return FieldCollection([ScalarField(grid, c_rate * mask), VectorField(grid, v_rate * mask)])
+
+    def rotor_torques(self, state: FieldCollection) -> tuple[float, float]:
+        """Torque T, Eq. (torque), and friction torque of Eq. (eq_motion) (numpy).
+
+        The torque's integral int F r x grad c dA is taken in the scheme's form: area
+        form with central differences (``paper``) or contour form (``consistent``).
+
+        Returns:
+            (T, -mu int F (|r|^2 omega - r x v) dA) at the current rotor state.
+        """
+        cfg = self.config
+        c, v = state
+        F, _ = self.indicators(self.rotor.phi)
+        x, y = self.cell_coordinates()
+        area = self.domain.cell_area
+        if self.scheme.contour:
+            normals = edge_normal_angles(self.shape.n_corners, self.rotor.phi)
+            cross_grad = contour_cross_grad(
+                c.data,
+                float(self.domain.coords[0]),
+                self.domain.dx,
+                self.scheme,
+                normals,
+                self.shape.apothem,
+                self.shape.smoothing,
+            )
+        else:
+            grad = c.gradient(BOUNDARY).data
+            cross_grad = np.sum(F * (x * grad[1] - y * grad[0])) * area
+        torque = TORQUE_SIGN[cfg.rotor.torque] * cfg.camphor.tension_slope * cross_grad
+        cross_v = np.sum(F * (x * v.data[1] - y * v.data[0])) * area if cfg.flow.enabled else 0.0
+        moment = np.sum(F * (x**2 + y**2)) * area
+        friction = -cfg.rotor.friction * (moment * self.rotor.omega - cross_v)
+        return float(torque), float(friction)
+
+    def solve(
+        self,
+        state: FieldCollection,
+        t_range: float | tuple[float, float],
+        dt: float | None = None,
+        tracker: Any = "auto",
+        *,
+        solver: Any = "rotor",
+        **kwargs: Any,
+    ) -> Any:
+        """Solve with :class:`~pde_rotor.solver.rotor.RotorSolver`, which advances phi and omega.
+
+        Arguments as for py-pde's ``PDEBase.solve``; `dt` defaults to ``grid.dt``.
+
+        Raises:
+            ValueError: for any other solver: py-pde's generic solvers advance only the
+                fields and would leave the rotor frozen at its current angle.
+        """
+        from ..solver.rotor import RotorSolver  # the solver module imports this one
+
+        if solver not in ("rotor", RotorSolver):
+            msg = (
+                f"solver {solver!r} would leave the rotor frozen; RotorPDE is solved by "
+                "RotorSolver (solver='rotor'), which advances phi and omega with the fields"
+            )
+            raise ValueError(msg)
+        if dt is None:
+            dt = self.config.grid.dt
+        return super().solve(state, t_range, dt, tracker, solver=RotorSolver, **kwargs)
+
+    def make_operator_stepper(self, dt: float) -> Callable[[np.ndarray, np.ndarray, int], None]:
+        """Euler stepper composed from py-pde's compiled operators (benchmark reference).
+
+        The same equations as the fused solver, built the way a py-pde user would:
+        ``grid.make_operator`` for laplace, divergence, vector_laplace and gradient,
+        array expressions for the rest, F and G evaluated with tanh on the whole grid.
+        No stop schedule and no noise.
+
+        Returns:
+            step(data, rotor, n_steps): advances data (3, n, n) and rotor [phi, omega].
+        """
+        grid = self.domain.grid
+        laplace = grid.make_operator("laplace", BOUNDARY)
+        divergence = grid.make_operator("divergence", BOUNDARY)
+        vector_laplace = grid.make_operator("vector_laplace", BOUNDARY)
+        gradient = grid.make_operator("gradient", BOUNDARY)
+        x, y = self.cell_coordinates()
+        mask = self.domain.interior_mask.astype(float)
+        cfg, shape = self.config, self.shape
+        diff, evap = cfg.camphor.diffusion, cfg.camphor.evaporation
+        src = cfg.camphor.supply / (math.pi * shape.pill_radius**2)
+        eta, eta_b, d_eta = cfg.flow.drag, cfg.flow.bulk_drag, cfg.flow.viscosity
+        tsign_k = TORQUE_SIGN[cfg.rotor.torque] * cfg.camphor.tension_slope
+        mu, inertia, area = cfg.rotor.friction, cfg.rotor.inertia, self.domain.cell_area
+        n_corners, apothem, rho = shape.n_corners, shape.apothem, shape.pill_radius
+        r_c, asym, inv_delta = shape.pill_distance, shape.asymmetry, 1.0 / shape.smoothing
+
+        @nb.njit(cache=False)
+        def step(data: np.ndarray, rotor: np.ndarray, n_steps: int) -> None:
+            for _ in range(n_steps):
+                phi, omega = rotor[0], rotor[1]
+                proj = np.full(x.shape, -np.inf)
+                G = np.zeros(x.shape)
+                for k in range(n_corners):
+                    a_edge = phi + 2.0 * np.pi * (k + 0.5) / n_corners
+                    proj = np.maximum(proj, x * np.cos(a_edge) + y * np.sin(a_edge))
+                    a_pill = phi + 2.0 * np.pi * (k + 1) / n_corners + asym
+                    dist = np.sqrt(
+                        (x - r_c * np.cos(a_pill)) ** 2 + (y - r_c * np.sin(a_pill)) ** 2
+                    )
+                    G += 0.5 * (1.0 + np.tanh((rho - dist) * inv_delta))
+                F = 0.5 * (1.0 + np.tanh((apothem - proj) * inv_delta))
+                c, v = data[0], data[1:]
+                grad = gradient(c)
+                cross_grad = np.sum(F * (x * grad[1] - y * grad[0])) * area
+                cross_v = np.sum(F * (x * v[1] - y * v[0])) * area
+                moment = np.sum(F * (x * x + y * y)) * area
+                c_rate = diff * laplace(c) - divergence(c * v) - evap * (1.0 - F) * c + src * G
+                v_rate = np.empty_like(v)
+                v_rate[0] = eta * F * (-omega * y - v[0]) - eta_b * v[0]
+                v_rate[1] = eta * F * (omega * x - v[1]) - eta_b * v[1]
+                v_rate += d_eta * vector_laplace(v)
+                data[0] += dt * mask * c_rate
+                data[1:] += dt * mask * v_rate
+                rotor[0] = phi + dt * omega
+                rotor[1] = (
+                    omega + dt * (tsign_k * cross_grad - mu * (moment * omega - cross_v)) / inertia
+                )
+
+        return step

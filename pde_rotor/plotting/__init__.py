@@ -1,0 +1,6 @@
+"""Figures: a run's movie frames and summary, the shared figure helpers, the Fig. 9 map.
+
+* :mod:`.run`: movie frames and the summary figure of ``pde-rotor show``;
+* :mod:`.figures`: pyplot-free figures, footers and probability axes of the gallery;
+* :mod:`.decision_map`: the Fig. 9 map from the decision model with ensemble points.
+"""

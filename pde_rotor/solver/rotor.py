@@ -1,0 +1,221 @@
+"""Fused explicit solver for c, v, phi and omega (py-pde SolverBase subclass).
+
+:class:`FusedStepper` binds the compiled fused step (:func:`pde_rotor.kernels.cpu.advance`:
+Eqs. (eqc), (eqv), (eq_motion) and (torque), forward Euler or Heun, the noise of
+Eq. (noiseav) by Euler-Maruyama) to one simulation's arrays, parameters and stop
+schedule, and reports a state that stops being finite with the time and the field.
+
+:class:`RotorSolver` plugs the loop into py-pde through ``SolverBase._make_inner_stepper``
+(py-pde has no built-in coupling of ODEs to fields, py-pde issue #533): py-pde selects
+the backend, calls the PDE's post-step hook if it has one, and its Controller and
+trackers drive the run unchanged.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from pde import FieldCollection
+from pde.solvers.base import SolverBase
+
+from ..kernels.cpu import advance
+from ..model.pde import RotorPDE
+from ..model.protocol import StopSchedule
+
+
+class SimulationDivergedError(FloatingPointError):
+    """Raised when the state stops being finite (NaN/Inf); says where and when."""
+
+
+@dataclass
+class FusedStepper:
+    """The compiled kernel bound to one simulation's arrays and parameters.
+
+    Attributes:
+        pde: the model (parameters, domain, rotor state).
+        dt: time step.
+        rng: numpy Generator for the noise; one standard normal is drawn per step, in
+            step order, so a run is reproducible whatever the tracker intervals.
+    """
+
+    pde: RotorPDE
+    dt: float
+    rng: np.random.Generator
+    schedule: StopSchedule = field(init=False)
+    _spare: np.ndarray = field(init=False, repr=False)
+    _stage: np.ndarray = field(init=False, repr=False)
+    _par: np.ndarray = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        self.schedule = StopSchedule.from_config(self.pde.config.protocol, self.dt)
+        self._par = self.pde.kernel_parameters(self.dt)
+        self._spare = np.zeros((3, *self.pde.domain.grid.shape))
+        heun = self.pde.config.numerics.integrator == "heun"
+        self._stage = np.zeros_like(self._spare) if heun else np.empty(0)
+
+    def kicks(self, n_steps: int) -> np.ndarray:
+        """Euler-Maruyama increments of omega: sqrt(2 dt) sigma / I N(0, 1), Eq. (noiseav)."""
+        sigma = self.pde.config.noise.sigma
+        if sigma == 0:
+            return np.empty(0)
+        scale = math.sqrt(2.0 * self.dt) * sigma / self.pde.config.rotor.inertia
+        return scale * self.rng.standard_normal(n_steps)
+
+    def __call__(self, data: np.ndarray, step0: int, n_steps: int) -> None:
+        """Advance `data` (and the PDE's rotor state) by `n_steps` steps from step `step0`.
+
+        Raises:
+            SimulationDivergedError: when the state becomes NaN/Inf, naming the time and field.
+        """
+        pde = self.pde
+        dom = pde.domain
+        scheme = pde.scheme
+        rotor = pde.rotor.as_array()
+        work = data if data.flags.c_contiguous else np.ascontiguousarray(data)
+        failed = advance(
+            work.reshape(-1),
+            self._spare.reshape(-1),
+            self._stage.reshape(-1),
+            pde.F.reshape(-1),
+            pde.G.reshape(-1),
+            dom.coords,
+            dom.interior_lo,
+            dom.interior_hi,
+            dom.support_lo,
+            dom.support_hi,
+            pde.shape.as_array(),
+            self._par,
+            scheme.as_array(),
+            scheme.quad_s,
+            scheme.quad_t,
+            *scheme.table_arrays(),
+            pde.config.flow.enabled,
+            self.schedule.as_array(),
+            rotor,
+            self.kicks(n_steps),
+            step0,
+            n_steps,
+        )
+        if work is not data:
+            data[...] = work
+        pde.rotor.update_from(rotor)
+        if failed >= 0:
+            self._diverged((step0 + failed) * self.dt, data, rotor)
+        if not np.isfinite(data).all():
+            self._diverged((step0 + n_steps) * self.dt, data, rotor)
+
+    def _diverged(self, t: float, data: np.ndarray, rotor: np.ndarray) -> None:
+        names = ["c", "v_x", "v_y"]
+        bad = [name for name, arr in zip(names, data, strict=True) if not np.isfinite(arr).all()]
+        if not np.isfinite(rotor[:2]).all():
+            bad.append("phi/omega")
+        where = ", ".join(bad) if bad else "torque"
+        msg = (
+            f"simulation diverged at t = {t:.6g}: non-finite {where} "
+            f"(dt = {self.dt:g}, stability limit {self.pde.config.dt_limit():.4g}; "
+            "a large flow can also violate the advection limit dt <= 2 D / |v|^2)"
+        )
+        raise SimulationDivergedError(msg)
+
+
+def make_fused_stepper(pde: RotorPDE, dt: float, rng: np.random.Generator) -> FusedStepper:
+    """Bind the compiled fused kernel to `pde` (see :class:`FusedStepper`)."""
+    return FusedStepper(pde=pde, dt=dt, rng=rng)
+
+
+class RotorSolver(SolverBase):
+    """py-pde solver that advances the rotor model with the fused compiled kernel.
+
+    It supplies ``_make_inner_stepper``, the hook through which py-pde's generic backend
+    runs a solver: :meth:`SolverBase.make_stepper` records dt, selects the backend and
+    asks it for the stepper, which calls the inner stepper from tracker time to tracker
+    time. The rotor state lives in ``pde.rotor`` and is advanced in the same compiled
+    loop as the fields, every step. If the PDE defines a post-step hook
+    (``make_post_step_hook``), it is called after every step.
+    """
+
+    name = "rotor"
+
+    def __init__(
+        self,
+        pde: RotorPDE,
+        *,
+        backend: str = "auto",
+        rng: np.random.Generator | None = None,
+    ):
+        """
+        Args:
+            pde: the rotor model.
+            backend: py-pde backend; ``auto`` and ``numpy`` both run the fused kernel
+                through py-pde's generic stepper (the kernel compiles itself with numba).
+            rng: Generator for the torque noise; by default seeded from
+                ``pde.config.noise.seed``.
+
+        Raises:
+            ValueError: for a py-pde backend that does not go through
+                ``_make_inner_stepper`` (numba, jax, torch: they compile py-pde's own
+                operators, which this model does not use).
+        """
+        if backend not in ("auto", "numpy"):
+            msg = (
+                f"RotorSolver runs its own compiled kernel and takes backend 'auto' or "
+                f"'numpy', not {backend!r}"
+            )
+            raise ValueError(msg)
+        super().__init__(pde, backend=backend)
+        self.pde: RotorPDE = pde
+        seed = pde.config.noise.seed
+        self.rng = rng if rng is not None else np.random.default_rng(seed)
+        self.fused: FusedStepper | None = None
+
+    def make_stepper(
+        self, state: FieldCollection, dt: float | None = None
+    ) -> Callable[[FieldCollection, float, float], float]:
+        """Return stepper(state, t_start, t_end) -> t advancing by whole steps of dt.
+
+        Args:
+            state: the state the stepper will advance (its grid must be the model's).
+            dt: time step (default: ``grid.dt`` of the configuration).
+
+        Raises:
+            ValueError: if dt exceeds the explicit stability limit (before any step).
+        """
+        if dt is None:
+            dt = self.pde.config.grid.dt
+        limit = self.pde.config.dt_limit()
+        if dt > limit:
+            msg = f"dt = {dt:g} exceeds the explicit stability limit {limit:.4g}"
+            raise ValueError(msg)
+        stepper = super().make_stepper(state, dt)
+        self.info["stochastic"] = self.pde.config.noise.sigma > 0
+        self.info["kernel"] = f"numba fused rotor kernel, scheme {self.pde.scheme.name}"
+        return stepper
+
+    def _make_inner_stepper(self, state: FieldCollection) -> Callable[[Any, float, float], float]:
+        """The backend-level stepper: state data, t_start, t_end -> t after whole steps."""
+        dt = float(self.info["dt"])
+        fused = make_fused_stepper(self.pde, dt, self.rng)
+        self.fused = fused
+        post_step_hook = self._make_post_step_hook(state)
+        hooked = self.info["post_step_data"] is not None
+
+        def inner_stepper(state_data: np.ndarray, t_start: float, t_end: float) -> float:
+            step0 = round(t_start / dt)
+            n_steps = max(1, round((t_end - t_start) / dt))
+            if hooked:
+                for step in range(step0, step0 + n_steps):
+                    fused(state_data, step, 1)
+                    data, self.info["post_step_data"] = post_step_hook(
+                        state_data, step * dt, self.info["post_step_data"]
+                    )
+                    state_data[...] = data
+            else:
+                fused(state_data, step0, n_steps)
+            self.info["steps"] += n_steps
+            return (step0 + n_steps) * dt
+
+        return inner_stepper

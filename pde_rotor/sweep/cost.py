@@ -1,0 +1,231 @@
+"""Estimated wall time of a run or a sweep, from measured costs per step and per frame.
+
+One step of the fused solver updates c and v on every cell inside the disk of radius L
+(a cost per *interior* cell) and, while the plate turns, recomputes F and G and the
+rotor integrals on the cells within reach of the plate (a cost per *support* cell, the
+disk of radius :attr:`pde_rotor.model.geometry.RotorShape.support_radius`, which grows with the
+edge width delta). The two constants below are fitted to two grids:
+
+* the paper's grid, dx = delta = 0.025 (45 244 interior, 5 824 support cells): 0.29 ms
+  per step with the ``paper`` scheme (README, ``benchmarks/bench_solver.py``), 1.4 times
+  that with the ``consistent`` one (the same benchmark's ratio);
+* the coarse grid, dx = delta = 0.05 (11 304 interior, 3 436 support cells): 0.14 ms
+  per step, the 0.44-0.50 of the paper grid's time that ``benchmarks/bench_cost.py``
+  measures on the same machine.
+
+A cost per cell alone would put the coarse grid at a quarter of the paper's; it costs
+about half, because the support shrinks less than the disk. A stopped plate keeps its F
+and G, so on the support cells a stop step costs only the rotor integrals (the torque of
+Eq. (torque) is still computed every step): a third constant per scheme
+(:data:`SECONDS_PER_STOPPED_SUPPORT_CELL_STEP` says where each was measured).
+``benchmarks/bench_cost.py`` re-measures the turning constants and predicts a third
+grid (dx = delta = 1/30) within 3-10 %, and times a stopped plate. Every figure here
+is an estimate for one core like the project's (numba, single-threaded); other
+machines, and a loaded one, differ by their speed.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+from ..config import RotorConfig
+from ..model.geometry import RotorShape
+
+if TYPE_CHECKING:
+    from . import Run
+
+SECONDS_PER_CELL_STEP = 2.0e-9
+"""Wall time of one step per interior cell (field update of Eqs. (eqc), (eqv))."""
+SECONDS_PER_SUPPORT_CELL_STEP: dict[str, float] = {"paper": 3.4e-8, "consistent": 5.4e-8}
+"""Wall time of one step per support cell (F, G and the rotor integrals), per
+``numerics.scheme``: the consistent scheme's filtered F and G and contour torque cost
+1.4 times the paper scheme's step on the paper's grid (``benchmarks/bench_solver.py``,
+ratio (c)/(a)), all of it on the support cells."""
+SECONDS_PER_STOPPED_SUPPORT_CELL_STEP: dict[str, float] = {"paper": 1.2e-8, "consistent": 2.6e-8}
+"""Wall time of one step of a stopped plate per support cell (the rotor integrals only;
+F and G keep the stop angle), per ``numerics.scheme``: paper from
+``benchmarks/bench_cost.py --scheme paper`` ("stopped plate", 1.24e-8); consistent from
+the wall times of 800 stored fig5 restarts (docs/statistics.md, "Dry run"), which the
+benchmark's second-long timings on a shared machine scatter around (2.2e-8, 7.7e-8)."""
+SECONDS_PER_MOVIE_FRAME = 0.07
+"""Wall time to render and encode one movie frame at ``output.movie_dpi = 100``
+(configs/quickstart.yaml: 215 frames add 15 s)."""
+COMMIT_TIME = 0.8
+"""Release time until a restart has committed to a direction: the mean ``t_commit`` of
+the 6814 releases stored under data/sweeps/ is 0.82 (0.77 to 0.87 by sweep)."""
+LONG_RUN_SECONDS = 600.0
+"""Runs estimated to take longer than this announce their estimate before they start."""
+
+
+def cell_counts(config: RotorConfig) -> tuple[int, int]:
+    """(interior cells, support cells) of the config's grid: the disk areas over dx^2."""
+    dx2 = config.grid.dx**2
+    support = RotorShape.from_config(config.geometry).support_radius
+    return (
+        round(math.pi * config.grid.domain_radius**2 / dx2),
+        round(math.pi * support**2 / dx2),
+    )
+
+
+def step_seconds(config: RotorConfig, stopped: bool = False) -> float:
+    """Estimated wall time of one solver step on the config's grid, of a turning plate
+    or (`stopped`) of a stopped one."""
+    interior, support = cell_counts(config)
+    table = SECONDS_PER_STOPPED_SUPPORT_CELL_STEP if stopped else SECONDS_PER_SUPPORT_CELL_STEP
+    return interior * SECONDS_PER_CELL_STEP + support * table[config.numerics.scheme]
+
+
+def protocol_seconds(config: RotorConfig) -> float:
+    """Estimated wall time of the whole protocol (t_end), its M stops at the cost of a
+    stopped plate."""
+    n_stopped = config.protocol.cycles * steps(config.protocol.t_stop, config)
+    n_moving = steps(config.protocol.t_end, config) - n_stopped
+    return n_moving * step_seconds(config) + n_stopped * step_seconds(config, stopped=True)
+
+
+def steps(duration: float, config: RotorConfig) -> int:
+    """Number of steps of length grid.dt in `duration`."""
+    return round(duration / config.grid.dt)
+
+
+@dataclass(frozen=True)
+class RunEstimate:
+    """Estimated cost of one ``pde-rotor run``.
+
+    Attributes:
+        steps: solver steps to t_end.
+        cells: interior cells of the grid.
+        frames: movie frames rendered (0 without a movie).
+        seconds: estimated wall time.
+    """
+
+    steps: int
+    cells: int
+    frames: int
+    seconds: float
+
+    @property
+    def long(self) -> bool:
+        """Whether the run is expected to take longer than :data:`LONG_RUN_SECONDS`."""
+        return self.seconds > LONG_RUN_SECONDS
+
+    def describe(self) -> str:
+        """``about 5.1 h (10.6 M steps on 45 k cells, 21200 movie frames; an estimate)``."""
+        movie = f", {self.frames} movie frames" if self.frames else ""
+        return (
+            f"about {format_duration(self.seconds)} ({format_count(self.steps)} steps on "
+            f"{format_count(self.cells)} cells{movie}; an estimate from measured costs on one "
+            "core)"
+        )
+
+
+def estimate_run(config: RotorConfig, movie: bool | None = None) -> RunEstimate:
+    """Estimated cost of running `config` with its trackers.
+
+    Args:
+        config: the run configuration.
+        movie: whether a movie is rendered (default: ``output.movie``).
+    """
+    n = steps(config.protocol.t_end, config)
+    movie = config.output.movie if movie is None else movie
+    frames = math.floor(config.protocol.t_end / config.output.movie_interval + 1e-9) + 1
+    frames = frames if movie else 0
+    seconds = protocol_seconds(config) + frames * SECONDS_PER_MOVIE_FRAME
+    return RunEstimate(n, cell_counts(config)[0], frames, seconds)
+
+
+@dataclass(frozen=True)
+class SweepEstimate:
+    """Estimated cost of the runs of a sweep still to compute.
+
+    Attributes:
+        runs: runs to compute.
+        core_seconds: their estimated compute time on one core, spin-ups included.
+        workers: worker processes they are spread over (None: unknown, a scheduler's).
+    """
+
+    runs: int
+    core_seconds: float
+    workers: int | None
+
+    def describe(self) -> str:
+        """``about 52 min of one core, 26 min on 2 workers (...)``."""
+        text = f"about {format_duration(self.core_seconds)} of one core"
+        if self.workers and self.runs:
+            wall = self.core_seconds / min(self.workers, self.runs)
+            text += f", {format_duration(wall)} on {self.workers} workers"
+        return (
+            f"{text} (an estimate from measured costs per step; restarts assumed to commit "
+            f"{COMMIT_TIME:g} time unit after their release)"
+        )
+
+
+def estimate_sweep(runs: Sequence[Run], workers: int | None) -> SweepEstimate:
+    """Estimated cost of computing `runs` of one sweep (no trackers, no movie).
+
+    * protocol estimator: t_end of each run (:func:`protocol_seconds`);
+    * restart: the stop (steps of a stopped plate) and a release of :data:`COMMIT_TIME`
+      (at most the release cap) per run, plus the noise-free spin-up (``warmup``) that
+      each worker computes once per spin-up state it meets (:func:`pde_rotor.sweep.warm_key`);
+    * bank: as restart, with one stop per group of runs that share it.
+
+    Args:
+        runs: the runs to compute (:meth:`pde_rotor.sweep.Sweep.runs`, finished ones
+            left out).
+        workers: worker processes (None: unknown; spin-ups are counted once).
+    """
+    from . import RestartEstimator, stop_group, warm_key
+
+    points: dict[tuple[tuple[int, ...], int], tuple[RotorConfig, str | None, float, float]] = {}
+    stops: set[str] = set()
+    warm: dict[str, int] = {}
+    total = 0.0
+    for run in runs:
+        # the runs of a point and direction differ only in their noise seed
+        if (run.point, run.direction) not in points:
+            config = RotorConfig.model_validate(run.config)
+            if run.estimator["kind"] == "protocol":
+                points[run.point, run.direction] = (config, None, protocol_seconds(config), 0.0)
+            else:
+                estimator = RestartEstimator.model_validate({**run.estimator, "kind": "restart"})
+                spin_up = warm_key(config, estimator, run.direction)
+                cap = estimator.release_cap or config.protocol.t_release
+                release = steps(min(cap, COMMIT_TIME), config) * step_seconds(config)
+                stop = steps(config.protocol.t_stop, config) * step_seconds(config, stopped=True)
+                points[run.point, run.direction] = (config, spin_up, release, stop)
+        # per run: its release (restart, bank) or its whole protocol (protocol estimator)
+        config, spin_up, per_run, stop = points[run.point, run.direction]
+        total += per_run
+        if spin_up is None:
+            continue
+        group = stop_group(run)
+        if group not in stops:
+            stops.add(group)
+            total += stop
+        warm[spin_up] = warm.get(spin_up, 0) + 1
+        if warm[spin_up] <= (workers or 1):
+            total += steps(run.estimator["warmup"], config) * step_seconds(config)
+    return SweepEstimate(len(runs), total, workers)
+
+
+def format_duration(seconds: float) -> str:
+    """``40 s``, ``12 min``, ``5.1 h``, ``3.2 days``."""
+    if seconds < 90:
+        return f"{seconds:.0f} s"
+    if seconds < 5400:
+        return f"{seconds / 60:.0f} min"
+    if seconds < 2 * 86400:
+        return f"{seconds / 3600:.1f} h"
+    return f"{seconds / 86400:.1f} days"
+
+
+def format_count(n: float) -> str:
+    """``950``, ``45 k``, ``10.6 M``, ``1.2 G``."""
+    for size, suffix in ((1e9, " G"), (1e6, " M"), (1e3, " k")):
+        if n >= size:
+            value = n / size
+            return f"{value:.{1 if value < 100 else 0}f}{suffix}".replace(".0 ", " ")
+    return f"{n:.0f}"

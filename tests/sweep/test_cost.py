@@ -1,0 +1,143 @@
+"""The cost estimate: cell counts of the real grid, the measured reference steps, movie frames."""
+
+from __future__ import annotations
+
+import pytest
+
+from pde_rotor.config import validate_config
+from pde_rotor.model.domain import make_domain
+from pde_rotor.model.geometry import RotorShape
+from pde_rotor.sweep import Sweep, SweepSpec
+from pde_rotor.sweep.cost import (
+    COMMIT_TIME,
+    LONG_RUN_SECONDS,
+    SECONDS_PER_CELL_STEP,
+    cell_counts,
+    estimate_run,
+    estimate_sweep,
+    format_count,
+    format_duration,
+    protocol_seconds,
+    step_seconds,
+)
+
+PAPER = {"numerics": {"scheme": "paper"}}
+COARSE = {
+    "grid": {"dx": 0.05, "dt": 4e-4},
+    "geometry": {"smoothing": 0.05},
+    "numerics": {"scheme": "paper"},
+}
+
+
+@pytest.mark.parametrize("data", [PAPER, COARSE, {**COARSE, "grid": {"dx": 0.04, "dt": 2e-4}}])
+def test_cell_counts_are_those_of_the_solver_grid(data):
+    """The disk areas over dx^2 count the cells the kernel updates, within 0.5 %."""
+    config = validate_config(data)
+    domain = make_domain(config.grid, RotorShape.from_config(config.geometry))
+    interior, support = cell_counts(config)
+    assert interior == pytest.approx(domain.interior_mask.sum(), rel=5e-3)
+    assert support == pytest.approx(domain.support_mask.sum(), rel=5e-3)
+
+
+def test_steps_cost_what_was_measured_on_the_reference_grids():
+    """0.29 ms per step on the paper's grid (README), 0.14 ms on the coarse one, with the
+    paper scheme; the default consistent scheme 1.4 times that on the paper's grid."""
+    assert step_seconds(validate_config(PAPER)) == pytest.approx(0.29e-3, rel=0.02)
+    assert step_seconds(validate_config(COARSE)) == pytest.approx(0.14e-3, rel=0.02)
+    assert step_seconds(validate_config({})) == pytest.approx(1.4 * 0.29e-3, rel=0.02)
+
+
+def test_run_estimate_counts_steps_and_movie_frames():
+    config = validate_config({**COARSE, "protocol": {"t_ini": 1.0, "cycles": 0}})
+    with_movie = estimate_run(config)
+    assert with_movie.steps == 2500
+    assert with_movie.frames == round(1.0 / config.output.movie_interval) + 1
+    without = estimate_run(config, movie=False)
+    assert without.frames == 0
+    assert without.seconds == pytest.approx(2500 * step_seconds(config))
+    assert with_movie.seconds > without.seconds
+    assert not with_movie.long
+
+
+def test_the_paper_defaults_are_a_long_run():
+    estimate = estimate_run(validate_config({}))
+    assert estimate.steps == 10_600_000
+    assert estimate.seconds > LONG_RUN_SECONDS and estimate.long
+    text = estimate.describe()
+    assert text.startswith("about ") and "10.6 M steps" in text and "estimate" in text
+
+
+def test_durations_and_counts_read_naturally():
+    assert [format_duration(s) for s in (40, 720, 18_000, 400_000)] == [
+        "40 s",
+        "12 min",
+        "5.0 h",
+        "4.6 days",
+    ]
+    assert [format_count(n) for n in (950, 45_239, 10_600_000, 1_000_000)] == [
+        "950",
+        "45.2 k",
+        "10.6 M",
+        "1 M",
+    ]
+
+
+def sweep_of(estimator: dict, axes: dict, samples: int = 3) -> Sweep:
+    base = {**COARSE, "protocol": {"t_ini": 2.0, "t_stop": 0.4, "t_release": 2.0, "cycles": 4}}
+    spec = {"base": base, "axes": axes, "estimator": estimator, "samples": samples, "seed": 1}
+    return Sweep.from_spec(SweepSpec.model_validate(spec))
+
+
+@pytest.mark.parametrize("workers", [1, 2])
+def test_restart_sweep_costs_stops_releases_and_one_spin_up_per_worker(workers):
+    """3 samples per direction at 2 points: 12 stops (at the cost of a stopped plate) and
+    releases of COMMIT_TIME; every worker spins up each point's rotor in both directions
+    once."""
+    sweep = sweep_of({"kind": "restart", "warmup": 2.0}, {"protocol.t_stop": [0.4, 0.8]})
+    config = validate_config(sweep.base)
+    per_step, dt = step_seconds(config), config.grid.dt
+    stopped = step_seconds(config, stopped=True)
+    turning = 12 * round(COMMIT_TIME / dt) + 2 * 2 * workers * round(2.0 / dt)
+    expected = turning * per_step + 6 * (round(0.4 / dt) + round(0.8 / dt)) * stopped
+    estimate = estimate_sweep(sweep.runs(), workers)
+    assert estimate.core_seconds == pytest.approx(expected)
+    assert estimate.runs == 12
+    assert f"on {workers} workers" in estimate.describe()
+
+
+def test_bank_sweep_shares_the_stop_across_the_noise_axis():
+    bank = sweep_of({"kind": "bank", "warmup": 2.0}, {"noise.sigma": [0.0, 1e-6, 1e-5]}, 2)
+    restart = sweep_of({"kind": "restart", "warmup": 2.0}, {"noise.sigma": [0.0, 1e-6, 1e-5]}, 2)
+    config = validate_config(bank.base)
+    stops_saved = (12 - 4) * round(0.4 / config.grid.dt) * step_seconds(config, stopped=True)
+    difference = (
+        estimate_sweep(restart.runs(), 1).core_seconds - estimate_sweep(bank.runs(), 1).core_seconds
+    )
+    assert difference == pytest.approx(stops_saved)
+
+
+def test_protocol_sweep_costs_whole_protocol_runs():
+    sweep = sweep_of({"kind": "protocol"}, {}, samples=5)
+    config = validate_config(sweep.base)
+    expected = 5 * protocol_seconds(config)
+    assert estimate_sweep(sweep.runs(), None).core_seconds == pytest.approx(expected)
+
+
+@pytest.mark.parametrize("scheme", ["paper", "consistent"])
+def test_stops_cost_the_steps_of_a_stopped_plate(scheme):
+    """A stopped plate keeps F and G, so its step costs less than a turning one but more
+    than the field update alone (the torque is computed every step); a protocol's M
+    stops are counted at that cost, its free rotation at the turning one."""
+    config = validate_config(
+        {
+            "numerics": {"scheme": scheme},
+            "protocol": {"t_ini": 1.0, "t_stop": 0.5, "t_release": 1.5, "cycles": 3},
+        }
+    )
+    interior, _ = cell_counts(config)
+    stopped, turning = step_seconds(config, stopped=True), step_seconds(config)
+    assert interior * SECONDS_PER_CELL_STEP < stopped < turning
+    dt = config.grid.dt
+    expected = round(5.5 / dt) * turning + 3 * round(0.5 / dt) * stopped
+    assert protocol_seconds(config) == pytest.approx(expected)
+    assert estimate_run(config, movie=False).seconds == pytest.approx(expected)
