@@ -36,9 +36,11 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-import _common
 import numpy as np
-from _common import (
+
+from pde_rotor.config import CALIBRATED_SIGMA, RotorConfig
+from pde_rotor.gallery import common
+from pde_rotor.gallery.common import (
     PAPER_CONFIG,
     SWEEP_RUNS,
     Fidelity,
@@ -48,8 +50,6 @@ from _common import (
     parse_args,
     save,
 )
-
-from pde_rotor.config import CALIBRATED_SIGMA, RotorConfig
 from pde_rotor.io.output import atomic_path
 from pde_rotor.model.analysis import stopped_torque
 from pde_rotor.solver.simulation import Simulation
@@ -214,7 +214,7 @@ def inversion_sweep(fid: Fidelity, p: Plan, dx: float, dt: float, out: Path):
     outcome = run_sweep(
         sweep,
         sweep_dir,
-        scheduler=_common.SCHEDULER,
+        scheduler=common.SCHEDULER,
         workers=1 if fid.is_tiny else None,
         progress=not fid.is_tiny,
     )
@@ -241,7 +241,7 @@ def inversion_points(
         like = grid_config(fid, dx, dt, f"noise.sigma={sigma!r}").model_dump(mode="json")
         for delta in p.deltas:
             pts = stored.curve_points(
-                _common.DATA, "t_stop", STORED_SWEEPS, like=like, asymmetry=delta, sigma=sigma
+                common.DATA, "t_stop", STORED_SWEEPS, like=like, asymmetry=delta, sigma=sigma
             )
             for t_stop in p.t_stops if pts is not None else ():
                 match = np.isclose(pts["t_stop"].values, t_stop)

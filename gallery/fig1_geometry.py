@@ -23,9 +23,16 @@ from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
-from _common import CONFIGS, add_footer, fidelity_label, new_figure, parse_args, save
 from matplotlib.colors import LinearSegmentedColormap
 
+from pde_rotor.gallery.common import (
+    CONFIGS,
+    add_footer,
+    fidelity_label,
+    new_figure,
+    parse_args,
+    save,
+)
 from pde_rotor.model.geometry import (
     RotorShape,
     edge_normal_angles,

@@ -16,9 +16,16 @@ from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
-from _common import PAPER_CONFIG, add_footer, fidelity_label, new_figure, parse_args, save
 from matplotlib.patches import Circle, Polygon
 
+from pde_rotor.gallery.common import (
+    PAPER_CONFIG,
+    add_footer,
+    fidelity_label,
+    new_figure,
+    parse_args,
+    save,
+)
 from pde_rotor.model.geometry import RotorShape, pill_centres
 from pde_rotor.plotting.run import plate_corners
 from pde_rotor.solver.simulation import Simulation

@@ -7,7 +7,8 @@ with its 95 % interval, and faintly the conditional probabilities from CCW and C
 rotation, and the decay point, where P falls through 0.75, with its 95 % interval
 (:mod:`pde_rotor.statistics.crossing`), and dashed the decision model's prediction where
 data/decision/ holds the report's model (issue 14 §4). The paper: P = 1 for small
-t_stop, decaying near t_stop = 1.4 to 0.5 (marked in grey, :data:`_sweeps.PAPER_CLAIMS`).
+t_stop, decaying near t_stop = 1.4 to 0.5 (marked in grey,
+:data:`pde_rotor.gallery.sweeps.PAPER_CLAIMS`).
 
 Run: ``python gallery/fig5_probability.py [--quick | --tiny]``.
 """
@@ -17,13 +18,13 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-from _common import (
+from pde_rotor.gallery.common import (
     add_footer,
     new_figure,
     parse_args,
     save,
 )
-from _sweeps import (
+from pde_rotor.gallery.sweeps import (
     STOP_LABEL,
     curve,
     draw_conditionals,
@@ -37,7 +38,6 @@ from _sweeps import (
     probability_footer,
     sweep_data,
 )
-
 from pde_rotor.statistics.crossing import DECAY_LEVEL
 
 NAME = "fig5_probability"

@@ -9,7 +9,7 @@ its 95 % interval; faintly the conditional probabilities from CCW and from CW ro
 falls through 0.5, with its 95 % interval (:mod:`pde_rotor.statistics.crossing`). The paper:
 (a) P = 1 for small t_stop, decaying near t_stop = 1 to 0; (b) a plateau near 0.2, as
 in the experiment; (c) P falls from 0.5 to 0 as Delta grows (marked in grey,
-:data:`_sweeps.PAPER_CLAIMS`). Panel (c) also draws the t_stop = 3 points of the
+:data:`pde_rotor.gallery.sweeps.PAPER_CLAIMS`). Panel (c) also draws the t_stop = 3 points of the
 curves of Figs. 5, 7(a) and 7(b) (open squares) where their stored reports hold the
 model of ``fig7c``: fig7c need not measure Delta = 0, 2e-5 and 1e-4 again. Dashed: the
 decision model's prediction (issue 14 §4), where data/decision/ holds a panel's model.
@@ -22,13 +22,13 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-from _common import (
+from pde_rotor.gallery.common import (
     add_footer,
     new_figure,
     parse_args,
     save,
 )
-from _sweeps import (
+from pde_rotor.gallery.sweeps import (
     ASYMMETRY_LABEL,
     STOP_LABEL,
     curve,
@@ -44,7 +44,6 @@ from _sweeps import (
     probability_footer,
     sweep_data,
 )
-
 from pde_rotor.statistics.crossing import ONSET_LEVEL
 
 NAME = "fig7_probability"

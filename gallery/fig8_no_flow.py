@@ -7,7 +7,8 @@ in the paper: red closed circles Delta = 0, green open triangles 2e-5, blue open
 1e-4. The paper: no systematic inversion for any t_stop; random direction for Delta = 0,
 always the favourable direction for 1e-4, the favourable one with probability 0.8 for
 2e-5 (P = 2ab/(a+b) = 0.32 of the two-state chain with a = 0.8, b = 0.2); each is
-marked in its curve's colour (dash-dotted, :data:`_sweeps.PAPER_CLAIMS`). Dashed: the
+marked in its curve's colour (dash-dotted,
+:data:`pde_rotor.gallery.sweeps.PAPER_CLAIMS`). Dashed: the
 decision model's prediction without flow (issue 14 §4), where data/decision/ holds the
 report's model.
 
@@ -19,13 +20,13 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-from _common import (
+from pde_rotor.gallery.common import (
     add_footer,
     new_figure,
     parse_args,
     save,
 )
-from _sweeps import (
+from pde_rotor.gallery.sweeps import (
     MODEL_LABEL,
     STOP_LABEL,
     curve,

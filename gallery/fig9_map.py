@@ -24,7 +24,10 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
-from _common import (
+
+from pde_rotor.config import CALIBRATED_SIGMA, RotorConfig
+from pde_rotor.decision.table import load_table
+from pde_rotor.gallery.common import (
     DATA,
     add_footer,
     grid_label,
@@ -32,15 +35,12 @@ from _common import (
     parse_args,
     save,
 )
-from _sweeps import (
+from pde_rotor.gallery.sweeps import (
     ASYMMETRY_LABEL,
     STOP_LABEL,
     probability_footer,
     sweep_data,
 )
-
-from pde_rotor.config import CALIBRATED_SIGMA, RotorConfig
-from pde_rotor.decision.table import load_table
 from pde_rotor.plotting.decision_map import ensemble_points
 from pde_rotor.sweep.stored import load_report
 

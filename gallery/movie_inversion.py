@@ -22,10 +22,17 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from _common import PAPER_CONFIG, add_footer, fidelity_label, new_figure, parse_args, save
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
+from pde_rotor.gallery.common import (
+    PAPER_CONFIG,
+    add_footer,
+    fidelity_label,
+    new_figure,
+    parse_args,
+    save,
+)
 from pde_rotor.io.mp4 import Mp4Writer
 from pde_rotor.io.output import atomic_path
 from pde_rotor.model.geometry import RotorShape

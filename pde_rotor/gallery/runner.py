@@ -1,9 +1,10 @@
 """Run the gallery: the scripts in gallery/ that reproduce the paper's figures.
 
-Every ``gallery/<name>.py`` whose name does not start with ``_`` is a gallery script
-with a function ``main(argv) -> list[Path]`` that accepts ``[--quick | --tiny] --out DIR
-[--scheduler ADDRESS]`` (see gallery/_common.py) and writes ``<name>.png`` and
-``<name>.pdf`` (the movie script also an mp4 and a GIF) into DIR. :func:`run_gallery`
+Every ``gallery/<name>.py`` is a thin gallery script with a function
+``main(argv) -> list[Path]`` that accepts ``[--quick | --tiny] --out DIR
+[--scheduler ADDRESS]`` (:mod:`.common`) and writes its figures as PNG and PDF (the
+movie script also an mp4 and a GIF) into DIR; what the scripts share is this package
+(:mod:`.common`, :mod:`.sweeps`, :mod:`.timeseries`). :func:`run_gallery`
 discovers the scripts, runs the selected ones one after the other in this process (the
 compiled kernels are shared) and collects what they wrote; ``pde-rotor gallery`` calls it.
 
@@ -25,6 +26,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from types import ModuleType
 
+from .common import GALLERY
+
 _logger = logging.getLogger(__name__)
 
 PUBLISHED_SUFFIXES = (".png", ".gif")
@@ -41,8 +44,8 @@ def gallery_dir() -> Path:
     Raises:
         GalleryError: the package is not installed from a checkout with gallery/.
     """
-    path = Path(__file__).resolve().parents[2] / "gallery"
-    if not (path / "_common.py").is_file():
+    path = GALLERY
+    if not any(path.glob("fig*.py")):
         msg = (
             f"no gallery scripts at {path}: the gallery runs from a source checkout "
             "(git clone ...; pip install -e .)"
@@ -52,7 +55,7 @@ def gallery_dir() -> Path:
 
 
 def scripts(directory: Path | None = None) -> dict[str, Path]:
-    """Gallery scripts by name (file stem), sorted: every ``*.py`` not starting with ``_``."""
+    """Gallery scripts by name (file stem), sorted: every ``*.py`` of the directory."""
     directory = directory if directory is not None else gallery_dir()
     return {p.stem: p for p in sorted(directory.glob("*.py")) if not p.name.startswith("_")}
 
@@ -60,8 +63,9 @@ def scripts(directory: Path | None = None) -> dict[str, Path]:
 def select(available: Iterable[str], only: Sequence[str] | None) -> list[str]:
     """The script names matching `only` (all if None or empty).
 
-    A pattern matches a name equal to it or starting with it followed by ``_``
-    (``fig5`` -> fig5_probability, ``movie`` -> movie_inversion).
+    A pattern matches a name equal to it or one of whose ``_``-separated words it
+    begins (``fig5`` -> fig5_probability, ``fig6`` -> fig4_fig6_timeseries, ``movie``
+    -> movie_inversion).
 
     Raises:
         GalleryError: a pattern matches no script (the message lists the names).
@@ -71,7 +75,7 @@ def select(available: Iterable[str], only: Sequence[str] | None) -> list[str]:
         return names
     chosen: list[str] = []
     for pattern in only:
-        hits = [n for n in names if n == pattern or n.startswith(f"{pattern}_")]
+        hits = [n for n in names if n == pattern or f"_{pattern}_" in f"_{n}_"]
         if not hits:
             msg = f"--only {pattern!r} matches no gallery script (available: {', '.join(names)})"
             raise GalleryError(msg)
@@ -80,10 +84,7 @@ def select(available: Iterable[str], only: Sequence[str] | None) -> list[str]:
 
 
 def load_script(path: Path) -> ModuleType:
-    """Import a gallery script as a module (its directory goes on sys.path for _common)."""
-    directory = str(path.parent)
-    if directory not in sys.path:
-        sys.path.insert(0, directory)
+    """Import a gallery script as a module (it imports only the installed package)."""
     spec = importlib.util.spec_from_file_location(f"pde_rotor_gallery_{path.stem}", path)
     if spec is None or spec.loader is None:
         msg = f"cannot import {path}"

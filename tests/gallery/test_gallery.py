@@ -11,7 +11,6 @@ computes, and writes a PNG and a PDF (and the movie an mp4 and a GIF).
 from __future__ import annotations
 
 import json
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -20,6 +19,7 @@ import xarray as xr
 from typer.testing import CliRunner
 
 from pde_rotor.cli.main import app
+from pde_rotor.gallery import common, sweeps, timeseries
 from pde_rotor.gallery.runner import (
     GalleryError,
     gallery_dir,
@@ -35,9 +35,8 @@ EXPECTED = (
     "convergence",
     "fig1_geometry",
     "fig3_fields",
-    "fig4_timeseries",
+    "fig4_fig6_timeseries",
     "fig5_probability",
-    "fig6_timeseries",
     "fig7_probability",
     "fig8_no_flow",
     "fig9_map",
@@ -59,13 +58,21 @@ def test_every_figure_has_a_script():
     assert tuple(scripts()) == EXPECTED
 
 
-@pytest.mark.parametrize("name", EXPECTED)
-def test_script_writes_png_and_pdf(tiny_gallery, name):
-    assert name not in tiny_gallery.failed, tiny_gallery.failed.get(name)
+FIGURES = {
+    **{name: name for name in EXPECTED if name != "fig4_fig6_timeseries"},
+    "fig4_timeseries": "fig4_fig6_timeseries",
+    "fig6_timeseries": "fig4_fig6_timeseries",
+}
+"""Each figure file and the script that writes it (one script draws Figs. 4 and 6)."""
+
+
+@pytest.mark.parametrize(("name", "script"), FIGURES.items())
+def test_script_writes_png_and_pdf(tiny_gallery, name, script):
+    assert script not in tiny_gallery.failed, tiny_gallery.failed.get(script)
     png = tiny_gallery.out / f"{name}.png"
     pdf = tiny_gallery.out / f"{name}.pdf"
-    assert png in tiny_gallery.files[name]
-    assert pdf in tiny_gallery.files[name]
+    assert png in tiny_gallery.files[script]
+    assert pdf in tiny_gallery.files[script]
     assert png.read_bytes()[:8] == PNG_SIGNATURE
     assert pdf.read_bytes()[:5] == b"%PDF-"
     assert png.stat().st_size > 10_000  # a drawn figure, not an empty canvas
@@ -131,7 +138,7 @@ def test_convergence_table_and_the_lattice_torque_at_phi_0(tiny_gallery):
         large = torque[("asymmetry torque Delta=0.0001", dx)]
         assert small < 0 and large / small == pytest.approx(5.0, rel=0.02)
     module = load_script(gallery_dir() / "convergence.py")
-    fid = sys.modules["_common"].fidelity("tiny")
+    fid = common.fidelity("tiny")
     phis = np.array([0.0, np.pi / 18, np.pi / 9])
     lattice = module.lattice_torques(fid, 0.05, phis)["0"]
     # the tiny grid's lattice torque (3e-8) is what is left of a sum over cells that
@@ -178,7 +185,6 @@ def test_publish_copies_png_and_gif_only(tmp_path, monkeypatch):
 
 def test_fidelity_footer_names_grid_and_samples():
     module = load_script(gallery_dir() / "fig1_geometry.py")
-    common = sys.modules["_common"]
     assert module.NAME == "fig1_geometry"
     quick = common.fidelity("quick")
     config = quick.config(common.PAPER_CONFIG)
@@ -196,7 +202,6 @@ def _no_sweep(*args, **kwargs):
 
 def test_stored_report_is_preferred(tiny_gallery, tmp_path, monkeypatch):
     """With a report under data/, quick mode reads it instead of running the sweep."""
-    common, sweeps = sys.modules["_common"], sys.modules["_sweeps"]
     source = tiny_gallery.out / "sweeps" / "fig5_tiny" / "report.nc"
     data = tmp_path / "data" / "fig5_quick"
     data.mkdir(parents=True)
@@ -215,7 +220,6 @@ def test_each_fidelity_draws_the_stored_report_of_its_own_grid(tmp_path, monkeyp
     coarse data only in --quick, and the paper grid's only in the full gallery; without
     a report on its grid, --quick runs its sweep."""
     load_script(gallery_dir() / "fig5_probability.py")
-    common, sweeps = sys.modules["_common"], sys.modules["_sweeps"]
     monkeypatch.setattr(common, "DATA", tmp_path)
     monkeypatch.setattr("pde_rotor.sweep.run_sweep", _no_sweep)
     for name, dx, stops in (("fig5", 0.025, 200), ("fig5_quick", 0.05, 100)):
@@ -232,7 +236,6 @@ def test_each_fidelity_draws_the_stored_report_of_its_own_grid(tmp_path, monkeyp
 
 
 def test_curve_requires_the_other_axes_fixed(tiny_gallery):
-    sweeps = sys.modules["_sweeps"]
     path = tiny_gallery.out / "sweeps" / "fig9_tiny" / "report.nc"
     with xr.open_dataset(path, engine="h5netcdf") as ds:
         with pytest.raises(ValueError, match="asymmetry"):
@@ -263,13 +266,13 @@ def _report(dims: dict[str, list[float]], base: dict, p: float) -> xr.Dataset:
 
 
 def _stored_predictions(tmp_path, monkeypatch):
-    """The gallery's _sweeps module reading tmp_path as its data folder (``_common.DATA``),
+    """The gallery.s sweeps module reading tmp_path as its data folder (``common.DATA``),
     which holds a predictions.nc with P = 0.7 at Delta in {0, 1e-4} and t_stop in {0.5, 3}."""
     load_script(gallery_dir() / "fig5_probability.py")
-    monkeypatch.setattr(sys.modules["_common"], "DATA", tmp_path)
+    monkeypatch.setattr(common, "DATA", tmp_path)
     axes = {"asymmetry": [0.0, 1e-4], "t_stop": [0.5, 3.0], "sigma": [0.0, 2e-8]}
     _report(axes, {}, 0.7).to_netcdf(tmp_path / "predictions.nc", engine="h5netcdf")
-    return sys.modules["_sweeps"]
+    return sweeps
 
 
 def test_paper_points_combine_stored_reports_on_one_curve(tmp_path, monkeypatch):
@@ -395,7 +398,6 @@ def test_probability_figures_mark_the_papers_stated_values():
     from pde_rotor.paper import DECAY_STOP, ONSET_STOP, PLATEAU
 
     load_script(gallery_dir() / "fig5_probability.py")
-    sweeps = sys.modules["_sweeps"]
 
     def drawn(sweep: str, **kwargs) -> list:
         ax = Figure().add_subplot()
@@ -425,7 +427,6 @@ def test_footers_are_readable_at_100_percent():
     from matplotlib.figure import Figure
 
     load_script(gallery_dir() / "fig1_geometry.py")
-    common = sys.modules["_common"]
     fig = Figure(figsize=(6, 4), layout="constrained")
     common.add_footer(fig, "pde_rotor, full fidelity")
     assert min(text.get_fontsize() for text in fig.texts) >= 9
@@ -435,8 +436,8 @@ def test_time_series_runs_are_read_from_run_directories(tmp_path, monkeypatch):
     """``--runs DIR`` computes a missing panel run into DIR/<config name> and reads it
     back the next time without running anything; a stored run of another config or one
     that did not complete is refused with the keys (or status) named."""
-    module = load_script(gallery_dir() / "fig4_timeseries.py")
-    series = sys.modules["_timeseries"]
+    module = load_script(gallery_dir() / "fig4_fig6_timeseries.py")
+    series = timeseries
     runs, out = tmp_path / "runs", tmp_path / "out"
     args = ["--tiny", "--out", str(out), "--runs", str(runs)]
     module.main(args)
@@ -451,10 +452,10 @@ def test_time_series_runs_are_read_from_run_directories(tmp_path, monkeypatch):
     (out / "fig4_timeseries.png").unlink()
     module.main(args)
     assert (out / "fig4_timeseries.png").is_file()
-    fid = sys.modules["_common"].fidelity("tiny")
-    config = fid.config(module.PANELS[0][1], *fid.protocol)
+    fid = common.fidelity("tiny")
+    config = fid.config(module.FIGURES[0].panels[0][1], *fid.protocol)
     assert series.stored_run(runs / "paper_fig4a", config) is not None
-    other = fid.config(module.PANELS[0][1], *fid.protocol, "protocol.cycles=3")
+    other = fid.config(module.FIGURES[0].panels[0][1], *fid.protocol, "protocol.cycles=3")
     with pytest.raises(ValueError, match=r"protocol\.cycles = 2 \(wanted 3\)$"):
         series.stored_run(runs / "paper_fig4a", other)
     assert series.stored_run(tmp_path / "nothing", config) is None
@@ -470,8 +471,8 @@ def test_time_series_runs_are_read_from_run_directories(tmp_path, monkeypatch):
 def test_thinning_keeps_the_grid_and_both_samples_of_every_stop_and_release():
     """An archived time series keeps the samples on multiples of the new interval, the
     first and last, and the samples on both sides of every phase change, unchanged."""
-    load_script(gallery_dir() / "fig4_timeseries.py")
-    series = sys.modules["_timeseries"]
+    load_script(gallery_dir() / "fig4_fig6_timeseries.py")
+    series = timeseries
     t = np.union1d(np.round(np.arange(0.0, 2.0001, 0.01), 10), [0.523, 1.237, 2.003])
     stopped = ((t >= 0.523) & (t < 1.237)).astype(int)
     ts = xr.Dataset(
@@ -493,8 +494,8 @@ def test_time_series_archive_is_read_back_instead_of_computing(tmp_path, monkeyp
     seed and events, thinned time series, no snapshots); a script given that archive
     reads the run from it without computing anything. ``--archive`` without ``--runs``,
     or onto the ``--runs`` directory itself, is refused before any compute."""
-    module = load_script(gallery_dir() / "fig4_timeseries.py")
-    series = sys.modules["_timeseries"]
+    module = load_script(gallery_dir() / "fig4_fig6_timeseries.py")
+    series = timeseries
     runs, archive, out = tmp_path / "runs", tmp_path / "archive", tmp_path / "out"
     with pytest.raises(SystemExit, match="give --runs too"):
         module.main(["--tiny", "--out", str(out), "--archive", str(archive)])
@@ -515,8 +516,8 @@ def test_time_series_archive_is_read_back_instead_of_computing(tmp_path, monkeyp
         raise AssertionError("an archived run was computed again")
 
     monkeypatch.setattr(series, "run", no_run)
-    fid = sys.modules["_common"].fidelity("tiny")
-    path = module.PANELS[0][1]
+    fid = common.fidelity("tiny")
+    path = module.FIGURES[0].panels[0][1]
     again = series.panel_run(path, fid, None, None, archive)
     assert again.run_dir == archive / "paper_fig4a" and again.config == kept.config
 

@@ -21,11 +21,20 @@ from __future__ import annotations
 
 import argparse
 from collections.abc import Sequence
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
-from _common import (
+from matplotlib.figure import Figure
+
+from pde_rotor.api import RunResult, run
+from pde_rotor.config import RotorConfig, physics_differences
+from pde_rotor.io.output import RunDirectory, write_netcdf_atomic, write_text_atomic
+from pde_rotor.plotting.run import stop_intervals
+from pde_rotor.units import OMEGA_UNITS, TIME_UNITS
+
+from .common import (
     DATA,
     ROOT,
     Fidelity,
@@ -36,13 +45,6 @@ from _common import (
     save,
     wilson_text,
 )
-from matplotlib.figure import Figure
-
-from pde_rotor.api import RunResult, run
-from pde_rotor.config import RotorConfig, physics_differences
-from pde_rotor.io.output import RunDirectory, write_netcdf_atomic, write_text_atomic
-from pde_rotor.plotting.run import stop_intervals
-from pde_rotor.units import OMEGA_UNITS, TIME_UNITS
 
 ARCHIVE = DATA / "runs"
 """The committed runs of the full-fidelity time-series figures (:func:`archive_run`)."""
@@ -250,18 +252,24 @@ def timeseries_figure(
     return fig, lines
 
 
+@dataclass(frozen=True)
+class TimeseriesFigure:
+    """One time-series figure: its file name, title and one (label, config) per panel."""
+
+    name: str
+    title: str
+    panels: Sequence[tuple[str, Path]]
+
+
 def timeseries_main(
-    name: str,
-    title: str,
-    panels: Sequence[tuple[str, Path]],
-    description: str,
-    argv: Sequence[str] | None = None,
+    figures: Sequence[TimeseriesFigure], description: str, argv: Sequence[str] | None = None
 ) -> list[Path]:
-    """The whole script of a time-series figure (Figs. 4 and 6).
+    """The whole script of the time-series figures (Figs. 4 and 6).
 
     Parses ``[--quick | --tiny] [--out DIR] [--cycles M] [--runs DIR] [--archive DIR]``,
-    gets one run per panel (:func:`timeseries_figure`), prints the inversion counts,
-    archives the runs if asked (:func:`archive_run`) and writes `name` as PNG and PDF.
+    and for each figure gets one run per panel (:func:`timeseries_figure`), prints the
+    inversion counts, archives the runs if asked (:func:`archive_run`) and writes it as
+    PNG and PDF.
     """
     args = parse_args(description, argv, extra=_options)
     if args.archive is not None and args.runs is None:
@@ -270,10 +278,15 @@ def timeseries_main(
     if args.archive is not None and args.archive.resolve() == args.runs.resolve():
         msg = f"--archive {args.archive} is the --runs directory: the archive needs its own"
         raise SystemExit(msg)
-    fig, lines = timeseries_figure(title, panels, args.fidelity, args.cycles, args.runs)
-    for line in lines:
-        print(f"{name}: {line}")
-    for _, path in panels if args.archive is not None else ():
-        dest = archive_run(args.runs / path.stem, args.archive / path.stem)
-        print(f"{name}: {path.name} archived in {dest}")
-    return save(fig, args.out, name)
+    written: list[Path] = []
+    for figure in figures:
+        fig, lines = timeseries_figure(
+            figure.title, figure.panels, args.fidelity, args.cycles, args.runs
+        )
+        for line in lines:
+            print(f"{figure.name}: {line}")
+        for _, path in figure.panels if args.archive is not None else ():
+            dest = archive_run(args.runs / path.stem, args.archive / path.stem)
+            print(f"{figure.name}: {path.name} archived in {dest}")
+        written += save(fig, args.out, figure.name)
+    return written

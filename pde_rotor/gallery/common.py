@@ -13,7 +13,7 @@ Every gallery script reproduces one figure of Koyano, Kitahata, Nakata & Gorecki
 Figures are written as PNG and PDF to gallery/output/ (or ``--out``); every figure carries
 a footer that states the fidelity it was computed at (dx, dt, delta, samples, backend).
 The sweeps and probability curves of Figs. 5, 7, 8 and 9 are read and drawn by
-:mod:`_sweeps`.
+:mod:`.sweeps`.
 """
 
 from __future__ import annotations
@@ -47,7 +47,7 @@ __all__ = [
     "wilson_text",
 ]
 
-GALLERY = Path(__file__).resolve().parent
+GALLERY = Path(__file__).resolve().parents[2] / "gallery"
 """The gallery directory (scripts, committed PNGs, README)."""
 ROOT = GALLERY.parent
 """Repository root."""

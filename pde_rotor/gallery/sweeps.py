@@ -2,8 +2,8 @@
 page): which sweep file a fidelity runs, the stored reports under data/ that go before
 running anything, and the drawing of P curves, crossings and paper-resolution points.
 
-Paths and the dask scheduler are read from :mod:`_common` when a function runs (tests
-point ``_common.DATA`` and ``_common.SWEEPS`` elsewhere).
+Paths and the dask scheduler are read from :mod:`.common` when a function runs (tests
+point ``common.DATA`` and ``common.SWEEPS`` elsewhere).
 """
 
 from __future__ import annotations
@@ -15,10 +15,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import _common
 import numpy as np
 import xarray as xr
-from _common import CPU_BACKEND, Fidelity, fidelity
 
 from pde_rotor.config import PAPER_SCHEME_SIGMA, set_key
 from pde_rotor.paper import (
@@ -40,6 +38,9 @@ from pde_rotor.sweep import stored
 from pde_rotor.sweep.estimates import POOLED
 from pde_rotor.sweep.stored import SweepData, curve
 from pde_rotor.units import TIME_UNITS
+
+from . import common
+from .common import CPU_BACKEND, Fidelity, fidelity
 
 __all__ = [
     "ASYMMETRY_LABEL",
@@ -69,9 +70,9 @@ def sweep_file(name: str, fid: Fidelity) -> Path:
     Raises:
         FileNotFoundError: the statistics module provides no such sweep.
     """
-    path = _common.SWEEPS / f"{name}{fid.sweep_variant}.yaml"
+    path = common.SWEEPS / f"{name}{fid.sweep_variant}.yaml"
     if not path.exists():
-        msg = f"{path} not found: the sweeps of the probability figures live in {_common.SWEEPS}"
+        msg = f"{path} not found: the sweeps of the probability figures live in {common.SWEEPS}"
         raise FileNotFoundError(msg)
     return path
 
@@ -127,13 +128,13 @@ def stored_reports(name: str, fid: Fidelity) -> list[Path]:
     from pde_rotor.sweep import base_config
 
     grid_dx = base_config(sweep_file(name, fid)).grid.dx
-    return stored.stored_reports(name, _common.DATA, grid_dx)
+    return stored.stored_reports(name, common.DATA, grid_dx)
 
 
 def paper_points(x_dim: str, **fixed: float) -> xr.Dataset | None:
     """The paper-resolution points of data/ on one curve
     (:func:`pde_rotor.sweep.stored.curve_points`)."""
-    return stored.curve_points(_common.DATA, x_dim, **fixed)
+    return stored.curve_points(common.DATA, x_dim, **fixed)
 
 
 def sweep_data(name: str, fid: Fidelity, out: Path) -> SweepData:
@@ -167,11 +168,11 @@ def sweep_data(name: str, fid: Fidelity, out: Path) -> SweepData:
         if fid.sweep_samples is not None and sweep.spec.samples > fid.sweep_samples:
             fewer = sweep.spec.model_copy(update={"samples": fid.sweep_samples})
             sweep = Sweep.from_spec(fewer)
-        sweep_dir = _common.SWEEP_RUNS / spec_path.stem
+        sweep_dir = common.SWEEP_RUNS / spec_path.stem
         workers = None
     _logger.info("%s: running sweep %s into %s", name, spec_path, sweep_dir)
     outcome = run_sweep(
-        sweep, sweep_dir, scheduler=_common.SCHEDULER, workers=workers, progress=not fid.is_tiny
+        sweep, sweep_dir, scheduler=common.SCHEDULER, workers=workers, progress=not fid.is_tiny
     )
     if outcome.failed:
         key, message = outcome.failed[0]
@@ -382,7 +383,7 @@ def draw_shared_points(
     from pde_rotor.sweep.plan import read_spec, resolve_base
 
     base = resolve_base(*read_spec(sweep_file(like, fidelity("full"))))
-    pts = stored.curve_points(_common.DATA, x_dim, sweeps, like=base, **fixed)
+    pts = stored.curve_points(common.DATA, x_dim, sweeps, like=base, **fixed)
     if pts is None:
         return ""
     setting = ", ".join(f"{k} = {v:g}" for k, v in fixed.items())
@@ -437,7 +438,7 @@ def draw_model(
     from pde_rotor.decision.check import table_for
     from pde_rotor.plotting.decision_map import model_curve
 
-    found = table_for(ds, _common.DATA / "decision")
+    found = table_for(ds, common.DATA / "decision")
     measured = ds[x_dim].values[np.isfinite(ds["P"].values)]
     if found is None or (span is None and measured.size < 2):
         return ""
@@ -473,6 +474,6 @@ def _draw_points(ax: Any, prefix: str, x_dim: str, pts: xr.Dataset, style: dict[
 
 def _relative(path: Path) -> str:
     try:
-        return str(path.resolve().relative_to(_common.ROOT))
+        return str(path.resolve().relative_to(common.ROOT))
     except ValueError:
         return str(path)
