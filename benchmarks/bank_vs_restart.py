@@ -1,4 +1,4 @@
-"""Do the bank and restart estimators agree? (issue 5: an estimator is checked before use)
+"""Do the bank and restart estimators agree? (an estimator is checked before use)
 
 The bank estimator (pde_rotor.sweep, ``kind: bank``) differs from the restart estimator
 in ways that should not change the statistics: the few steps before the stop are

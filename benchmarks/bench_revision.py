@@ -1,6 +1,6 @@
 """ms/step of this checkout against an earlier revision, timed in turn in one run.
 
-Issue 11's speed goals compare with the code before the physics core was rewritten
+The speed goals compare with the code before the physics core was rewritten
 (the default revision, a973f43^): the ``paper`` scheme must be >= 1.5x faster than it
 was, and the default ``consistent`` scheme no dearer than the ``paper`` scheme was. The
 earlier revision is checked out into a temporary git worktree; each timing is a fresh

@@ -1,4 +1,4 @@
-"""Does the independent-restart estimator agree with the paper's protocol? (issue 5)
+"""Does the independent-restart estimator agree with the paper's protocol?
 
 Runs, on the same parameters, (a) the paper's protocol, `--runs` runs of t_ini = 10 and
 M = 100 stop-and-release cycles with t_release = 10, and (b) the restart estimator,

@@ -1,6 +1,6 @@
-"""Which grid for the science of issue 14? dx = 1/30 against the paper's 0.025.
+"""Which grid for the figure sweeps? dx = 1/30 against the paper's 0.025.
 
-Issue 14 §1: at three probe points, at one noise intensity (sigma = 1.5e-7, near the
+At three probe points, at one noise intensity (sigma = 1.5e-7, near the
 calibration), compare P at dx = 1/30 and dx = 0.025 (delta = 0.025, dt = 1e-4, default
 scheme) with >= 100 independent stops each; take the cheaper grid where they agree
 (Fisher p > 0.05 and |dP| < 0.1 at every probe), else 0.025.

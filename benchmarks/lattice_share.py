@@ -1,4 +1,4 @@
-"""How much of a long-stop plateau is the lattice torque? (issue 5)
+"""How much of a long-stop plateau is the lattice torque?
 
 Reads the run files of a bank-estimator sweep (``pde-rotor sweep``, estimator
 ``kind: bank``): every run records the torque on the stopped plate at the end of its stop

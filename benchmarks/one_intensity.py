@@ -1,6 +1,6 @@
 """Can one noise intensity give both the paper's decay at 1.4 and its 0.2 plateau?
 
-Issue 14 §3 asks this of the model on the paper's grid (dx = delta = 0.025, dt = 1e-4,
+This is asked of the model on the paper's grid (dx = delta = 0.025, dt = 1e-4,
 default scheme), with data. Four readings of stored reports (no runs), each a level
 crossing with its 95 % interval (:mod:`pde_rotor.statistics.crossing`: straight lines between the
 points and between their Wilson bounds):

@@ -6,9 +6,8 @@ from data/ if present, else it runs configs/sweeps/fig5.yaml (full) or fig5_quic
 with its 95 % interval, and faintly the conditional probabilities from CCW and CW
 rotation, and the decay point, where P falls through 0.75, with its 95 % interval
 (:mod:`pde_rotor.statistics.crossing`), and dashed the decision model's prediction where
-data/decision/ holds the report's model (issue 14 §4). The paper: P = 1 for small
-t_stop, decaying near t_stop = 1.4 to 0.5 (marked in grey,
-:data:`pde_rotor.gallery.sweeps.PAPER_CLAIMS`).
+data/decision/ holds the report's model. The paper: P = 1 for small t_stop, decaying
+near t_stop = 1.4 to 0.5 (marked in grey, :data:`pde_rotor.gallery.sweeps.PAPER_CLAIMS`).
 
 Run: ``python gallery/fig5_probability.py [--quick | --tiny]``.
 """

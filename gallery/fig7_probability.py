@@ -12,7 +12,7 @@ in the experiment; (c) P falls from 0.5 to 0 as Delta grows (marked in grey,
 :data:`pde_rotor.gallery.sweeps.PAPER_CLAIMS`). Panel (c) also draws the t_stop = 3 points of the
 curves of Figs. 5, 7(a) and 7(b) (open squares) where their stored reports hold the
 model of ``fig7c``: fig7c need not measure Delta = 0, 2e-5 and 1e-4 again. Dashed: the
-decision model's prediction (issue 14 §4), where data/decision/ holds a panel's model.
+decision model's prediction, where data/decision/ holds a panel's model.
 
 Run: ``python gallery/fig7_probability.py [--quick | --tiny]``.
 """

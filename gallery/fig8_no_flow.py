@@ -8,8 +8,8 @@ in the paper: red closed circles Delta = 0, green open triangles 2e-5, blue open
 always the favourable direction for 1e-4, the favourable one with probability 0.8 for
 2e-5 (P = 2ab/(a+b) = 0.32 of the two-state chain with a = 0.8, b = 0.2); each is
 marked in its curve's colour (dash-dotted,
-:data:`pde_rotor.gallery.sweeps.PAPER_CLAIMS`). Dashed: the
-decision model's prediction without flow (issue 14 §4), where data/decision/ holds the
+:data:`pde_rotor.gallery.sweeps.PAPER_CLAIMS`). Dashed: the decision model's
+prediction without flow, where data/decision/ holds the
 report's model.
 
 Run: ``python gallery/fig8_no_flow.py [--quick | --tiny]``.

@@ -26,7 +26,7 @@ from pde_rotor.sweep.stored import load_report
 
 NAME = "master_curve"
 CURVES = ("fig5", "fig7a", "fig7b", "fig7c", "fig8", "fig9")
-"""The reports of the paper's probability curves and map (data/NAME.nc, issue 14 §3;
+"""The reports of the paper's probability curves and map (data/NAME.nc;
 fig9 may be partial: its unmeasured cells are NaN and give no point)."""
 
 

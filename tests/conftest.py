@@ -2,7 +2,7 @@
 
 Every configuration is built with ``RotorConfig.model_validate`` from the schema's
 defaults (the paper's values) plus the few overrides a test needs; no test repeats a
-default number. :data:`COARSE` is the coarse test resolution named in issue 3
+default number. :data:`COARSE` is the coarse test resolution of the quick configs
 (dx = 0.05, dt = 4e-4, delta = 0.05); :data:`SMALL_DOMAIN` shrinks the circular domain
 for tests whose property does not depend on L, keeping the support of F and G
 (radius R + 20 delta / cos(pi/N)) inside the interior cells.

@@ -107,7 +107,7 @@ def _same(a: Any, b: Any) -> bool:
 
 def table_points(table: DecisionTable, ds: xr.Dataset) -> list[dict[str, float]]:
     """The measured points of `ds` on the table's grid: all of them, or those of its dx
-    along a dx axis (a report that compares grids, issue 14 §1). Points without a
+    along a dx axis (a report that compares grids). Points without a
     finished stop (a partial report of a sweep still running) are left out.
 
     Raises:

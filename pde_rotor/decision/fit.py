@@ -1,6 +1,6 @@
 """The noise intensity from an ensemble: the decision model's one noise scale, fitted.
 
-Issue 14 §2 calibrates the noise so that the Fig. 7(b) plateau (P at t_stop = 3,
+The noise is calibrated so that the Fig. 7(b) plateau (P at t_stop = 3,
 Δ = 2e-5; the paper's long-run inversion fraction and the experiment's 0.2) is
 reached. The decision model (:mod:`pde_rotor.decision.table`) predicts the conditionals
 P(inv | CCW) and P(inv | CW) at every sigma from noise-free quantities alone. An

@@ -412,7 +412,7 @@ def draw_model(
     span: tuple[float, float] | None = None,
     label: str | None = MODEL_LABEL,
 ) -> str:
-    """Draw the decision model's P along the curve `ds` (issue 14 §4) as a dashed line.
+    """Draw the decision model's P along the curve `ds` as a dashed line.
 
     The table is the one of data/decision/ that holds the curve's model
     (:func:`pde_rotor.decision.check.table_for`: same grid, scheme, flow and smoothing);

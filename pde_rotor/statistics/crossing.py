@@ -1,6 +1,6 @@
 """Where a measured probability curve crosses a level, with a 95 % interval.
 
-Issue 14 §3 asks for two numbers of the paper as the model really has them: the
+Two numbers of the paper are wanted as the model really has them: the
 Δ = 0 decay point, the t_stop at which P of Fig. 5 falls through 0.75 (the paper:
 "It decayed around t_stop = 1.4"), and the Δ = 1e-4 onset, where P of Fig. 7(a)
 falls through 0.5 (the paper: near 1). Both are read from ensemble points with

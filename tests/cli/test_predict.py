@@ -165,7 +165,7 @@ def test_calibrate_fits_the_ensemble_of_a_sweep(table_path: Path, tmp_path: Path
 def test_calibrate_takes_the_table_grid_of_a_sweep_along_dx(
     table_path: Path, tmp_path: Path
 ) -> None:
-    """A grid comparison (issue 14 §1) gives its runs at the table's dx (0.025, matched
+    """A grid comparison gives its runs at the table's dx (0.025, matched
     to 1e-6), and says how many of the other grid's it leaves out: never pooled."""
     fake_bank_store(tmp_path / "bank", {}, **{"grid.dx": [0.0333333333, 0.025000000001]})
     result = invoke("calibrate", str(table_path), "--sweep", str(tmp_path / "bank"))

@@ -72,7 +72,7 @@ def test_a_point_beyond_the_table_is_named() -> None:
 
 
 def test_a_grid_comparison_contributes_the_points_of_the_tables_grid() -> None:
-    """A report with a dx axis (issue 14 §1) is accepted whatever its base dx; only the
+    """A report with a dx axis is accepted whatever its base dx; only the
     table's dx is compared (the other grid's values here are off by 0.3)."""
     table = synthetic()
     table_dx = RotorConfig.model_validate_json(table.attrs["config"]).grid.dx

@@ -1,4 +1,4 @@
-"""Level crossings of measured curves (the decay point and the onset, issue 14 §3)."""
+"""Level crossings of measured curves (the decay point and the onset)."""
 
 from __future__ import annotations
 

@@ -771,7 +771,7 @@ def test_runs_alternate_directions_within_a_spin_up_group():
 
 @pytest.mark.parametrize("path", sorted(SWEEPS.glob("science_*.yaml")), ids=lambda p: p.stem)
 def test_science_sweeps_run_the_default_scheme_on_paper_parameters(path):
-    """Issue 14's sweeps: bank estimator, the default scheme, delta = 0.025, dt = 1e-4."""
+    """The science sweeps: bank estimator, the default scheme, delta = 0.025, dt = 1e-4."""
     sweep = Sweep.load(path)
     for run in sweep.runs()[:: sweep.spec.samples]:
         cfg = RotorConfig.model_validate(run.config)
