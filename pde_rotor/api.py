@@ -225,6 +225,7 @@ def run(
     Raises:
         ConfigError: invalid configuration (before anything is compiled).
         pde_rotor.backends.BackendError: solver.backend is "gpu" and no GPU is usable.
+        ConfigError: also when the records would not fit in memory or on disk.
         OutputError: `out` holds an earlier run and not `overwrite`.
         SimulationDivergedError: the state became NaN/Inf and `check` is True.
     """
@@ -244,9 +245,11 @@ def run(
     cfg = with_seed(cfg)
     backend = backend_for(cfg)
     device = device_name(backend)
+    from . import trackers as tr
+
+    tr.check_budget(cfg, out, cfg.output.movie and out is not None)
     run_dir = RunDirectory.create(out, overwrite=overwrite) if out is not None else None
 
-    from . import trackers as tr
     from .solver.rotor import SimulationDivergedError
     from .solver.simulation import Simulation
     from .solver.single_run import run_single

@@ -10,6 +10,10 @@ from __future__ import annotations
 TIME_UNITS = "1/a"
 """Unit of every time in the outputs: the paper's dimensionless time, in units of 1/a
 (a: the evaporation rate of camphor)."""
-OMEGA_UNITS = f"rad per {TIME_UNITS}"
-"""Unit of the angular velocity omega."""
+OMEGA_UNITS = "rad\u00b7a"
+"""Unit of the angular velocity omega: radians per time unit 1/a, written rad·a."""
 LENGTH_UNITS = "sqrt(D/a)"
+CONCENTRATION_UNITS = "s0/D"
+"""Unit of the camphor surface concentration c: with lengths in sqrt(D/a), Eq. (eqc)
+balances a c against the supply s0 / (pi rho^2), so c is an amount per area in units of
+s0 / (a D/a) = s0/D."""

@@ -7,9 +7,25 @@ one line ``error: ...`` on stderr, before anything is computed); 130 interrupted
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Annotated, NoReturn
 
 import typer
+import typer.core
+
+from ..io.output import OutputError, check_output_dir, check_output_file
+
+
+def _argument_type(self: typer.core.TyperArgument, ctx: object) -> str | None:
+    """No ``<list[Path]>`` after an argument's metavar: ``CONFIG...`` says it already."""
+    return None if self.metavar is not None else _typer_argument_type(self, ctx)
+
+
+# typer (>= 0.16) prints a Python type after every argument, e.g. ``REPORT...
+# <list[Path]>``; every argument of this CLI has a metavar that names what it takes
+_typer_argument_type = getattr(typer.core.TyperArgument, "display_type_rich", None)
+if _typer_argument_type is not None:
+    typer.core.TyperArgument.display_type_rich = _argument_type
 
 EXIT_BAD_INPUT = 2
 EXIT_FAILED = 1
@@ -31,3 +47,22 @@ def fail(message: str, code: int = EXIT_BAD_INPUT) -> NoReturn:
     """Print ``error: message`` on stderr and exit with `code`."""
     typer.echo(f"error: {message}", err=True)
     raise typer.Exit(code)
+
+
+def output_dir(path: Path, option: str = "--out") -> Path:
+    """`path` if a command can create and write the directory there, else one line, exit 2.
+
+    Called before any compute (:func:`pde_rotor.io.output.check_output_dir`).
+    """
+    try:
+        return check_output_dir(path, option)
+    except OutputError as err:
+        fail(str(err))
+
+
+def output_file(path: Path, option: str = "--out") -> Path:
+    """`path` if a command can write that file, else one line and exit 2 (before compute)."""
+    try:
+        return check_output_file(path, option)
+    except OutputError as err:
+        fail(str(err))

@@ -12,13 +12,13 @@ from typing import Annotated
 
 import typer
 
-from .common import EXIT_FAILED, fail
+from .common import EXIT_FAILED, fail, output_dir
 
 
 def register(app: typer.Typer) -> None:
     """Add the ``gallery`` command to `app`."""
 
-    @app.command("gallery")
+    @app.command("gallery", short_help="Reproduce the paper's figures.")
     def gallery_command(
         quick: Annotated[
             bool, typer.Option("--quick", help="Coarse grid, short protocols, few samples.")
@@ -38,11 +38,15 @@ def register(app: typer.Typer) -> None:
         ] = None,
         out: Annotated[
             Path | None,
-            typer.Option("--out", "-o", help="Output directory [default: gallery/output]."),
+            typer.Option(
+                "--out", "-o", metavar="DIR", help="Output directory [default: gallery/output]."
+            ),
         ] = None,
         scheduler: Annotated[
             str | None,
-            typer.Option(help="Address of a running dask scheduler for the sweeps."),
+            typer.Option(
+                metavar="ADDRESS", help="Address of a running dask scheduler for the sweeps."
+            ),
         ] = None,
         publish: Annotated[
             bool,
@@ -54,9 +58,11 @@ def register(app: typer.Typer) -> None:
         """Reproduce the paper's figures 1 and 3-9, the inversion movie and the convergence page."""
         from ..gallery.runner import GalleryError, gallery_dir, run_gallery
 
+        if quick and tiny:
+            fail("--quick and --tiny are two sizes of the gallery: give one of them")
         names = [n.strip() for item in only or [] for n in item.split(",") if n.strip()]
         try:
-            target = out if out is not None else gallery_dir() / "output"
+            target = output_dir(out if out is not None else gallery_dir() / "output")
             result = run_gallery(
                 quick, names or None, target, tiny=tiny, scheduler=scheduler, publish=publish
             )

@@ -21,7 +21,8 @@ from ..backends import BackendError, backend_for, gpu_unavailable_reason
 from ..config import ConfigError, dump_config, load_config
 from ..io.output import OutputError, RunDirectory
 from ..sweep.cost import estimate_run
-from .common import EXIT_BAD_INPUT, EXIT_FAILED, EXIT_INTERRUPTED, SetOption, fail
+from ..trackers.budget import check_budget
+from .common import EXIT_BAD_INPUT, EXIT_FAILED, EXIT_INTERRUPTED, SetOption, fail, output_file
 from .gallery import register as register_gallery_commands
 from .predict import register as register_predict_commands
 from .sweep import register as register_sweep_commands
@@ -37,7 +38,27 @@ app = typer.Typer(
 )
 
 
-@app.command()
+def _version(value: bool) -> None:
+    if value:
+        from .. import __version__
+
+        typer.echo(f"pde-rotor {__version__}")
+        raise typer.Exit()
+
+
+@app.callback()
+def options(
+    version: Annotated[
+        bool,
+        typer.Option(
+            "--version", callback=_version, is_eager=True, help="Print the version and exit."
+        ),
+    ] = False,
+) -> None:
+    """Camphor rotor under stop-and-release operations (Koyano et al., Chaos 2020)."""
+
+
+@app.command(short_help="Run a config into a run directory.")
 def run(
     config: Annotated[
         Path, typer.Argument(metavar="CONFIG", help="YAML config file (see configs/).")
@@ -45,18 +66,30 @@ def run(
     set_: SetOption = None,
     out: Annotated[
         Path | None,
-        typer.Option("--out", "-o", help="Run directory [default: runs/<config>-<time>]."),
+        typer.Option(
+            "--out", "-o", metavar="DIR", help="Run directory [default: runs/<config>-<time>]."
+        ),
     ] = None,
     movie: Annotated[
         bool | None,
         typer.Option("--movie/--no-movie", help="Render movie.mp4 [default: output.movie]."),
     ] = None,
     seed: Annotated[
-        int | None, typer.Option(help="Seed of the noise (sets noise.seed).", show_default=False)
+        int | None,
+        typer.Option(
+            metavar="N",
+            help="Seed of the noise (sets noise.seed) [default: the config's noise.seed; a "
+            "random one, recorded in config.yaml, where that is null].",
+            show_default=False,
+        ),
     ] = None,
     backend: Annotated[
         str | None,
-        typer.Option(help="Compute backend: cpu, gpu or auto (sets solver.backend)."),
+        typer.Option(
+            metavar="cpu|gpu|auto",
+            help="Compute backend (sets solver.backend) [default: the config's solver.backend].",
+            show_default=False,
+        ),
     ] = None,
     overwrite: Annotated[
         bool, typer.Option(help="Replace the files of an earlier run in --out.")
@@ -65,14 +98,21 @@ def run(
 ) -> None:
     """Run CONFIG and write a run directory (config, time series, events, fields, movie)."""
     overrides = list(set_ or [])
-    if seed is not None:
-        overrides.append(f"noise.seed={seed}")
-    if backend is not None:
-        overrides.append(f"solver.backend={backend}")
+    for option, value, key in (
+        ("--seed", seed, "noise.seed"),
+        ("--backend", backend, "solver.backend"),
+    ):
+        if value is None:
+            continue
+        clash = [o for o in overrides if o.split("=", 1)[0].strip() == key]
+        if clash:
+            fail(f"{option} {value} and --set {clash[0]} both set {key}: give one of them")
+        overrides.append(f"{key}={value}")
     try:
         cfg = load_config(config, overrides)
         backend_for(cfg)
         run_dir = out if out is not None else RunDirectory.default_path(config)
+        check_budget(cfg, run_dir, movie)
         RunDirectory.create(run_dir, overwrite=overwrite)
     except (ConfigError, BackendError, OutputError) as err:
         fail(str(err))
@@ -111,13 +151,16 @@ def _report(result: RunResult) -> None:
         typer.echo(f"  {name}")
 
 
-@app.command()
+@app.command(short_help="Draw the summary figure of a run.")
 def show(
     run_dir: Annotated[
         Path, typer.Argument(metavar="RUN_DIR", help="Run directory written by `pde-rotor run`.")
     ],
     out: Annotated[
-        Path | None, typer.Option("--out", "-o", help="Image file [default: RUN_DIR/summary.png].")
+        Path | None,
+        typer.Option(
+            "--out", "-o", metavar="FILE", help="Image file [default: RUN_DIR/summary.png]."
+        ),
     ] = None,
     display: Annotated[bool, typer.Option(help="Also open the figure in a window.")] = False,
 ) -> None:
@@ -126,6 +169,7 @@ def show(
         result = RunResult.load(run_dir)
     except ConfigError as err:
         fail(str(err))
+    target = output_file(out if out is not None else RunDirectory(run_dir).summary)
     from ..io.output import atomic_path
     from ..plotting.run import SUMMARY_SIZE, summary_figure
 
@@ -137,7 +181,6 @@ def show(
     fig = summary_figure(
         result.config, result.timeseries, result.events, result.snapshot(), fig=fig
     )
-    target = out if out is not None else RunDirectory(run_dir).summary
     suffix = target.suffix.lstrip(".") or "png"
     try:
         with atomic_path(target) as tmp:
@@ -155,7 +198,7 @@ def show(
             plt.show()
 
 
-@app.command()
+@app.command(short_help="Validate configs; print the run cost.")
 def check(
     configs: Annotated[
         list[Path],
@@ -173,6 +216,12 @@ def check(
             typer.echo(f"error: {where}{err}", err=True)
             failed += 1
             continue
+        try:
+            check_budget(cfg)
+        except ConfigError as err:
+            typer.echo(f"error: {'' if len(configs) == 1 else f'{config}: '}{err}", err=True)
+            failed += 1
+            continue
         steps = round(cfg.protocol.t_end / cfg.grid.dt)
         summary = (
             f"t_end = {cfg.protocol.t_end:g} ({steps} steps), dt limit {cfg.dt_limit():.4g}, "
@@ -187,7 +236,7 @@ def check(
         raise typer.Exit(EXIT_BAD_INPUT)
 
 
-@app.command()
+@app.command(short_help="Versions, compute backend and threads.")
 def info() -> None:
     """Versions, compute backend and threads."""
     import matplotlib as mpl

@@ -14,7 +14,7 @@ from typing import Annotated
 import typer
 
 from ..paper import PLATEAU, PLATEAU_ASYMMETRY, PLATEAU_STOP
-from .common import SetOption, fail
+from .common import SetOption, fail, output_dir, output_file
 
 
 def _diffusion(dw: float | None, sigma: float | None, inertia: float) -> float:
@@ -98,9 +98,12 @@ def _sweep_outcomes(table, sweep_dirs: list[Path]) -> list:
 
 
 DwOption = Annotated[
-    float | None, typer.Option("--dw", help="Angular-velocity diffusion Dw = (sigma/I)^2.")
+    float | None,
+    typer.Option("--dw", metavar="DW", help="Angular-velocity diffusion Dw = (sigma/I)^2."),
 ]
-SigmaOption = Annotated[float | None, typer.Option("--sigma", help="Noise sigma of the config.")]
+SigmaOption = Annotated[
+    float | None, typer.Option("--sigma", metavar="SIGMA", help="Noise sigma of the config.")
+]
 TableArgument = Annotated[
     Path, typer.Argument(metavar="TABLE", help="Decision table (NetCDF of predict measure).")
 ]
@@ -113,9 +116,9 @@ def register(app: typer.Typer) -> None:
         no_args_is_help=True,
         rich_markup_mode=None,
     )
-    app.add_typer(predict, name="predict")
+    app.add_typer(predict, name="predict", short_help="The reduced decision model of a release.")
 
-    @predict.command("measure")
+    @predict.command("measure", short_help="Measure a decision table (noise-free runs).")
     def measure_command(
         config: Annotated[
             Path,
@@ -123,13 +126,19 @@ def register(app: typer.Typer) -> None:
                 metavar="CONFIG", help="YAML config file, or a shipped sweep base (paper, coarse)."
             ),
         ],
-        out: Annotated[Path, typer.Option("--out", "-o", help="Table to write (.nc).")],
+        out: Annotated[
+            Path, typer.Option("--out", "-o", metavar="FILE.nc", help="Table to write (.nc).")
+        ],
         set_: SetOption = None,
-        angles: Annotated[int, typer.Option(min=1, help="Stop angles per direction.")] = 8,
-        t_max: Annotated[float, typer.Option(min=0.1, help="Longest stop predicted.")] = 3.5,
+        angles: Annotated[
+            int, typer.Option(min=1, metavar="N", help="Stop angles per direction.")
+        ] = 8,
+        t_max: Annotated[
+            float, typer.Option(min=0.1, metavar="T", help="Longest stop predicted.")
+        ] = 3.5,
         check: Annotated[
             list[float] | None,
-            typer.Option(help="Stop durations of check releases (repeatable)."),
+            typer.Option(metavar="T", help="Stop durations of check releases (repeatable)."),
         ] = None,
     ) -> None:
         """Measure a decision table: noise-free stop curves and the release response."""
@@ -149,6 +158,7 @@ def register(app: typer.Typer) -> None:
                 "geometry.asymmetry = 0: measure at a nonzero reference Delta "
                 "(e.g. --set geometry.asymmetry=1e-4) so the table predicts every Delta"
             )
+        output_file(out)
         checks = sorted(check or [])
         if checks and (checks[0] <= 0 or checks[-1] > t_max):
             fail(f"--check values must lie in (0, t_max = {t_max:g}]")
@@ -163,17 +173,20 @@ def register(app: typer.Typer) -> None:
             f"C = {table.response:.3g}; wrote {out}"
         )
 
-    @predict.command("point")
+    @predict.command("point", short_help="Predicted P at given t_stop and Delta.")
     def point_command(
         table_path: TableArgument,
         t_stop: Annotated[
             list[float],
-            typer.Option("--t-stop", help="Stop duration; repeatable (--t-stop 1 --t-stop 1.5)."),
+            typer.Option(
+                "--t-stop", metavar="T", help="Stop duration; repeatable (--t-stop 1 --t-stop 1.5)."
+            ),
         ],
         asymmetry: Annotated[
             list[float] | None,
             typer.Option(
                 "--asymmetry",
+                metavar="DELTA",
                 help="Delta; repeatable (--asymmetry 0 --asymmetry 2e-5); every t_stop is "
                 "printed at every Delta [default: 0].",
             ),
@@ -196,17 +209,17 @@ def register(app: typer.Typer) -> None:
                     f"{float(a):.3f}, P(inv|CW) = {float(b):.3f}, P = {float(p):.3f}"
                 )
 
-    @predict.command("calibrate")
+    @predict.command("calibrate", short_help="The noise at which P reaches a target.")
     def calibrate_command(
         table_path: TableArgument,
         target: Annotated[
-            float, typer.Option(help="P to reach (default: the experiment's plateau).")
+            float, typer.Option(metavar="P", help="P to reach (default: the experiment's plateau).")
         ] = PLATEAU,
         t_stop: Annotated[
-            float, typer.Option("--t-stop", help="Stop duration of P.")
+            float, typer.Option("--t-stop", metavar="T", help="Stop duration of P.")
         ] = PLATEAU_STOP,
         asymmetry: Annotated[
-            float, typer.Option("--asymmetry", help="Delta of P.")
+            float, typer.Option("--asymmetry", metavar="DELTA", help="Delta of P.")
         ] = PLATEAU_ASYMMETRY,
         sweep: Annotated[
             list[Path] | None,
@@ -250,7 +263,7 @@ def register(app: typer.Typer) -> None:
             f"[{sigma_of(d_lo, table.inertia):.3g}, {sigma_of(d_hi, table.inertia):.3g}]"
         )
 
-    @predict.command("check")
+    @predict.command("check", short_help="The model against stored sweep reports.")
     def check_command(
         table_path: TableArgument,
         report: Annotated[
@@ -258,7 +271,10 @@ def register(app: typer.Typer) -> None:
         ],
         plot: Annotated[
             Path | None,
-            typer.Option(help="Also draw the master curve P(+1) against x into this directory."),
+            typer.Option(
+                metavar="DIR",
+                help="Also draw the master curve P(+1) against x into this directory.",
+            ),
         ] = None,
     ) -> None:
         """Compare the model with every point of stored sweep reports (coverage, deviation)."""
@@ -267,6 +283,8 @@ def register(app: typer.Typer) -> None:
 
         table = _table(table_path)
         reports = _reports(report, "")
+        if plot is not None:
+            output_dir(plot, "--plot")
         try:
             result = compare(table, reports)
         except ValueError as err:
@@ -299,24 +317,31 @@ def register(app: typer.Typer) -> None:
                 f"master curve: {len(points)} conditionals; wrote " + ", ".join(map(str, paths))
             )
 
-    @predict.command("map")
+    @predict.command("map", short_help="Draw the predicted Fig. 9 map.")
     def map_command(
         table_path: TableArgument,
         dw: DwOption = None,
         sigma: SigmaOption = None,
         out: Annotated[
             Path | None,
-            typer.Option("--out", "-o", help="Output directory [default: the current one]."),
+            typer.Option(
+                "--out", "-o", metavar="DIR", help="Output directory [default: the current one]."
+            ),
         ] = None,
         report: Annotated[
             list[Path] | None,
             typer.Option(
-                help="Sweep report (NetCDF) whose points are drawn on the map (repeatable)."
+                metavar="REPORT.nc",
+                help="Sweep report (NetCDF) whose points are drawn on the map (repeatable).",
             ),
         ] = None,
-        t_stop_max: Annotated[float, typer.Option(help="Longest stop drawn.")] = 3.5,
-        asymmetry_max: Annotated[float, typer.Option(help="Largest Delta drawn.")] = 1e-4,
-        resolution: Annotated[int, typer.Option(min=2, help="Points along t_stop.")] = 160,
+        t_stop_max: Annotated[float, typer.Option(metavar="T", help="Longest stop drawn.")] = 3.5,
+        asymmetry_max: Annotated[
+            float, typer.Option(metavar="DELTA", help="Largest Delta drawn.")
+        ] = 1e-4,
+        resolution: Annotated[
+            int, typer.Option(min=2, metavar="N", help="Points along t_stop.")
+        ] = 160,
     ) -> None:
         """Draw the Fig. 9 map P(t_stop, Delta) predicted at one noise intensity."""
         from ..decision.table import sigma_of
@@ -331,7 +356,7 @@ def register(app: typer.Typer) -> None:
             points = ensemble_points(table, reports, sigma_of(diffusion, table.inertia))
         except ValueError as err:
             fail(str(err))
-        out = out or Path.cwd()
+        out = output_dir(out or Path.cwd())
         out.mkdir(parents=True, exist_ok=True)
         paths, _ = draw_map(
             table,

@@ -15,7 +15,7 @@ from typing import Annotated
 
 import typer
 
-from .common import EXIT_FAILED, EXIT_INTERRUPTED, fail
+from .common import EXIT_FAILED, EXIT_INTERRUPTED, fail, output_dir, output_file
 
 
 def _interrupt(signum: int, frame: object) -> None:
@@ -25,7 +25,7 @@ def _interrupt(signum: int, frame: object) -> None:
 def register(app: typer.Typer) -> None:
     """Add the ``sweep`` and ``report`` commands to `app`."""
 
-    @app.command("sweep")
+    @app.command("sweep", short_help="Run a parameter sweep (resumable).")
     def sweep_command(
         sweep: Annotated[
             Path, typer.Argument(metavar="SWEEP", help="Sweep YAML file (see configs/sweeps/).")
@@ -33,19 +33,23 @@ def register(app: typer.Typer) -> None:
         scheduler: Annotated[
             str | None,
             typer.Option(
+                metavar="ADDRESS",
                 help="Address of a running dask scheduler, e.g. tcp://node:8786 "
-                "[default: start a LocalCluster here]."
+                "[default: start a LocalCluster here].",
             ),
         ] = None,
         workers: Annotated[
             int | None,
-            typer.Option(min=1, help="LocalCluster worker processes [default: usable cores]."),
+            typer.Option(
+                min=1, metavar="N", help="LocalCluster worker processes [default: usable cores]."
+            ),
         ] = None,
         out: Annotated[
             Path | None,
             typer.Option(
                 "--out",
                 "-o",
+                metavar="DIR",
                 help="Sweep directory [default: data/sweeps/<sweep file stem>, in the repository: "
                 "commit it to resume elsewhere].",
             ),
@@ -75,6 +79,7 @@ def register(app: typer.Typer) -> None:
             DEFAULT_ROOT,
             Sweep,
             SweepError,
+            check_scheduler,
             finished,
             format_table,
             gather,
@@ -112,6 +117,19 @@ def register(app: typer.Typer) -> None:
             typer.echo(f"to compute: {len(todo)} runs on {where}")
             typer.echo(f"estimated cost: {estimate_sweep(todo, n).describe()}")
             return
+        output_dir(sweep_dir)
+        if scheduler and backend != "gpu":
+            try:
+                check_scheduler(scheduler)
+            except SweepError as err:
+                fail(str(err))
+        if sweep_dir.is_dir() and not (sweep_dir / "sweep.yaml").is_file():
+            others = sorted(p.name for p in sweep_dir.iterdir() if not p.name.startswith("."))
+            if others:
+                fail(
+                    f"--out {str(sweep_dir)!r} holds {others[0]} but no sweep (no sweep.yaml): "
+                    "choose a new or empty directory, or a sweep directory to resume"
+                )
         typer.echo(f"pde-rotor: sweep {sweep} ({n_runs} runs) on {where} -> {sweep_dir}", err=True)
         # SIGTERM (a batch system ending the job, kill PID) stops like Ctrl-C: the
         # cluster is closed and every finished run is kept
@@ -144,7 +162,7 @@ def register(app: typer.Typer) -> None:
                 typer.echo(f"failed run {key}: {message}", err=True)
             raise typer.Exit(EXIT_FAILED)
 
-    @app.command("report")
+    @app.command("report", short_help="Gather a sweep's runs into a report.")
     def report_command(
         sweep_dir: Annotated[
             Path,
@@ -156,13 +174,16 @@ def register(app: typer.Typer) -> None:
         ],
         out: Annotated[
             Path | None,
-            typer.Option("--out", "-o", help="NetCDF file [default: SWEEP_DIR/report.nc]."),
+            typer.Option(
+                "--out", "-o", metavar="FILE.nc", help="NetCDF file [default: SWEEP_DIR/report.nc]."
+            ),
         ] = None,
         crossing: Annotated[
             list[float] | None,
             typer.Option(
                 min=0.0,
                 max=1.0,
+                metavar="LEVEL",
                 help="Also print where P crosses this level along t_stop, with its 95 % "
                 "interval (0.75: the Delta = 0 decay point; 0.5: the onset); repeatable.",
             ),
@@ -181,6 +202,7 @@ def register(app: typer.Typer) -> None:
             sweep_dir = DEFAULT_ROOT / sweep_dir.stem
         if not (sweep_dir / "sweep.yaml").is_file():
             fail(f"{sweep_dir} holds no sweep.yaml (not a sweep directory)")
+        output_file(out if out is not None else sweep_dir / "report.nc")
         try:
             ds = report(sweep_dir, out, sweep=design)
         except SweepError as err:

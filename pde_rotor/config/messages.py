@@ -89,16 +89,21 @@ def allowed_values(path: tuple[str, ...]) -> str:
         kind = "integer"
     else:
         kind = "number"
-    lower = upper = ""
-    for meta in metadata:  # annotated_types.Gt(gt=...), Ge, Lt, Le
+    # annotated_types.Gt(gt=...), Ge, Lt, Le; a field may narrow its type's bound
+    # (PositiveFloat's gt=0 and a Field's ge=1e-8): the tightest one is the rule
+    lows: list[tuple[float, str]] = []
+    highs: list[tuple[float, str]] = []
+    for meta in metadata:
         if getattr(meta, "gt", None) is not None:
-            lower = f"{meta.gt:g} <"
+            lows.append((meta.gt, f"{meta.gt:g} <"))
         elif getattr(meta, "ge", None) is not None:
-            lower = f"{meta.ge:g} <="
+            lows.append((meta.ge, f"{meta.ge:g} <="))
         elif getattr(meta, "lt", None) is not None:
-            upper = f"< {meta.lt:g}"
+            highs.append((-meta.lt, f"< {meta.lt:g}"))
         elif getattr(meta, "le", None) is not None:
-            upper = f"<= {meta.le:g}"
+            highs.append((-meta.le, f"<= {meta.le:g}"))
+    lower = max(lows)[1] if lows else ""
+    upper = max(highs)[1] if highs else ""
     if lower and not upper:
         value, sym = lower.split(" ")
         kind += f", {path[-1]} {sym.replace('<', '>')} {value}"

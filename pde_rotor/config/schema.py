@@ -36,6 +36,22 @@ Fraction = Annotated[float, _NoBool, Field(gt=0, le=1, allow_inf_nan=False)]
 Int = Annotated[int, _NoBool]
 
 
+SCALE_BOUND = 1e3
+"""Physical bounds: every rate and coefficient of the model lies within a factor 1e3 of
+the paper's value (the paper's Table of parameters, all of order 1 in its dimensionless
+units, except I and mu). Far beyond that the model leaves the regime the paper scaled it
+for and the explicit step overflows float64 (``camphor.supply: 1e308``), so such a value
+is refused in one line at ``check`` instead of starting a run that cannot work."""
+OMEGA_BOUND = 1e4
+"""Largest |omega0|: about 50 times the rotor's own steady angular velocity (176)."""
+SIGMA_BOUND = 1e-3
+"""Largest noise intensity sigma: about 1e4 times the calibrated value."""
+TIME_BOUND = 1e5
+"""Longest t_ini, t_stop or t_release: 1e4 times the paper's 10."""
+CYCLES_BOUND = 100_000
+"""Most stop-and-release cycles in one run: 1000 times the paper's M = 100."""
+
+
 class _Section(BaseModel):
     """Base of all config sections: unknown keys and silent coercions are errors."""
 
@@ -123,11 +139,19 @@ class GeometryConfig(_Section):
 class CamphorConfig(_Section):
     """Camphor surface concentration c, Eq. (eqc), and surface tension, Eq. (surfacetension)."""
 
-    diffusion: PositiveFloat = Field(1.0, description="D: camphor diffusion coefficient")
-    evaporation: NonNegativeFloat = Field(1.0, description="a: evaporation rate outside the plate")
-    supply: NonNegativeFloat = Field(1.0, description="s0: camphor supply rate of one pill")
+    diffusion: PositiveFloat = Field(
+        1.0, le=SCALE_BOUND, description="D: camphor diffusion coefficient"
+    )
+    evaporation: NonNegativeFloat = Field(
+        1.0, le=SCALE_BOUND, description="a: evaporation rate outside the plate"
+    )
+    supply: NonNegativeFloat = Field(
+        1.0, le=SCALE_BOUND, description="s0: camphor supply rate of one pill"
+    )
     tension_slope: NonNegativeFloat = Field(
-        1.0, description="k: surface tension gamma = gamma0 - k c, Eq. (surfacetension)"
+        1.0,
+        le=SCALE_BOUND,
+        description="k: surface tension gamma = gamma0 - k c, Eq. (surfacetension)",
     )
 
 
@@ -137,18 +161,30 @@ class FlowConfig(_Section):
     enabled: bool = Field(
         True, description="false: v = 0 in Eqs. (eqc) and (eq_motion), the paper's Fig. 8"
     )
-    drag: NonNegativeFloat = Field(1.0, description="eta: relaxation of v to the plate velocity")
-    bulk_drag: NonNegativeFloat = Field(1.0, description="eta_b: vertical viscous damping of v")
-    viscosity: PositiveFloat = Field(1.0, description="D_eta: horizontal viscous diffusion of v")
+    drag: NonNegativeFloat = Field(
+        1.0, le=SCALE_BOUND, description="eta: relaxation of v to the plate velocity"
+    )
+    bulk_drag: NonNegativeFloat = Field(
+        1.0, le=SCALE_BOUND, description="eta_b: vertical viscous damping of v"
+    )
+    viscosity: PositiveFloat = Field(
+        1.0, le=SCALE_BOUND, description="D_eta: horizontal viscous diffusion of v"
+    )
 
 
 class RotorDynamicsConfig(_Section):
     """Rotor dynamics, Eq. (eq_motion), and its initial condition."""
 
-    inertia: PositiveFloat = Field(1e-5, description="I: moment of inertia")
-    friction: NonNegativeFloat = Field(1e-4, description="mu: friction constant")
+    inertia: PositiveFloat = Field(
+        1e-5, ge=1e-5 / SCALE_BOUND, le=1e-5 * SCALE_BOUND, description="I: moment of inertia"
+    )
+    friction: NonNegativeFloat = Field(
+        1e-4, le=1e-4 * SCALE_BOUND, description="mu: friction constant"
+    )
     phi0: FiniteFloat = Field(1.0, description="phi(0): initial angle [rad]")
-    omega0: FiniteFloat = Field(0.1, description="dphi/dt(0): initial angular velocity")
+    omega0: FiniteFloat = Field(
+        0.1, ge=-OMEGA_BOUND, le=OMEGA_BOUND, description="dphi/dt(0): initial angular velocity"
+    )
     torque: Literal["physical", "printed"] = Field(
         "physical",
         description=(
@@ -192,7 +228,9 @@ class NoiseConfig(_Section):
     no noise, and :data:`CALIBRATED_SIGMA` is the intensity calibrated to the paper.
     """
 
-    sigma: NonNegativeFloat = Field(0.0, description="sigma: torque noise intensity")
+    sigma: NonNegativeFloat = Field(
+        0.0, le=SIGMA_BOUND, description="sigma: torque noise intensity"
+    )
     seed: Int | None = Field(
         None, ge=0, description="seed of the numpy Generator (null: drawn and recorded per run)"
     )
@@ -201,10 +239,18 @@ class NoiseConfig(_Section):
 class ProtocolConfig(_Section):
     """Stop-and-release operations (paper section "Model", last part)."""
 
-    t_ini: NonNegativeFloat = Field(10.0, description="t_ini: free rotation before the first stop")
-    t_stop: NonNegativeFloat = Field(0.5, description="t_stop: duration of one forced stop")
-    t_release: PositiveFloat = Field(10.0, description="t_release: free rotation after a stop")
-    cycles: Int = Field(100, ge=0, description="M: number of stop-and-release cycles")
+    t_ini: NonNegativeFloat = Field(
+        10.0, le=TIME_BOUND, description="t_ini: free rotation before the first stop"
+    )
+    t_stop: NonNegativeFloat = Field(
+        0.5, le=TIME_BOUND, description="t_stop: duration of one forced stop"
+    )
+    t_release: PositiveFloat = Field(
+        10.0, le=TIME_BOUND, description="t_release: free rotation after a stop"
+    )
+    cycles: Int = Field(
+        100, ge=0, le=CYCLES_BOUND, description="M: number of stop-and-release cycles"
+    )
 
     @property
     def period(self) -> float:
@@ -227,7 +273,9 @@ class ProtocolConfig(_Section):
 class GridConfig(_Section):
     """Cartesian grid covering the circular domain of radius L (Dirichlet c = v = 0 outside)."""
 
-    domain_radius: PositiveFloat = Field(3.0, description="L: radius of the circular domain")
+    domain_radius: PositiveFloat = Field(
+        3.0, le=100.0, description="L: radius of the circular domain"
+    )
     dx: PositiveFloat = Field(0.025, description="grid spacing")
     dt: PositiveFloat = Field(1e-4, description="explicit Euler time step")
 
@@ -434,6 +482,33 @@ class RotorConfig(_Section):
         for part in key.split("."):
             node = getattr(node, part)
         return node
+
+    def far_from_paper(self, factor: float = 10.0) -> list[str]:
+        """The model parameters more than `factor` away from the paper's values, furthest first.
+
+        What a diverged run names as its likely cause (``camphor.supply = 500, 500 times
+        the paper's 1``) beside the time step.
+        """
+        paper = type(self)()
+        found: list[tuple[float, str]] = []
+        for section in ("geometry", "camphor", "flow", "rotor"):
+            ours, theirs = getattr(self, section), getattr(paper, section)
+            for name in type(ours).model_fields:
+                value, default = getattr(ours, name), getattr(theirs, name)
+                numbers = (int, float)
+                if isinstance(value, bool) or not isinstance(value, numbers) or not default:
+                    continue
+                ratio = abs(value / default) if value else math.inf
+                spread = max(ratio, 1 / ratio) if ratio else math.inf
+                if spread > factor:
+                    found.append(
+                        (
+                            spread,
+                            f"{section}.{name} = {value:g}, {value / default:.3g} times "
+                            f"the paper's {default:g}",
+                        )
+                    )
+        return [text for _, text in sorted(found, reverse=True)]
 
     def dt_limit(self) -> float:
         """Largest stable explicit Euler step of the linear terms of Eqs. (eqc), (eqv), (eq_motion).

@@ -21,6 +21,7 @@ from __future__ import annotations
 import csv
 import logging
 import os
+import tempfile
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from datetime import datetime
@@ -35,6 +36,85 @@ PART_SUFFIX = ".part"
 
 class OutputError(OSError):
     """A run directory cannot be used; ``str(err)`` is one readable line."""
+
+
+def _reason(err: OSError) -> str:
+    """The readable part of an OSError ("Permission denied", "No space left on device")."""
+    return err.strerror or str(err)
+
+
+def _nearest_file(path: Path) -> Path:
+    """The first of `path` and its ancestors that exists (a file where a directory is needed)."""
+    while not path.exists() and path != path.parent:
+        path = path.parent
+    return path
+
+
+def check_output_dir(path: str | Path, option: str = "--out") -> Path:
+    """Refuse, in one line, a directory that cannot be created and written to.
+
+    The check creates what is missing and a probe file, then removes them again, so it
+    holds for root too (permission bits do not stop root, /proc or a read-only mount
+    do) and a refused command leaves nothing behind. It runs before any compute.
+
+    Args:
+        path: the directory a command will create (with its parents) and write into.
+        option: the command-line option that named it, for the message.
+
+    Returns:
+        `path` as a Path.
+
+    Raises:
+        OutputError: the path or one of its ancestors is a file, or the directory
+            cannot be created or written to (the reason is named).
+    """
+    path = Path(path)
+    missing = []
+    existing = path.absolute()
+    while not existing.exists() and existing != existing.parent:
+        missing.append(existing)
+        existing = existing.parent
+    if not existing.is_dir():
+        what = "it is a file" if not missing else f"{str(existing)!r} is a file"
+        msg = f"{option} {str(path)!r} must be a directory, but {what}"
+        raise OutputError(msg)
+    created: list[Path] = []
+    try:
+        for directory in reversed(missing):
+            directory.mkdir()
+            created.append(directory)
+        fd, probe = tempfile.mkstemp(dir=path, prefix=".pde-rotor-probe-")
+        os.close(fd)
+        os.unlink(probe)
+    except OSError as err:
+        msg = f"{option} {str(path)!r}: cannot create or write there ({_reason(err)})"
+        raise OutputError(msg) from None
+    finally:
+        for directory in reversed(created):
+            directory.rmdir()
+    return path
+
+
+def check_output_file(path: str | Path, option: str = "--out") -> Path:
+    """Refuse, in one line, a file path that cannot be written (see :func:`check_output_dir`).
+
+    Raises:
+        OutputError: the path is a directory, or its directory cannot be created or
+            written to.
+    """
+    path = Path(path)
+    if path.is_dir():
+        msg = f"{option} {str(path)!r} is a directory; give a file name"
+        raise OutputError(msg)
+    try:
+        check_output_dir(path.parent, option=option)
+    except OutputError as err:
+        msg = f"{option} {str(path)!r}: {str(err).split(': ', 1)[-1]}"
+        if "must be a directory" in str(err):
+            parent = _nearest_file(path.parent)
+            msg = f"{option} {str(path)!r}: {str(parent)!r} is a file, not a directory"
+        raise OutputError(msg) from None
+    return path
 
 
 def part_path(path: str | Path) -> Path:
@@ -166,11 +246,25 @@ class RunDirectory:
                 run there instead of refusing.
 
         Raises:
-            OutputError: the path is a file, or holds an earlier run and not `overwrite`.
+            OutputError: the path is a file, holds files of something other than a run,
+                or holds an earlier run and not `overwrite`.
         """
         run = cls(path)
         if run.path.exists() and not run.path.is_dir():
             msg = f"output path {str(run.path)!r} is a file, not a directory"
+            raise OutputError(msg)
+        others = sorted(
+            p.name
+            for p in (run.path.iterdir() if run.path.is_dir() else ())
+            if not p.name.startswith(".")
+            and p.name not in cls.FILES
+            and p.name not in {part_path(name).name for name in cls.FILES}
+        )
+        if others:
+            msg = (
+                f"output directory {str(run.path)!r} holds {others[0]}, which is not a run "
+                "file: choose a new or empty directory"
+            )
             raise OutputError(msg)
         present = [name for name in cls.FILES if (run.path / name).exists()]
         present += [name for name in cls.FILES if part_path(run.path / name).exists()]

@@ -18,6 +18,7 @@ render without a display.
 from __future__ import annotations
 
 import math
+import textwrap
 from dataclasses import dataclass
 
 import numpy as np
@@ -27,7 +28,7 @@ from matplotlib.patches import Circle, Polygon
 
 from ..config import RotorConfig
 from ..model.geometry import RotorShape, pill_centres
-from ..units import LENGTH_UNITS, OMEGA_UNITS, TIME_UNITS
+from ..units import CONCENTRATION_UNITS, LENGTH_UNITS, OMEGA_UNITS, TIME_UNITS
 
 SUMMARY_SIZE = (13.0, 8.5)
 """Size of the summary figure in inches."""
@@ -133,6 +134,7 @@ class RotorFrame:
         self.ax = ax
         self.c_max = 0.0
         self.v_key = 1.0
+        self.v_reference = 0.0
         n = self.view.coords.size
         self.image = ax.imshow(
             np.zeros((n, n)),
@@ -145,7 +147,11 @@ class RotorFrame:
         )
         if colorbar is not None:
             self.fig.colorbar(
-                self.image, ax=ax, label="camphor concentration c", shrink=0.85, location=colorbar
+                self.image,
+                ax=ax,
+                label=f"camphor concentration c [{CONCENTRATION_UNITS}]",
+                shrink=0.85,
+                location=colorbar,
             )
         a = self.view.coords[self.view.arrows]
         ax_x, ax_y = np.meshgrid(a, a, indexing="ij")
@@ -194,6 +200,8 @@ class RotorFrame:
         ax.set_ylabel(f"y [{LENGTH_UNITS}]")
 
     def _key_label(self) -> str:
+        if self.v_key < self.v_reference:
+            return f"|v| = {self.v_key:.2g}  (arrows \u00d7{self.v_reference / self.v_key:.3g})"
         return f"|v| = {self.v_key:.2g}"
 
     def update(
@@ -209,7 +217,9 @@ class RotorFrame:
         scaled per frame: the key's speed, the frame's largest |v| rounded up to 1, 2 or
         5 times a power of ten, spans :data:`ARROW_FILL` of the arrow spacing. The flow
         left over during a stop, a twentieth of the flow of a turning plate, so stays
-        visible, and the key says how large it is.
+        visible. The change of scale is made obvious: while the arrows are enlarged
+        against the largest key of the movie so far, the key turns orange and says by
+        how much.
         """
         sel = self.view.sel
         c = data[0][sel, sel]
@@ -222,8 +232,11 @@ class RotorFrame:
         vy = data[2][sel, sel][np.ix_(idx, idx)]
         speed = float(np.max(np.hypot(vx, vy))) if vx.size else 0.0
         self.v_key = nice_ceiling(speed) if speed > 0 else 1.0
+        self.v_reference = max(self.v_reference, self.v_key)
         self.quiver.set_UVC(vx / self.v_key, vy / self.v_key)
         self.key.text.set_text(self._key_label())
+        enlarged = self.v_key < self.v_reference
+        self.key.text.get_bbox_patch().set_facecolor("tab:orange" if enlarged else "black")
         self.plate.set_xy(plate_corners(self.shape, phi))
         for pill, centre in zip(self.pills, pill_centres(self.shape, phi), strict=True):
             pill.set_center(tuple(centre))
@@ -330,15 +343,10 @@ def summary_figure(
         fontsize=10,
     )
     if timeseries.attrs.get("status", "completed") != "completed":
-        ax_phi.text(
-            0.01,
-            0.98,
-            f"run {timeseries.attrs['status']}: {timeseries.attrs.get('message', '')}",
-            transform=ax_phi.transAxes,
-            va="top",
-            fontsize=8,
-            color="tab:red",
-        )
+        # a figure-wide title, wrapped: the layout makes room for it above the panels
+        status = f"run {timeseries.attrs['status']}: {timeseries.attrs.get('message', '')}"
+        width = int(fig.get_figwidth() * 13)  # characters of 9 pt per line
+        fig.suptitle(textwrap.fill(status, width), fontsize=9, color="tab:red")
 
     _events_table(ax_table, events, max_rows)
 

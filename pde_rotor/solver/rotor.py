@@ -114,10 +114,16 @@ class FusedStepper:
         if not np.isfinite(rotor[:2]).all():
             bad.append("phi/omega")
         where = ", ".join(bad) if bad else "torque"
+        config = self.pde.config
+        unusual = config.far_from_paper()
+        cause = (
+            f"likely cause: {'; '.join(unusual[:3])}; "
+            if unusual
+            else "a large flow can violate the advection limit dt <= 2 D / |v|^2; "
+        )
         msg = (
-            f"simulation diverged at t = {t:.6g}: non-finite {where} "
-            f"(dt = {self.dt:g}, stability limit {self.pde.config.dt_limit():.4g}; "
-            "a large flow can also violate the advection limit dt <= 2 D / |v|^2)"
+            f"simulation diverged at t = {t:.6g}: non-finite {where} ({cause}"
+            f"dt = {self.dt:g}, stability limit {config.dt_limit():.4g})"
         )
         raise SimulationDivergedError(msg)
 
@@ -166,7 +172,9 @@ class RotorSolver(SolverBase):
                 f"'numpy', not {backend!r}"
             )
             raise ValueError(msg)
-        super().__init__(pde, backend=backend)
+        # "numpy": py-pde's generic stepper, which calls the kernel; "auto" would first
+        # try to compile py-pde's own operators and log a failure for each backend
+        super().__init__(pde, backend="numpy")
         self.pde: RotorPDE = pde
         seed = pde.config.noise.seed
         self.rng = rng if rng is not None else np.random.default_rng(seed)

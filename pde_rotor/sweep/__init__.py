@@ -58,7 +58,7 @@ value 2ab/(a+b) where Delta != 0 (:mod:`.estimates`).
 from __future__ import annotations
 
 from .estimates import CHAIN, P_DEFINITIONS, POOLED, mcnemar_p, point_statistics
-from .execution import SweepOutcome, run_sweep, sweep_backend, usable_cores
+from .execution import SweepOutcome, check_scheduler, run_sweep, sweep_backend, usable_cores
 from .plan import SCHEMA_VERSION, SPEC_FILE, Run, Sweep, base_config, run_key, run_seed
 from .reporting import format_table, gather, report
 from .spec import (
@@ -109,6 +109,7 @@ __all__ = [
     "SweepSpec",
     "apply_sweep_overrides",
     "base_config",
+    "check_scheduler",
     "execute",
     "execute_group",
     "finished",

@@ -51,12 +51,46 @@ def usable_cores() -> int:
     return len(affinity(0)) if affinity is not None else os.cpu_count() or 1
 
 
+CONNECT_TIMEOUT = 5.0
+"""Seconds to wait for a dask scheduler to answer before giving up (dask's default is 30)."""
+
+
+def connect(scheduler: str, timeout: float = CONNECT_TIMEOUT) -> Any:
+    """A dask Client on the running scheduler at `scheduler`.
+
+    Raises:
+        SweepError: the scheduler did not answer within `timeout` seconds (one line
+            naming the address and what to check).
+    """
+    from distributed import Client
+
+    try:
+        return Client(scheduler, timeout=timeout)
+    except (OSError, TimeoutError, ValueError) as err:
+        reason = str(err).split("\n", 1)[0]
+        msg = (
+            f"--scheduler {scheduler}: no dask scheduler answered within {timeout:g} s "
+            f"({reason}); check that `dask scheduler` runs there and that its port is "
+            "reachable from this machine"
+        )
+        raise SweepError(msg) from None
+
+
+def check_scheduler(scheduler: str, timeout: float = CONNECT_TIMEOUT) -> None:
+    """Connect to `scheduler` and close again: the check a command makes before any compute.
+
+    Raises:
+        SweepError: as :func:`connect`.
+    """
+    connect(scheduler, timeout).close()
+
+
 def _start_client(scheduler: str | None, workers: int | None) -> tuple[Any, Any]:
     """A dask Client on the given scheduler, or on a new LocalCluster of processes."""
     from distributed import Client, LocalCluster
 
     if scheduler:
-        return Client(scheduler), None
+        return connect(scheduler), None
     n = workers or usable_cores()
     # Ctrl-C in a terminal signals the whole process group. The worker processes inherit
     # an ignored SIGINT (an ignored signal stays ignored across exec, and Python then

@@ -12,12 +12,14 @@ The rotor state is not part of py-pde's FieldCollection; trackers read it from t
 holds phi, omega (Eq. (eq_motion)) and the torque T (Eq. (torque)) and friction torque
 of the last step.
 
-One module per tracker; this package hands them on under one name, as py-pde's
-``pde.trackers`` does.
+What the records of a run need in memory and on disk is estimated, and a run that
+cannot fit refused, by :mod:`.budget`. One module per tracker; this package hands them
+on under one name, as py-pde's ``pde.trackers`` does.
 """
 
 from __future__ import annotations
 
+from .budget import Budget, check_budget, estimate_budget
 from .events import EVENT_ATTRS, EVENT_COLUMNS, InversionEvent, InversionTracker
 from .movie import MovieTracker
 from .progress import ProgressBarTracker
@@ -28,10 +30,13 @@ __all__ = [
     "EVENT_ATTRS",
     "EVENT_COLUMNS",
     "TIMESERIES_VARIABLES",
+    "Budget",
     "InversionEvent",
     "InversionTracker",
     "MovieTracker",
     "ProgressBarTracker",
     "SnapshotTracker",
     "TimeSeriesTracker",
+    "check_budget",
+    "estimate_budget",
 ]
