@@ -11,6 +11,8 @@ computes, and writes a PNG and a PDF (and the movie an mp4 and a GIF).
 from __future__ import annotations
 
 import json
+import os
+import re
 import sys
 from pathlib import Path
 
@@ -55,8 +57,69 @@ def tiny_gallery(tmp_path_factory):
     return run_gallery(False, None, out, tiny=True)
 
 
-def test_every_figure_has_a_script():
-    assert tuple(scripts()) == EXPECTED
+PAPER_FIGURES = Path(__file__).parent / "paper_figures.tex"
+"""The paper's figure environments, verbatim (checked against the paper's LaTeX source by
+:func:`test_figure_excerpt_is_the_papers` where that source is at hand)."""
+FIGURE = re.compile(r"\\begin\{figure\}.*?\\end\{figure\}", re.DOTALL)
+CAPTION_VALUE = re.compile(
+    r"(?:\\Delta|t_\{?\\(?:mathrm|textrm)\{stop\}\}?)\s*=\s*"
+    r"(?:10\^\{(-?\d+)\}|(\d+(?:\.\d+)?)(?:\s*\\times\s*10\^\{(-?\d+)\})?)"
+)
+
+
+def paper_source() -> Path | None:
+    """The paper's LaTeX source: $PDE_ROTOR_PAPER, else shared/paper/*.txt of the checkout."""
+    if os.environ.get("PDE_ROTOR_PAPER"):
+        return Path(os.environ["PDE_ROTOR_PAPER"])
+    found = sorted((Path(__file__).parent.parent / "shared" / "paper").glob("*.txt"))
+    return found[0] if found else None
+
+
+def paper_figures() -> dict[int, str]:
+    """Caption of each figure of the paper by its number (the order of the environments)."""
+    environments = FIGURE.findall(PAPER_FIGURES.read_text(encoding="utf-8"))
+    captions = [re.search(r"\\caption\{(.*)\}\s*\\label", env, re.DOTALL) for env in environments]
+    return {n: " ".join(c.group(1).split()) for n, c in enumerate(captions, 1) if c}
+
+
+def caption_values(caption: str) -> set[float]:
+    """The Delta and t_stop values a caption states (``$\\Delta = 2 \\times 10^{-5}$``)."""
+    values = set()
+    for power, mantissa, exponent in CAPTION_VALUE.findall(caption):
+        values.add(10.0 ** int(power) if power else float(mantissa) * 10.0 ** int(exponent or 0))
+    return values
+
+
+def test_figure_excerpt_is_the_papers():
+    source = paper_source()
+    if source is None or not source.is_file():
+        pytest.skip("the paper's LaTeX source is not at hand (set PDE_ROTOR_PAPER)")
+    paper = FIGURE.findall(source.read_text(encoding="utf-8"))
+    assert FIGURE.findall(PAPER_FIGURES.read_text(encoding="utf-8")) == paper
+
+
+def test_every_simulated_figure_of_the_paper_has_its_script():
+    """Each figure of the paper but the experiment's is reproduced by a script
+    gallery/figN_*.py that says so ("Paper Fig. N" first), names its output after itself,
+    has its figure published in gallery/, and states the caption's Delta and t_stop;
+    no script claims a figure the paper does not have."""
+    figures = paper_figures()
+    assert len(figures) == 9
+    simulated = {n for n, caption in figures.items() if not caption.startswith("Experimental")}
+    assert simulated == set(figures) - {2}
+    by_figure: dict[int, list[str]] = {}
+    for name, path in scripts().items():
+        match = re.fullmatch(r"fig(\d+)_\w+", name)
+        if match:
+            by_figure.setdefault(int(match.group(1)), []).append(name)
+            module = load_script(path)
+            assert name == module.NAME
+            assert (gallery_dir() / f"{name}.png").is_file(), name
+            number = int(match.group(1))
+            assert re.match(rf"Paper Fig\. {number}\b", module.__doc__), name
+            stated = {float(x) for x in re.findall(r"\d+(?:\.\d+)?(?:e[+-]?\d+)?", module.__doc__)}
+            assert caption_values(figures.get(number, "")) <= stated, name
+    assert set(by_figure) == simulated
 
 
 @pytest.mark.parametrize("name", EXPECTED)
