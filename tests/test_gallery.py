@@ -22,6 +22,7 @@ import xarray as xr
 from typer.testing import CliRunner
 
 from pde_rotor.cli import app
+from pde_rotor.config import load_config
 from pde_rotor.gallery import (
     GalleryError,
     gallery_dir,
@@ -483,15 +484,40 @@ def test_probability_figures_mark_the_papers_stated_values():
     assert len(drawn("fig8", asymmetry=5e-5)) == 0
 
 
-def test_footers_are_readable_at_100_percent():
-    """Footers at 9 pt or more (7 pt was too small to read)."""
-    from matplotlib.figure import Figure
+def test_footers_are_readable_at_100_percent(tmp_path):
+    """A real footer (the full fidelity's label of the paper config), drawn and saved as
+    the scripts do, measured in the PNG at its own dpi: the tallest footer line's ink,
+    from the top of its parentheses to the bottom of 'p', is at least 9 pt tall (about
+    14 px at the gallery's 110 dpi; the ink spans about 1.1 em, so a 9 pt footer is
+    9.8 pt tall, an 8 pt one 8.5, a 7 pt one, too small to read, 7.9), and lies inside
+    the image."""
+    from PIL import Image
 
-    load_script(gallery_dir() / "fig1_geometry.py")
+    load_script(gallery_dir() / "fig3_fields.py")
     common = sys.modules["_common"]
-    fig = Figure(figsize=(6, 4), layout="constrained")
-    common.add_footer(fig, "pde_rotor, full fidelity")
-    assert min(text.get_fontsize() for text in fig.texts) >= 9
+    config = load_config(common.PAPER_CONFIG)
+    fig = common.new_figure(11.0, 5.9)
+    ax = fig.add_subplot()
+    ax.plot([0, 1], [0, 1])
+    ax.set_xlabel("t_stop")
+    detail = "100 stops per direction and point; M = 100"
+    common.add_footer(fig, common.fidelity_label(common.fidelity("full"), config, detail))
+    png = common.save(fig, tmp_path, "footer")[0]
+    with Image.open(png) as image:
+        dpi = image.info["dpi"][1]
+        ink = (np.asarray(image.convert("L")) < 200).any(axis=1)
+    lines = fig.texts[-1].get_text().count("\n") + 1
+    assert not ink[-1]  # not cut off at the bottom
+    heights, bottom = [], None  # ink bands of the footer's lines, from the bottom up
+    for row in range(ink.size - 1, -1, -1):
+        if ink[row] and bottom is None:
+            bottom = row
+        elif not ink[row] and bottom is not None:
+            heights.append(bottom - row)
+            bottom = None
+            if len(heights) == lines:
+                break
+    assert max(heights) * 72 / dpi >= 9.0, (heights, dpi)
 
 
 def test_time_series_runs_are_read_from_run_directories(tmp_path, monkeypatch):
