@@ -341,7 +341,7 @@ NO_FLOW_TINY = [
     "protocol.cycles=1",
     "output.movie=false",
 ]
-"""configs/no_flow.yaml shrunk to the small domain and one stop of 250 steps in all."""
+"""configs/no_flow.yaml shrunk to the small domain and one cycle: 250 steps in all."""
 
 
 @pytest.mark.parametrize("flow", [False, True], ids=["as shipped", "flow switched on"])
