@@ -202,7 +202,7 @@ With it the Delta = 2e-5 plateau at t_stop = 3 is the paper's 0.2 (Fig. 7b):
 configs/sweeps/science_calibration.yaml measured P = 0.197 [0.108, 0.332] here, from
 100 stops per direction at each of seven intensities (data/science_calibration.nc);
 fitted with the decision model, the crossing lies at sigma = 1.49e-7, 95 % range
-1.36e-7 to 1.63e-7 (docs/statistics.md). The paper-resolution configs
+1.35e-7 to 1.62e-7 (docs/statistics.md). The paper-resolution configs
 (configs/paper_fig*.yaml, pde_rotor/bases/paper.yaml) carry this value;
 tests/test_config.py keeps them equal.
 """

@@ -14,7 +14,8 @@ model's crossing divided by κ.
 Its 95 % range comes from a bootstrap over stops, not from the binomial likelihood:
 the bank estimator releases each stop at every sigma, so its counts at different
 sigma share their stops (the stop angle and its lattice torque). The stop (its
-direction and sample index) is the unit that is resampled, within each direction.
+direction and sample index) is the unit that is resampled, within each direction
+(``scipy.stats.bootstrap`` with one sample of stops per direction, percentile range).
 """
 
 from __future__ import annotations
@@ -26,12 +27,17 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from scipy import optimize, stats
 
 from ..paper import PLATEAU, PLATEAU_ASYMMETRY, PLATEAU_STOP
 from .table import DIRECTIONS, DecisionTable, diffusion_of, escape_probability
 
-SCALE_GRID = np.exp(np.linspace(math.log(1e-3), math.log(1e3), 4001))
-"""Candidate κ: 1e-3 to 1e3, 0.35 % apart (finer than any ensemble resolves)."""
+LOG_SCALES = np.linspace(math.log(1e-3), math.log(1e3), 121)
+"""log κ searched, 1e-3 to 1e3: the best of these 121 points (12 % apart) and its
+neighbours bracket the likelihood's maximum for Brent's method (the likelihood is flat
+where every P is 0, 1 or 1/2, which a bounded search over the whole range can stop on)."""
+SCALE_TOLERANCE = 1e-6
+"""Absolute tolerance of the maximum in log κ (a relative 1e-6 in κ)."""
 
 RESAMPLES = 1000
 """Bootstrap resamples of the stops behind the 95 % range."""
@@ -126,21 +132,52 @@ class NoiseFit:
         )
 
 
-def _model_inversion(table: DecisionTable, group: tuple[float, float, float, int]) -> np.ndarray:
-    """P(inversion) of one (t_stop, Δ, sigma, direction) at every κ of SCALE_GRID."""
-    t_stop, asymmetry, sigma, direction = group
-    beta = table.bias(t_stop, asymmetry)[DIRECTIONS.index(direction)]
-    dw = diffusion_of(sigma, table.inertia)
-    positive = np.mean(
-        [escape_probability(beta, table.growth_rate, k * dw) for k in SCALE_GRID], axis=1
+def _model_inversion(
+    table: DecisionTable, groups: Sequence[tuple[float, float, float, int]]
+) -> Callable[[float], np.ndarray]:
+    """P(inversion) of each (t_stop, Δ, sigma, direction) group as a function of κ."""
+    scaled, positive = [], []
+    for t_stop, asymmetry, sigma, direction in groups:
+        beta = table.bias(t_stop, asymmetry)[DIRECTIONS.index(direction)]
+        # Φ(β / sqrt(λ κ Dw)): the escape of β / sqrt(Dw) at the diffusion κ
+        scaled.append(beta / math.sqrt(diffusion_of(sigma, table.inertia)))
+        positive.append(direction > 0)
+    scaled_bias, inverts_from_positive = np.array(scaled), np.array(positive)
+
+    def inversion(scale: float) -> np.ndarray:
+        p = np.mean(escape_probability(scaled_bias, table.growth_rate, scale), axis=1)
+        return np.where(inverts_from_positive, 1.0 - p, p)
+
+    return inversion
+
+
+def _log_likelihoods(p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """log P and log (1 - P), clipped at 1e-12 so that a count against a certainty
+    costs a finite amount."""
+    return np.log(np.clip(p, 1e-12, 1.0)), np.log(np.clip(1.0 - p, 1e-12, 1.0))
+
+
+def _best_scale(
+    model: Callable[[float], np.ndarray], grid: np.ndarray, k: np.ndarray, n: np.ndarray
+) -> float:
+    """κ of the largest binomial log likelihood of counts k of n (one per group).
+
+    The best point of :data:`LOG_SCALES` brackets the maximum (`grid`: log P and
+    log (1 - P) of the model there, shape (2, groups, points)); bounded Brent's method
+    (``scipy.optimize.minimize_scalar``) refines it in log κ.
+    """
+    log_p, log_q = grid
+    best = int(np.argmax(k @ log_p + (n - k) @ log_q))
+    bracket = LOG_SCALES[[max(best - 1, 0), min(best + 1, LOG_SCALES.size - 1)]]
+
+    def negative(log_scale: float) -> float:
+        log_p, log_q = _log_likelihoods(model(math.exp(log_scale)))
+        return -float(k @ log_p + (n - k) @ log_q)
+
+    found = optimize.minimize_scalar(
+        negative, bounds=tuple(bracket), method="bounded", options={"xatol": SCALE_TOLERANCE}
     )
-    return 1.0 - positive if direction > 0 else positive
-
-
-def _best_scale(log_p: np.ndarray, log_q: np.ndarray, k: np.ndarray, n: np.ndarray) -> float:
-    """κ of SCALE_GRID with the largest binomial log likelihood of counts k of n."""
-    loglik = k @ log_p + (n - k) @ log_q
-    return float(SCALE_GRID[int(np.argmax(loglik))])
+    return math.exp(found.x)
 
 
 def fit_noise(
@@ -174,16 +211,30 @@ def fit_noise(
         if g is not None:
             hits[row[o.direction, o.sample], g] += o.inverted
             tries[row[o.direction, o.sample], g] += 1
-    p = np.array([_model_inversion(table, g) for g in groups])
-    log_p = np.log(np.clip(p, 1e-12, 1.0))
-    log_q = np.log(np.clip(1.0 - p, 1e-12, 1.0))
-    scale = _best_scale(log_p, log_q, hits.sum(axis=0), tries.sum(axis=0))
-    rng = np.random.default_rng(seed)
+    model = _model_inversion(table, groups)
+    grid = np.stack([_log_likelihoods(model(math.exp(x))) for x in LOG_SCALES], axis=-1)
+
     strata = [np.array([row[u] for u in units if u[0] == d]) for d in DIRECTIONS]
-    boot = np.empty(resamples)
-    for r in range(resamples):
-        pick = np.concatenate([rng.choice(s, size=s.size) for s in strata if s.size])
-        boot[r] = _best_scale(log_p, log_q, hits[pick].sum(axis=0), tries[pick].sum(axis=0))
-    low, high = np.quantile(boot, [0.025, 0.975])
+    # a direction of one stop resamples to itself (scipy needs two or more to resample)
+    fixed = [s for s in strata if s.size == 1]
+    resampled = [s for s in strata if s.size > 1]
+
+    def best(*picked: np.ndarray) -> float:
+        pick = np.concatenate([*picked, *fixed])
+        return _best_scale(model, grid, hits[pick].sum(axis=0), tries[pick].sum(axis=0))
+
+    scale = best(*resampled)
+    low = high = scale
+    if resampled:
+        boot = stats.bootstrap(
+            resampled,
+            best,
+            n_resamples=resamples,
+            vectorized=False,
+            confidence_level=0.95,
+            method="percentile",
+            random_state=np.random.default_rng(seed),
+        )
+        low, high = boot.confidence_interval
     model_dw = table.calibrate(target, t_stop, asymmetry, (1e-9, 1e2))
     return NoiseFit(scale, (float(low), float(high)), model_dw, len(units), len(groups))

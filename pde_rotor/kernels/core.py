@@ -155,7 +155,8 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
     def logistic(arg: float) -> float:
         """1/2 (1 + tanh(arg)) = 1 / (1 + exp(-2 arg)), arg clipped to +-X_SATURATION
         (where it is 1 exactly, or 4.2e-18), written with E = exp(2 |arg|) >= 1 as
-        E / (E + 1) or 1 / (E + 1): branch-free, so vectorisable, and within 1 ulp of 1."""
+        E / (E + 1) or 1 / (E + 1): branch-free, so vectorisable, and within 1 ulp of 1.
+        ``scipy.special.expit(2 arg)`` outside compiled code; the kernels cannot call it."""
         arg = arg if arg < X_SATURATION else X_SATURATION
         arg = arg if arg > -X_SATURATION else -X_SATURATION
         big = 1.0 + vector_expm1(2.0 * abs(arg))
@@ -293,7 +294,11 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         Turns samples into the coefficients of the interpolating cubic spline (Unser's
         recursive filter, pole z = sqrt(3) - 2), taking the samples beyond both ends as 0:
         a coefficient then errs by |z|^k = 0.268^k times the values k cells beyond the
-        line's ends, so lines cut from a larger field need a margin.
+        line's ends, so lines cut from a larger field need a margin. Written out because
+        it runs inside the numba and CUDA kernels, which cannot call scipy.ndimage's
+        prefilter (``map_coordinates`` applies it in
+        :func:`pde_rotor.model.schemes.interpolate_spline`;
+        tests/model/test_schemes.py compares them).
         """
         z = SPLINE_POLE
         prev = buf[o]
@@ -324,7 +329,9 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         """Cubic spline at (x, y) from the n x n B-spline coefficients at offset o0.
 
         x0 is the coordinate of cell 0's centre; the 4 x 4 taps must lie in the
-        prefiltered window (:func:`spline_line` along both axes).
+        prefiltered window (:func:`spline_line` along both axes). Written out because it
+        runs inside the compiled kernels, where ``scipy.ndimage.map_coordinates`` cannot
+        be called.
         """
         fx = (x - x0) * inv_dx
         fy = (y - x0) * inv_dx

@@ -51,20 +51,13 @@ CCW, CW = 1, -1
 """Direction codes: sign of omega (counter-clockwise positive)."""
 
 
-def _z(confidence: float) -> float:
-    """Two-sided standard normal quantile of `confidence` (1.959964 for 0.95)."""
-    if not 0 < confidence < 1:
-        msg = f"confidence must lie in (0, 1), got {confidence}"
-        raise ValueError(msg)
-    return float(sps.norm.ppf(0.5 + confidence / 2))
-
-
 def wilson_interval(k: int, n: int, confidence: float = CONFIDENCE) -> tuple[float, float]:
     """Wilson score interval of a binomial proportion k / n.
 
-    (p + z^2/2n -/+ z sqrt(p(1-p)/n + z^2/4n^2)) / (1 + z^2/n) with p = k/n and z the
-    two-sided normal quantile. Unlike the Wald interval it stays inside [0, 1] and is
-    not degenerate at k = 0 or k = n (the paper's P = 1 at short t_stop).
+    scipy's ``binomtest(k, n).proportion_ci(method="wilson")``: (p + z^2/2n -/+
+    z sqrt(p(1-p)/n + z^2/4n^2)) / (1 + z^2/n) with p = k/n and z the two-sided normal
+    quantile, exactly 0 at k = 0 and 1 at k = n. Unlike the Wald interval it stays inside
+    [0, 1] and is not degenerate at k = 0 or k = n (the paper's P = 1 at short t_stop).
 
     Args:
         k: number of successes (inversions), 0 <= k <= n.
@@ -73,20 +66,20 @@ def wilson_interval(k: int, n: int, confidence: float = CONFIDENCE) -> tuple[flo
 
     Returns:
         (low, high).
+
+    Raises:
+        ValueError: k or n out of range, or `confidence` outside (0, 1).
     """
     if n < 0 or k < 0 or k > n:
         msg = f"need 0 <= k <= n, got k = {k}, n = {n}"
         raise ValueError(msg)
+    if not 0 < confidence < 1:
+        msg = f"confidence must lie in (0, 1), got {confidence}"
+        raise ValueError(msg)
     if n == 0:
         return 0.0, 1.0
-    z = _z(confidence)
-    p = k / n
-    z2n = z * z / n
-    centre = (p + z2n / 2) / (1 + z2n)
-    half = z / (1 + z2n) * math.sqrt(p * (1 - p) / n + z2n / (4 * n))
-    low = 0.0 if k == 0 else max(0.0, centre - half)
-    high = 1.0 if k == n else min(1.0, centre + half)
-    return low, high
+    ci = sps.binomtest(int(k), int(n)).proportion_ci(confidence_level=confidence, method="wilson")
+    return float(ci.low), float(ci.high)
 
 
 @dataclass(frozen=True)

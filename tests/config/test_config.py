@@ -5,10 +5,16 @@ from __future__ import annotations
 import math
 import pickle
 from pathlib import Path
+from typing import Any
 
+import numpy as np
 import pytest
 import yaml
+from pydantic import BaseModel
+from typer.testing import CliRunner
 
+from pde_rotor.cli.common import EXIT_BAD_INPUT
+from pde_rotor.cli.main import app
 from pde_rotor.config import (
     CALIBRATED_SIGMA,
     PAPER_SCHEME_SIGMA,
@@ -25,6 +31,7 @@ from pde_rotor.config import (
     validate_config,
 )
 from pde_rotor.model.protocol import StopSchedule
+from pde_rotor.solver.simulation import Simulation
 from pde_rotor.sweep import shipped_base
 
 CONFIGS = sorted((Path(__file__).parents[2] / "configs").glob("*.yaml"))
@@ -139,8 +146,99 @@ def write_config(tmp_path: Path, text: str | None) -> Path:
     return path
 
 
-def test_at_least_thirty_bad_inputs():
-    assert len(BAD_INPUTS) >= 30
+def schema_has(path: str) -> bool:
+    """Whether the dotted key path names a section or a field of :class:`RotorConfig`."""
+    model: Any = RotorConfig
+    for part in path.split("."):
+        if not (isinstance(model, type) and issubclass(model, BaseModel)):
+            return False
+        if part not in model.model_fields:
+            return False
+        model = model.model_fields[part].annotation
+    return True
+
+
+def offending_values(text: str | None, overrides: list[str]) -> dict[str, Any]:
+    """The values the bad input sets, by dotted key path (sections and their keys of the
+    YAML text, each well-formed ``KEY=VALUE`` override), parsed as the loader does."""
+    values: dict[str, Any] = {}
+    try:
+        data = parse_yaml(text) if text else None
+    except ConfigError:
+        data = None
+    if isinstance(data, dict):
+        for section, body in data.items():
+            values[section] = body
+            if isinstance(body, dict):
+                values.update({f"{section}.{k}": v for k, v in body.items()})
+    for override in overrides:
+        key, sep, raw = override.partition("=")
+        try:
+            parsed = parse_yaml(raw)
+        except ConfigError:
+            continue
+        if sep and key and raw:
+            values[key] = parsed
+    return values
+
+
+def names_value(named: str, value: Any) -> bool:
+    """Whether the text an error gives for a value (``'many'``, ``Infinity``, ``0.0``,
+    ``[1, 2]``) is that value."""
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        return named in (repr(value), str(value).lower(), yaml.safe_dump(value).strip())
+    return float(named) == value or (math.isnan(value) and named == "NaN")
+
+
+def as_file(text: str | None, overrides: list[str]) -> tuple[str, list[str]]:
+    """The bad input as a config file: the overrides that are ``KEY=VALUE`` with a YAML
+    value go into the coarse config's text; the others (malformed ``--set``) stay
+    overrides."""
+    if text is not None:
+        return text, overrides
+    data, rest = yaml.safe_load(COARSE_YAML), []
+    for override in overrides:
+        key, sep, raw = override.partition("=")
+        parts = key.split(".")
+        try:
+            value = parse_yaml(raw)
+        except ConfigError:
+            rest.append(override)
+            continue
+        if not (sep and raw and len(parts) == 2 and all(parts)):
+            rest.append(override)
+            continue
+        data.setdefault(parts[0], {})[parts[1]] = value
+    return yaml.safe_dump(data), rest
+
+
+@pytest.mark.parametrize("case", list(BAD_INPUTS), ids=list(BAD_INPUTS))
+def test_bad_input_names_its_key_and_value_here_and_in_check(tmp_path, case):
+    """One ConfigError, one line, that starts with the offending key and, where the input
+    sets a key of the schema to a bad value, gives that value (``protocol.cycles = 2.5:``);
+    ``pde-rotor check`` on a file holding the input exits 2 with that one line."""
+    text, overrides, key, _ = BAD_INPUTS[case]
+    path = write_config(tmp_path, text)
+    with pytest.raises(ConfigError) as info:
+        load_config(path, overrides)
+    message = str(info.value)
+    assert "\n" not in message
+    assert key in message
+    values = offending_values(text, overrides)
+    if key in values and schema_has(key):
+        assert message.startswith(f"{key} = "), message
+        named = message.removeprefix(f"{key} = ").split(": ", 1)[0]
+        assert names_value(named, values[key]), (named, values[key])
+
+    file_text, sets = as_file(text, overrides)
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(file_text)
+    args = ["check", str(bad)] + [arg for s in sets for arg in ("--set", s)]
+    result = CliRunner().invoke(app, args, catch_exceptions=False)
+    assert result.exit_code == EXIT_BAD_INPUT
+    assert result.stdout == ""
+    assert result.stderr.startswith("error: ") and result.stderr.count("\n") == 1
+    assert key in result.stderr
 
 
 @pytest.mark.parametrize("case", list(BAD_INPUTS), ids=list(BAD_INPUTS))
@@ -235,9 +333,37 @@ def test_shipped_paper_configs_follow_the_paper():
         assert config.flow.enabled
 
 
-def test_no_flow_config_switches_the_flow_off():
-    config = load_config(CONFIGS[0].parent / "no_flow.yaml")
-    assert not config.flow.enabled
+NO_FLOW_TINY = [
+    "grid.domain_radius=1.75",
+    "protocol.t_ini=0.04",
+    "protocol.t_stop=0.02",
+    "protocol.t_release=0.04",
+    "protocol.cycles=1",
+    "output.movie=false",
+]
+"""configs/no_flow.yaml shrunk to the small domain and one cycle: 250 steps in all."""
+
+
+@pytest.mark.parametrize("flow", [False, True], ids=["as shipped", "flow switched on"])
+def test_no_flow_config_keeps_v_zero_while_c_evolves(flow):
+    """configs/no_flow.yaml run (shrunk): v is exactly 0 while the plate turns, is
+    stopped and turns again, and c changes; the same run with the flow switched on
+    moves the water (the check can see a flow)."""
+    switch = ["flow.enabled=true"] if flow else []  # as shipped: the file's own setting
+    config = load_config(CONFIGS[0].parent / "no_flow.yaml", [*NO_FLOW_TINY, *switch])
+    sim = Simulation(config)
+    c_start = sim.state.data[0].copy()
+    flows, stops = [], []
+    for t in (0.02, 0.05, config.protocol.t_end):
+        sim.run(t)
+        flows.append(np.abs(sim.state.data[1:]).max())
+        stops.append(sim.rotor.stopped)
+        assert np.abs(sim.state.data[0] - c_start).max() > 0.1
+    assert stops == [False, True, False]
+    if flow:
+        assert min(flows) > 0
+    else:
+        assert max(flows) == 0.0
 
 
 def test_quickstart_is_coarse_and_has_cycles():

@@ -12,6 +12,7 @@ import json
 
 import numpy as np
 import pytest
+from scipy.special import ndtri
 
 from pde_rotor.decision.fit import Outcome, fit_noise, sweep_outcomes
 from pde_rotor.decision.table import DIRECTIONS, diffusion_of
@@ -47,6 +48,64 @@ def test_the_fit_recovers_the_scale_the_releases_were_drawn_with(kappa: float) -
     assert all(f.scale_range[1] / f.scale_range[0] < 3 for f in fits)
     assert fits[0].stops == 2 * 200
     assert fits[0].groups == 2 * (len(SIGMAS) - 1)  # noise-free releases carry no κ
+
+
+def test_one_count_is_fitted_where_the_model_meets_its_fraction() -> None:
+    """One (point, direction): the likelihood is largest where the model's P(inv) is k/n,
+    P(inv | CW) = Φ(β / sqrt(λ κ Dw)), so κ = (β / (sqrt(λ Dw) Φ⁻¹(k/n)))² in closed
+    form (every angle of the synthetic table has the same β)."""
+    table = synthetic()
+    sigma, n, k = 1.4e-7, 200, 28
+    outcomes = [Outcome(3.0, 2e-5, sigma, -1, i, i < k) for i in range(n)]
+    beta = table.bias(3.0, 2e-5)[DIRECTIONS.index(-1)]
+    assert np.ptp(beta) == 0
+    dw = diffusion_of(sigma, table.inertia)
+    expected = (beta[0] / (np.sqrt(table.growth_rate * dw) * ndtri(k / n))) ** 2
+    fit = fit_noise(table, outcomes, resamples=20)
+    assert 1.2 < expected < 1.8  # inside the range, away from a grid point
+    assert fit.scale == pytest.approx(expected, rel=1e-5)
+
+
+def test_scale_and_range_match_a_brute_force_stratified_bootstrap() -> None:
+    """κ maximises the likelihood on a fine grid of κ written here from the table's
+    conditionals, and its 95 % range is the 2.5 and 97.5 % percentiles of that maximum
+    over resamples of the stops drawn within each direction (to the Monte Carlo scatter
+    of 4000 resamples on either side, about 0.5 %)."""
+    table, outcomes = synthetic(), drawn(1.5, 200, seed=3)
+    fit = fit_noise(table, outcomes, resamples=4000, seed=5)
+    sigmas = [s for s in SIGMAS if s > 0]
+    kappas = np.geomspace(fit.scale / 2, fit.scale * 2, 4001)
+    p = np.array(  # (sigma, direction) x kappa
+        [
+            [table.conditionals(3.0, 2e-5, k * diffusion_of(s, table.inertia))[d] for k in kappas]
+            for s in sigmas
+            for d in range(len(DIRECTIONS))
+        ]
+    )
+    log_p, log_q = np.log(p), np.log(1 - p)
+    hits = np.zeros((len(DIRECTIONS), 200, p.shape[0]))  # direction x stop x group
+    tries = np.zeros_like(hits)
+    for o in outcomes:
+        if o.sigma > 0:
+            d = DIRECTIONS.index(o.direction)
+            group = sigmas.index(o.sigma) * len(DIRECTIONS) + d
+            hits[d, o.sample, group] = o.inverted
+            tries[d, o.sample, group] = 1
+
+    def brute(picks: list[np.ndarray]) -> float:
+        k = sum(hits[d, pick].sum(axis=0) for d, pick in enumerate(picks))
+        n = sum(tries[d, pick].sum(axis=0) for d, pick in enumerate(picks))
+        best = int(np.argmax(k @ log_p + (n - k) @ log_q))
+        assert 0 < best < kappas.size - 1  # a maximum inside the window
+        return float(kappas[best])
+
+    everyone = [np.arange(200)] * len(DIRECTIONS)
+    assert fit.scale == pytest.approx(brute(everyone), rel=4e-4)  # grid spacing 3.5e-4
+    rng = np.random.default_rng(11)
+    boot = [brute([rng.integers(0, 200, 200) for _ in DIRECTIONS]) for _ in range(4000)]
+    low, high = np.quantile(boot, [0.025, 0.975])
+    assert fit.scale_range[0] == pytest.approx(low, rel=0.02)
+    assert fit.scale_range[1] == pytest.approx(high, rel=0.02)
 
 
 def test_a_wrong_scale_is_excluded() -> None:

@@ -11,6 +11,7 @@ computes, and writes a PNG and a PDF (and the movie an mp4 and a GIF).
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 import numpy as np
@@ -19,6 +20,7 @@ import xarray as xr
 from typer.testing import CliRunner
 
 from pde_rotor.cli.main import app
+from pde_rotor.config import load_config
 from pde_rotor.gallery import common, sweeps, timeseries
 from pde_rotor.gallery.runner import (
     GalleryError,
@@ -54,8 +56,53 @@ def tiny_gallery(tmp_path_factory):
     return run_gallery(False, None, out, tiny=True)
 
 
-def test_every_figure_has_a_script():
-    assert tuple(scripts()) == EXPECTED
+PAPER_FIGURES = Path(__file__).parent / "paper_figures.tex"
+"""The paper's figure environments, verbatim (checked against the paper's LaTeX source by
+:func:`test_figure_excerpt_is_the_papers` where that source is at hand)."""
+FIGURE = re.compile(r"\\begin\{figure\}.*?\\end\{figure\}", re.DOTALL)
+CAPTION_VALUE = re.compile(
+    r"(?:\\Delta|t_\{?\\(?:mathrm|textrm)\{stop\}\}?)\s*=\s*"
+    r"(?:10\^\{(-?\d+)\}|(\d+(?:\.\d+)?)(?:\s*\\times\s*10\^\{(-?\d+)\})?)"
+)
+
+
+def paper_figures() -> dict[int, str]:
+    """Caption of each figure of the paper by its number (the order of the environments)."""
+    environments = FIGURE.findall(PAPER_FIGURES.read_text(encoding="utf-8"))
+    captions = [re.search(r"\\caption\{(.*)\}\s*\\label", env, re.DOTALL) for env in environments]
+    return {n: " ".join(c.group(1).split()) for n, c in enumerate(captions, 1) if c}
+
+
+def caption_values(caption: str) -> set[float]:
+    """The Delta and t_stop values a caption states (``$\\Delta = 2 \\times 10^{-5}$``)."""
+    values = set()
+    for power, mantissa, exponent in CAPTION_VALUE.findall(caption):
+        values.add(10.0 ** int(power) if power else float(mantissa) * 10.0 ** int(exponent or 0))
+    return values
+
+
+def test_every_simulated_figure_of_the_paper_has_its_script():
+    """Each figure of the paper but the experiment's is reproduced by a script
+    gallery/figN_*.py that says so ("Paper Fig. N" first), names its output after itself,
+    has its figure published in gallery/, and states the caption's Delta and t_stop;
+    no script claims a figure the paper does not have."""
+    figures = paper_figures()
+    assert len(figures) == 9
+    simulated = {n for n, caption in figures.items() if not caption.startswith("Experimental")}
+    assert simulated == set(figures) - {2}
+    by_figure: dict[int, list[str]] = {}
+    for name, path in scripts().items():
+        match = re.fullmatch(r"fig(\d+)_\w+", name)
+        if match:
+            by_figure.setdefault(int(match.group(1)), []).append(name)
+            module = load_script(path)
+            assert name == module.NAME
+            assert (gallery_dir() / f"{name}.png").is_file(), name
+            number = int(match.group(1))
+            assert re.match(rf"Paper Fig\. {number}\b", module.__doc__), name
+            stated = {float(x) for x in re.findall(r"\d+(?:\.\d+)?(?:e[+-]?\d+)?", module.__doc__)}
+            assert caption_values(figures.get(number, "")) <= stated, name
+    assert set(by_figure) == simulated
 
 
 FIGURES = {
@@ -422,14 +469,38 @@ def test_probability_figures_mark_the_papers_stated_values():
     assert len(drawn("fig8", asymmetry=5e-5)) == 0
 
 
-def test_footers_are_readable_at_100_percent():
-    """Footers at 9 pt or more (7 pt was too small to read)."""
-    from matplotlib.figure import Figure
+def test_footers_are_readable_at_100_percent(tmp_path):
+    """A real footer (the full fidelity's label of the paper config), drawn and saved as
+    the scripts do, measured in the PNG at its own dpi: the tallest footer line's ink,
+    from the top of its parentheses to the bottom of 'p', is at least 9 pt tall (about
+    14 px at the gallery's 110 dpi; the ink spans about 1.1 em, so a 9 pt footer is
+    9.8 pt tall, an 8 pt one 8.5, a 7 pt one, too small to read, 7.9), and lies inside
+    the image."""
+    from PIL import Image
 
-    load_script(gallery_dir() / "fig1_geometry.py")
-    fig = Figure(figsize=(6, 4), layout="constrained")
-    common.add_footer(fig, "pde_rotor, full fidelity")
-    assert min(text.get_fontsize() for text in fig.texts) >= 9
+    config = load_config(common.PAPER_CONFIG)
+    fig = common.new_figure(11.0, 5.9)
+    ax = fig.add_subplot()
+    ax.plot([0, 1], [0, 1])
+    ax.set_xlabel("t_stop")
+    detail = "100 stops per direction and point; M = 100"
+    common.add_footer(fig, common.fidelity_label(common.fidelity("full"), config, detail))
+    png = common.save(fig, tmp_path, "footer")[0]
+    with Image.open(png) as image:
+        dpi = image.info["dpi"][1]
+        ink = (np.asarray(image.convert("L")) < 200).any(axis=1)
+    lines = fig.texts[-1].get_text().count("\n") + 1
+    assert not ink[-1]  # not cut off at the bottom
+    heights, bottom = [], None  # ink bands of the footer's lines, from the bottom up
+    for row in range(ink.size - 1, -1, -1):
+        if ink[row] and bottom is None:
+            bottom = row
+        elif not ink[row] and bottom is not None:
+            heights.append(bottom - row)
+            bottom = None
+            if len(heights) == lines:
+                break
+    assert max(heights) * 72 / dpi >= 9.0, (heights, dpi)
 
 
 def test_time_series_runs_are_read_from_run_directories(tmp_path, monkeypatch):

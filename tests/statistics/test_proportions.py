@@ -53,6 +53,24 @@ def test_wilson_closed_form_at_the_boundaries():
     assert wilson_interval(0, 0) == (0.0, 1.0)
 
 
+@pytest.mark.parametrize("confidence", [0.5, 0.95, 0.975])
+def test_wilson_bounds_are_where_the_score_test_just_rejects(confidence):
+    """The Wilson interval is the set of p that the score test accepts: each inner bound
+    solves (k - n p)^2 = z^2 n p (1 - p), the definition, not the closed form."""
+    z = sps.norm.ppf(0.5 + confidence / 2)
+    for n in (1, 2, 7, 40, 100, 263, 1000):
+        for k in range(1, n):
+            for bound in wilson_interval(k, n, confidence):
+                score = (k - n * bound) / math.sqrt(n * bound * (1 - bound))
+                assert abs(score) == pytest.approx(z, rel=1e-9), (k, n, bound)
+
+
+def test_wilson_rejects_a_confidence_outside_the_unit_interval():
+    for confidence in (0.0, 1.0, 1.5):
+        with pytest.raises(ValueError, match="confidence"):
+            wilson_interval(3, 10, confidence)
+
+
 def test_wilson_is_symmetric_and_nested():
     for n in (7, 40):
         for k in range(n + 1):
