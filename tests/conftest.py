@@ -30,6 +30,11 @@ from pde_rotor.model.pde import RotorPDE
 COARSE: dict[str, Any] = {"grid": {"dx": 0.05, "dt": 4e-4}, "geometry": {"smoothing": 0.05}}
 """Coarse resolution of the issue's spin-up test (about 0.26 ms per step with L = 3)."""
 
+DIVERGING: dict[str, Any] = {"rotor": {"omega0": 1e4}, "flow": {"drag": 1e3}}
+"""Overrides that make a coarse run diverge within a few steps: the plate's speed omega0 R
+= 5000, imposed on the water by a stiff drag, breaks the advection limit dt <= 2 D / |v|^2
+(each value is inside the schema's physical bounds)."""
+
 SMALL_DOMAIN: dict[str, Any] = {"grid": {"domain_radius": 1.75}}
 """Domain radius for quick coarse runs: the support of F and G (radius 1.655 with the
 coarse delta) stays clear of the border cells of the square grid."""

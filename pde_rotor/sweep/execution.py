@@ -55,8 +55,12 @@ CONNECT_TIMEOUT = 5.0
 """Seconds to wait for a dask scheduler to answer before giving up (dask's default is 30)."""
 
 
-def connect(scheduler: str, timeout: float = CONNECT_TIMEOUT) -> Any:
+def connect(scheduler: str, timeout: float | None = None) -> Any:
     """A dask Client on the running scheduler at `scheduler`.
+
+    Args:
+        scheduler: its address, e.g. ``tcp://node:8786``.
+        timeout: seconds to wait for it (default: :data:`CONNECT_TIMEOUT`).
 
     Raises:
         SweepError: the scheduler did not answer within `timeout` seconds (one line
@@ -64,6 +68,7 @@ def connect(scheduler: str, timeout: float = CONNECT_TIMEOUT) -> Any:
     """
     from distributed import Client
 
+    timeout = CONNECT_TIMEOUT if timeout is None else timeout
     try:
         return Client(scheduler, timeout=timeout)
     except (OSError, TimeoutError, ValueError) as err:
@@ -76,7 +81,7 @@ def connect(scheduler: str, timeout: float = CONNECT_TIMEOUT) -> Any:
         raise SweepError(msg) from None
 
 
-def check_scheduler(scheduler: str, timeout: float = CONNECT_TIMEOUT) -> None:
+def check_scheduler(scheduler: str, timeout: float | None = None) -> None:
     """Connect to `scheduler` and close again: the check a command makes before any compute.
 
     Raises:

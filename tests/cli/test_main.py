@@ -26,6 +26,7 @@ from pde_rotor.solver.rotor import SimulationDivergedError
 from pde_rotor.solver.simulation import Simulation
 from pde_rotor.trackers import EVENT_COLUMNS, TIMESERIES_VARIABLES
 from tests.config.test_config import BAD_INPUTS, COARSE_YAML
+from tests.conftest import DIVERGING
 
 TINY_YAML = """\
 geometry: {smoothing: 0.05}
@@ -318,11 +319,13 @@ def test_auto_backend_records_the_backend_that_ran(monkeypatch):
 
 
 def test_divergence_exits_1_and_keeps_what_was_written(tmp_path):
-    """A huge initial omega drives a flow that breaks the advection limit: NaN/Inf."""
+    """A large initial omega and a stiff flow coupling break the advection limit: NaN/Inf."""
     path = tmp_path / "c.yaml"
     path.write_text(TINY_YAML)
     out = tmp_path / "run"
-    result = invoke("run", path, "--out", out, "--quiet", "--set", "rotor.omega0=1e7")
+    result = invoke(
+        "run", path, "--out", out, "--quiet", "--set", "rotor.omega0=1e4", "--set", "flow.drag=1e3"
+    )
     assert result.exit_code == 1
     assert result.stderr.startswith("error: simulation diverged at t = ")
     assert result.stderr.count("\n") == 1
@@ -356,7 +359,7 @@ def test_api_run_in_memory_draws_and_records_a_seed():
 
 def test_api_run_raises_on_divergence_after_writing(tmp_path):
     config = yaml.safe_load(TINY_YAML)
-    config["rotor"] = {"omega0": 1e7}
+    config.update(DIVERGING)
     with pytest.raises(SimulationDivergedError):
         pde_rotor.run(config, tmp_path / "run", movie=False, progress=False)
     assert (tmp_path / "run" / "timeseries.nc").exists()

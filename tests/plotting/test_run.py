@@ -20,7 +20,7 @@ from pde_rotor.plotting.run import (
     stop_intervals,
     summary_figure,
 )
-from pde_rotor.units import OMEGA_UNITS, TIME_UNITS
+from pde_rotor.units import CONCENTRATION_UNITS, OMEGA_UNITS, TIME_UNITS
 
 
 @pytest.mark.parametrize("phi", [0.0, 1.0, -2.5])
@@ -95,21 +95,29 @@ def test_frame_draws_the_state_at_the_rotor_angle():
 def test_flow_arrows_keep_their_size_after_a_stop_and_the_key_says_how_large():
     """The flow left over after a stop is 1/20 of a turning plate's: per-frame arrows with
     a key that names the speed of its arrow keep it visible (a running maximum shrank it
-    to nothing)."""
+    to nothing); the key turns orange and says by how much the arrows are enlarged."""
     shape = RotorShape.from_config(RotorConfig().geometry)
     coords = (np.arange(80) - 39.5) * 0.05
     frame = RotorFrame(shape, coords, 1.5)
     x, y = np.meshgrid(coords, coords, indexing="ij")
     swirl = np.stack([np.exp(-(x**2) - y**2), -y, x])  # |v| up to about 2.7 in view
-    lengths = {}
+    lengths, colours, labels = {}, {}, {}
     for name, factor in (("turning", 1.0), ("stopped", 0.05)):
         data = swirl * np.array([1.0, factor, factor])[:, None, None]
         frame.update(data, 0.0)
         speed = np.hypot(data[1], data[2])[frame.view.sel, frame.view.sel]
         in_view = float(speed[np.ix_(frame.view.arrows, frame.view.arrows)].max())
-        assert frame.key.text.get_text() == f"|v| = {nice_ceiling(in_view):.2g}"
+        label = frame.key.text.get_text()
+        assert label.startswith(f"|v| = {nice_ceiling(in_view):.2g}")
         lengths[name] = float(np.hypot(frame.quiver.U, frame.quiver.V).max())
+        colours[name] = frame.key.text.get_bbox_patch().get_facecolor()
+        labels[name] = label
     assert lengths["stopped"] > 0.5 * lengths["turning"]
+    assert "arrows" not in labels["turning"]
+    assert labels["stopped"].endswith("(arrows \u00d725)")  # keys 5 and 0.2 (nice ceilings)
+    assert colours["stopped"] != colours["turning"]
+    frame.update(swirl, 0.0)  # released again: the movie's own scale, a black key
+    assert frame.key.text.get_bbox_patch().get_facecolor() == colours["turning"]
     assert frame.key.U == 1.0  # the key's arrow is the arrow of its speed
 
 
@@ -227,3 +235,31 @@ def test_summary_figure_without_snapshot_or_events():
     texts = [t.get_text() for ax in fig.get_axes() for t in ax.texts]
     assert any("no field snapshot" in t for t in texts)
     assert any("no completed" in t for t in texts)
+
+
+def test_summary_of_a_diverged_run_keeps_its_panels_and_wraps_the_message():
+    """A long error message goes above the panels, wrapped: the panels keep their width and
+    the title stays inside the figure."""
+    config = validate_config({"protocol": {"cycles": 3}})
+    ts, ev = synthetic_run(config)
+    message = "simulation diverged at t = 0.0084: non-finite c (likely cause: " + "x " * 120
+    ts.attrs.update(status="diverged", message=message)
+    fig = summary_figure(config, ts, ev, None)
+    canvas = FigureCanvasAgg(fig)
+    canvas.draw()
+    renderer = canvas.get_renderer()
+    ax_phi = fig.get_axes()[0]
+    assert ax_phi.get_position().width > 0.35  # of the figure's width, as without a message
+    title = ax_phi.title.get_window_extent(renderer)
+    assert title.x0 >= 0 and title.x1 <= fig.bbox.width
+    heading = fig._suptitle
+    assert heading is not None and heading.get_text().replace("\n", " ").startswith("run diverged")
+    box = heading.get_window_extent(renderer)
+    assert box.x0 >= 0 and box.x1 <= fig.bbox.width and box.y1 <= fig.bbox.height
+
+
+def test_colour_bar_names_the_unit_of_c():
+    shape = RotorShape.from_config(RotorConfig().geometry)
+    frame = RotorFrame(shape, (np.arange(40) - 19.5) * 0.1, 1.5)
+    labels = [ax.get_ylabel() for ax in frame.fig.get_axes()]
+    assert f"camphor concentration c [{CONCENTRATION_UNITS}]" in labels

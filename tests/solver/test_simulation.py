@@ -17,6 +17,7 @@ import pytest
 from pde_rotor import RotorConfig, Simulation
 from pde_rotor.model.analysis import stopped_torque
 from pde_rotor.solver.rotor import SimulationDivergedError
+from tests.conftest import DIVERGING
 
 COARSE = {"grid": {"dx": 0.05, "dt": 4e-4}, "geometry": {"smoothing": 0.05}}
 PAPER: dict = {}
@@ -106,7 +107,7 @@ def test_branch_rejects_another_grid():
 
 def test_diverged_run_keeps_the_failing_state():
     """After SimulationDivergedError the simulation holds the non-finite state, not the start."""
-    config = RotorConfig.model_validate({**COARSE, "rotor": {"omega0": 1e7}})
+    config = RotorConfig.model_validate({**COARSE, **DIVERGING})
     sim = Simulation(config)
     with pytest.raises(SimulationDivergedError, match="diverged at t ="):
         sim.run(1.0)

@@ -17,6 +17,7 @@ from pde_rotor.config import RotorConfig
 from pde_rotor.solver.rotor import SimulationDivergedError
 from pde_rotor.solver.simulation import Simulation
 from pde_rotor.solver.single_run import run_single
+from tests.conftest import DIVERGING
 
 TINY = {
     "grid": {"dx": 0.05, "dt": 4e-4, "domain_radius": 1.75},
@@ -62,7 +63,7 @@ def test_ensemble_driven_run_writes_what_the_solver_run_writes():
 
 def test_divergence_raises_after_the_samples_before_it():
     """A flow beyond the advection limit: the run stops, the samples before it are kept."""
-    config = RotorConfig.model_validate({**TINY, "rotor": {"omega0": 1e7}})
+    config = RotorConfig.model_validate({**TINY, **DIVERGING})
     sim = Simulation(config)
     ts = tr.TimeSeriesTracker(sim, 0.02)
     with pytest.raises(SimulationDivergedError, match=r"diverged at t = .* cpu backend"):

@@ -1,0 +1,212 @@
+"""What a new user runs into: every mistake is one line, exit 2, before any compute.
+
+Bad output paths, an unreachable scheduler, values outside the model's regime, records
+that cannot fit, options that contradict each other; and the help a user reads.
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import pytest
+import yaml
+from typer.testing import CliRunner
+
+from pde_rotor import __version__
+from pde_rotor.cli.main import app
+from pde_rotor.config import RotorConfig
+from pde_rotor.sweep import execution
+from pde_rotor.trackers import budget
+from tests.cli.test_main import TINY_YAML
+
+ROOT = Path(__file__).resolve().parents[2]
+QUICK_SWEEP = ROOT / "configs" / "sweeps" / "fig5_quick.yaml"
+TABLE = ROOT / "data" / "decision" / "dx40.nc"
+
+runner = CliRunner()
+
+
+def invoke(*args: object):
+    return runner.invoke(app, [str(a) for a in args], catch_exceptions=False)
+
+
+def one_line(result, *fragments: str) -> None:
+    """Exit 2, a single ``error:`` line on stderr naming every fragment, no stdout noise."""
+    assert result.exit_code == 2, (result.stdout, result.stderr)
+    assert result.stderr.startswith("error: "), result.stderr
+    assert result.stderr.count("\n") == 1, result.stderr
+    assert "Traceback" not in result.output
+    for fragment in fragments:
+        assert fragment in result.stderr, (fragment, result.stderr)
+
+
+@pytest.fixture
+def a_file(tmp_path: Path) -> Path:
+    path = tmp_path / "FILE"
+    path.write_text("not a directory\n")
+    return path
+
+
+@pytest.fixture
+def tiny_config(tmp_path: Path) -> Path:
+    path = tmp_path / "tiny.yaml"
+    path.write_text(TINY_YAML)
+    return path
+
+
+def entries(directory: Path) -> set[str]:
+    return {p.name for p in directory.iterdir()}
+
+
+def test_sweep_out_that_is_a_file_or_below_one_is_one_line(tmp_path, a_file):
+    before = entries(tmp_path)
+    one_line(invoke("sweep", QUICK_SWEEP, "--set", "samples=1", "--out", a_file), "FILE")
+    one_line(invoke("sweep", QUICK_SWEEP, "--out", a_file / "sub"), "is a file")
+    assert entries(tmp_path) == before
+
+
+def test_outputs_where_nothing_can_be_created_are_one_line(tmp_path, a_file):
+    """/proc refuses new entries even to root, where permission bits do not."""
+    one_line(invoke("sweep", QUICK_SWEEP, "--out", "/proc/pde-rotor-x"), "/proc/pde-rotor-x")
+    sweep_dir = ROOT / "data" / "sweeps" / "fig5"
+    one_line(invoke("report", sweep_dir, "--out", "/proc/x/r.nc"), "/proc/x/r.nc")
+    one_line(invoke("report", sweep_dir, "--out", a_file / "r.nc"), "is a file")
+    one_line(invoke("report", sweep_dir, "--out", tmp_path), "is a directory")
+
+
+def test_map_gallery_and_show_refuse_a_file_as_output_directory(tmp_path, a_file):
+    before = entries(tmp_path)
+    one_line(invoke("predict", "map", TABLE, "--sigma", "1.5e-7", "-o", a_file), "FILE")
+    one_line(invoke("gallery", "--tiny", "--only", "fig1", "-o", a_file), "FILE")
+    one_line(invoke("predict", "check", TABLE, ROOT / "data" / "fig5.nc", "--plot", a_file))
+    assert entries(tmp_path) == before
+
+
+def test_an_unreachable_scheduler_is_one_line_quickly_and_leaves_nothing(tmp_path, monkeypatch):
+    monkeypatch.setattr(execution, "CONNECT_TIMEOUT", 1.0)
+    out = tmp_path / "sweep"
+    start = time.monotonic()
+    result = invoke("sweep", QUICK_SWEEP, "--scheduler", "tcp://127.0.0.1:1", "--out", out)
+    elapsed = time.monotonic() - start
+    one_line(result, "tcp://127.0.0.1:1", "within 1 s", "check that")
+    assert elapsed < 20
+    assert not out.exists()
+
+
+@pytest.mark.parametrize(
+    ("key", "value", "named"),
+    [
+        ("camphor.supply", "1e308", "0 <= supply <= 1000"),
+        ("rotor.inertia", "1e-12", "1e-08 <= inertia"),
+        ("rotor.omega0", "1e9", "omega0 <= 10000"),
+        ("noise.sigma", "0.1", "sigma <= 0.001"),
+        ("protocol.cycles", "1000000000000", "cycles <= 100000"),
+    ],
+)
+def test_values_far_outside_the_models_regime_are_refused_at_check(tiny_config, key, value, named):
+    one_line(invoke("check", tiny_config, "--set", f"{key}={value}"), key, named)
+
+
+def test_a_run_whose_records_cannot_fit_in_memory_is_refused_before_it_starts(
+    tmp_path, tiny_config, monkeypatch
+):
+    config = RotorConfig.model_validate(yaml.safe_load(TINY_YAML))
+    need = budget.estimate_budget(config).memory
+    monkeypatch.setattr(budget, "available_memory", lambda: need - 1)
+    out = tmp_path / "run"
+    one_line(invoke("check", tiny_config), "of memory", "protocol.cycles")
+    one_line(invoke("run", tiny_config, "--out", out), "of memory")
+    assert not out.exists()
+    monkeypatch.setattr(budget, "available_memory", lambda: need)
+    assert invoke("check", tiny_config).exit_code == 0
+
+
+def test_a_run_whose_files_cannot_fit_on_disk_is_refused_before_it_starts(
+    tmp_path, tiny_config, monkeypatch
+):
+    config = RotorConfig.model_validate(yaml.safe_load(TINY_YAML))
+    need = budget.estimate_budget(config, movie=True).disk
+    assert need > budget.estimate_budget(config, movie=False).disk  # the movie counts
+    monkeypatch.setattr(budget, "free_disk", lambda directory: need - 1)
+    out = tmp_path / "run"
+    one_line(invoke("run", tiny_config, "--out", out), "on disk", "--no-movie")
+    assert not out.exists()
+
+
+def test_budget_grows_with_the_protocol_and_the_recorded_fields():
+    base = RotorConfig.model_validate(yaml.safe_load(TINY_YAML))
+    longer = base.model_copy(
+        update={"protocol": base.protocol.model_copy(update={"cycles": 20 * base.protocol.cycles})}
+    )
+    assert budget.estimate_budget(longer).memory > 5 * budget.estimate_budget(base).memory
+    no_snap = base.model_copy(
+        update={"output": base.output.model_copy(update={"snapshot_interval": None})}
+    )
+    assert budget.estimate_budget(no_snap).disk < budget.estimate_budget(base).disk
+
+
+def test_divergence_names_the_parameters_furthest_from_the_papers(tiny_config, tmp_path):
+    result = invoke(
+        "run", tiny_config, "--out", tmp_path / "run", "-q",
+        "--set", "rotor.omega0=1e4", "--set", "flow.drag=1e3",
+    )  # fmt: skip
+    assert result.exit_code == 1
+    assert "likely cause: rotor.omega0 = 10000" in result.stderr
+    assert "flow.drag = 1000" in result.stderr
+    assert result.stderr.index("rotor.omega0") < result.stderr.index("flow.drag")  # furthest first
+
+
+def test_far_from_paper_lists_only_what_differs_by_more_than_the_factor():
+    assert RotorConfig().far_from_paper() == []
+    config = RotorConfig.model_validate({"camphor": {"supply": 20.0, "evaporation": 5.0}})
+    assert config.far_from_paper() == ["camphor.supply = 20, 20 times the paper's 1"]
+    assert len(config.far_from_paper(factor=2.0)) == 2
+
+
+def test_seed_and_backend_options_refuse_a_conflicting_set(tiny_config):
+    one_line(
+        invoke("run", tiny_config, "--seed", "3", "--set", "noise.seed=4"), "--seed 3", "noise.seed"
+    )
+    one_line(
+        invoke("run", tiny_config, "--backend", "cpu", "--set", "solver.backend=gpu"),
+        "solver.backend",
+    )
+
+
+def test_gallery_takes_one_size(tmp_path):
+    one_line(invoke("gallery", "--quick", "--tiny", "-o", tmp_path / "g"), "--quick", "--tiny")
+    assert not (tmp_path / "g").exists()
+
+
+def test_run_and_sweep_refuse_a_directory_that_holds_something_else(tmp_path, tiny_config):
+    other = tmp_path / "mine"
+    other.mkdir()
+    (other / "x.txt").write_text("keep me\n")
+    one_line(invoke("run", tiny_config, "--out", other), "x.txt")
+    one_line(invoke("sweep", QUICK_SWEEP, "--out", other), "x.txt", "no sweep.yaml")
+    assert entries(other) == {"x.txt"}
+    assert (other / "x.txt").read_text() == "keep me\n"
+
+
+def test_help_names_what_options_take_not_python_types():
+    commands = [
+        [], ["run"], ["show"], ["check"], ["sweep"], ["report"], ["gallery"], ["predict"],
+        ["predict", "measure"], ["predict", "point"], ["predict", "calibrate"],
+        ["predict", "check"], ["predict", "map"],
+    ]  # fmt: skip
+    for command in commands:
+        text = invoke(*command, "--help").stdout
+        for python_type in ("<list[", "<int", "<float", "<str>", "<path>"):
+            assert python_type not in text, (command, python_type)
+    listing = invoke("predict", "--help").stdout
+    assert "Draw the predicted Fig. 9 map." in listing
+    run_help = invoke("run", "--help").stdout
+    assert "the config's noise.seed" in run_help
+    assert "the config's solver.backend" in run_help
+
+
+def test_version():
+    result = invoke("--version")
+    assert result.exit_code == 0
+    assert result.stdout.strip() == f"pde-rotor {__version__}"
