@@ -246,8 +246,9 @@ class RunDirectory:
                 run there instead of refusing.
 
         Raises:
-            OutputError: the path is a file, holds files of something other than a run,
-                or holds an earlier run and not `overwrite`.
+            OutputError: the path is a file, holds files but no run (somebody else's
+                directory), or holds an earlier run and not `overwrite`. Files of the
+                user's beside an earlier run (notes) are kept.
         """
         run = cls(path)
         if run.path.exists() and not run.path.is_dir():
@@ -260,14 +261,14 @@ class RunDirectory:
             and p.name not in cls.FILES
             and p.name not in {part_path(name).name for name in cls.FILES}
         )
-        if others:
-            msg = (
-                f"output directory {str(run.path)!r} holds {others[0]}, which is not a run "
-                "file: choose a new or empty directory"
-            )
-            raise OutputError(msg)
         present = [name for name in cls.FILES if (run.path / name).exists()]
         present += [name for name in cls.FILES if part_path(run.path / name).exists()]
+        if others and not present:
+            msg = (
+                f"output directory {str(run.path)!r} holds {others[0]} and no run: choose a "
+                "new or empty directory"
+            )
+            raise OutputError(msg)
         if present and not overwrite:
             msg = (
                 f"output directory {str(run.path)!r} already holds a run ({present[0]}); "

@@ -100,7 +100,6 @@ def test_an_unreachable_scheduler_is_one_line_quickly_and_leaves_nothing(tmp_pat
         ("camphor.supply", "1e308", "0 <= supply <= 1000"),
         ("rotor.inertia", "1e-12", "1e-08 <= inertia"),
         ("rotor.omega0", "1e9", "omega0 <= 10000"),
-        ("noise.sigma", "0.1", "sigma <= 0.001"),
         ("protocol.cycles", "1000000000000", "cycles <= 100000"),
     ],
 )

@@ -83,7 +83,8 @@ def caption_values(caption: str) -> set[float]:
 
 def test_every_simulated_figure_of_the_paper_has_its_script():
     """Each figure of the paper but the experiment's is reproduced by a script
-    gallery/figN_*.py that says so ("Paper Fig. N" first), names its output after itself,
+    gallery/figN_*.py (figN_figM_*.py for two) that says so ("Paper Fig. N" or "Paper Figs.
+    N and M" first), names its outputs after the figures,
     has its figure published in gallery/, and states the caption's Delta and t_stop;
     no script claims a figure the paper does not have."""
     figures = paper_figures()
@@ -92,16 +93,20 @@ def test_every_simulated_figure_of_the_paper_has_its_script():
     assert simulated == set(figures) - {2}
     by_figure: dict[int, list[str]] = {}
     for name, path in scripts().items():
-        match = re.fullmatch(r"fig(\d+)_\w+", name)
+        match = re.match(r"((?:fig\d+_)+)", name)
         if match:
-            by_figure.setdefault(int(match.group(1)), []).append(name)
+            numbers = [int(n) for n in re.findall(r"\d+", match.group(1))]
             module = load_script(path)
-            assert name == module.NAME
-            assert (gallery_dir() / f"{name}.png").is_file(), name
-            number = int(match.group(1))
-            assert re.match(rf"Paper Fig\. {number}\b", module.__doc__), name
+            outputs = [f.name for f in module.FIGURES] if len(numbers) > 1 else [module.NAME]
+            assert [int(re.match(r"fig(\d+)_", out).group(1)) for out in outputs] == numbers
+            claimed = " and ".join(str(n) for n in numbers)
+            heading = rf"Paper Figs?\. {claimed}\b"
+            assert re.match(heading, module.__doc__), name
             stated = {float(x) for x in re.findall(r"\d+(?:\.\d+)?(?:e[+-]?\d+)?", module.__doc__)}
-            assert caption_values(figures.get(number, "")) <= stated, name
+            for number, output in zip(numbers, outputs, strict=True):
+                by_figure.setdefault(number, []).append(output)
+                assert (gallery_dir() / f"{output}.png").is_file(), output
+                assert caption_values(figures.get(number, "")) <= stated, name
     assert set(by_figure) == simulated
 
 

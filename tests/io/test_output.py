@@ -91,10 +91,21 @@ def test_run_directory_refuses_an_earlier_run(tmp_path):
     assert not part_path(again.movie).exists()
 
 
-def test_run_directory_keeps_foreign_files(tmp_path):
+def test_run_directory_keeps_notes_beside_an_earlier_run(tmp_path):
+    RunDirectory.create(tmp_path)
+    (tmp_path / "config.yaml").write_text("earlier run")
     (tmp_path / "notes.txt").write_text("mine")
     RunDirectory.create(tmp_path, overwrite=True)
     assert (tmp_path / "notes.txt").read_text() == "mine"
+    assert not (tmp_path / "config.yaml").exists()
+
+
+def test_run_directory_refuses_somebody_elses_directory(tmp_path):
+    (tmp_path / "x.txt").write_text("mine")
+    for overwrite in (False, True):
+        with pytest.raises(OutputError, match=r"holds x\.txt and no run"):
+            RunDirectory.create(tmp_path, overwrite=overwrite)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["x.txt"]
 
 
 def test_run_directory_on_a_file_is_an_error(tmp_path):
