@@ -358,3 +358,23 @@ def test_an_unwritable_store_stops_the_sweep_with_one_line(tmp_path, monkeypatch
     assert result.exit_code == 2
     assert result.output.count("error:") == 1 and "No space left on device" in result.output
     assert len(read_runs(out)) == 3 and not (out / LOCK_FILE).exists()
+
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def test_the_committed_stores_are_compacted_and_read_whole(caplog):
+    """Every sweep directory of the repository holds one runs.jsonl sorted by key, read
+    without a warning, and fig9's holds 6400 runs of its sweep file's design (what a
+    clone resumes from)."""
+    caplog.set_level(logging.WARNING)
+    stores = sorted((ROOT / "data" / "sweeps").iterdir())
+    assert len(stores) == 14
+    for sweep_dir in stores:
+        assert [p.name for p in (sweep_dir / RUNS_DIR).iterdir()] == [COMPACT_FILE]
+        keys = list(read_runs(sweep_dir))
+        assert keys == sorted(keys)
+    assert caplog.records == []
+    stored = read_runs(ROOT / "data" / "sweeps" / "fig9")
+    design = Sweep.load(ROOT / "configs" / "sweeps" / "fig9.yaml")
+    assert sum(run.key in stored for run in design.runs()) == len(stored) == 6400

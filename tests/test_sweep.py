@@ -722,7 +722,7 @@ def test_cli_sweep_stops_cleanly_on_sigterm_and_ctrl_c(tmp_path, how):
     process group, dask's worker processes included) exits with 130, keeps finished runs,
     leaves no worker process behind and says in one line how many runs are kept: no
     worker prints a traceback. 48 runs, so that the sweep cannot finish in the moment
-    between the test seeing two run files and its signal arriving (under load, results
+    between the test seeing two stored runs and its signal arriving (under load, results
     reach the main process in bursts). The child starts with SIGINT at its default: a
     test session started in the background of a non-interactive shell inherits SIGINT
     ignored, and so would the sweep, which then ran to its end (exit 0)."""
