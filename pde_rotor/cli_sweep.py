@@ -208,7 +208,7 @@ def register(app: typer.Typer) -> None:
         sweep_dirs: Annotated[
             list[Path],
             typer.Argument(
-                metavar="SWEEP...",
+                metavar="SWEEP",
                 help="Sweep directories, or sweep files (their data/sweeps/<file stem>).",
             ),
         ],
@@ -219,8 +219,8 @@ def register(app: typer.Typer) -> None:
         are dropped, each torn line with a warning); the file is written atomically and
         then the logs merged into it are removed. A legacy store (runs/<key>.json, one
         file per run) is converted. Reports are unchanged, and compacting again changes
-        nothing. Run it when no sweep is writing to the directory (one that is refused),
-        before committing the store: a compacted store is a handful of files.
+        nothing. A directory that a sweep is writing to is refused. Compact a store
+        before committing it: a compacted store is a handful of files.
         """
         from .sweep import DEFAULT_ROOT, SweepError, compact
 
