@@ -233,7 +233,11 @@ def register(app: typer.Typer) -> None:
                 done = compact(sweep_dir)
             except SweepError as err:
                 fail(str(err))
-            dropped = f", {done.dropped} unreadable records dropped" if done.dropped else ""
+            dropped = (
+                f", {done.dropped} unreadable record{'s' if done.dropped != 1 else ''} dropped"
+                if done.dropped
+                else ""
+            )
             typer.echo(
                 f"compacted {sweep_dir}: {done.runs} runs from {done.merged} "
                 f"file{'s' if done.merged != 1 else ''} into {done.path}{dropped}"

@@ -106,8 +106,8 @@ def test_a_torn_last_line_is_ignored_reported_once_and_recomputed(tmp_path, capl
     caplog.set_level(logging.WARNING)
     assert list(read_runs(tmp_path)) == [first.key]
     assert [r.getMessage() for r in caplog.records] == [
-        f"{torn}: lines 2, 3: not a complete run record (torn or corrupt), ignored; its run "
-        "is recomputed"
+        f"{torn}: lines 2, 3: not a complete run record (torn or corrupt), ignored: a run "
+        "stored only there is recomputed"
     ]
     monkeypatch.setattr(execution, "_compute", fake_compute)
     outcome = run_sweep(sweep, tmp_path, progress=False)
@@ -209,6 +209,27 @@ def test_a_legacy_store_is_read_and_migrated_by_the_compact_command(tmp_path, mo
     assert result.exit_code == 0 and f"{n} runs from 1 file " in result.output
     missing = runner.invoke(app, ["compact", str(tmp_path / "nowhere")])
     assert missing.exit_code == 2 and missing.output.count("error:") == 1
+
+
+def test_a_store_compacted_while_it_is_read_is_read_whole(tmp_path, monkeypatch):
+    """A reader that lists the logs just before a compaction merges and removes them
+    lists the files again and finds every run, once."""
+    write_log(tmp_path, "a.jsonl", line(record("a")))
+    write_log(tmp_path, "b.jsonl", line(record("b")))
+    read_bytes = Path.read_bytes
+    compacted = []
+
+    def compact_first(path: Path) -> bytes:
+        if not compacted:
+            compacted.append(path)
+            monkeypatch.setattr(Path, "read_bytes", read_bytes)  # the compaction reads
+            compact(tmp_path)
+        return read_bytes(path)
+
+    monkeypatch.setattr(Path, "read_bytes", compact_first)
+    assert sorted(read_runs(tmp_path)) == ["a", "b"]
+    assert compacted == [tmp_path / RUNS_DIR / "a.jsonl"]
+    assert [p.name for p in (tmp_path / RUNS_DIR).iterdir()] == [COMPACT_FILE]
 
 
 def test_two_processes_appending_at_once_lose_nothing(tmp_path):

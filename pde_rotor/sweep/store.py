@@ -24,9 +24,10 @@ nothing that is stored.
   ``runs/<key>.json`` files (one per run, as earlier versions stored them), giving a
   dict run key -> record. A line that is not a complete record (a torn last line
   without its newline, a corrupt line) is skipped with one warning naming the file and
-  line: its run counts as not finished and is recomputed. A key stored twice counts
-  once: the record whose canonical JSON sorts first is kept, with one warning where
-  the two results differ.
+  line: a run stored only there counts as not finished and is recomputed. A listed
+  file that vanishes meanwhile (merged by a compaction) makes the reader list the
+  files again. A key stored twice counts once: the record whose canonical JSON sorts
+  first is kept, with one warning where the two results differ.
 * **Compaction** (:func:`compact`, ``pde-rotor compact``): the logs and legacy files
   are merged into one ``runs/runs.jsonl`` sorted by key (duplicates and torn lines
   dropped), written atomically (temporary file, fsync, rename), after which the merged
@@ -77,6 +78,8 @@ so that committed results travel with a clone and a sweep resumes from them."""
 _logger = logging.getLogger(__name__)
 _SHOWN_LINES = 5
 """Line numbers named in one warning about a file's unreadable lines."""
+_ATTEMPTS = 3
+"""Readings of a store's listing when its files vanish while they are read."""
 
 
 class StoreError(SweepError):
@@ -216,16 +219,27 @@ def _record(text: bytes) -> dict[str, Any] | None:
     return content
 
 
-def _read_bytes(path: Path) -> bytes:
-    try:
-        return path.read_bytes()
-    except OSError as err:
-        msg = f"cannot read {path}: {err.strerror or err}"
-        raise StoreError(msg) from err
+def _files(runs_dir: Path) -> list[tuple[Path, bytes]]:
+    """Every file of a store with its bytes: legacy run files first, then logs, by name.
+
+    A file that vanishes meanwhile was merged by a compaction, which renames runs.jsonl
+    into place before it removes what it merged: the listing is then read again.
+    """
+    for _ in range(_ATTEMPTS):
+        paths = [*sorted(runs_dir.glob("*.json")), *sorted(runs_dir.glob("*.jsonl"))]
+        try:
+            return [(path, path.read_bytes()) for path in paths]
+        except FileNotFoundError:
+            continue
+        except OSError as err:
+            msg = f"cannot read {err.filename}: {err.strerror or err}"
+            raise StoreError(msg) from err
+    msg = f"cannot read {runs_dir}: its files vanish while they are read"
+    raise StoreError(msg)
 
 
-def _scan_log(path: Path, scan: _Scan) -> None:
-    lines = _read_bytes(path).split(b"\n")
+def _scan_log(path: Path, data: bytes, scan: _Scan) -> None:
+    lines = data.split(b"\n")
     torn = lines.pop()  # b"" where the file ends with its newline
     bad = []
     for number, line in enumerate(lines, start=1):
@@ -243,8 +257,8 @@ def _scan_log(path: Path, scan: _Scan) -> None:
         more = f" and {len(bad) - _SHOWN_LINES} more" if len(bad) > _SHOWN_LINES else ""
         shown = ", ".join(map(str, bad[:_SHOWN_LINES]))
         _logger.warning(
-            "%s: line%s %s%s: not a complete run record (torn or corrupt), ignored; "
-            "its run is recomputed",
+            "%s: line%s %s%s: not a complete run record (torn or corrupt), ignored: a run "
+            "stored only there is recomputed",
             path,
             "s" if len(bad) > 1 else "",
             shown,
@@ -252,30 +266,27 @@ def _scan_log(path: Path, scan: _Scan) -> None:
         )
 
 
-def _scan_legacy(path: Path, scan: _Scan) -> None:
-    content = _record(_read_bytes(path))
+def _scan_legacy(path: Path, data: bytes, scan: _Scan) -> None:
+    content = _record(data)
     if content is None or content["key"] != path.stem:
         scan.dropped += 1
-        _logger.warning(
-            "%s: not a complete run file, ignored; its run is recomputed",
-            path,
-        )
+        _logger.warning("%s: not a complete run file, ignored: its run is recomputed", path)
     else:
         scan.add(content, str(path))
 
 
 def _scan(sweep_dir: str | Path) -> _Scan:
-    """Read every record of a store: legacy run files first, then the logs by name."""
+    """Read every record of a store (:func:`_files`)."""
     runs_dir = Path(sweep_dir) / RUNS_DIR
     scan = _Scan()
     if not runs_dir.is_dir():
         return scan
-    for path in sorted(runs_dir.glob("*.json")):
+    for path, data in _files(runs_dir):
         scan.sources.append(path)
-        _scan_legacy(path, scan)
-    for path in sorted(runs_dir.glob("*.jsonl")):
-        scan.sources.append(path)
-        _scan_log(path, scan)
+        if path.suffix == ".json":
+            _scan_legacy(path, data, scan)
+        else:
+            _scan_log(path, data, scan)
     return scan
 
 
