@@ -1,6 +1,6 @@
 """How much of a long-stop plateau is the lattice torque?
 
-Reads the run files of a bank-estimator sweep (``pde-rotor sweep``, estimator
+Reads the stored runs of a bank-estimator sweep (``pde-rotor sweep``, estimator
 ``kind: bank``): every run records the torque on the stopped plate at the end of its stop
 (``torque_end``) and where the released rotor went. Without noise (sigma = 0) the outcome
 is a deterministic function of the stop angle. In the continuum model a long stop
@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from pde_rotor.statistics.proportions import restart_counts, two_state_chain
-from pde_rotor.sweep import Sweep, load_run, run_path
+from pde_rotor.sweep import Sweep, read_runs
 
 
 def main() -> None:
@@ -39,8 +39,9 @@ def main() -> None:
         if sweep.spec.estimator.kind != "bank":
             print(f"{sweep_dir}: not a bank sweep")
             continue
+        stored = read_runs(sweep_dir)
         for run in sweep.runs():
-            content = load_run(run_path(sweep_dir, run.key))
+            content = stored.get(run.key)
             config = run.config
             if content is None or config["noise"]["sigma"] != 0:
                 continue

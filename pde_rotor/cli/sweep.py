@@ -1,9 +1,10 @@
-"""``pde-rotor sweep`` and ``pde-rotor report``: parameter sweeps of inversion statistics.
+"""``pde-rotor sweep``, ``report`` and ``compact``: parameter sweeps of inversion statistics.
 
 Registered on the main typer app by :func:`register` (called from :mod:`pde_rotor.cli.main`).
 Exit codes as for ``pde-rotor run``: 0 success, 1 some runs failed (the others are
-stored; rerun the same command to retry them), 2 bad input, 130 interrupted by Ctrl-C
-or SIGTERM (finished runs are kept; rerun to resume).
+stored; rerun the same command to retry them), 2 bad input (or a sweep directory that
+another sweep is writing to, or that cannot be written), 130 interrupted by Ctrl-C or
+SIGTERM (finished runs are kept; rerun to resume).
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ def _interrupt(signum: int, frame: object) -> None:
 
 
 def register(app: typer.Typer) -> None:
-    """Add the ``sweep`` and ``report`` commands to `app`."""
+    """Add the ``sweep``, ``report`` and ``compact`` commands to `app`."""
 
     @app.command("sweep", short_help="Run a parameter sweep (resumable).")
     def sweep_command(
@@ -80,9 +81,9 @@ def register(app: typer.Typer) -> None:
             Sweep,
             SweepError,
             check_scheduler,
-            finished,
             format_table,
             gather,
+            read_runs,
             report,
             run_sweep,
             sweep_backend,
@@ -106,13 +107,16 @@ def register(app: typer.Typer) -> None:
         else:
             where = f"a LocalCluster of {n} worker process{'es' if n != 1 else ''}"
         if dry_run:
-            done = finished(sweep_dir, runs) if sweep_dir.is_dir() else set()
-            todo = [run for run in runs if run.key not in done]
+            try:
+                stored = read_runs(sweep_dir)
+            except SweepError as err:
+                fail(str(err))
+            todo = [run for run in runs if run.key not in stored]
             points = math.prod(spec.shape)
             typer.echo(
                 f"dry run: sweep {spec.spec.name}, {spec.spec.estimator.kind} estimator: "
                 f"{points} point{'s' if points != 1 else ''} x {n_runs // points} runs = "
-                f"{n_runs} runs, {len(done)} already done in {sweep_dir}"
+                f"{n_runs} runs, {n_runs - len(todo)} already done in {sweep_dir}"
             )
             typer.echo(f"to compute: {len(todo)} runs on {where}")
             typer.echo(f"estimated cost: {estimate_sweep(todo, n).describe()}")
@@ -138,8 +142,11 @@ def register(app: typer.Typer) -> None:
             outcome = run_sweep(
                 spec, sweep_dir, scheduler=scheduler, workers=workers, progress=not quiet
             )
+        except SweepError as err:  # the directory is busy or cannot be written
+            fail(str(err))
         except KeyboardInterrupt:
-            kept = len(finished(sweep_dir, spec.runs()))
+            stored = read_runs(sweep_dir)
+            kept = sum(run.key in stored for run in runs)
             typer.echo(
                 f"interrupted: {kept} of {n_runs} runs are kept in {sweep_dir}; rerun the same "
                 "command to resume",
@@ -217,3 +224,43 @@ def register(app: typer.Typer) -> None:
                 at = ", ".join(f"{k} = {v:g}" for k, v in where.items())
                 text = found if isinstance(found, str) else found.describe()
                 typer.echo(f"crossing{f' ({at})' if at else ''}: {text}")
+
+    @app.command("compact", short_help="Merge a sweep's run logs into one file.")
+    def compact_command(
+        sweep_dirs: Annotated[
+            list[Path],
+            typer.Argument(
+                metavar="SWEEP",
+                help="Sweep directories, or sweep files (their data/sweeps/<file stem>).",
+            ),
+        ],
+    ) -> None:
+        """Merge the run logs of each SWEEP into one sorted SWEEP_DIR/runs/runs.jsonl.
+
+        Every finished run is kept once (duplicates and torn lines of interrupted writes
+        are dropped, each torn line with a warning); the file is written atomically and
+        then the logs merged into it are removed. A legacy store (runs/<key>.json, one
+        file per run) is converted. Reports are unchanged, and compacting again changes
+        nothing. A directory that a sweep is writing to is refused. Compact a store
+        before committing it: a compacted store is a handful of files.
+        """
+        from ..sweep import DEFAULT_ROOT, SweepError, compact
+
+        for sweep_dir in sweep_dirs:
+            if sweep_dir.is_file():
+                sweep_dir = DEFAULT_ROOT / sweep_dir.stem
+            if not (sweep_dir / "sweep.yaml").is_file():
+                fail(f"{sweep_dir} holds no sweep.yaml (not a sweep directory)")
+            try:
+                done = compact(sweep_dir)
+            except SweepError as err:
+                fail(str(err))
+            dropped = (
+                f", {done.dropped} unreadable record{'s' if done.dropped != 1 else ''} dropped"
+                if done.dropped
+                else ""
+            )
+            typer.echo(
+                f"compacted {sweep_dir}: {done.runs} runs from {done.merged} "
+                f"file{'s' if done.merged != 1 else ''} into {done.path}{dropped}"
+            )

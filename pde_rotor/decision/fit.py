@@ -71,18 +71,19 @@ def sweep_outcomes(
     """
     from ..sweep.estimates import inverted
     from ..sweep.plan import Sweep
-    from ..sweep.store import load_run, run_path
+    from ..sweep.store import read_runs
 
     sweep = Sweep.load(sweep_dir)
     if sweep.spec.estimator.kind == "protocol":
         msg = f"{sweep_dir}: a protocol sweep; the noise fit needs restart or bank runs"
         raise ValueError(msg)
+    stored = read_runs(sweep_dir)
     outcomes = []
     for run in sweep.runs():
         if accept is not None and not accept(run.config):
             continue
-        content = load_run(run_path(sweep_dir, run.key))
-        if content is None or content.get("key") != run.key:
+        content = stored.get(run.key)
+        if content is None:
             continue
         outcomes.append(
             Outcome(

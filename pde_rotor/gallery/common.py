@@ -95,7 +95,7 @@ class Fidelity:
             exists ("" for the full sweep file, "_quick" for the quick one).
         sweep_samples: at most this many restarts per direction and point when the
             gallery runs a sweep itself (None: the sweep file's ``samples``). The runs are
-            the first ones of the sweep file's (same seeds, same run files), so a later
+            the first ones of the sweep file's (same seeds, same stored runs), so a later
             ``pde-rotor sweep`` of the file into the same directory reuses them.
     """
 

@@ -25,7 +25,8 @@ One module per job:
 * :mod:`.plan`: points, runs, seeds and run keys (:class:`Sweep`, :class:`Run`);
 * :mod:`.tasks`: one run on a worker (restart, bank group, protocol run);
 * :mod:`.batch`: runs in batches on an ensemble backend (GPU);
-* :mod:`.store`: the run files of a sweep directory (default data/sweeps/<name>);
+* :mod:`.store`: the append-only run logs of a sweep directory (default
+  data/sweeps/<name>), their one-pass reader, compaction and lock;
 * :mod:`.execution`: :func:`run_sweep`, the seam between dask on CPUs and GPU batches;
 * :mod:`.estimates`, :mod:`.reporting`: the statistics of a point and the report.
 
@@ -75,7 +76,19 @@ from .spec import (
     shipped_bases,
     sweep_format,
 )
-from .store import DEFAULT_ROOT, REPORT_FILE, RUNS_DIR, finished, load_run, run_path, write_run
+from .store import (
+    COMPACT_FILE,
+    DEFAULT_ROOT,
+    REPORT_FILE,
+    RUNS_DIR,
+    Compaction,
+    RunLog,
+    StoreBusyError,
+    StoreError,
+    compact,
+    lock,
+    read_runs,
+)
 from .tasks import (
     execute,
     execute_group,
@@ -90,6 +103,7 @@ from .tasks import (
 __all__ = [
     "BASES_DIR",
     "CHAIN",
+    "COMPACT_FILE",
     "DEFAULT_ROOT",
     "POOLED",
     "P_DEFINITIONS",
@@ -99,10 +113,14 @@ __all__ = [
     "SPEC_FILE",
     "SWEEP_KEYS",
     "BankEstimator",
+    "Compaction",
     "ProtocolEstimator",
     "RangeSpec",
     "RestartEstimator",
     "Run",
+    "RunLog",
+    "StoreBusyError",
+    "StoreError",
     "Sweep",
     "SweepError",
     "SweepOutcome",
@@ -110,18 +128,18 @@ __all__ = [
     "apply_sweep_overrides",
     "base_config",
     "check_scheduler",
+    "compact",
     "execute",
     "execute_group",
-    "finished",
     "format_table",
     "gather",
-    "load_run",
+    "lock",
     "mcnemar_p",
     "point_statistics",
+    "read_runs",
     "report",
     "run_bank",
     "run_key",
-    "run_path",
     "run_protocol",
     "run_restart",
     "run_seed",
@@ -134,5 +152,4 @@ __all__ = [
     "usable_cores",
     "warm_key",
     "warm_state",
-    "write_run",
 ]

@@ -2,7 +2,7 @@
 
 A batch is a list of runs of one estimator on one grid; they advance together as the
 members of one ensemble, and each run's result is read from the ensemble's records by
-the rules the per-run tasks use (:mod:`.tasks`), so a run file means the same whichever
+the rules the per-run tasks use (:mod:`.tasks`), so a stored run means the same whichever
 backend computed it:
 
 * protocol runs start at t = 0; omega just before every stop and at the end is read
@@ -61,7 +61,7 @@ def execute_batch(runs: Sequence[Run], ensemble: EnsembleRunner) -> list[dict[st
     Args:
         runs: runs sharing grid and numerics (:func:`batches`).
         ensemble: the backend's ``run_ensemble``; the backend its result names is
-            recorded in each run file.
+            recorded in each run's record.
 
     Raises:
         ValueError: a member whose state diverged.

@@ -52,7 +52,7 @@ def point_statistics(
     Args:
         kind: the estimator (protocol, restart, bank).
         asymmetry: Delta of the point (restart, bank: pooled at 0, chain otherwise).
-        contents: the run files of the point found in the store.
+        contents: the records of the point's runs found in the store.
         expected: number of runs of the point.
     """
     counts = DirectionCounts()

@@ -1,9 +1,10 @@
 """Where a sweep's runs are computed: dask.distributed on CPUs, or ensemble batches on a GPU.
 
-:func:`run_sweep` is the one seam: it reads the finished runs from the store, picks the
-backend (:func:`sweep_backend`) and hands the unfinished runs to dask tasks
-(:func:`.tasks.execute_group`) or to ensemble batches (:func:`.batch.execute_batch`),
-writing each result to the store as it arrives.
+:func:`run_sweep` is the one seam: it locks the sweep directory, reads the finished runs
+from the store, picks the backend (:func:`sweep_backend`) and hands the unfinished runs
+to dask tasks (:func:`.tasks.execute_group`) or to ensemble batches
+(:func:`.batch.execute_batch`), appending each result to its log in the store
+(:class:`.store.RunLog`) as it arrives.
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ from ..backends import resolve_backend, run_ensemble
 from .batch import EnsembleRunner, batches, execute_batch
 from .plan import Run, Sweep
 from .spec import SweepError
-from .store import finished, prepare, write_run
+from .store import RunLog, lock, prepare, read_runs
 from .tasks import execute_group, stop_group, warm_group
 
 
@@ -165,27 +166,34 @@ def run_sweep(
     Returns:
         Counts of skipped, computed and failed runs. Runs that raised are not stored
         and are retried by the next call.
+
+    Raises:
+        StoreBusyError: another process is running a sweep in `sweep_dir` (one line, before
+            anything runs or is written).
+        StoreError: the store cannot be written (the runs stored so far are kept).
     """
     if not isinstance(sweep, Sweep):
         sweep = Sweep.load(sweep)
     if ensemble is None and sweep_backend(sweep) == "gpu":
         ensemble = partial(run_ensemble, backend="gpu")
-    sweep_dir = prepare(sweep, sweep_dir)
-    runs = sweep.runs()
-    done = finished(sweep_dir, runs)
-    todo = in_order([run for run in runs if run.key not in done])
-    if ensemble is not None:
-        groups = batches(todo, batch_size)
-        submit = _in_process(partial(execute_batch, ensemble=ensemble))
-    else:
-        by_stop: dict[str, list[Run]] = {}
-        for run in todo:
-            by_stop.setdefault(stop_group(run), []).append(run)
-        groups = list(by_stop.values())
-        submit = None
-    outcome = SweepOutcome(len(runs), len(done), 0, [], sweep_dir)
-    if todo:
-        _compute(sweep, groups, outcome, submit, scheduler, workers, progress)
+    with lock(sweep_dir):
+        sweep_dir = prepare(sweep, sweep_dir)
+        runs = sweep.runs()
+        stored = read_runs(sweep_dir)
+        todo = in_order([run for run in runs if run.key not in stored])
+        if ensemble is not None:
+            groups = batches(todo, batch_size)
+            submit = _in_process(partial(execute_batch, ensemble=ensemble))
+        else:
+            by_stop: dict[str, list[Run]] = {}
+            for run in todo:
+                by_stop.setdefault(stop_group(run), []).append(run)
+            groups = list(by_stop.values())
+            submit = None
+        outcome = SweepOutcome(len(runs), len(runs) - len(todo), 0, [], sweep_dir)
+        if todo:
+            with RunLog(sweep_dir) as log:
+                _compute(sweep, groups, outcome, log, submit, scheduler, workers, progress)
     return outcome
 
 
@@ -222,12 +230,14 @@ def _compute(
     sweep: Sweep,
     groups: list[list[Run]],
     outcome: SweepOutcome,
+    log: RunLog,
     submit: Callable[[list[Run]], Future] | None,
     scheduler: str | None,
     workers: int | None,
     progress: bool,
 ) -> None:
-    """Compute `groups` (dask tasks, or `submit` in this process) and store each result."""
+    """Compute `groups` (dask tasks, or `submit` in this process) and append each result
+    to `log`."""
     from tqdm.auto import tqdm
 
     bar = tqdm(
@@ -264,7 +274,7 @@ def _compute(
                 if hasattr(future, "release"):
                     future.release()
             for content in contents:
-                write_run(outcome.sweep_dir, content)
+                log.append(content)
             outcome.computed += len(group)
             bar.update(len(group))
     finally:

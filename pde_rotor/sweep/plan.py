@@ -50,7 +50,7 @@ class Run:
             the output and solver sections, which change no result).
         estimator: estimator settings (JSON mapping).
         key: hash of config, estimator, direction, sample and stop seed
-            (:func:`run_key`); the run file's name.
+            (:func:`run_key`); the key of its record in the store.
         stop_seed: seed of the stop angle shared by a bank group (bank estimator only):
             derived from the sweep seed, the point's coordinates without its ``noise``
             axes, the sample and the direction.
@@ -263,11 +263,11 @@ def run_key(
     sample: int,
     stop_seed: int | None = None,
 ) -> str:
-    """Hash naming a run's file: SHA-256 of its resolved config and estimator settings.
+    """Hash naming a run's record: SHA-256 of its resolved config and estimator settings.
 
     Only what determines the result enters (the physics config, the estimator, the
     sample, its direction and stop seed): no path, machine, backend or scheduler, so
-    run files committed on one machine are found by a sweep resumed on another.
+    runs committed on one machine are found by a sweep resumed on another.
     """
     payload = {
         "schema": SCHEMA_VERSION,

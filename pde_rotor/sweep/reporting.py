@@ -1,4 +1,4 @@
-"""The report of a sweep: its run files gathered into an xarray Dataset and a table.
+"""The report of a sweep: its stored runs gathered into an xarray Dataset and a table.
 
 Coordinates are the sweep axes; every variable carries its definition in ``long_name``
 (the definitions of P: :mod:`pde_rotor.sweep.estimates`).
@@ -20,7 +20,7 @@ from ..io.output import write_netcdf_atomic
 from ..statistics.proportions import CONFIDENCE
 from .estimates import CHAIN, P_DEFINITIONS, POOLED, inverted, mcnemar_p, point_statistics
 from .plan import Run, Sweep
-from .store import REPORT_FILE, load_run, run_path
+from .store import REPORT_FILE, read_runs
 
 P_RULE = {
     "protocol": "inversions / stops of all protocol runs (the paper's inversions / M), pooled",
@@ -62,7 +62,7 @@ VARIABLES: dict[str, tuple[str, str]] = {
     "mean_abs_omega": ("mean |omega| just before the stops", "1/time"),
     "uncommitted": ("restarts without a committed direction at the release cap", "1"),
     "mean_commit_time": ("mean release time until |omega| >= commit_fraction |omega0|", "time"),
-    "runs_done": ("runs with a result file", "1"),
+    "runs_done": ("runs with a stored result", "1"),
     "runs_expected": ("runs of the sweep at this point", "1"),
 }
 """Every variable of a report: long name and units."""
@@ -76,15 +76,6 @@ def _dim_names(keys: Sequence[str]) -> dict[str, str]:
         k: (s if last.count(s) == 1 else k.replace(".", "_"))
         for k, s in zip(keys, last, strict=True)
     }
-
-
-def _stored(sweep_dir: Path, runs: Sequence[Run]) -> list[dict[str, Any]]:
-    contents = []
-    for run in runs:
-        content = load_run(run_path(sweep_dir, run.key))
-        if content is not None and content.get("key") == run.key:
-            contents.append(content)
-    return contents
 
 
 def paired_axes(sweep: Sweep) -> list[str]:
@@ -109,7 +100,7 @@ def _mcnemar(
 
 
 def gather(sweep: Sweep, sweep_dir: str | Path) -> xr.Dataset:
-    """Collect the run files of `sweep` from `sweep_dir` into a Dataset (no writing).
+    """Collect the stored runs of `sweep` from `sweep_dir` into a Dataset (no writing).
 
     Coordinates are the sweep axes (dimension = last part of the dotted key, the full
     key in the attribute ``config_key``); a sweep without axes gives scalar variables.
@@ -122,11 +113,12 @@ def gather(sweep: Sweep, sweep_dir: str | Path) -> xr.Dataset:
     by_point: dict[tuple[int, ...], list[Run]] = {}
     for run in sweep.runs():
         by_point.setdefault(run.point, []).append(run)
+    stored = read_runs(sweep_dir)
     kind = sweep.spec.estimator.kind
     arrays = {name: np.full(sweep.shape, np.nan) for name in VARIABLES}
     outcomes: dict[tuple[int, ...], dict[Any, bool]] = {}
     for index, runs in by_point.items():
-        contents = _stored(sweep_dir, runs)
+        contents = [stored[run.key] for run in runs if run.key in stored]
         asymmetry = float(runs[0].config["geometry"]["asymmetry"])
         stats = point_statistics(kind, asymmetry, contents, len(runs))
         for name, value in stats.items():

@@ -281,7 +281,7 @@ def run_protocol(config: RotorConfig) -> dict:
 
 
 def run_content(run: Run, result: dict, wall_time: float, backend: str) -> dict[str, Any]:
-    """What the run file of `run` holds: its key, point, sample, result and cost.
+    """What the record of `run` in the store holds: its key, point, sample, result and cost.
 
     The resolved config is not repeated: the run key is its hash, and the sweep file in
     the sweep directory resolves it again.

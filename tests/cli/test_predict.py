@@ -135,9 +135,7 @@ def fake_bank_store(path: Path, base: dict, **axes: list) -> None:
     """A bank sweep at t_stop = 3, Δ = 2e-5, two sigma (and `axes` by dotted key), 20
     stops per direction, whose releases all go CW (against Δ from CCW: an inversion;
     from CW: none)."""
-    import json
-
-    from pde_rotor.sweep.store import prepare, run_path
+    from pde_rotor.sweep.store import RunLog, prepare
     from tests.sweep.test_sweep import tiny_sweep
 
     sweep = tiny_sweep(
@@ -148,10 +146,10 @@ def fake_bank_store(path: Path, base: dict, **axes: list) -> None:
         samples=20,
     )
     prepare(sweep, path)
-    for run in sweep.runs():
-        result = {"direction_before": run.direction, "direction_after": -1}
-        content = {"key": run.key, "result": result}
-        run_path(path, run.key).write_text(json.dumps(content), encoding="utf-8")
+    with RunLog(path) as log:
+        for run in sweep.runs():
+            result = {"direction_before": run.direction, "direction_after": -1}
+            log.append({"key": run.key, "result": result})
 
 
 def test_calibrate_fits_the_ensemble_of_a_sweep(table_path: Path, tmp_path: Path) -> None:

@@ -8,15 +8,13 @@ model at κ Dw.
 
 from __future__ import annotations
 
-import json
-
 import numpy as np
 import pytest
 from scipy.special import ndtri
 
 from pde_rotor.decision.fit import Outcome, fit_noise, sweep_outcomes
 from pde_rotor.decision.table import DIRECTIONS, diffusion_of
-from pde_rotor.sweep.store import prepare, run_path
+from pde_rotor.sweep.store import RunLog, prepare
 from tests.decision.test_table import synthetic
 from tests.sweep.test_sweep import tiny_sweep
 
@@ -131,15 +129,15 @@ def test_releases_without_noise_leave_the_scale_undetermined() -> None:
 
 
 def test_outcomes_are_read_from_a_sweep_store(tmp_path) -> None:
-    """Run files of a restart sweep become outcomes with the run's own coordinates;
-    runs without a file are left out."""
+    """Stored runs of a restart sweep become outcomes with the run's own coordinates;
+    runs not stored are left out."""
     sweep = tiny_sweep(axes={"noise.sigma": [0.0, 1e-6]})
     prepare(sweep, tmp_path)
     runs = sweep.runs()
-    for run in runs[:-1]:
-        result = {"direction_before": run.direction, "direction_after": -run.direction}
-        content = {"key": run.key, "result": result}
-        run_path(tmp_path, run.key).write_text(json.dumps(content), encoding="utf-8")
+    with RunLog(tmp_path) as log:
+        for run in runs[:-1]:
+            result = {"direction_before": run.direction, "direction_after": -run.direction}
+            log.append({"key": run.key, "result": result})
     outcomes = sweep_outcomes(tmp_path)
     assert len(outcomes) == len(runs) - 1
     assert all(o.inverted for o in outcomes)

@@ -30,18 +30,18 @@ from pde_rotor.sweep import (
     POOLED,
     RUNS_DIR,
     Run,
+    RunLog,
     Sweep,
     SweepError,
     SweepSpec,
     base_config,
     execute,
     execute_group,
-    finished,
     format_table,
     gather,
     mcnemar_p,
+    read_runs,
     report,
-    run_path,
     run_seed,
     run_sweep,
     shipped_base,
@@ -374,7 +374,7 @@ def test_bank_report_pairs_the_noise_values_by_their_shared_stop(tmp_path):
     """sigma = 0: every stop inverts; sigma = 1e-5: only samples 0 and 1 of each
     direction. The 16 discordant pairs all lie on one side: McNemar p = 2 / 2^16."""
     sweep = tiny_sweep(estimator=BANK, samples=10, axes={"noise.sigma": [0, 1e-5]})
-    (tmp_path / RUNS_DIR).mkdir(parents=True)
+    contents = []
     for run in sweep.runs():
         flips = run.coords["noise.sigma"] == 0 or run.sample < 2
         result = {
@@ -385,7 +385,8 @@ def test_bank_report_pairs_the_noise_values_by_their_shared_stop(tmp_path):
             "t_commit": 0.8,
         }
         content = {"key": run.key, "direction": run.direction, "sample": run.sample}
-        run_path(tmp_path, run.key).write_text(json.dumps({**content, "result": result}))
+        contents.append({**content, "result": result})
+    store_runs(tmp_path, contents)
     ds = gather(sweep, tmp_path)
     p = ds["mcnemar_p_sigma"]
     assert float(p.sel(sigma=1e-5, sigma_ref=0)) == pytest.approx(2 / 2**16)
@@ -422,10 +423,18 @@ def test_report_of_a_tiny_sweep(two_worker_sweep, capsys):
     assert len(table.splitlines()) == 3 + 2  # title, legend, header, one row per point
 
 
-def fake_restarts(sweep_dir: Path, sweep: Sweep, inverted: dict[int, int]) -> None:
-    """Run files of every run of `sweep`: the first inverted[direction] samples of each
-    direction inverted, the others not."""
+def store_runs(sweep_dir: Path, contents: list[dict]) -> None:
+    """Store `contents` as the finished runs of `sweep_dir` (one log)."""
     (sweep_dir / RUNS_DIR).mkdir(parents=True)
+    with RunLog(sweep_dir) as log:
+        for content in contents:
+            log.append(content)
+
+
+def fake_restarts(sweep_dir: Path, sweep: Sweep, inverted: dict[int, int]) -> None:
+    """Stored runs of every run of `sweep`: the first inverted[direction] samples of
+    each direction inverted, the others not."""
+    contents = []
     for run in sweep.runs():
         after = -run.direction if run.sample < inverted[run.direction] else run.direction
         result = {
@@ -435,8 +444,8 @@ def fake_restarts(sweep_dir: Path, sweep: Sweep, inverted: dict[int, int]) -> No
             "committed": True,
             "t_commit": 0.8,
         }
-        content = {"key": run.key, "result": result}
-        run_path(sweep_dir, run.key).write_text(json.dumps(content), encoding="utf-8")
+        contents.append({"key": run.key, "result": result})
+    store_runs(sweep_dir, contents)
 
 
 def test_p_is_pooled_for_a_symmetric_rotor_and_the_chain_value_otherwise(tmp_path):
@@ -486,11 +495,9 @@ def test_an_older_stored_report_is_read_with_the_current_rule(tmp_path):
 
 def test_protocol_report_says_p_is_inversions_over_m(tmp_path):
     sweep = tiny_sweep(samples=2, axes={}, estimator={"kind": "protocol"})
-    (tmp_path / RUNS_DIR).mkdir(parents=True)
-    for run in sweep.runs():
-        counts = {"inversions_ccw": 2, "n_ccw": 2, "inversions_cw": 1, "n_cw": 1}
-        content = {"key": run.key, "result": {**counts, "omegas": [170.0, -170.0, 170.0, -1]}}
-        run_path(tmp_path, run.key).write_text(json.dumps(content), encoding="utf-8")
+    counts = {"inversions_ccw": 2, "n_ccw": 2, "inversions_cw": 1, "n_cw": 1}
+    result = {**counts, "omegas": [170.0, -170.0, 170.0, -1]}
+    store_runs(tmp_path, [{"key": run.key, "result": result} for run in sweep.runs()])
     ds = gather(sweep, tmp_path)
     assert float(ds["P"]) == float(ds["P_pooled"]) == 1.0
     assert "(protocol estimator): inversions / stops" in ds["P"].attrs["long_name"]
@@ -509,7 +516,9 @@ def test_one_worker_gives_the_same_dataset_as_two(two_worker_sweep, tmp_path):
 
 
 def test_resume_after_a_killed_sweep(two_worker_sweep, tmp_path):
-    """Kill the sweep process mid-sweep; the rerun computes only the missing runs."""
+    """Kill the sweep process mid-sweep; the rerun computes only the missing runs, into a
+    log of its own (the killed process's log is left as it was), and its lock is taken
+    over and removed at the end."""
     _, reference = two_worker_sweep
     path = write_sweep(tmp_path / "tiny.yaml", TINY_SWEEP)
     out = tmp_path / "out"
@@ -524,25 +533,27 @@ def test_resume_after_a_killed_sweep(two_worker_sweep, tmp_path):
     deadline = time.monotonic() + 120
     try:
         while time.monotonic() < deadline:
-            done = list(runs_dir.glob("*.json")) if runs_dir.exists() else []
-            if len(done) >= 3 or proc.poll() is not None:
+            if len(read_runs(out)) >= 3 or proc.poll() is not None:
                 break
             time.sleep(0.05)
     finally:
         os.killpg(proc.pid, signal.SIGKILL)
         proc.wait()
-    before = {p.name: (p.stat().st_mtime_ns, p.read_bytes()) for p in runs_dir.glob("*.json")}
-    assert 3 <= len(before) < 12, "the sweep was not killed mid-way"
-    assert not list(runs_dir.glob("*.part"))  # no temporary file left behind, or harmless
+    kept = len(read_runs(out))
+    assert 3 <= kept < 12, "the sweep was not killed mid-way"
+    before = {p.name: (p.stat().st_mtime_ns, p.read_bytes()) for p in runs_dir.glob("*.jsonl")}
+    assert len(before) == 1  # the killed process's log
 
     sweep = Sweep.load(path)
     outcome = run_sweep(sweep, out, workers=1, progress=False)
-    assert outcome.skipped == len(before)
-    assert outcome.computed == 12 - len(before)
+    assert outcome.skipped == kept
+    assert outcome.computed == 12 - kept
     for name, (mtime, content) in before.items():
         p = runs_dir / name
         assert p.stat().st_mtime_ns == mtime and p.read_bytes() == content
-    assert finished(out, sweep.runs()) == {r.key for r in sweep.runs()}
+    assert len(list(runs_dir.glob("*.jsonl"))) == 2
+    assert set(read_runs(out)) == {r.key for r in sweep.runs()}
+    assert not (out / ".lock").exists()
     xr.testing.assert_identical(report(out, echo=False), reference)
     # a third call finds nothing to do
     assert run_sweep(sweep, out, progress=False).computed == 0
@@ -565,17 +576,23 @@ def test_a_copied_store_resumes_elsewhere_with_nothing_recomputed(
     assert (outcome.skipped, outcome.computed, started) == (12, 0, [])
     xr.testing.assert_identical(report(moved, echo=False), reference)
     keys = {r.key for r in Sweep.load(moved).runs()}
-    assert keys == {p.stem for p in (sweep_dir / RUNS_DIR).glob("*.json")}
+    assert keys == set(read_runs(sweep_dir))
 
 
-def test_unreadable_run_files_are_recomputed_and_foreign_files_ignored(tmp_path):
+def test_unreadable_legacy_run_files_are_recomputed_and_foreign_files_ignored(tmp_path, caplog):
+    """A legacy store (runs/<key>.json) whose file is truncated, beside a file that is
+    no run file: both are reported, neither counts, the run is recomputed."""
     sweep = tiny_sweep(samples=1, axes={})
     out = tmp_path / "out"
     (out / RUNS_DIR).mkdir(parents=True)
     runs: list[Run] = sweep.runs()
-    run_path(out, runs[0].key).write_text('{"key": "trunc', encoding="utf-8")
+    (out / RUNS_DIR / f"{runs[0].key}.json").write_text('{"key": "trunc', encoding="utf-8")
     (out / RUNS_DIR / "unrelated.json").write_text("{}", encoding="utf-8")
-    assert finished(out, runs) == set()
+    assert read_runs(out) == {}
+    assert [r.getMessage().split(":")[0] for r in caplog.records] == [
+        str(out / RUNS_DIR / f"{runs[0].key}.json"),
+        str(out / RUNS_DIR / "unrelated.json"),
+    ]
     outcome = run_sweep(sweep, out, workers=1, progress=False)
     assert outcome.computed == 2
     ds = gather(sweep, out)
@@ -705,7 +722,7 @@ def test_cli_sweep_stops_cleanly_on_sigterm_and_ctrl_c(tmp_path, how):
     process group, dask's worker processes included) exits with 130, keeps finished runs,
     leaves no worker process behind and says in one line how many runs are kept: no
     worker prints a traceback. 48 runs, so that the sweep cannot finish in the moment
-    between the test seeing two run files and its signal arriving (under load, results
+    between the test seeing two stored runs and its signal arriving (under load, results
     reach the main process in bursts). The child starts with SIGINT at its default: a
     test session started in the background of a non-interactive shell inherits SIGINT
     ignored, and so would the sweep, which then ran to its end (exit 0)."""
@@ -723,10 +740,9 @@ def test_cli_sweep_stops_cleanly_on_sigterm_and_ctrl_c(tmp_path, how):
         # a terminal's foreground job: SIGINT at its default, whatever this process inherited
         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )
-    runs_dir = out / RUNS_DIR
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline and proc.poll() is None:
-        if runs_dir.exists() and len(list(runs_dir.glob("*.json"))) >= 2:
+        if len(read_runs(out)) >= 2:
             break
         time.sleep(0.05)
     children = psutil.Process(proc.pid).children(recursive=True)
@@ -743,7 +759,7 @@ def test_cli_sweep_stops_cleanly_on_sigterm_and_ctrl_c(tmp_path, how):
     assert proc.returncode == 130
     _, alive = psutil.wait_procs(children, timeout=30)
     assert not alive
-    kept = len(list(runs_dir.glob("*.json")))
+    kept = len(read_runs(out))
     total = len(Sweep.load(path).runs())
     assert 2 <= kept < total
     assert "Traceback" not in stderr

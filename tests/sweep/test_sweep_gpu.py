@@ -31,8 +31,7 @@ from pde_rotor.sweep import (
     batch,
     execution,
     gather,
-    load_run,
-    run_path,
+    read_runs,
     run_sweep,
 )
 
@@ -74,10 +73,9 @@ class Recorder:
 
 
 def omegas(sweep: Sweep, sweep_dir: Any) -> np.ndarray:
-    """omega before every stop and at the end, of every run, from the run files."""
-    return np.array(
-        [load_run(run_path(sweep_dir, r.key))["result"]["omegas"] for r in sweep.runs()]
-    )
+    """omega before every stop and at the end, of every run, from the store."""
+    stored = read_runs(sweep_dir)
+    return np.array([stored[r.key]["result"]["omegas"] for r in sweep.runs()])
 
 
 def test_batches_give_the_runs_of_the_dask_path(tmp_path):
@@ -90,7 +88,7 @@ def test_batches_give_the_runs_of_the_dask_path(tmp_path):
     assert (outcome.computed, outcome.failed) == (4, [])
     assert recorder.batches == [3, 1]
     np.testing.assert_allclose(omegas(sweep, tmp_path / "batch"), omegas(sweep, tmp_path / "dask"))
-    assert load_run(run_path(tmp_path / "dask", sweep.runs()[0].key))["backend"] == "cpu"
+    assert read_runs(tmp_path / "dask")[sweep.runs()[0].key]["backend"] == "cpu"
     assert np.ptp(omegas(sweep, tmp_path / "dask")) > 1.0  # the runs really move
     xr.testing.assert_identical(gather(sweep, tmp_path / "batch"), gather(sweep, tmp_path / "dask"))
 
@@ -155,13 +153,13 @@ def test_restart_and_bank_batches_read_the_runs_the_tasks_compute(
     assert (outcome.computed, outcome.failed) == (12, [])
     # one ensemble of the spin-ups (per configuration without noise, and direction)
     assert recorder.batches[0] == spin_ups
+    batched, by_task = read_runs(tmp_path / "batch"), read_runs(tmp_path / "tasks")
     for run in sweep.runs():
-        got = load_run(run_path(tmp_path / "batch", run.key))["result"]
-        want = load_run(run_path(tmp_path / "tasks", run.key))["result"]
+        got, want = batched[run.key]["result"], by_task[run.key]["result"]
         assert got.keys() == want.keys()
         for name, value in want.items():
             assert got[name] == pytest.approx(value, rel=1e-9, nan_ok=True), name
-    results = [load_run(run_path(tmp_path / "tasks", r.key))["result"] for r in sweep.runs()]
+    results = [by_task[r.key]["result"] for r in sweep.runs()]
     assert len({r["extra_steps"] for r in results}) > 1  # the stops differ
     assert any(r["committed"] for r in results)
 
@@ -185,4 +183,4 @@ def test_a_tiny_sweep_runs_through_the_gpu_kernels(tmp_path, fast_simulator):
     )
     on_gpu, on_cpu = gather(sweep, tmp_path / "gpu"), gather(sweep, tmp_path / "cpu")
     xr.testing.assert_allclose(on_gpu, on_cpu, rtol=1e-9)
-    assert load_run(run_path(tmp_path / "gpu", sweep.runs()[0].key))["backend"] == "gpu"
+    assert read_runs(tmp_path / "gpu")[sweep.runs()[0].key]["backend"] == "gpu"
