@@ -355,6 +355,7 @@ def test_an_unwritable_store_stops_the_sweep_with_one_line(tmp_path, monkeypatch
     blocked = tmp_path / "blocked"
     blocked.mkdir()
     (blocked / RUNS_DIR).write_text("", encoding="utf-8")
+    (blocked / "sweep.yaml").write_text("", encoding="utf-8")  # a sweep directory, broken
     runner = CliRunner()
     result = runner.invoke(app, ["sweep", str(path), "-o", str(blocked), "-q"])
     assert result.exit_code == 2
