@@ -58,6 +58,16 @@ class SweepData:
             f"L = {radius:g}, \u03c3 = {sigma:g}"
         )
 
+    def interval(self) -> str:
+        """How the report's 95 % intervals of P were computed, by estimator."""
+        report = self.report
+        kinds = set(np.unique(report["P_estimator"])) if "P_estimator" in report else set()
+        if report.attrs.get("estimator") == "protocol":
+            return "Wilson score"
+        if kinds == {POOLED}:
+            return "Wilson score of the count pooled over both directions (\u0394 = 0)"
+        return "two-state chain of the 97.5 % Wilson bounds of P(inv | CCW), P(inv | CW)"
+
 
 def _base_value(base_json: str, keys: tuple[str, ...], default: float) -> float:
     try:
