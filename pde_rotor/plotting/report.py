@@ -166,12 +166,11 @@ def draw_heat_map(ax: Any, ds: xr.Dataset, x: str, y: str) -> Any:
         The :class:`matplotlib.collections.QuadMesh` (for the colour bar).
     """
     ds = ds.sortby([x, y])
-    p = np.ma.masked_invalid(ds["P"].transpose(y, x).values.astype(float))
     xv, yv = ds[x].values, ds[y].values
-    mesh = ax.pcolormesh(
+    mesh = ax.pcolormesh(  # masks the NaN cells: drawn blank
         np.arange(len(xv) + 1) - 0.5,
         np.arange(len(yv) + 1) - 0.5,
-        p,
+        ds["P"].transpose(y, x).values.astype(float),
         cmap="viridis",
         vmin=0.0,
         vmax=1.0,

@@ -92,6 +92,19 @@ def test_x_chooses_the_horizontal_axis_of_a_heat_map() -> None:
     assert ticks == [f"{v:g}" for v in ds["asymmetry"].values]
 
 
+def test_heat_map_cells_follow_the_axis_order_and_t_stop_goes_across(tmp_path) -> None:
+    axes = {"geometry.asymmetry": [1e-4, 0.0], "protocol.t_stop": [1.2, 0.2]}
+    ds = synthetic(tmp_path, axes)
+    ds["P"][0, 1] = np.nan  # asymmetry = 1e-4, t_stop = 0.2
+    ax = report_figure(ds).axes[0]
+    assert [t.get_text() for t in ax.get_xticklabels()] == ["0.2", "1.2"]
+    assert [t.get_text() for t in ax.get_yticklabels()] == ["0", "0.0001"]
+    (mesh,) = ax.collections
+    expected = ds["P"].sortby(["asymmetry", "t_stop"]).values
+    np.testing.assert_array_equal(np.ma.getmaskarray(mesh.get_array()), np.isnan(expected))
+    np.testing.assert_allclose(mesh.get_array().compressed(), expected[np.isfinite(expected)])
+
+
 def test_every_value_of_a_third_axis_gets_a_panel(tmp_path) -> None:
     axes = {"protocol.t_stop": [0.2, 1.2], "geometry.asymmetry": [0.0, 1e-4]}
     ds = synthetic(tmp_path, {**axes, "noise.sigma": [0.0, 1e-6, 2e-6]})
@@ -112,6 +125,8 @@ def test_an_axis_of_one_value_is_named_in_the_title(tmp_path) -> None:
     assert len(p_line(ax)) == 2
     assert ax.get_xlabel() == "noise intensity \u03c3 [paper units]"
     assert fig.get_suptitle() == "sweep tiny at t_stop = 3 1/a"
+    (mesh,) = report_figure(ds, x="t_stop").axes[0].collections  # asked for: drawn
+    assert mesh.get_array().shape == (2, 1)
 
 
 def test_labels_of_other_keys_come_from_the_schema() -> None:
