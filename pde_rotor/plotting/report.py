@@ -121,7 +121,7 @@ def axis_label(ds: xr.Dataset, dim: str) -> str:
 
 def report_footer(ds: xr.Dataset, source: str | Path | None = None) -> str:
     """The gallery's footer for a report: its fidelity, source and interval rule."""
-    data = SweepData(ds, Path(source) if source is not None else Path("?"), computed=False)
+    data = SweepData(ds, Path(source or ""), computed=False)
     where = f"; report: {source}" if source is not None else ""
     return f"pde_rotor; {data.label()}{where}; 95 % interval: {data.interval()}"
 
@@ -133,14 +133,11 @@ def _value(ds: xr.Dataset, dim: str, value: Any) -> str:
 
 def _panels(ds: xr.Dataset, dims: list[str]) -> list[tuple[str, xr.Dataset]]:
     """(title, sub-report) for every combination of values of `dims`."""
-    if not dims:
-        return [("", ds)]
-    combos = itertools.product(*(ds[d].values.tolist() for d in dims))
-    return [
-        (", ".join(_value(ds, d, v) for d, v in zip(dims, combo, strict=True)),
-         ds.sel(dict(zip(dims, combo, strict=True))))
-        for combo in combos
-    ]  # fmt: skip
+    panels = []
+    for combo in itertools.product(*(ds[d].values.tolist() for d in dims)):
+        where = dict(zip(dims, combo, strict=True))
+        panels.append((", ".join(_value(ds, d, v) for d, v in where.items()), ds.sel(where)))
+    return panels
 
 
 def _ticks(values: np.ndarray) -> tuple[np.ndarray, list[str]]:
@@ -179,7 +176,6 @@ def draw_heat_map(ax: Any, ds: xr.Dataset, x: str, y: str) -> Any:
     ax.set_yticks(*_ticks(yv), fontsize=8)
     ax.set_xlabel(f"{axis_label(ds, x)}, one cell per value")
     ax.set_ylabel(axis_label(ds, y))
-    ax.set_facecolor("white")
     return mesh
 
 

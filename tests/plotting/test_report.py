@@ -125,6 +125,7 @@ def test_an_axis_of_one_value_is_named_in_the_title(tmp_path) -> None:
     assert len(p_line(ax)) == 2
     assert ax.get_xlabel() == "noise intensity \u03c3 [paper units]"
     assert fig.get_suptitle() == "sweep tiny at t_stop = 3 1/a"
+    assert "dx = 0.05, dt = 0.0004, \u03b4 = 0.05, L = 1.75, \u03c3 swept" in footer(fig)
     (mesh,) = report_figure(ds, x="t_stop").axes[0].collections  # asked for: drawn
     assert mesh.get_array().shape == (2, 1)
 
