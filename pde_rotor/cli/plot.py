@@ -48,15 +48,16 @@ def check_target(target: Path) -> None:
         fail(f"cannot write {target}: the directory {ancestor} is not writable")
 
 
-def draw(ds: xr.Dataset, x: str | None, source: Path | None) -> Figure:
-    """The figure of the report `ds` (:func:`~pde_rotor.plotting.report.report_figure`),
-    or a one-line failure if it cannot be drawn (no axis `x`, nothing measured)."""
+def draw(ds: xr.Dataset, x: str | None, source: Path) -> Figure:
+    """The figure of the report `ds` read from `source`
+    (:func:`~pde_rotor.plotting.report.report_figure`), or a one-line failure if it
+    cannot be drawn (no axis `x`, nothing measured)."""
     from ..plotting.report import ReportError, report_figure
 
     try:
         return report_figure(ds, x, source)
     except ReportError as err:
-        fail(f"{source}: {err}" if source is not None else str(err))
+        fail(f"{source}: {err}")
 
 
 def save(fig: Figure, target: Path) -> None:
