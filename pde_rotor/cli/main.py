@@ -24,6 +24,7 @@ from ..sweep.cost import estimate_run
 from ..trackers.budget import check_budget
 from .common import EXIT_BAD_INPUT, EXIT_FAILED, EXIT_INTERRUPTED, SetOption, fail, output_file
 from .gallery import register as register_gallery_commands
+from .plot import register as register_plot_command
 from .predict import register as register_predict_commands
 from .sweep import register as register_sweep_commands
 
@@ -267,6 +268,7 @@ def info() -> None:
 
 
 register_sweep_commands(app)  # pde-rotor sweep / report
+register_plot_command(app)  # pde-rotor plot
 register_gallery_commands(app)  # pde-rotor gallery
 register_predict_commands(app)  # pde-rotor predict
 

@@ -195,10 +195,27 @@ def register(app: typer.Typer) -> None:
                 "interval (0.75: the Delta = 0 decay point; 0.5: the onset); repeatable.",
             ),
         ] = None,
+        plot: Annotated[
+            bool,
+            typer.Option(
+                "--plot",
+                help="Also draw the report (as `pde-rotor plot` does) into an image beside "
+                "it: the report's name with suffix png.",
+            ),
+        ] = False,
+        plot_out: Annotated[
+            Path | None,
+            typer.Option(
+                "--plot-out",
+                metavar="FILE",
+                help="Draw the report into this image file (implies --plot).",
+            ),
+        ] = None,
     ) -> None:
         """Gather the finished runs of SWEEP into NetCDF and print a table."""
         from ..statistics.crossing import report_crossings
         from ..sweep import DEFAULT_ROOT, Sweep, SweepError, report
+        from .plot import check_target, draw, save
 
         design = None
         if sweep_dir.is_file():
@@ -209,12 +226,17 @@ def register(app: typer.Typer) -> None:
             sweep_dir = DEFAULT_ROOT / sweep_dir.stem
         if not (sweep_dir / "sweep.yaml").is_file():
             fail(f"{sweep_dir} holds no sweep.yaml (not a sweep directory)")
-        output_file(out if out is not None else sweep_dir / "report.nc")
+        target = output_file(out if out is not None else sweep_dir / "report.nc")
+        figure = plot_out or (target.with_suffix(".png") if plot else None)
+        if figure is not None:
+            check_target(figure)
         try:
             ds = report(sweep_dir, out, sweep=design)
         except SweepError as err:
             fail(str(err))
-        typer.echo(f"report: {out if out is not None else sweep_dir / 'report.nc'}")
+        typer.echo(f"report: {target}")
+        if figure is not None:
+            save(draw(ds, None, target), figure)
         for level in crossing or []:
             try:
                 curves = report_crossings(ds, level)

@@ -35,7 +35,6 @@ from pde_rotor.plotting.figures import (
 )
 from pde_rotor.statistics.proportions import chain_probability
 from pde_rotor.sweep import stored
-from pde_rotor.sweep.estimates import POOLED
 from pde_rotor.sweep.stored import SweepData, curve
 from pde_rotor.units import TIME_UNITS
 
@@ -228,17 +227,9 @@ ASYMMETRY_LABEL = "asymmetry \u0394 [rad]"
 def probability_footer(fid: Fidelity, data: SweepData) -> str:
     """Footer of a probability figure: the report's fidelity and where it came from."""
     where = "computed now" if data.computed else f"stored: {_relative(data.source)}"
-    chain = "two-state chain of the 97.5 % Wilson bounds of P(inv | CCW), P(inv | CW)"
-    kinds = set(np.unique(data.report["P_estimator"])) if "P_estimator" in data.report else set()
-    if data.report.attrs.get("estimator") == "protocol":
-        interval = "Wilson score"
-    elif kinds == {POOLED}:
-        interval = "Wilson score of the count pooled over both directions (\u0394 = 0)"
-    else:
-        interval = chain
     return (
         f"pde_rotor, {fid.name} run of the gallery; {data.label()}; {where}; "
-        f"95 % interval: {interval}; backend {CPU_BACKEND}"
+        f"95 % interval: {data.interval()}; backend {CPU_BACKEND}"
     )
 
 

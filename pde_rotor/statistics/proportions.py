@@ -311,7 +311,8 @@ def two_proportion_test(
     reported alongside.
 
     Args:
-        first, second: the two proportions (both n > 0).
+        first: one proportion (n > 0).
+        second: the other proportion (n > 0).
         alpha: significance level.
     """
     if first.n == 0 or second.n == 0:

@@ -122,8 +122,9 @@ def mcnemar_p(first: dict[Any, bool], second: dict[Any, bool]) -> float:
     """McNemar's exact test of paired outcomes: two-sided p-value of equal inversion rates.
 
     Args:
-        first, second: inverted or not, by pair (the shared stop: direction, sample);
-            pairs present in only one of them are left out.
+        first: inverted or not, by pair (the shared stop: direction, sample); pairs
+            present in only one of `first` and `second` are left out.
+        second: the same for the other value of the paired axis.
 
     Returns:
         The binomial test of the discordant pairs (inverted in one, not the other)

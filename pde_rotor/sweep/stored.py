@@ -40,7 +40,8 @@ class SweepData:
 
     def label(self) -> str:
         """Fidelity of the report: estimator, stops per measured point (and how many of
-        the design's points are measured, where some are not yet), grid."""
+        the design's points are measured, where some are not yet), grid and noise (a
+        value that is an axis of the report: "swept")."""
         attrs = self.report.attrs
         stops = np.asarray(self.report["stops"].values).ravel()
         measured = stops[stops > 0]
@@ -48,15 +49,35 @@ class SweepData:
         if 0 < measured.size < stops.size:
             n += f" ({measured.size} of {stops.size} points measured)"
         base = attrs.get("base_config", "{}")
-        sigma = _base_value(base, ("noise", "sigma"), 0.0)
-        smoothing = _base_value(base, ("geometry", "smoothing"), math.nan)
-        radius = _base_value(base, ("grid", "domain_radius"), 3.0)
+        values = {
+            "grid.dx": ("dx", f"{float(attrs.get('grid_dx', math.nan)):.4g}"),
+            "grid.dt": ("dt", f"{float(attrs.get('grid_dt', math.nan)):.3g}"),
+            "geometry.smoothing": (
+                "\u03b4",
+                f"{_base_value(base, ('geometry', 'smoothing'), math.nan):.4g}",
+            ),
+            "grid.domain_radius": ("L", f"{_base_value(base, ('grid', 'domain_radius'), 3.0):g}"),
+            "noise.sigma": ("\u03c3", f"{_base_value(base, ('noise', 'sigma'), 0.0):g}"),
+        }
+        swept = {self.report[d].attrs.get("config_key") for d in self.report.dims}
+        model = ", ".join(
+            f"{symbol} swept" if key in swept else f"{symbol} = {value}"
+            for key, (symbol, value) in values.items()
+        )
         return (
             f"sweep {attrs.get('sweep', '?')}: {attrs.get('estimator', '?')} estimator, "
-            f"{n}; dx = {float(attrs.get('grid_dx', math.nan)):.4g}, "
-            f"dt = {float(attrs.get('grid_dt', math.nan)):.3g}, \u03b4 = {smoothing:.4g}, "
-            f"L = {radius:g}, \u03c3 = {sigma:g}"
+            f"{n}; {model}"
         )
+
+    def interval(self) -> str:
+        """How the report's 95 % intervals of P were computed, by estimator."""
+        report = self.report
+        kinds = set(np.unique(report["P_estimator"])) if "P_estimator" in report else set()
+        if report.attrs.get("estimator") == "protocol":
+            return "Wilson score"
+        if kinds == {POOLED}:
+            return "Wilson score of the count pooled over both directions (\u0394 = 0)"
+        return "two-state chain of the 97.5 % Wilson bounds of P(inv | CCW), P(inv | CW)"
 
 
 def _base_value(base_json: str, keys: tuple[str, ...], default: float) -> float:

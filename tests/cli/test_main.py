@@ -393,7 +393,18 @@ def test_show_during_a_run_reads_events_csv(tiny_run, tmp_path):
     assert invoke("show", running).exit_code == 0
 
 
-COMMANDS = ("run", "show", "check", "info", "sweep", "report", "compact", "gallery", "predict")
+COMMANDS = (
+    "run",
+    "show",
+    "check",
+    "info",
+    "sweep",
+    "report",
+    "compact",
+    "plot",
+    "gallery",
+    "predict",
+)
 SUBCOMMANDS = (
     "predict measure",
     "predict point",

@@ -190,7 +190,7 @@ def test_run_and_sweep_refuse_a_directory_that_holds_something_else(tmp_path, ti
 
 def test_help_names_what_options_take_not_python_types():
     commands = [
-        [], ["run"], ["show"], ["check"], ["sweep"], ["report"], ["compact"], ["gallery"],
+        [], ["run"], ["show"], ["check"], ["sweep"], ["report"], ["compact"], ["plot"], ["gallery"],
         ["predict"],
         ["predict", "measure"], ["predict", "point"], ["predict", "calibrate"],
         ["predict", "check"], ["predict", "map"],
