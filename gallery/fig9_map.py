@@ -2,7 +2,7 @@
 
 At full fidelity the map is the measured one: every ensemble point of the stored reports
 (data/*.nc) on the paper's grid and the default scheme at the calibrated noise (the
-points :func:`pde_rotor.plotting.decision_map.ensemble_points` finds for the table
+points :func:`pde_rotor.decision.map.ensemble_points` finds for the table
 data/decision/dx40.nc: the curves of Figs. 5 and 7, the grid probes, the one-intensity
 sweep and the measured cells of the fig9 sweep itself, data/fig9.nc), on the union of
 their t_stop and Delta, blank where nothing was measured; the model's full map is
@@ -26,6 +26,7 @@ import numpy as np
 import xarray as xr
 
 from pde_rotor.config import CALIBRATED_SIGMA, RotorConfig
+from pde_rotor.decision.map import ensemble_points
 from pde_rotor.decision.table import load_table
 from pde_rotor.gallery.common import (
     DATA,
@@ -41,7 +42,6 @@ from pde_rotor.gallery.sweeps import (
     probability_footer,
     sweep_data,
 )
-from pde_rotor.plotting.decision_map import ensemble_points
 from pde_rotor.sweep.stored import load_report
 
 NAME = "fig9_map"

@@ -22,10 +22,10 @@ from pathlib import Path
 
 from pde_rotor.cli.predict import table_footer
 from pde_rotor.config import CALIBRATED_SIGMA
+from pde_rotor.decision.map import draw_map, ensemble_points
 from pde_rotor.decision.table import diffusion_of, load_table
 from pde_rotor.gallery.common import DATA, parse_args
 from pde_rotor.paper import PLATEAU, PLATEAU_ASYMMETRY, PLATEAU_STOP
-from pde_rotor.plotting.decision_map import draw_map, ensemble_points
 from pde_rotor.sweep.stored import load_report
 
 NAME = "fig9_predicted"

@@ -20,8 +20,8 @@ from pathlib import Path
 from scipy.special import ndtr
 
 from pde_rotor.decision.check import master_points, table_for
+from pde_rotor.decision.map import draw_master
 from pde_rotor.gallery.common import DATA, parse_args
-from pde_rotor.plotting.decision_map import draw_master
 from pde_rotor.sweep.stored import load_report
 
 NAME = "master_curve"

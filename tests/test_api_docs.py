@@ -40,10 +40,10 @@ def test_the_site_builds_strictly_with_every_api_module(tmp_path) -> None:
     assert build.returncode == 0, build.stderr
     html = (site / "api" / "index.html").read_text(encoding="utf-8")
     modules = api_modules()
-    assert {"pde_rotor.api", "pde_rotor.config", "pde_rotor.plotting.report"} <= set(modules)
+    assert {"pde_rotor.api", "pde_rotor.config", "pde_rotor.sweep.plot"} <= set(modules)
     for module in modules:
         assert f'id="{module}"' in html, module
-    assert 'id="pde_rotor.plotting.report.report_figure"' in html
+    assert 'id="pde_rotor.sweep.plot.report_figure"' in html
 
 
 def test_every_page_is_in_the_nav_and_every_api_module_imports() -> None:

@@ -1,4 +1,4 @@
-"""``pde-rotor plot``: the figure of a sweep report (:mod:`pde_rotor.plotting.report`).
+"""``pde-rotor plot``: the figure of a sweep report (:mod:`pde_rotor.sweep.plot`).
 
 PATH is a report file (``pde-rotor report``'s NetCDF), a sweep directory (its report.nc;
 where there is none yet, the report is gathered from its run files and written there)
@@ -43,9 +43,9 @@ def check_target(target: Path) -> None:
 
 def draw(ds: xr.Dataset, x: str | None, source: Path) -> Figure:
     """The figure of the report `ds` read from `source`
-    (:func:`~pde_rotor.plotting.report.report_figure`), or a one-line failure if it
+    (:func:`~pde_rotor.sweep.plot.report_figure`), or a one-line failure if it
     cannot be drawn (no axis `x`, nothing measured)."""
-    from ..plotting.report import ReportError, report_figure
+    from ..sweep.plot import ReportError, report_figure
 
     try:
         return report_figure(ds, x, source)
@@ -73,7 +73,7 @@ def save(fig: Figure, target: Path) -> None:
 
 def load_report(path: Path) -> xr.Dataset:
     """The report file `path`, or a one-line failure if it is not one."""
-    from ..plotting.report import ReportError, report_axes
+    from ..sweep.plot import ReportError, report_axes
     from ..sweep.stored import load_report as load_stored
 
     try:

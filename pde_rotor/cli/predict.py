@@ -279,7 +279,7 @@ def register(app: typer.Typer) -> None:
     ) -> None:
         """Compare the model with every point of stored sweep reports (coverage, deviation)."""
         from ..decision.check import compare, master_points
-        from ..plotting.decision_map import draw_master
+        from ..decision.map import draw_master
 
         table = _table(table_path)
         reports = _reports(report, "")
@@ -344,8 +344,8 @@ def register(app: typer.Typer) -> None:
         ] = 160,
     ) -> None:
         """Draw the Fig. 9 map P(t_stop, Delta) predicted at one noise intensity."""
+        from ..decision.map import draw_map, ensemble_points
         from ..decision.table import sigma_of
-        from ..plotting.decision_map import draw_map, ensemble_points
 
         table = _table(table_path)
         diffusion = _diffusion(dw, sigma, table.inertia)

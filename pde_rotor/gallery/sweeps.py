@@ -427,7 +427,7 @@ def draw_model(
     """
     from pde_rotor.config import RotorConfig
     from pde_rotor.decision.check import table_for
-    from pde_rotor.plotting.decision_map import model_curve
+    from pde_rotor.decision.map import model_curve
 
     found = table_for(ds, common.DATA / "decision")
     measured = ds[x_dim].values[np.isfinite(ds["P"].values)]

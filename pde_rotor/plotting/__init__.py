@@ -1,8 +1,9 @@
-"""Figures: a run's movie frames and summary, the shared figure helpers, the Fig. 9 map,
-the figure of any sweep report.
+"""Figure primitives: a run's movie frames and summary, and the helpers every figure shares.
+
+The figures that belong to one concept live with it: the Fig. 9 map in
+:mod:`pde_rotor.decision.map`, the figure of a sweep report in :mod:`pde_rotor.sweep.plot`,
+the paper's figures in :mod:`pde_rotor.gallery`.
 
 * :mod:`.run`: movie frames and the summary figure of ``pde-rotor show``;
-* :mod:`.figures`: pyplot-free figures, footers and probability axes of the gallery;
-* :mod:`.decision_map`: the Fig. 9 map from the decision model with ensemble points;
-* :mod:`.report`: P of any sweep report against its axis, or a heat map (``pde-rotor plot``).
+* :mod:`.figures`: pyplot-free figures, footers, probability axes and interval bars.
 """

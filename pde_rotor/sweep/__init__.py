@@ -28,7 +28,10 @@ One module per job:
 * :mod:`.store`: the append-only run logs of a sweep directory (default
   data/sweeps/<name>), their one-pass reader, compaction and lock;
 * :mod:`.execution`: :func:`run_sweep`, the seam between dask on CPUs and GPU batches;
-* :mod:`.estimates`, :mod:`.reporting`: the statistics of a point and the report.
+* :mod:`.estimates`, :mod:`.reporting`: the statistics of a point and the report;
+* :mod:`.stored`: stored reports read back (points, curves, the same physics);
+* :mod:`.plot`: the figure of any report (``pde-rotor plot``);
+* :mod:`.cost`: estimated wall time of a run or a sweep.
 
 Estimators (see :mod:`pde_rotor.statistics.proportions` and docs/statistics.md):
 

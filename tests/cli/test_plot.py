@@ -16,11 +16,11 @@ from matplotlib.figure import Figure
 from typer.testing import CliRunner
 
 from pde_rotor.cli.main import app
-from pde_rotor.plotting import report as report_module
 from pde_rotor.statistics.proportions import CCW, CW
 from pde_rotor.sweep import REPORT_FILE, gather
+from pde_rotor.sweep import plot as report_module
 from pde_rotor.sweep.store import prepare
-from tests.plotting.test_report import p_line
+from tests.sweep.test_plot import p_line
 from tests.sweep.test_sweep import TINY_SWEEP, fake_restarts, tiny_sweep
 
 DATA = Path(__file__).resolve().parents[2] / "data"

@@ -16,9 +16,9 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from ..decision.check import mismatch, table_points
-from ..decision.table import DecisionTable, diffusion_of, sigma_of
-from .figures import add_footer, new_figure, save_figure
+from ..plotting.figures import add_footer, new_figure, save_figure
+from .check import mismatch, table_points
+from .table import DecisionTable, diffusion_of, sigma_of
 
 
 def ensemble_points(

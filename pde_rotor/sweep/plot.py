@@ -25,9 +25,15 @@ import xarray as xr
 from matplotlib.figure import Figure
 
 from ..config import RotorConfig
-from ..sweep.stored import SweepData
+from ..plotting.figures import (
+    add_footer,
+    draw_conditionals,
+    errorbar_p,
+    new_figure,
+    probability_axes,
+)
 from ..units import LENGTH_UNITS, TIME_UNITS
-from .figures import add_footer, draw_conditionals, errorbar_p, new_figure, probability_axes
+from .stored import SweepData
 
 REPORT_VARIABLES = ("P", "P_low", "P_high", "stops")
 """Variables a report must hold to be drawn."""

@@ -10,9 +10,9 @@ import xarray as xr
 from matplotlib.collections import QuadMesh
 from matplotlib.container import ErrorbarContainer
 
-from pde_rotor.plotting.report import ReportError, axis_label, layout, report_figure
 from pde_rotor.statistics.proportions import CCW, CW
 from pde_rotor.sweep import gather
+from pde_rotor.sweep.plot import ReportError, axis_label, layout, report_figure
 from pde_rotor.sweep.stored import load_report
 from tests.sweep.test_sweep import fake_restarts, tiny_sweep
 

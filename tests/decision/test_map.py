@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 import xarray as xr
 
+from pde_rotor.decision.map import draw_map, ensemble_points, model_curve
 from pde_rotor.decision.table import diffusion_of
-from pde_rotor.plotting.decision_map import draw_map, ensemble_points, model_curve
 from tests.decision.test_table import synthetic
 
 
@@ -101,7 +101,7 @@ def test_model_curve_is_the_closed_form_escape_along_either_axis() -> None:
 
 def test_map_draws_and_counts_only_the_points_in_its_frame(tmp_path: Path, monkeypatch) -> None:
     """A point beyond the drawn t_stop range is neither drawn nor counted in the title."""
-    import pde_rotor.plotting.decision_map as module
+    import pde_rotor.decision.map as module
 
     drawn = {}
     original = module.save_figure
