@@ -74,7 +74,7 @@ def time_parts(sim: Simulation, calls: int) -> dict[str, float]:
     coef = np.zeros(n * n)
     par = pde.kernel_parameters(sim.config.grid.dt)
     lo, hi = scheme.window
-    angles = pde.rotor.phi + 1e-3 * np.arange(calls + 1)
+    angles = sim.rotor.phi + 1e-3 * np.arange(calls + 1)
     sup = (dom.coords, dom.support_lo, dom.support_hi)
 
     def timed(func) -> float:
@@ -105,7 +105,7 @@ def time_parts(sim: Simulation, calls: int) -> dict[str, float]:
                 dom.support_lo,
                 dom.support_hi,
                 par,
-                pde.rotor.omega,
+                sim.rotor.omega,
                 True,
             )
         ),

@@ -299,14 +299,14 @@ def run(
         sim = Simulation(cfg)
         out_cfg = cfg.output
         ts_tracker = tr.TimeSeriesTracker(
-            sim,
+            cfg,
             out_cfg.timeseries_interval,
             run_dir.timeseries if run_dir else None,
             checkpoint_seconds=out_cfg.checkpoint_seconds,
             attrs=attrs,
         )
         ev_tracker = tr.InversionTracker(
-            sim,
+            cfg,
             out_cfg.event_interval,
             out_cfg.commit_fraction,
             run_dir.events_csv if run_dir else None,
@@ -317,12 +317,12 @@ def run(
         if run_dir is not None and out_cfg.snapshot_interval is not None:
             info = {k: v for k, v in attrs.items() if isinstance(v, (str, int, float))}
             trackers.append(
-                tr.SnapshotTracker(sim, run_dir.snapshots, out_cfg.snapshot_interval, info)
+                tr.SnapshotTracker(cfg, run_dir.snapshots, out_cfg.snapshot_interval, info)
             )
         if run_dir is not None and out_cfg.movie:
             trackers.append(
                 tr.MovieTracker(
-                    sim,
+                    cfg,
                     run_dir.movie,
                     out_cfg.movie_interval,
                     fps=out_cfg.movie_fps,
@@ -331,7 +331,7 @@ def run(
                 )
             )
         if out_cfg.progress:
-            trackers.append(tr.ProgressBarTracker(sim))
+            trackers.append(tr.ProgressBarTracker(cfg))
 
         start = time.perf_counter()
         error: BaseException | None = None

@@ -15,7 +15,6 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from ..config import RotorConfig
-from ..model.pde import RotorState
 from ..solver.rotor import SimulationDivergedError
 from ..solver.simulation import Simulation
 from .ensemble import RECORD_FIELDS, EnsembleResult, EnsembleState, default_rngs, make_plan
@@ -55,8 +54,7 @@ def run_ensemble(
     for m, cfg in enumerate(plan.configs):
         sim = Simulation(cfg, rng=rngs[m])
         sim.state.data[:] = state.data[m]
-        sim.pde.rotor = RotorState(phi=0.0, omega=0.0)
-        sim.pde.rotor.update_from(state.rotor[m])
+        sim.state.rotor.update_from(state.rotor[m])
         stepper = sim.solver.make_stepper(sim.state, dt)
         records[m, 0] = _record(sim, area)
         t = plan.step_start * dt

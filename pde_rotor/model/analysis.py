@@ -65,7 +65,7 @@ def stopped_torque(config: RotorConfig, phis: np.ndarray) -> np.ndarray:
     state = pde.initial_state()
     torques = np.empty(len(phis))
     for n, phi in enumerate(phis):
-        pde.rotor.phi, pde.rotor.omega = float(phi), 0.0
+        state.rotor.phi, state.rotor.omega = float(phi), 0.0
         state[0].data[:] = stopped_concentration(pde, float(phi))
         torques[n], _ = pde.rotor_torques(state)
     return torques

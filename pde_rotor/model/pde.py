@@ -1,8 +1,10 @@
 """The rotor model as a py-pde PDE: readable numpy reference of Eqs. (eqc), (eqv), (eq_motion).
 
-State: a FieldCollection [ScalarField c, VectorField v] on the Cartesian grid of
-:mod:`pde_rotor.model.domain`; the rotor angle phi and angular velocity omega live in
-:attr:`RotorPDE.rotor` (py-pde has no built-in coupling of ODEs to fields).
+State: :class:`RotorFields`, a FieldCollection [ScalarField c, VectorField v] on the
+Cartesian grid of :mod:`pde_rotor.model.domain` that also carries the rotor, phi and
+omega of Eq. (eq_motion) (:class:`RotorState`): py-pde has no built-in coupling of ODEs to
+fields, so the rotor travels with the fields. ``state.copy()`` copies it, py-pde's
+Controller and trackers see it, and a branch of a run starts from both.
 
 :meth:`RotorPDE.evolution_rate` and :meth:`RotorPDE.rotor_torques` are the executable
 specification used by the tests; :mod:`pde_rotor.kernels.cpu` computes the same right-hand
@@ -23,6 +25,7 @@ that torque opposes the rotation and leaves the rotor at rest (tests/test_model.
 
 from __future__ import annotations
 
+import copy
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -79,6 +82,31 @@ class RotorState:
         self.stopped = bool(values[4])
 
 
+class RotorFields(FieldCollection):
+    """The model's state: the fields c and v, and the rotor (phi, omega, diagnostics).
+
+    Attributes:
+        rotor: the rotor's state at the fields' time.
+    """
+
+    def __init__(self, fields: Any, *args: Any, rotor: RotorState | None = None, **kwargs: Any):
+        """
+        Args:
+            fields: the fields [c, v], as for :class:`~pde.FieldCollection`.
+            *args: passed to :class:`~pde.FieldCollection`.
+            rotor: the rotor state (default: at rest at phi = 0).
+            **kwargs: passed to :class:`~pde.FieldCollection`.
+        """
+        super().__init__(fields, *args, **kwargs)
+        self.rotor = rotor if rotor is not None else RotorState(phi=0.0, omega=0.0)
+
+    def copy(self, *, label: str | None = None, dtype: Any = None) -> RotorFields:
+        """A copy of the fields' data and of the rotor (not of the grid)."""
+        new = super().copy(label=label, dtype=dtype)
+        new.rotor = copy.copy(self.rotor)
+        return new
+
+
 class RotorPDE(PDEBase):
     """Camphor rotor of Koyano et al. (Chaos 2020): Eqs. (eqc), (eqv), (eq_motion).
 
@@ -87,7 +115,6 @@ class RotorPDE(PDEBase):
         shape: derived rotor geometry.
         domain: grid and loop ranges.
         scheme: discretisation of F, G and the torque (``numerics``).
-        rotor: current phi, omega and rotor diagnostics.
         F, G: plate and pill indicators on the grid, maintained by the solver.
     """
 
@@ -103,15 +130,17 @@ class RotorPDE(PDEBase):
         self.shape = RotorShape.from_config(config.geometry)
         self.domain: Domain = make_domain(config.grid, self.shape)
         self.scheme = Scheme.from_config(config)
-        self.rotor = RotorState(phi=config.rotor.phi0, omega=config.rotor.omega0)
         self.F = np.zeros(self.domain.grid.shape)
         self.G = np.zeros(self.domain.grid.shape)
 
-    def initial_state(self) -> FieldCollection:
-        """c = 0 and v = 0, the paper's initial condition."""
+    def initial_state(self) -> RotorFields:
+        """c = 0, v = 0, phi(0) and dphi/dt(0) of the config: the paper's initial condition."""
         grid = self.domain.grid
-        return FieldCollection(
-            [ScalarField(grid, label="c"), VectorField(grid, label="v")], label="rotor state"
+        rotor = RotorState(phi=self.config.rotor.phi0, omega=self.config.rotor.omega0)
+        return RotorFields(
+            [ScalarField(grid, label="c"), VectorField(grid, label="v")],
+            label="rotor state",
+            rotor=rotor,
         )
 
     def kernel_parameters(self, dt: float) -> np.ndarray:
@@ -153,15 +182,16 @@ class RotorPDE(PDEBase):
             return plate_indicator(x, y, self.shape, phi), pill_indicator(x, y, self.shape, phi)
         return filtered_indicators(tables, self.shape, x, y, phi)
 
-    def evolution_rate(self, state: FieldCollection, t: float = 0) -> FieldCollection:
-        """Right-hand sides of Eqs. (eqc) and (eqv) at the current rotor state (numpy).
+    def evolution_rate(self, state: RotorFields, t: float = 0) -> FieldCollection:
+        """Right-hand sides of Eqs. (eqc) and (eqv) at the state's rotor (numpy).
 
-        The flow term uses omega = ``self.rotor.omega`` (0 during a stop). Cells on and
+        The flow term uses omega = ``state.rotor.omega`` (0 during a stop). Cells on and
         outside the circle of radius L keep c = v = 0.
         """
         cfg = self.config
         c, v = state
-        F, G = self.indicators(self.rotor.phi)
+        rotor = state.rotor
+        F, G = self.indicators(rotor.phi)
         mask = self.domain.interior_mask
         source = cfg.camphor.supply / (math.pi * cfg.geometry.pill_radius**2) * G
         c_rate = (
@@ -173,7 +203,7 @@ class RotorPDE(PDEBase):
         if cfg.flow.enabled:
             c_rate -= (c * v).divergence(BOUNDARY).data
             x, y = self.cell_coordinates()
-            plate_velocity = self.rotor.omega * np.stack([-y, x])
+            plate_velocity = rotor.omega * np.stack([-y, x])
             v_rate = (
                 cfg.flow.drag * F * (plate_velocity - v.data)
                 - cfg.flow.bulk_drag * v.data
@@ -182,22 +212,23 @@ class RotorPDE(PDEBase):
         grid = self.domain.grid
         return FieldCollection([ScalarField(grid, c_rate * mask), VectorField(grid, v_rate * mask)])
 
-    def rotor_torques(self, state: FieldCollection) -> tuple[float, float]:
+    def rotor_torques(self, state: RotorFields) -> tuple[float, float]:
         """Torque T, Eq. (torque), and friction torque of Eq. (eq_motion) (numpy).
 
         The torque's integral int F r x grad c dA is taken in the scheme's form: area
         form with central differences (``paper``) or contour form (``consistent``).
 
         Returns:
-            (T, -mu int F (|r|^2 omega - r x v) dA) at the current rotor state.
+            (T, -mu int F (|r|^2 omega - r x v) dA) at the state's rotor.
         """
         cfg = self.config
         c, v = state
-        F, _ = self.indicators(self.rotor.phi)
+        rotor = state.rotor
+        F, _ = self.indicators(rotor.phi)
         x, y = self.cell_coordinates()
         area = self.domain.cell_area
         if self.scheme.contour:
-            normals = edge_normal_angles(self.shape.n_corners, self.rotor.phi)
+            normals = edge_normal_angles(self.shape.n_corners, rotor.phi)
             cross_grad = contour_cross_grad(
                 c.data,
                 float(self.domain.coords[0]),
@@ -213,12 +244,12 @@ class RotorPDE(PDEBase):
         torque = TORQUE_SIGN[cfg.rotor.torque] * cfg.camphor.tension_slope * cross_grad
         cross_v = np.sum(F * (x * v.data[1] - y * v.data[0])) * area if cfg.flow.enabled else 0.0
         moment = np.sum(F * (x**2 + y**2)) * area
-        friction = -cfg.rotor.friction * (moment * self.rotor.omega - cross_v)
+        friction = -cfg.rotor.friction * (moment * rotor.omega - cross_v)
         return float(torque), float(friction)
 
     def solve(
         self,
-        state: FieldCollection,
+        state: RotorFields,
         t_range: float | tuple[float, float],
         dt: float | None = None,
         tracker: Any = "auto",
@@ -226,17 +257,18 @@ class RotorPDE(PDEBase):
         solver: Any = "rotor",
         **kwargs: Any,
     ) -> Any:
-        """Solve with :class:`~pde_rotor.solver.rotor.RotorSolver`, which advances phi and omega.
+        """Solve with py-pde's solver ``rotor`` (:class:`~pde_rotor.solver.rotor.RotorSolver`).
 
-        Arguments as for py-pde's ``PDEBase.solve``; `dt` defaults to ``grid.dt``.
+        Arguments as for py-pde's ``PDEBase.solve``; `dt` defaults to ``grid.dt``. The
+        solver is found in py-pde's registry by name (``SolverBase.from_name``), where
+        importing :mod:`pde_rotor.solver` registers it; it advances phi and omega with
+        the fields.
 
         Raises:
             ValueError: for any other solver: py-pde's generic solvers advance only the
                 fields and would leave the rotor frozen at its current angle.
         """
-        from ..solver.rotor import RotorSolver  # the solver module imports this one
-
-        if solver not in ("rotor", RotorSolver):
+        if solver != "rotor" and getattr(solver, "name", None) != "rotor":
             msg = (
                 f"solver {solver!r} would leave the rotor frozen; RotorPDE is solved by "
                 "RotorSolver (solver='rotor'), which advances phi and omega with the fields"
@@ -244,7 +276,7 @@ class RotorPDE(PDEBase):
             raise ValueError(msg)
         if dt is None:
             dt = self.config.grid.dt
-        return super().solve(state, t_range, dt, tracker, solver=RotorSolver, **kwargs)
+        return super().solve(state, t_range, dt, tracker, solver="rotor", **kwargs)
 
     def make_operator_stepper(self, dt: float) -> Callable[[np.ndarray, np.ndarray, int], None]:
         """Euler stepper composed from py-pde's compiled operators (benchmark reference).

@@ -23,7 +23,7 @@ from pde import FieldCollection
 from pde.solvers.base import SolverBase
 
 from ..kernels.cpu import advance
-from ..model.pde import RotorPDE
+from ..model.pde import RotorFields, RotorPDE, RotorState
 from ..model.protocol import StopSchedule
 
 
@@ -65,8 +65,8 @@ class FusedStepper:
         scale = math.sqrt(2.0 * self.dt) * sigma / self.pde.config.rotor.inertia
         return scale * self.rng.standard_normal(n_steps)
 
-    def __call__(self, data: np.ndarray, step0: int, n_steps: int) -> None:
-        """Advance `data` (and the PDE's rotor state) by `n_steps` steps from step `step0`.
+    def __call__(self, data: np.ndarray, rotor_state: RotorState, step0: int, n_steps: int) -> None:
+        """Advance `data` and `rotor_state` together by `n_steps` steps from step `step0`.
 
         Raises:
             SimulationDivergedError: when the state becomes NaN/Inf, naming the time and field.
@@ -74,7 +74,7 @@ class FusedStepper:
         pde = self.pde
         dom = pde.domain
         scheme = pde.scheme
-        rotor = pde.rotor.as_array()
+        rotor = rotor_state.as_array()
         work = data if data.flags.c_contiguous else np.ascontiguousarray(data)
         failed = advance(
             work.reshape(-1),
@@ -102,7 +102,7 @@ class FusedStepper:
         )
         if work is not data:
             data[...] = work
-        pde.rotor.update_from(rotor)
+        rotor_state.update_from(rotor)
         if failed >= 0:
             self._diverged((step0 + failed) * self.dt, data, rotor)
         if not np.isfinite(data).all():
@@ -139,7 +139,8 @@ class RotorSolver(SolverBase):
     It supplies ``_make_inner_stepper``, the hook through which py-pde's generic backend
     runs a solver: :meth:`SolverBase.make_stepper` records dt, selects the backend and
     asks it for the stepper, which calls the inner stepper from tracker time to tracker
-    time. The rotor state lives in ``pde.rotor`` and is advanced in the same compiled
+    time. The rotor state travels with the fields (``state.rotor`` of
+    :class:`~pde_rotor.model.pde.RotorFields`) and is advanced in the same compiled
     loop as the fields, every step. If the PDE defines a post-step hook
     (``make_post_step_hook``), it is called after every step.
     """
@@ -192,6 +193,12 @@ class RotorSolver(SolverBase):
         Raises:
             ValueError: if dt exceeds the explicit stability limit (before any step).
         """
+        if not isinstance(state, RotorFields):
+            msg = (
+                "RotorSolver advances the rotor with the fields: give it a state of "
+                "RotorPDE.initial_state() (RotorFields), not a plain FieldCollection"
+            )
+            raise TypeError(msg)
         if dt is None:
             dt = self.pde.config.grid.dt
         limit = self.pde.config.dt_limit()
@@ -209,6 +216,7 @@ class RotorSolver(SolverBase):
         fused = make_fused_stepper(self.pde, dt, self.rng)
         self.fused = fused
         post_step_hook = self._make_post_step_hook(state)
+        rotor = state.rotor  # the Controller's state: the stepper advances its data too
         hooked = self.info["post_step_data"] is not None
 
         def inner_stepper(state_data: np.ndarray, t_start: float, t_end: float) -> float:
@@ -216,13 +224,13 @@ class RotorSolver(SolverBase):
             n_steps = max(1, round((t_end - t_start) / dt))
             if hooked:
                 for step in range(step0, step0 + n_steps):
-                    fused(state_data, step, 1)
+                    fused(state_data, rotor, step, 1)
                     data, self.info["post_step_data"] = post_step_hook(
                         state_data, step * dt, self.info["post_step_data"]
                     )
                     state_data[...] = data
             else:
-                fused(state_data, step0, n_steps)
+                fused(state_data, rotor, step0, n_steps)
             self.info["steps"] += n_steps
             return (step0 + n_steps) * dt
 

@@ -5,16 +5,15 @@ This is the single entry point that the CLI, sweeps and gallery use to run the m
 
 from __future__ import annotations
 
-import copy
 from collections.abc import Sequence
 
 import numpy as np
 import pde
-from pde import Controller, FieldCollection
+from pde import Controller
 from pde.trackers.base import TrackerBase
 
 from ..config import RotorConfig
-from ..model.pde import RotorPDE, RotorState
+from ..model.pde import RotorFields, RotorPDE, RotorState
 from .rotor import RotorSolver
 
 pde.config["backend.numba.multithreading"] = "never"
@@ -27,8 +26,9 @@ class Simulation:
 
     Attributes:
         config: the run configuration.
-        pde: the model (with ``pde.rotor`` holding phi and omega).
-        state: FieldCollection [c, v].
+        pde: the model (parameters, domain, scheme).
+        state: the fields c and v with the rotor's phi and omega
+            (:class:`~pde_rotor.model.pde.RotorFields`).
         solver: the fused :class:`RotorSolver`.
         t: simulated time reached.
     """
@@ -41,7 +41,7 @@ class Simulation:
         """
         self.config = config
         self.pde = RotorPDE(config)
-        self.state: FieldCollection = self.pde.initial_state()
+        self.state: RotorFields = self.pde.initial_state()
         self.solver = RotorSolver(self.pde, rng=rng)
         self.t = 0.0
 
@@ -62,15 +62,14 @@ class Simulation:
         if other.pde.domain.grid != self.pde.domain.grid:
             msg = "branch: the configuration describes a different grid (grid.*)"
             raise ValueError(msg)
-        other.state = self.state.copy()
-        other.pde.rotor = copy.copy(self.pde.rotor)
+        other.state = self.state.copy()  # the rotor travels with the fields
         other.t = self.t
         return other
 
     @property
     def rotor(self) -> RotorState:
-        """The rotor state (phi, omega, torque, friction, stopped)."""
-        return self.pde.rotor
+        """The rotor state (phi, omega, torque, friction, stopped) of :attr:`state`."""
+        return self.state.rotor
 
     def run(self, t_end: float | None = None, trackers: Sequence[TrackerBase] = ()) -> None:
         """Advance from the current time to `t_end` (default: end of the protocol).

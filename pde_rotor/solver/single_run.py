@@ -114,7 +114,7 @@ def run_single(sim: Simulation, trackers: Sequence[Any], backend: str) -> None:
             rows[reached] = np.append(state.rotor[0], state.data[0, 0].sum() * area)
         rows = {k: v for k, v in rows.items() if k <= reached and np.isfinite(v).all()}
         _deliver(sim, trackers, next_t, rows, field_step=reached if math.isnan(failed) else -1)
-        sim.pde.rotor.update_from(state.rotor[0])
+        sim.state.rotor.update_from(state.rotor[0])
         sim.t = reached * dt
         if not math.isnan(failed):
             msg = (
@@ -140,7 +140,7 @@ def _deliver(
     for k, tracker in enumerate(trackers):
         if _wall_clock(tracker):
             if field_step >= 0:
-                sim.pde.rotor.update_from(rows[field_step][:5])
+                sim.state.rotor.update_from(rows[field_step][:5])
                 tracker.handle(sim.state, field_step * dt)
             continue
         while next_t[k] <= last * dt + 0.5 * dt:
@@ -148,9 +148,9 @@ def _deliver(
             row = rows.get(step)
             if row is None or (not isinstance(tracker, _SAMPLE_TRACKERS) and step != field_step):
                 break
-            sim.pde.rotor.update_from(row[:5])
+            sim.state.rotor.update_from(row[:5])
             if isinstance(tracker, TimeSeriesTracker):
-                tracker.sample(next_t[k], float(row[5]))
+                tracker.sample(next_t[k], sim.state.rotor, float(row[5]))
             else:
                 tracker.handle(sim.state, next_t[k])
             next_t[k] = tracker.interrupt.next(next_t[k])

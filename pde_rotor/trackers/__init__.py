@@ -7,10 +7,10 @@ integer number of steps; the trackers that record the rotor ask in addition for 
 start and the end of every stop phase (:meth:`StopSchedule.stop_times`), so that the
 angular velocity just before each stop is sampled exactly.
 
-The rotor state is not part of py-pde's FieldCollection; trackers read it from the
-:class:`~pde_rotor.solver.simulation.Simulation` given to their constructor: ``sim.rotor``
-holds phi, omega (Eq. (eq_motion)) and the torque T (Eq. (torque)) and friction torque
-of the last step.
+Every tracker reads what it records from the state py-pde hands it: the fields c and v
+and ``state.rotor`` (:class:`~pde_rotor.model.pde.RotorFields`), which holds phi, omega
+(Eq. (eq_motion)) and the torque T (Eq. (torque)) and friction torque of the last step.
+Its constructor takes the run's configuration, which sets its sampling times.
 
 What the records of a run need in memory and on disk is estimated, and a run that
 cannot fit refused, by :mod:`.budget`. One module per tracker; this package hands them

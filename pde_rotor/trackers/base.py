@@ -8,15 +8,13 @@ integer number of steps (:func:`sampling_times`).
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 from pde.trackers.base import InfoDict, TrackerBase
 
+from ..config import RotorConfig
 from ..model.protocol import StopSchedule
-
-if TYPE_CHECKING:
-    from ..solver.simulation import Simulation
 
 
 def sampling_times(schedule: StopSchedule, interval: float, t_end: float) -> np.ndarray:
@@ -30,12 +28,17 @@ def sampling_times(schedule: StopSchedule, interval: float, t_end: float) -> np.
 
 
 class RotorTracker(TrackerBase):
-    """Base of the trackers that read ``sim.rotor``; finalize runs at most once."""
+    """Base of the trackers of a rotor run; finalize runs at most once.
 
-    def __init__(self, sim: Simulation, interrupts: Any):
+    A tracker reads everything it records from the state it is handed: the fields and
+    ``state.rotor`` (:class:`~pde_rotor.model.pde.RotorFields`); the run's configuration
+    gives it its sampling times.
+    """
+
+    def __init__(self, config: RotorConfig, interrupts: Any):
         super().__init__(interrupts=interrupts)
-        self.sim = sim
-        self.schedule = StopSchedule.from_config(sim.config.protocol, sim.config.grid.dt)
+        self.config = config
+        self.schedule = StopSchedule.from_config(config.protocol, config.grid.dt)
         self.status: dict[str, Any] | None = None
         self._finalized = False
 

@@ -21,22 +21,20 @@ import logging
 import math
 from dataclasses import asdict, dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 import xarray as xr
-from pde import FieldCollection
 from pde.trackers.base import InfoDict
 from pde.trackers.interrupts import FixedInterrupts
 
+from ..config import RotorConfig
 from ..io.output import AppendOnlyCSV, write_netcdf_atomic
+from ..model.pde import RotorFields
 from ..model.protocol import StopSchedule
 from ..statistics.inversion import ReleaseWatch, direction
 from ..units import OMEGA_UNITS, TIME_UNITS
 from .base import RotorTracker, sampling_times
-
-if TYPE_CHECKING:
-    from ..solver.simulation import Simulation
 
 _logger = logging.getLogger(__name__)
 
@@ -92,7 +90,7 @@ class InversionTracker(RotorTracker):
 
     def __init__(
         self,
-        sim: Simulation,
+        config: RotorConfig,
         interval: float,
         commit_fraction: float,
         csv_path: str | Path | None = None,
@@ -102,17 +100,17 @@ class InversionTracker(RotorTracker):
     ):
         """
         Args:
-            sim: the simulation.
+            config: the run's configuration.
             interval: time between omega samples after a release (a multiple of dt).
             commit_fraction: commit criterion |omega| >= commit_fraction |omega_before|.
             csv_path: events.csv, appended row by row (None: not written).
             nc_path: events.nc, written at the end (None: not written).
             attrs: global attributes of events.nc.
         """
-        cfg = sim.config
+        cfg = config
         schedule = StopSchedule.from_config(cfg.protocol, cfg.grid.dt)
         super().__init__(
-            sim, FixedInterrupts(sampling_times(schedule, interval, cfg.protocol.t_end))
+            config, FixedInterrupts(sampling_times(schedule, interval, cfg.protocol.t_end))
         )
         self.interval = interval
         self.commit_fraction = commit_fraction
@@ -126,7 +124,7 @@ class InversionTracker(RotorTracker):
         self._last_t = math.nan
         self._csv: AppendOnlyCSV | None = None
 
-    def initialize(self, field: FieldCollection, info: InfoDict | None = None) -> float:
+    def initialize(self, field: RotorFields, info: InfoDict | None = None) -> float:
         """Create events.csv with its header."""
         if self.csv_path is not None and self._csv is None:
             self._csv = AppendOnlyCSV(self.csv_path, EVENT_COLUMNS)
@@ -136,14 +134,14 @@ class InversionTracker(RotorTracker):
         """Time at which the stop of `event` ends."""
         return event.t_stop + self.schedule.n_stop * self.schedule.dt
 
-    def handle(self, field: FieldCollection, t: float) -> None:
+    def handle(self, field: RotorFields, t: float) -> None:
         """Check the open release (:mod:`pde_rotor.statistics.inversion`), open a cycle at its stop.
 
         The sample at the start of the next stop is the release's last check; the
         release is closed there, committed or not, before the next cycle opens.
         """
         step = self.step_of(t)
-        omega = self.sim.rotor.omega
+        omega = field.rotor.omega
         event, watch = self._open, self._watch
         released = event is not None and t >= self.release_time(event)
         if released and watch is not None and watch.check(omega):

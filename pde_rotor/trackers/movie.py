@@ -3,19 +3,18 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
-from pde import FieldCollection
 from pde.trackers.base import InfoDict
 from pde.trackers.interrupts import FixedInterrupts
 
+from ..config import RotorConfig
 from ..io.mp4 import Mp4Writer, figure_frame
+from ..model.geometry import RotorShape
+from ..model.pde import RotorFields
 from ..plotting.run import RotorFrame, frame_title
 from .base import RotorTracker
-
-if TYPE_CHECKING:
-    from ..solver.simulation import Simulation
 
 
 class MovieTracker(RotorTracker):
@@ -28,7 +27,7 @@ class MovieTracker(RotorTracker):
 
     def __init__(
         self,
-        sim: Simulation,
+        config: RotorConfig,
         path: str | Path,
         interval: float,
         *,
@@ -38,18 +37,18 @@ class MovieTracker(RotorTracker):
     ):
         """
         Args:
-            sim: the simulation.
+            config: the run's configuration.
             path: final mp4 file name.
             interval: simulated time between frames (a multiple of dt).
             fps: frames per second of the movie.
             dpi: resolution of the frames.
             half_width: half width of the square shown.
         """
-        dt = sim.config.grid.dt
+        dt = config.grid.dt
         every = max(1, round(interval / dt))
-        n_end = round(sim.config.protocol.t_end / dt)
+        n_end = round(config.protocol.t_end / dt)
         times = np.arange(0, n_end + 1, every, dtype=np.int64) * dt
-        super().__init__(sim, FixedInterrupts(times))
+        super().__init__(config, FixedInterrupts(times))
         self.path = Path(path)
         self.fps = fps
         self.dpi = dpi
@@ -59,20 +58,20 @@ class MovieTracker(RotorTracker):
         self._frame = None
         self._last_step = -1
 
-    def initialize(self, field: FieldCollection, info: InfoDict | None = None) -> float:
+    def initialize(self, field: RotorFields, info: InfoDict | None = None) -> float:
         """Create the figure and the mp4 writer."""
-        sim = self.sim
-        self._frame = RotorFrame(sim.pde.shape, sim.pde.domain.coords, self.half_width)
+        shape = RotorShape.from_config(self.config.geometry)
+        self._frame = RotorFrame(shape, field.grid.axes_coords[0], self.half_width)
         self._writer = Mp4Writer(self.path, self.fps)
         return super().initialize(field, info)
 
-    def handle(self, field: FieldCollection, t: float) -> None:
+    def handle(self, field: RotorFields, t: float) -> None:
         """Render and encode one frame."""
         step = self.step_of(t)
         if step == self._last_step or self._frame is None:
             return
         self._last_step = step
-        rotor = self.sim.rotor
+        rotor = field.rotor
         cycle = self.schedule.cycle(max(step - 1, 0))
         title = frame_title(
             step * self.schedule.dt, rotor.omega, rotor.stopped, cycle, self.schedule.cycles

@@ -5,17 +5,15 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
-from pde import FieldCollection
 from pde.trackers.base import InfoDict
 from pde.trackers.interrupts import RealtimeInterrupts
 from tqdm.auto import tqdm
 
+from ..config import RotorConfig
+from ..model.pde import RotorFields
 from .base import RotorTracker
-
-if TYPE_CHECKING:
-    from ..solver.simulation import Simulation
 
 
 class ProgressBarTracker(RotorTracker):
@@ -32,7 +30,7 @@ class ProgressBarTracker(RotorTracker):
 
     def __init__(
         self,
-        sim: Simulation,
+        config: RotorConfig,
         refresh_seconds: float = 0.5,
         *,
         leave: bool = True,
@@ -40,13 +38,13 @@ class ProgressBarTracker(RotorTracker):
     ):
         """
         Args:
-            sim: the simulation.
+            config: the run's configuration.
             refresh_seconds: wall-clock time between updates.
             leave: keep the bar on screen when the run ends.
             clock: wall clock in seconds (for tests).
         """
         super().__init__(
-            sim, RealtimeInterrupts(duration=refresh_seconds, dt_initial=100 * sim.config.grid.dt)
+            config, RealtimeInterrupts(duration=refresh_seconds, dt_initial=100 * config.grid.dt)
         )
         self.leave = leave
         self.clock = clock
@@ -54,12 +52,12 @@ class ProgressBarTracker(RotorTracker):
         self._t_start = 0.0
         self._measured_from: tuple[float, float] | None = None
 
-    def initialize(self, field: FieldCollection, info: InfoDict | None = None) -> float:
+    def initialize(self, field: RotorFields, info: InfoDict | None = None) -> float:
         """Open the bar over [t_start, t_end] of the controller."""
         t_first = super().initialize(field, info)
         controller = (info or {}).get("controller", {})
         self._t_start = float(controller.get("t_start", 0.0))
-        t_end = float(controller.get("t_end", self.sim.config.protocol.t_end))
+        t_end = float(controller.get("t_end", self.config.protocol.t_end))
         self._measured_from = None
         self.bar = tqdm(
             total=round(t_end, 6),
@@ -85,11 +83,11 @@ class ProgressBarTracker(RotorTracker):
         remaining = (self.bar.total - t) * (now - wall0) / (t - t0) if self.bar else math.nan
         return f"ETA {tqdm.format_interval(max(remaining, 0.0))}"
 
-    def handle(self, field: FieldCollection, t: float) -> None:
+    def handle(self, field: RotorFields, t: float) -> None:
         """Advance the bar to t and show the ETA, omega, phase and cycle."""
         if self.bar is None:
             return
-        rotor = self.sim.rotor
+        rotor = field.rotor
         cycle = self.schedule.cycle(max(self.step_of(t) - 1, 0))
         self.bar.n = round(min(t, self.bar.total), 6)
         self.bar.set_postfix_str(

@@ -3,21 +3,18 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 import numpy as np
-from pde import FieldCollection
 from pde.storage import FileStorage
 from pde.storage.base import StorageTracker
 from pde.trackers.base import InfoDict
 from pde.trackers.interrupts import FixedInterrupts
 
+from ..config import RotorConfig
 from ..io.output import commit, part_path
+from ..model.pde import RotorFields
 from ..model.protocol import StopSchedule
 from .base import run_status, sampling_times
-
-if TYPE_CHECKING:
-    from ..solver.simulation import Simulation
 
 
 class SnapshotTracker(StorageTracker):
@@ -29,34 +26,34 @@ class SnapshotTracker(StorageTracker):
     """
 
     def __init__(
-        self, sim: Simulation, path: str | Path, interval: float, info: dict | None = None
+        self, config: RotorConfig, path: str | Path, interval: float, info: dict | None = None
     ):
         """
         Args:
-            sim: the simulation.
+            config: the run's configuration.
             path: final HDF5 file name.
             interval: time between snapshots (a multiple of dt).
             info: extra attributes of the file (config hash, config YAML, versions).
         """
         self.path = Path(path)
         storage = FileStorage(part_path(self.path), info=dict(info or {}), write_mode="truncate")
-        schedule = StopSchedule.from_config(sim.config.protocol, sim.config.grid.dt)
-        times = sampling_times(schedule, interval, sim.config.protocol.t_end)
+        schedule = StopSchedule.from_config(config.protocol, config.grid.dt)
+        times = sampling_times(schedule, interval, config.protocol.t_end)
         # multiples of the interval and the final time (no stop times)
         every = round(interval / schedule.dt)
         steps = np.round(times / schedule.dt).astype(np.int64)
         times = times[(steps % every == 0) | (steps == steps[-1])]
         super().__init__(storage, interrupts=FixedInterrupts(times))
-        self.sim = sim
+        self.config = config
         self.phi: list[float] = []
         self.omega: list[float] = []
         self._finalized = False
 
-    def handle(self, field: FieldCollection, t: float) -> None:
+    def handle(self, field: RotorFields, t: float) -> None:
         """Store the fields and the rotor angle."""
         super().handle(field, t)
-        self.phi.append(self.sim.rotor.phi)
-        self.omega.append(self.sim.rotor.omega)
+        self.phi.append(field.rotor.phi)
+        self.omega.append(field.rotor.omega)
 
     def finalize(self, info: InfoDict | None = None) -> None:
         """Close the file and give it its final name (once)."""

@@ -4,21 +4,18 @@ from __future__ import annotations
 
 import time
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 import xarray as xr
-from pde import FieldCollection
 from pde.trackers.interrupts import FixedInterrupts
 
+from ..config import RotorConfig
 from ..io.output import write_netcdf_atomic
+from ..model.pde import RotorFields, RotorState
 from ..model.protocol import StopSchedule
 from ..units import OMEGA_UNITS, TIME_UNITS
 from .base import RotorTracker, sampling_times
-
-if TYPE_CHECKING:
-    from ..solver.simulation import Simulation
-
 
 TIMESERIES_VARIABLES: dict[str, dict[str, str]] = {
     "phi": {
@@ -69,7 +66,7 @@ class TimeSeriesTracker(RotorTracker):
 
     def __init__(
         self,
-        sim: Simulation,
+        config: RotorConfig,
         interval: float,
         path: str | Path | None = None,
         *,
@@ -78,37 +75,36 @@ class TimeSeriesTracker(RotorTracker):
     ):
         """
         Args:
-            sim: the simulation.
+            config: the run's configuration.
             interval: time between samples (a multiple of dt).
             path: NetCDF file to write (None: keep in memory only).
             checkpoint_seconds: wall time between intermediate writes.
             attrs: global attributes of the Dataset (config hash, versions, ...).
         """
         times = sampling_times(
-            StopSchedule.from_config(sim.config.protocol, sim.config.grid.dt),
+            StopSchedule.from_config(config.protocol, config.grid.dt),
             interval,
-            sim.config.protocol.t_end,
+            config.protocol.t_end,
         )
-        super().__init__(sim, FixedInterrupts(times))
+        super().__init__(config, FixedInterrupts(times))
         self.interval = interval
         self.path = Path(path) if path is not None else None
         self.checkpoint_seconds = checkpoint_seconds
         self.attrs = dict(attrs or {})
         self.rows: dict[str, list[float]] = {"time": [], **{k: [] for k in TIMESERIES_VARIABLES}}
-        self._cell_area = sim.pde.domain.cell_area
         self._last_write = time.monotonic()
 
-    def handle(self, field: FieldCollection, t: float) -> None:
-        """Append one sample of the rotor state and the total camphor of `field`."""
-        self.sample(t, float(field.data[0].sum()) * self._cell_area)
+    def handle(self, field: RotorFields, t: float) -> None:
+        """Append one sample of the state's rotor and the total camphor of its field c."""
+        cell_area = float(np.prod(field.grid.discretization))
+        self.sample(t, field.rotor, float(field.data[0].sum()) * cell_area)
 
-    def sample(self, t: float, camphor_total: float) -> None:
-        """Append one sample: the rotor state ``sim.rotor`` at time t and int c dA.
+    def sample(self, t: float, rotor: RotorState, camphor_total: float) -> None:
+        """Append one sample: the rotor state at time t and int c dA.
 
         Called by :meth:`handle`, and directly when the samples come from an ensemble
         backend's records (:mod:`pde_rotor.solver.single_run`).
         """
-        rotor = self.sim.rotor
         step = self.step_of(t)
         values = {
             "time": step * self.schedule.dt,

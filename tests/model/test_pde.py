@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 import pytest
@@ -243,8 +244,8 @@ def rotor_history(sim: Simulation, t_end: float, interval: float) -> np.ndarray:
     """Run `sim` to t_end and return rows (t, phi, omega) sampled every `interval`."""
     rows: list[tuple[float, float, float]] = []
 
-    def record(_state: object, t: float) -> None:
-        rows.append((t, sim.rotor.phi, sim.rotor.omega))
+    def record(state: Any, t: float) -> None:
+        rows.append((t, state.rotor.phi, state.rotor.omega))
 
     sim.run(t_end, trackers=[CallbackTracker(record, interrupts=interval)])
     return np.array(rows)

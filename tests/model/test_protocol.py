@@ -91,7 +91,7 @@ def test_rotor_frozen_during_stops_and_released_from_rest(
     rows: dict[int, tuple[float, ...]] = {}
 
     def record(state: Any, t: float) -> None:
-        rotor = sim.rotor
+        rotor = state.rotor
         spin = float(np.sum(x * state.data[2] - y * state.data[1]))
         rows[round(t / dt)] = (
             rotor.phi,

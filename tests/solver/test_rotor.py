@@ -55,14 +55,14 @@ def test_fused_step_equals_numpy_reference(
     pde = RotorPDE(cfg)
     state = random_state(pde, np.random.default_rng(1), flow=flow)
     phi, omega = 0.37, 12.5
-    pde.rotor.phi, pde.rotor.omega = phi, 0.0 if stopped else omega
+    state.rotor.phi, state.rotor.omega = phi, 0.0 if stopped else omega
     rate = pde.evolution_rate(state)
     torque, friction = pde.rotor_torques(state)
     assert abs(torque) > 0
     if flow:
         assert abs(friction) > 0
 
-    pde.rotor.omega = omega
+    state.rotor.omega = omega
     new = one_solver_step(pde, state)
     dt = cfg.grid.dt
     increment = (new.data - state.data) / dt
@@ -73,16 +73,16 @@ def test_fused_step_equals_numpy_reference(
         np.testing.assert_allclose(
             increment[channel], rate.data[channel], rtol=0, atol=1e-12 * max(scale, 1.0)
         )
-    assert pde.rotor.torque == pytest.approx(torque, rel=1e-11)  # a sum with cancellations
-    assert pde.rotor.friction == pytest.approx(friction, rel=1e-12, abs=1e-300)
-    assert pde.rotor.stopped is stopped
+    assert new.rotor.torque == pytest.approx(torque, rel=1e-11)  # a sum with cancellations
+    assert new.rotor.friction == pytest.approx(friction, rel=1e-12, abs=1e-300)
+    assert new.rotor.stopped is stopped
     inertia = cfg.rotor.inertia
     if stopped:
-        assert pde.rotor.phi == phi
-        assert pde.rotor.omega == 0.0
+        assert new.rotor.phi == phi
+        assert new.rotor.omega == 0.0
     else:
-        assert pde.rotor.phi == pytest.approx(phi + dt * omega, rel=1e-15)
-        assert (pde.rotor.omega - omega) / dt == pytest.approx(
+        assert new.rotor.phi == pytest.approx(phi + dt * omega, rel=1e-15)
+        assert (new.rotor.omega - omega) / dt == pytest.approx(
             (torque + friction) / inertia, rel=1e-10
         )
 
@@ -132,12 +132,12 @@ def test_camphor_balance_is_exact(
     cfg = small_config({"flow": {"enabled": flow}, "geometry": {"asymmetry": 0.05}})
     pde = RotorPDE(cfg)
     state = random_state(pde, np.random.default_rng(2), flow=flow)
-    pde.rotor.phi, pde.rotor.omega = 0.2, 40.0
+    state.rotor.phi, state.rotor.omega = 0.2, 40.0
     dt, area = cfg.grid.dt, pde.domain.cell_area
     source_rate = cfg.camphor.supply / (math.pi * cfg.geometry.pill_radius**2)
     mask = pde.domain.interior_mask
     for _ in range(3):
-        F, G = pde.indicators(pde.rotor.phi)
+        F, G = pde.indicators(state.rotor.phi)
         c = state.data[0]
         source = source_rate * np.sum(mask * G) * area
         evaporation = cfg.camphor.evaporation * np.sum((1 - F) * c) * area
@@ -155,8 +155,8 @@ def omega_increments(sim: Simulation, t_end: float, window: float) -> tuple[np.n
     """Run `sim` to t_end and return the omega increments and durations of the windows."""
     samples: list[tuple[float, float]] = []
 
-    def record(_state: object, t: float) -> None:
-        samples.append((t, sim.rotor.omega))
+    def record(state: Any, t: float) -> None:
+        samples.append((t, state.rotor.omega))
 
     sim.run(t_end, trackers=[CallbackTracker(record, interrupts=window)])
     t, omega = np.array(samples).T
@@ -324,11 +324,12 @@ def test_pde_solve_advances_the_rotor_and_refuses_generic_solvers(
     cfg = small_config({"rotor": {"omega0": 5.0}, "output": {"progress": False}})
     pde = RotorPDE(cfg)
     state = pde.initial_state()
-    phi0 = pde.rotor.phi
+    phi0 = state.rotor.phi
     final = pde.solve(state, t_range=0.02, tracker=None)
     assert final[0].data.max() > 0  # camphor was released
-    assert pde.rotor.phi != phi0
-    assert pde.rotor.phi == pytest.approx(phi0 + 0.02 * 5.0, rel=0.2)
+    assert final.rotor.phi != phi0
+    assert state.rotor.phi == phi0  # the Controller evolved a copy
+    assert final.rotor.phi == pytest.approx(phi0 + 0.02 * 5.0, rel=0.2)
     with pytest.raises(ValueError, match="frozen"):
         pde.solve(state, t_range=0.01, solver="euler")
     with pytest.raises(ValueError, match="backend"):

@@ -30,8 +30,8 @@ TINY = {
 def run_with_trackers(config: RotorConfig, ensemble: bool):
     """Time series (0.02), events (0.01) and field snapshots (0.3) of one run."""
     sim = Simulation(config)
-    ts = tr.TimeSeriesTracker(sim, 0.02)
-    ev = tr.InversionTracker(sim, 0.01, 0.5)
+    ts = tr.TimeSeriesTracker(sim.config, 0.02)
+    ev = tr.InversionTracker(sim.config, 0.01, 0.5)
     storage = MemoryStorage()
     snaps = storage.tracker(interrupts=[0.0, 0.3, 0.6, 1.2])
     trackers = [ts, ev, snaps]
@@ -65,7 +65,7 @@ def test_divergence_raises_after_the_samples_before_it():
     """A flow beyond the advection limit: the run stops, the samples before it are kept."""
     config = RotorConfig.model_validate({**TINY, **DIVERGING})
     sim = Simulation(config)
-    ts = tr.TimeSeriesTracker(sim, 0.02)
+    ts = tr.TimeSeriesTracker(sim.config, 0.02)
     with pytest.raises(SimulationDivergedError, match=r"diverged at t = .* cpu backend"):
         run_single(sim, [ts], "cpu")
     times = np.asarray(ts.rows["time"])

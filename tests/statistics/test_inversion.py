@@ -78,11 +78,11 @@ EXPECTED = {
 
 def by_tracker() -> list[tuple[int, int, bool, bool]]:
     """(direction_before, direction_after, committed, inverted) per cycle, from the tracker."""
-    sim = SimpleNamespace(config=CONFIG, rotor=RotorState(phi=0.0, omega=0.0))
-    tracker = InversionTracker(sim, CHECK, FRACTION)
+    state = SimpleNamespace(rotor=RotorState(phi=0.0, omega=0.0))
+    tracker = InversionTracker(CONFIG, CHECK, FRACTION)
     for step in SCHEDULE.sample_steps(CHECK_STEPS, END):
-        sim.rotor.omega = omega_at(int(step))
-        tracker.handle(None, step * CONFIG.grid.dt)
+        state.rotor.omega = omega_at(int(step))
+        tracker.handle(state, step * CONFIG.grid.dt)
     tracker.finalize({"controller": {"successful": True}})
     for event, check in zip(tracker.events, EXPECTED["check_steps"], strict=True):
         want = math.nan if check is None else check * CONFIG.grid.dt

@@ -33,21 +33,25 @@ TINY = {
 """A few thousand steps on a 72 x 72 grid: well under a second."""
 
 
-class FakeSimulation:
-    """Just what the rotor trackers read: the config and a rotor state to drive by hand."""
-
-    def __init__(self, config: RotorConfig):
-        self.config = config
-        self.rotor = RotorState(phi=0.0, omega=0.0)
+def fake_state(config: RotorConfig) -> SimpleNamespace:
+    """Just what the rotor trackers read from a state: the rotor (driven by hand), the
+    fields of a 4 x 4 grid of c = 1 and its cell size."""
+    dx = config.grid.dx
+    return SimpleNamespace(
+        rotor=RotorState(phi=0.0, omega=0.0),
+        data=np.ones((3, 4, 4)),
+        grid=SimpleNamespace(discretization=np.array([dx, dx])),
+    )
 
 
 def drive(tracker, omega_of_t, t_end: float) -> list[float]:
     """Call the tracker at the times its interrupts ask for, with omega = omega_of_t(t)."""
-    t = tracker.initialize(None, {"controller": {"t_start": 0.0, "t_end": t_end}})
+    state = fake_state(tracker.config)
+    t = tracker.initialize(state, {"controller": {"t_start": 0.0, "t_end": t_end}})
     times = []
     while t <= t_end + 1e-12:
-        tracker.sim.rotor.omega = omega_of_t(t)
-        tracker.handle(None, t)
+        state.rotor.omega = omega_of_t(t)
+        tracker.handle(state, t)
         times.append(t)
         t = tracker.interrupt.next(t)
     return times
@@ -102,7 +106,7 @@ def test_inversion_events_from_a_prescribed_omega(tmp_path):
         return -2.0 if t - releases[2] > 0.045 else -0.1  # commits 0.05 after release
 
     csv_path = tmp_path / "events.csv"
-    tracker = InversionTracker(FakeSimulation(config), 0.01, 0.5, csv_path, tmp_path / "events.nc")
+    tracker = InversionTracker(config, 0.01, 0.5, csv_path, tmp_path / "events.nc")
     drive(tracker, omega, p.t_end)
 
     # every row is on disk as soon as it is known, before the run ends (row 2 when
@@ -135,7 +139,7 @@ def test_inversion_events_from_a_prescribed_omega(tmp_path):
 
 def test_rotor_at_rest_before_a_stop_is_never_inverted():
     config = RotorConfig.model_validate(TINY)
-    tracker = InversionTracker(FakeSimulation(config), 0.02, 0.5)
+    tracker = InversionTracker(config, 0.02, 0.5)
     drive(tracker, lambda t: 0.0, config.protocol.t_end)
     tracker.finalize({"controller": {"successful": True}})
     assert len(tracker.events) == config.protocol.cycles
@@ -148,10 +152,10 @@ def tiny_run(tmp_path_factory):
     out = tmp_path_factory.mktemp("tiny")
     config = RotorConfig.model_validate(TINY)
     sim = Simulation(config)
-    ts = TimeSeriesTracker(sim, 0.02, out / "ts.nc", attrs={"config_hash": "h"})
-    ev = InversionTracker(sim, 0.02, 0.5)
-    snap = SnapshotTracker(sim, out / "snap.h5", 0.4)
-    fine = TimeSeriesTracker(sim, config.grid.dt)
+    ts = TimeSeriesTracker(sim.config, 0.02, out / "ts.nc", attrs={"config_hash": "h"})
+    ev = InversionTracker(sim.config, 0.02, 0.5)
+    snap = SnapshotTracker(sim.config, out / "snap.h5", 0.4)
+    fine = TimeSeriesTracker(sim.config, config.grid.dt)
     sim.run(trackers=[ts, ev, snap, fine])
     return SimpleNamespace(config=config, sim=sim, ts=ts, ev=ev, snap=snap, out=out, fine=fine)
 
@@ -236,12 +240,12 @@ def test_snapshots_hold_the_fields_and_the_angle(tiny_run):
 
 def test_progress_bar_shows_time_and_omega(capsys):
     config = RotorConfig.model_validate(TINY)
-    sim = FakeSimulation(config)
-    bar = ProgressBarTracker(sim, leave=True)
+    state = fake_state(config)
+    bar = ProgressBarTracker(config, leave=True)
     t_end = config.protocol.t_end
-    bar.initialize(None, {"controller": {"t_start": 0.0, "t_end": t_end}})
-    sim.rotor.omega = -123.4
-    bar.handle(None, 0.5 * t_end)
+    bar.initialize(state, {"controller": {"t_start": 0.0, "t_end": t_end}})
+    state.rotor.omega = -123.4
+    bar.handle(state, 0.5 * t_end)
     assert bar.bar.n == pytest.approx(0.5 * t_end)
     bar.finalize({"controller": {"successful": True, "t_final": t_end}})
     err = capsys.readouterr().err
@@ -254,15 +258,15 @@ def test_progress_bar_says_compiling_then_measures_the_eta(capsys):
     """Before the first steps: "compiling"; the ETA is the rate of the steps measured after
     the first interrupt, so 10 s of compiling do not enter it."""
     config = RotorConfig.model_validate(TINY)
-    sim = FakeSimulation(config)
+    state = fake_state(config)
     wall = iter([0.0, 10.0, 10.4, 10.8])  # compiling takes 10 s, then 0.04 per 0.4 s
-    bar = ProgressBarTracker(sim, clock=lambda: next(wall))
+    bar = ProgressBarTracker(config, clock=lambda: next(wall))
     t_end = config.protocol.t_end
     bar.initialize(None, {"controller": {"t_start": 0.0, "t_end": t_end}})
     assert ProgressBarTracker.COMPILING in bar.bar.postfix
     postfixes = []
     for t in (0.0, 0.04, 0.08, 0.12):
-        bar.handle(None, t)
+        bar.handle(state, t)
         postfixes.append(bar.bar.postfix)
     assert postfixes[0].startswith(ProgressBarTracker.COMPILING)
     assert postfixes[1].startswith("ETA measuring")
@@ -279,14 +283,12 @@ def test_timeseries_checkpoints_during_the_run(tmp_path):
     import xarray as xr
 
     config = RotorConfig.model_validate(TINY)
-    sim = FakeSimulation(config)
-    sim.pde = SimpleNamespace(domain=SimpleNamespace(cell_area=config.grid.dx**2))
+    field = fake_state(config)
     path = tmp_path / "ts.nc"
-    tracker = TimeSeriesTracker(sim, 0.2, path, checkpoint_seconds=0.0)
-    tracker.initialize(None, {"controller": {"t_start": 0.0}})
-    field = SimpleNamespace(data=np.ones((3, 4, 4)))
+    tracker = TimeSeriesTracker(config, 0.2, path, checkpoint_seconds=0.0)
+    tracker.initialize(field, {"controller": {"t_start": 0.0}})
     for k, t in enumerate([0.0, 0.2, 0.4]):
-        sim.rotor.omega = float(k)
+        field.rotor.omega = float(k)
         tracker.handle(field, t)
         with xr.open_dataset(path, engine="h5netcdf") as ds:
             assert ds.attrs["status"] == "running"
