@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from .backends import backend_for, device_name
+from .backends import backend_for, device_name, member_stepper
 from .config import ConfigError, RotorConfig, dump_config, load_config, validate_config
 from .io.output import RunDirectory, atomic_path, detach_log, write_text_atomic
 from .units import LENGTH_UNITS, TIME_UNITS
@@ -252,7 +252,6 @@ def run(
 
     from .solver.rotor import SimulationDivergedError
     from .solver.simulation import Simulation
-    from .solver.single_run import run_single
 
     vers = versions()
     provenance = {
@@ -296,7 +295,13 @@ def run(
             cfg.grid.dt,
         )
         _logger.info("versions: %s", ", ".join(f"{k} {v}" for k, v in vers.items()))
-        sim = Simulation(cfg)
+        # one run path: py-pde's Controller and the same trackers on every backend;
+        # on the GPU the run is an ensemble of one member between the interrupts
+        sim = (
+            Simulation(cfg, stepper=member_stepper(backend))
+            if backend == "gpu"
+            else Simulation(cfg)
+        )
         out_cfg = cfg.output
         ts_tracker = tr.TimeSeriesTracker(
             cfg,
@@ -336,10 +341,7 @@ def run(
         start = time.perf_counter()
         error: BaseException | None = None
         try:
-            if backend == "gpu":
-                run_single(sim, trackers, backend)
-            else:
-                sim.run(trackers=trackers)
+            sim.run(trackers=trackers)
         except SimulationDivergedError as err:
             error = err
             _finalize_after_error(trackers, "diverged", str(err), ts_tracker)
@@ -358,9 +360,7 @@ def run(
             wall_time=wall,
             backend=backend,
         )
-        steps = (
-            int(sim.solver.info.get("steps", 0)) if backend == "cpu" else round(sim.t / cfg.grid.dt)
-        )
+        steps = int(sim.solver.info.get("steps", 0))
         _logger.info(
             "run %s after %.1f s wall time (%d steps, %.3g ms/step): %s; inversions %d/%d",
             result.status,

@@ -23,12 +23,15 @@ from __future__ import annotations
 
 import importlib
 import logging
+import math
 from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
 
 from ..config import RotorConfig
+from ..model.pde import RotorPDE, RotorState
+from ..solver.rotor import MemberStepper, SimulationDivergedError, StepperFactory
 from .batch import MemberRun, run_batch
 from .ensemble import EnsembleResult, EnsembleState
 
@@ -44,6 +47,7 @@ __all__ = [
     "device_name",
     "gpu_available",
     "gpu_unavailable_reason",
+    "member_stepper",
     "resolve_backend",
     "run_batch",
     "run_ensemble",
@@ -148,6 +152,50 @@ def device_name(backend: str) -> str:
         return "cpu"
     gpu = importlib.import_module("pde_rotor.backends.gpu")
     return gpu.device_name()
+
+
+def member_stepper(backend: str) -> StepperFactory:
+    """A run of one configuration as an ensemble of one member on `backend`.
+
+    The factory that :class:`~pde_rotor.solver.rotor.RotorSolver` takes: py-pde's
+    Controller drives the run and calls the same trackers as on the CPU, and between two
+    interrupts the member advances on the ensemble backend from the state the Controller
+    holds (fields and rotor), with the run's noise stream drawn in step order, as the CPU
+    solver draws it. This is how ``solver.backend: gpu`` runs a single configuration.
+
+    Args:
+        backend: ``gpu``, or ``cpu`` (the CPU ensemble backend: the same path, checked
+            against the fused CPU solver by the tests).
+    """
+
+    def factory(pde: RotorPDE, dt: float, rng: np.random.Generator) -> MemberStepper:
+        config = pde.config
+
+        def step(data: np.ndarray, rotor: RotorState, step0: int, n_steps: int) -> None:
+            initial = EnsembleState(
+                data=data[None].copy(), rotor=rotor.as_array()[None], step=step0
+            )
+            result = run_ensemble(
+                [config],
+                (step0 + n_steps) * dt,
+                backend=backend,
+                record_interval=n_steps * dt,
+                initial=initial,
+                rngs=[rng],
+            )
+            failed = float(result.diverged_at[0])
+            data[...] = result.state.data[0]
+            rotor.update_from(result.state.rotor[0])
+            if not math.isnan(failed):
+                msg = (
+                    f"simulation diverged at t = {failed:.6g} on the {result.backend} backend: "
+                    f"non-finite state (dt = {dt:g}, stability limit {config.dt_limit():.4g})"
+                )
+                raise SimulationDivergedError(msg)
+
+        return step
+
+    return factory
 
 
 def run_ensemble(

@@ -128,8 +128,15 @@ class FusedStepper:
         raise SimulationDivergedError(msg)
 
 
+MemberStepper = Callable[[np.ndarray, RotorState, int, int], None]
+"""``step(data, rotor, step0, n_steps)``: advance the fields `data` (3, n, n) and the rotor
+in place by `n_steps` steps from step `step0`; raise SimulationDivergedError on NaN/Inf."""
+StepperFactory = Callable[[RotorPDE, float, np.random.Generator], MemberStepper]
+"""``factory(pde, dt, rng)``: the stepper of one run, bound to its model, step and noise."""
+
+
 def make_fused_stepper(pde: RotorPDE, dt: float, rng: np.random.Generator) -> FusedStepper:
-    """Bind the compiled fused kernel to `pde` (see :class:`FusedStepper`)."""
+    """Bind the compiled fused CPU kernel to `pde` (see :class:`FusedStepper`)."""
     return FusedStepper(pde=pde, dt=dt, rng=rng)
 
 
@@ -153,6 +160,7 @@ class RotorSolver(SolverBase):
         *,
         backend: str = "auto",
         rng: np.random.Generator | None = None,
+        stepper: StepperFactory = make_fused_stepper,
     ):
         """
         Args:
@@ -161,6 +169,10 @@ class RotorSolver(SolverBase):
                 through py-pde's generic stepper (the kernel compiles itself with numba).
             rng: Generator for the torque noise; by default seeded from
                 ``pde.config.noise.seed``.
+            stepper: what advances the run between the Controller's interrupts: the
+                fused CPU kernel (default), or one member of an ensemble backend
+                (:func:`pde_rotor.backends.member_stepper`, a run on the GPU). Either way
+                py-pde's Controller drives the run and calls the same trackers.
 
         Raises:
             ValueError: for a py-pde backend that does not go through
@@ -179,7 +191,7 @@ class RotorSolver(SolverBase):
         self.pde: RotorPDE = pde
         seed = pde.config.noise.seed
         self.rng = rng if rng is not None else np.random.default_rng(seed)
-        self.fused: FusedStepper | None = None
+        self.make_member = stepper
 
     def make_stepper(
         self, state: FieldCollection, dt: float | None = None
@@ -213,8 +225,7 @@ class RotorSolver(SolverBase):
     def _make_inner_stepper(self, state: FieldCollection) -> Callable[[Any, float, float], float]:
         """The backend-level stepper: state data, t_start, t_end -> t after whole steps."""
         dt = float(self.info["dt"])
-        fused = make_fused_stepper(self.pde, dt, self.rng)
-        self.fused = fused
+        fused = self.make_member(self.pde, dt, self.rng)
         post_step_hook = self._make_post_step_hook(state)
         rotor = state.rotor  # the Controller's state: the stepper advances its data too
         hooked = self.info["post_step_data"] is not None

@@ -14,7 +14,7 @@ from pde.trackers.base import TrackerBase
 
 from ..config import RotorConfig
 from ..model.pde import RotorFields, RotorPDE, RotorState
-from .rotor import RotorSolver
+from .rotor import RotorSolver, StepperFactory, make_fused_stepper
 
 pde.config["backend.numba.multithreading"] = "never"
 """py-pde's own threading is 50x slower on 2 shared cores above 256^2 cells; the fused
@@ -33,16 +33,23 @@ class Simulation:
         t: simulated time reached.
     """
 
-    def __init__(self, config: RotorConfig, rng: np.random.Generator | None = None):
+    def __init__(
+        self,
+        config: RotorConfig,
+        rng: np.random.Generator | None = None,
+        stepper: StepperFactory = make_fused_stepper,
+    ):
         """
         Args:
             config: the run configuration (validated).
             rng: Generator for the noise; default: seeded from ``config.noise.seed``.
+            stepper: what advances the run (:class:`RotorSolver`): the fused CPU kernel
+                by default; :func:`pde_rotor.backends.member_stepper` for a GPU run.
         """
         self.config = config
         self.pde = RotorPDE(config)
         self.state: RotorFields = self.pde.initial_state()
-        self.solver = RotorSolver(self.pde, rng=rng)
+        self.solver = RotorSolver(self.pde, rng=rng, stepper=stepper)
         self.t = 0.0
 
     def branch(
@@ -58,7 +65,7 @@ class Simulation:
         Raises:
             ValueError: if the grids differ.
         """
-        other = Simulation(config or self.config, rng=rng)
+        other = Simulation(config or self.config, rng=rng, stepper=self.solver.make_member)
         if other.pde.domain.grid != self.pde.domain.grid:
             msg = "branch: the configuration describes a different grid (grid.*)"
             raise ValueError(msg)

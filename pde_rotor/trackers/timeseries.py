@@ -100,11 +100,7 @@ class TimeSeriesTracker(RotorTracker):
         self.sample(t, field.rotor, float(field.data[0].sum()) * cell_area)
 
     def sample(self, t: float, rotor: RotorState, camphor_total: float) -> None:
-        """Append one sample: the rotor state at time t and int c dA.
-
-        Called by :meth:`handle`, and directly when the samples come from an ensemble
-        backend's records (:mod:`pde_rotor.solver.single_run`).
-        """
+        """Append one sample: the rotor state at time t and int c dA (from :meth:`handle`)."""
         step = self.step_of(t)
         values = {
             "time": step * self.schedule.dt,

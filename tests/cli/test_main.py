@@ -21,9 +21,7 @@ from pde_rotor import api, backends
 from pde_rotor.cli.main import app
 from pde_rotor.config import load_config
 from pde_rotor.io.output import PART_SUFFIX, OutputError, RunDirectory
-from pde_rotor.solver import single_run
-from pde_rotor.solver.rotor import SimulationDivergedError
-from pde_rotor.solver.simulation import Simulation
+from pde_rotor.solver.rotor import FusedStepper, SimulationDivergedError
 from pde_rotor.trackers import EVENT_COLUMNS, TIMESERIES_VARIABLES
 from tests.config.test_config import BAD_INPUTS, COARSE_YAML
 from tests.conftest import DIVERGING
@@ -288,24 +286,25 @@ def test_gpu_backend_with_an_integrator_it_lacks_exits_2(tmp_path):
 def test_auto_backend_records_the_backend_that_ran(monkeypatch):
     """solver.backend = auto: the files and the result name the backend that really ran.
 
-    Spies on both paths: the CPU solver's Simulation.run and the ensemble entry point of
-    the GPU path. Exactly one of them runs, and it is the one recorded (cpu here, where
-    auto never picks the CUDA simulator; gpu on a GPU machine).
+    Both backends run through py-pde's Controller; spies on what advances the run
+    between interrupts: the fused CPU kernel, or an ensemble backend (the GPU path).
+    Exactly one of them runs, and it is the one recorded (cpu here, where auto never
+    picks the CUDA simulator; gpu on a GPU machine).
     """
     calls = []
-    cpu_run = Simulation.run
-    ensemble_run = single_run.run_ensemble
+    cpu_step = FusedStepper.__call__
+    ensemble_run = backends.run_ensemble
 
     def spy_cpu(self, *args, **kwargs):
         calls.append("cpu")
-        return cpu_run(self, *args, **kwargs)
+        return cpu_step(self, *args, **kwargs)
 
     def spy_ensemble(*args, **kwargs):
         calls.append(kwargs["backend"])
         return ensemble_run(*args, **kwargs)
 
-    monkeypatch.setattr(Simulation, "run", spy_cpu)
-    monkeypatch.setattr(single_run, "run_ensemble", spy_ensemble)
+    monkeypatch.setattr(FusedStepper, "__call__", spy_cpu)
+    monkeypatch.setattr(backends, "run_ensemble", spy_ensemble)
     config = yaml.safe_load(TINY_YAML)
     config["solver"] = {"backend": "auto"}
     config["output"].update(movie=False, progress=False, snapshot_interval=None)

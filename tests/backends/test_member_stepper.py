@@ -1,9 +1,10 @@
-"""A single run driven through an ensemble backend (pde_rotor.solver.single_run) on the CPU.
+"""One run path: a run advanced by an ensemble backend between the Controller's interrupts.
 
-The GPU path of ``pde-rotor run --backend gpu`` hands the trackers samples from the
-ensemble's records; driven by the CPU ensemble backend, the same code must write exactly
-what the CPU solver's py-pde Controller writes (tests/test_gpu.py does the same on the
-GPU backend in numba's CUDA simulator).
+``pde-rotor run --backend gpu`` runs a configuration as an ensemble of one member
+(:func:`pde_rotor.backends.member_stepper`) under the same py-pde Controller and
+trackers as the CPU solver; driven by the CPU ensemble backend, it must write exactly
+what the fused CPU solver writes (tests/backends/test_gpu.py runs the GPU backend in
+numba's CUDA simulator).
 """
 
 from __future__ import annotations
@@ -13,10 +14,10 @@ import pytest
 from pde.storage import MemoryStorage
 
 from pde_rotor import trackers as tr
+from pde_rotor.backends import member_stepper
 from pde_rotor.config import RotorConfig
 from pde_rotor.solver.rotor import SimulationDivergedError
 from pde_rotor.solver.simulation import Simulation
-from pde_rotor.solver.single_run import run_single
 from tests.conftest import DIVERGING
 
 TINY = {
@@ -29,16 +30,12 @@ TINY = {
 
 def run_with_trackers(config: RotorConfig, ensemble: bool):
     """Time series (0.02), events (0.01) and field snapshots (0.3) of one run."""
-    sim = Simulation(config)
+    sim = Simulation(config, stepper=member_stepper("cpu")) if ensemble else Simulation(config)
     ts = tr.TimeSeriesTracker(sim.config, 0.02)
     ev = tr.InversionTracker(sim.config, 0.01, 0.5)
     storage = MemoryStorage()
     snaps = storage.tracker(interrupts=[0.0, 0.3, 0.6, 1.2])
-    trackers = [ts, ev, snaps]
-    if ensemble:
-        run_single(sim, trackers, "cpu")
-    else:
-        sim.run(trackers=trackers)
+    sim.run(trackers=[ts, ev, snaps])
     return sim, ts, ev, storage
 
 
@@ -64,10 +61,10 @@ def test_ensemble_driven_run_writes_what_the_solver_run_writes():
 def test_divergence_raises_after_the_samples_before_it():
     """A flow beyond the advection limit: the run stops, the samples before it are kept."""
     config = RotorConfig.model_validate({**TINY, **DIVERGING})
-    sim = Simulation(config)
+    sim = Simulation(config, stepper=member_stepper("cpu"))
     ts = tr.TimeSeriesTracker(sim.config, 0.02)
     with pytest.raises(SimulationDivergedError, match=r"diverged at t = .* cpu backend"):
-        run_single(sim, [ts], "cpu")
+        sim.run(trackers=[ts])
     times = np.asarray(ts.rows["time"])
     assert times.size >= 1 and times[-1] <= sim.t
     assert np.isfinite(ts.rows["omega"]).all()
