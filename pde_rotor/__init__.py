@@ -7,9 +7,9 @@ operations", Chaos 30, 2020, on py-pde.
 
 from __future__ import annotations
 
+from ._version import __version__
 from .api import RunResult, run
 from .config import RotorConfig
 from .solver.simulation import Simulation
 
-__all__ = ["RotorConfig", "RunResult", "Simulation", "run"]
-__version__ = "0.1.0"
+__all__ = ["RotorConfig", "RunResult", "Simulation", "__version__", "run"]

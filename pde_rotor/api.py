@@ -45,7 +45,7 @@ def versions() -> dict[str, str]:
     import numba
     import pde
 
-    from . import __version__
+    from ._version import __version__
 
     return {
         "pde_rotor": __version__,
