@@ -60,7 +60,7 @@ def max_relative(a: np.ndarray, b: np.ndarray) -> float:
 
 
 def validate() -> bool:
-    """GPU against CPU at the issue's tolerances; prints one line per check."""
+    """GPU against CPU at the tolerances of docs/gpu.md; prints one line per check."""
     from pde_rotor.backends import gpu
 
     ok = True

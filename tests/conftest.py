@@ -28,7 +28,7 @@ from pde_rotor.config import RotorConfig
 from pde_rotor.model.pde import RotorPDE
 
 COARSE: dict[str, Any] = {"grid": {"dx": 0.05, "dt": 4e-4}, "geometry": {"smoothing": 0.05}}
-"""Coarse resolution of the issue's spin-up test (about 0.26 ms per step with L = 3)."""
+"""The coarse test resolution (about 0.26 ms per step with L = 3)."""
 
 DIVERGING: dict[str, Any] = {"rotor": {"omega0": 1e4}, "flow": {"drag": 1e3}}
 """Overrides that make a coarse run diverge within a few steps: the plate's speed omega0 R

@@ -204,11 +204,18 @@ def test_decision_check_counts_are_the_stored_data():
         )
 
 
-def test_no_issue_references_in_docs():
-    """The docs point at pages and commands, not at a tracker the reader cannot see."""
-    pattern = re.compile(r"issue ?[0-9]+|§ ?[0-9]", re.IGNORECASE)
-    for page in PAGES:
-        hits = pattern.findall(page.read_text())
+def test_no_issue_references_in_docs_or_code():
+    """Docs, docstrings, comments and configs point at pages and commands, not at a
+    tracker the reader cannot see."""
+    pattern = re.compile(r"issue ?#?[0-9]+|§ ?[0-9]", re.IGNORECASE)
+    sources = [
+        path
+        for folder in ("pde_rotor", "tests", "gallery", "benchmarks", "configs", "examples")
+        for suffix in ("*.py", "*.yaml", "*.ipynb", "*.md")
+        for path in (ROOT / folder).rglob(suffix)
+    ]
+    for page in [*PAGES, *sources]:
+        hits = pattern.findall(page.read_text(encoding="utf-8"))
         assert not hits, f"{page.relative_to(ROOT)}: {hits}"
 
 

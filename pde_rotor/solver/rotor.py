@@ -6,7 +6,7 @@ Eq. (noiseav) by Euler-Maruyama) to one simulation's arrays, parameters and stop
 schedule, and reports a state that stops being finite with the time and the field.
 
 :class:`RotorSolver` plugs the loop into py-pde through ``SolverBase._make_inner_stepper``
-(py-pde has no built-in coupling of ODEs to fields, py-pde issue #533): py-pde selects
+(py-pde has no built-in coupling of ODEs to fields): py-pde selects
 the backend, calls the PDE's post-step hook if it has one, and its Controller and
 trackers drive the run unchanged.
 """

@@ -46,7 +46,7 @@ EXPECTED = (
     "master_curve",
     "movie_inversion",
 )
-"""The figures the issue asks for (paper Figs. 1, 3-9, the movie, the convergence page)."""
+"""The gallery scripts: paper Figs. 1 and 3-9, the movie and the convergence page."""
 
 
 @pytest.fixture(scope="module")
