@@ -203,6 +203,12 @@ def register(app: typer.Typer) -> None:
                 "it: the report's name with suffix png.",
             ),
         ] = False,
+        explain: Annotated[
+            bool,
+            typer.Option(
+                "--explain", help="Also say what the table's terms mean (P, from CCW, ...)."
+            ),
+        ] = False,
         plot_out: Annotated[
             Path | None,
             typer.Option(
@@ -215,6 +221,7 @@ def register(app: typer.Typer) -> None:
         """Gather the finished runs of SWEEP into NetCDF and print a table."""
         from ..statistics.crossing import report_crossings
         from ..sweep import DEFAULT_ROOT, Sweep, SweepError, report
+        from ..sweep.reporting import GLOSSARY
         from .plot import check_target, draw, save
 
         design = None
@@ -235,6 +242,8 @@ def register(app: typer.Typer) -> None:
         except SweepError as err:
             fail(str(err))
         typer.echo(f"report: {target}")
+        if explain:
+            typer.echo(GLOSSARY)
         if figure is not None:
             save(draw(ds, None, target), figure)
         for level in crossing or []:

@@ -208,24 +208,49 @@ def report(
 
 
 LEGENDS = {
-    "protocol": "P: inversions / stops of all protocol runs (the paper's inversions / M), "
-    "Wilson 95 % CI; inv|CCW, inv|CW: by the direction before the stop",
-    "restart": "P: pooled = inversions / stops of both directions (Delta = 0, Wilson 95 % CI); "
-    "chain = 2ab/(a+b), a = P(inv|CCW), b = P(inv|CW) (Delta != 0, CI: 2ab/(a+b) at the "
-    "97.5 % Wilson bounds of a and b); 'P is' says which",
+    "protocol": (
+        "P: inversions / stops of the paper's protocol runs (inversions / M), 95 % interval;",
+        "from CCW, from CW: inverted / stops by the direction before the stop.",
+    ),
+    "restart": (
+        "P: probability that a stop inverts the rotor, with its 95 % interval; from CCW,",
+        "from CW: inverted / stops by the direction before the stop. At Delta = 0 P pools",
+        "both directions, else P = 2ab/(a+b) of the two (pde-rotor report --explain).",
+    ),
 }
-"""The legend line of :func:`format_table`, by estimator (bank: as restart)."""
+"""The legend lines of :func:`format_table`, by estimator (bank: as restart)."""
+
+GLOSSARY = """\
+Terms of the sweep reports (docs/statistics.md has the derivations):
+  stop            the forced stop of duration t_stop, then a release.
+  inverted        the rotor turns the other way after the release than before the stop:
+                  the sign of omega when |omega| first reaches commit_fraction times
+                  |omega before the stop| (the release has "committed"); a release that
+                  never commits is not an inversion.
+  from CCW / CW   the stops that began with the rotor turning counter-clockwise /
+                  clockwise; with an asymmetry (Delta != 0) the two differ.
+  P               at Delta = 0: inversions / stops of both directions (Wilson interval);
+                  at Delta != 0: 2ab/(a+b), a and b the fractions from CCW and CW, the
+                  fraction of inversions of the two-state chain they define (the paper's
+                  protocol of repeated stops); interval from the 97.5 % bounds of a and b.
+  estimator       protocol: the paper's stop-and-release runs, M cycles each; restart:
+                  independent single stops, each branched from a steadily turning rotor
+                  at a random angle; bank: restarts whose stop is shared by several noise
+                  intensities (a paired design, compared by McNemar's test).
+  Dw              the angular-velocity diffusion of the noise, Dw = (sigma / I)^2.
+  mean |omega|    the mean |omega| just before the stops: the steady rotation."""
+"""What ``pde-rotor report --explain`` prints."""
 
 
 def format_table(ds: xr.Dataset) -> str:
-    """One row per point: axis values, P, its definition and 95 % interval, the
-    conditionals, the pooled and chain values, mean |omega|, runs; for a paired design
-    the McNemar p-value against the previous value of each paired axis."""
+    """One row per point: axis values, P and its 95 % interval, the inverted stops by
+    starting direction, mean |omega| and the runs done; for a paired design the McNemar
+    p-value against the previous value of each paired axis."""
     dims = [d for d in ds.sizes if not d.endswith("_ref")]
     kind = str(ds.attrs.get("estimator", ""))
     paired = [d for d in dims if f"mcnemar_p_{d}" in ds]
-    header = [*dims, "P", "P is", "95% CI", "inv|CCW", "inv|CW", "pooled", "chain"]
-    header += ["mean|omega|", "runs", *(f"McNemar p vs prev {d}" for d in paired)]
+    header = [*dims, "P", "95% interval", "from CCW", "from CW", "mean |omega|", "runs done"]
+    header += [f"McNemar p vs previous {d}" for d in paired]
     flat = ds.stack(point=dims) if dims else ds.expand_dims(point=[0])
     rows = []
     for i in range(flat.sizes["point"]):
@@ -235,16 +260,12 @@ def format_table(ds: xr.Dataset) -> str:
             value = float(row[name])
             return "nan" if math.isnan(value) else f"{value:.3f}"
 
-        k, n = int(row["inversions"]), int(row["stops"])
         cells = [f"{row[d].item():.6g}" for d in dims]
         cells += [
             fmt("P"),
-            "chain" if int(row["P_estimator"]) == CHAIN else "pooled",
             f"[{fmt('P_low')}, {fmt('P_high')}]",
             f"{int(row['inversions_ccw'])}/{int(row['stops_ccw'])}",
             f"{int(row['inversions_cw'])}/{int(row['stops_cw'])}",
-            f"{k}/{n} = {k / n:.3f}" if n else f"{k}/{n}",
-            fmt("P_chain"),
             f"{float(row['mean_abs_omega']):.1f}",
             f"{int(row['runs_done'])}/{int(row['runs_expected'])}",
         ]
@@ -257,7 +278,7 @@ def format_table(ds: xr.Dataset) -> str:
     lines = [
         f"{ds.attrs.get('sweep', '')} ({kind} estimator, "
         f"dx = {ds.attrs.get('grid_dx')}, dt = {ds.attrs.get('grid_dt')})",
-        LEGENDS["protocol" if kind == "protocol" else "restart"],
+        *LEGENDS["protocol" if kind == "protocol" else "restart"],
     ]
     if paired:
         lines.append(f"design: {ds.attrs['design']}")

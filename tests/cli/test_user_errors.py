@@ -210,3 +210,21 @@ def test_version():
     result = invoke("--version")
     assert result.exit_code == 0
     assert result.stdout.strip() == f"pde-rotor {__version__}"
+
+
+def test_the_report_table_speaks_plainly_and_explains_its_terms(tmp_path):
+    result = invoke("report", ROOT / "data" / "sweeps" / "fig7b", "--out", tmp_path / "r.nc")
+    assert result.exit_code == 0, result.output
+    lines = result.stdout.splitlines()
+    header = next(line for line in lines if line.lstrip().startswith("t_stop"))
+    assert header.split() == [
+        "t_stop", "P", "95%", "interval", "from", "CCW", "from", "CW", "mean", "|omega|", "runs",
+        "done",
+    ]  # fmt: skip
+    assert all(len(line) <= 100 for line in lines[: lines.index(header)])
+    assert "chain" not in result.stdout and "pooled" not in result.stdout
+    assert "--explain" in result.stdout
+    explained = invoke("report", ROOT / "data" / "sweeps" / "fig7b", "--out", tmp_path / "r.nc",
+                       "--explain").stdout  # fmt: skip
+    for term in ("inverted", "from CCW / CW", "estimator", "Dw", "committed"):
+        assert term in explained.split("report:", 1)[1], term

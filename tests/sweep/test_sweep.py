@@ -420,7 +420,7 @@ def test_report_of_a_tiny_sweep(two_worker_sweep, capsys):
     report(sweep_dir)
     table = capsys.readouterr().out
     assert table == format_table(ds) + "\n"
-    assert len(table.splitlines()) == 3 + 2  # title, legend, header, one row per point
+    assert len(table.splitlines()) == 1 + 3 + 1 + 2  # title, legend, header, a row per point
 
 
 def store_runs(sweep_dir: Path, contents: list[dict]) -> None:
@@ -467,12 +467,13 @@ def test_p_is_pooled_for_a_symmetric_rotor_and_the_chain_value_otherwise(tmp_pat
     assert "Delta = 0: pooled inversions / stops" in long_name
     assert "Delta != 0: two-state chain 2ab/(a+b)" in long_name
     assert "97.5 % Wilson bounds" in ds["P_estimator"].attrs["long_name"]
-    title, legend, header, *rows = format_table(ds).splitlines()
+    title, *legend, header, row_pooled, row_chain = format_table(ds).splitlines()
     assert "(restart estimator" in title
-    assert header.split()[1:4] == ["P", "P", "is"]
-    assert legend.startswith("P: pooled = inversions / stops of both directions (Delta = 0")
-    assert rows[0].split()[1:3] == ["0.350", "pooled"] and "7/20 = 0.350" in rows[0]
-    assert rows[1].split()[1:3] == ["0.000", "chain"] and "7/20 = 0.350" in rows[1]
+    assert header.split()[1:4] == ["P", "95%", "interval"]
+    assert "At Delta = 0 P pools" in " ".join(legend)
+    assert all(len(line) <= 100 for line in legend)
+    assert row_pooled.split()[1] == "0.350" and row_pooled.split()[4:6] == ["7/10", "0/10"]
+    assert row_chain.split()[1] == "0.000" and row_chain.split()[4:6] == ["7/10", "0/10"]
 
 
 def test_an_older_stored_report_is_read_with_the_current_rule(tmp_path):
@@ -501,10 +502,10 @@ def test_protocol_report_says_p_is_inversions_over_m(tmp_path):
     ds = gather(sweep, tmp_path)
     assert float(ds["P"]) == float(ds["P_pooled"]) == 1.0
     assert "(protocol estimator): inversions / stops" in ds["P"].attrs["long_name"]
-    _, legend, header, row = format_table(ds).splitlines()
-    assert header.split()[:3] == ["P", "P", "is"] and legend.startswith("P: inversions / stops")
-    assert row.split()[1] == "pooled"
-    assert "6/6 = 1.000" in row
+    _, legend, _, header, row = format_table(ds).splitlines()
+    assert header.split()[:3] == ["P", "95%", "interval"] and legend.startswith("P: inversions")
+    assert row.split()[:4] == ["1.000", "[0.610,", "1.000]", "4/4"]
+    assert row.split()[4] == "2/2"
 
 
 def test_one_worker_gives_the_same_dataset_as_two(two_worker_sweep, tmp_path):
