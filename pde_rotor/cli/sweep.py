@@ -117,6 +117,7 @@ def register(app: typer.Typer) -> None:
                 f"dry run: sweep {spec.spec.name}, {spec.spec.estimator.kind} estimator: "
                 f"{points} point{'s' if points != 1 else ''} x {n_runs // points} runs = "
                 f"{n_runs} runs, {n_runs - len(todo)} already done in {sweep_dir}"
+                + ("" if spec.spec.axes else " (no axes: every run is of the base config)")
             )
             typer.echo(f"to compute: {len(todo)} runs on {where}")
             typer.echo(f"estimated cost: {estimate_sweep(todo, n).describe()}")

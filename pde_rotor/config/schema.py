@@ -10,6 +10,7 @@ diffusion length sqrt(D/a), time in units of 1/a.
 
 from __future__ import annotations
 
+import fractions
 import hashlib
 import json
 import math
@@ -465,12 +466,45 @@ class RotorConfig(_Section):
             steps = round(value / dt)
             if abs(steps * dt - value) > 1e-9 * max(1.0, value):
                 below, above = math.floor(value / dt) * dt, math.ceil(value / dt) * dt
+                fitting = self.fitting_dt()
+                suggestion = (
+                    f"grid.dt = {fitting:.6g}, which divides every time, or " if fitting else ""
+                )
                 msg = (
-                    f"not an integer multiple of grid.dt = {dt:g} (allowed: k * dt, "
-                    f"e.g. {below:.10g} or {above:.10g})"
+                    f"not an integer multiple of grid.dt = {dt:g} (allowed: {suggestion}"
+                    f"k * dt, e.g. {below:.10g} or {above:.10g})"
                 )
                 raise FieldError(key, value, msg)
         return self
+
+    def fitting_dt(self) -> float | None:
+        """A round time step <= grid.dt that divides every time of :data:`TIME_KEYS`.
+
+        The times are read as decimals (at most 6 digits after the point). The step is the
+        largest of 1, 2, 2.5, 4 or 5 times a power of ten that divides them all, or else
+        their greatest common divisor over a whole number; None below 1e-3 of grid.dt.
+        """
+        exact = [fractions.Fraction(t).limit_denominator(10**6) for t in self._times() if t]
+        dt = fractions.Fraction(self.grid.dt)
+        if not exact:
+            return None
+        top = math.floor(math.log10(self.grid.dt))
+        for power in range(top, top - 4, -1):
+            for mantissa in ("5", "4", "2.5", "2", "1"):
+                step = fractions.Fraction(mantissa) * fractions.Fraction(10) ** power
+                if step <= dt and all((t / step).denominator == 1 for t in exact):
+                    return float(step)
+        common = exact[0]
+        for value in exact[1:]:  # gcd(a/b, c/d) = gcd(a d, c b) / (b d)
+            numerator = math.gcd(
+                common.numerator * value.denominator, value.numerator * common.denominator
+            )
+            common = fractions.Fraction(numerator, common.denominator * value.denominator)
+        step = common / math.ceil(common / dt)
+        return float(step) if step >= 1e-3 * dt else None
+
+    def _times(self) -> list[float]:
+        return [value for key in TIME_KEYS if (value := self.get(key)) is not None]
 
     def get(self, key: str) -> Any:
         """Value at a dotted key path, e.g. ``config.get("protocol.t_stop")``."""

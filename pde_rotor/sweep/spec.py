@@ -261,9 +261,13 @@ def validate_point(data: Mapping[str, Any], where: str) -> RotorConfig:
     """Validate the config of one point; `where` names the point in the one-line error.
 
     Raises:
-        SweepError: ``WHERE: KEY: problem``.
+        SweepError: ``sweep point WHERE: KEY = VALUE: problem``, the key said once where
+            it is the point's own axis.
     """
     try:
         return validate_config(copy.deepcopy(dict(data)))
     except ConfigError as err:
-        raise SweepError(f"{where}: {err}") from None
+        message = str(err)
+        if message.startswith(f"{where}:"):  # the point's own value is the problem
+            message = message[len(where) + 1 :].lstrip()
+        raise SweepError(f"sweep point {where}: {message}") from None

@@ -228,3 +228,27 @@ def test_the_report_table_speaks_plainly_and_explains_its_terms(tmp_path):
                        "--explain").stdout  # fmt: skip
     for term in ("inverted", "from CCW / CW", "estimator", "Dw", "committed"):
         assert term in explained.split("report:", 1)[1], term
+
+
+def test_a_time_step_that_does_not_divide_the_times_gets_one_that_does(tiny_config):
+    result = invoke("check", tiny_config, "--set", "grid.dt=3.9e-4")
+    one_line(result, "protocol.t_ini = 0.4", "grid.dt = 0.00025, which divides every time")
+    fitting = float(result.stderr.split("grid.dt = ")[2].split(",")[0])
+    assert invoke("check", tiny_config, "--set", f"grid.dt={fitting}").exit_code == 0
+
+
+def test_a_bad_sweep_point_is_named_once(tmp_path):
+    path = tmp_path / "s.yaml"
+    path.write_text("name: s\nbase: coarse\naxes: {grid.dt: [0.1]}\nsamples: 2\nseed: 1\n")
+    result = invoke("sweep", path, "--dry-run")
+    one_line(result, "sweep point grid.dt = 0.1: above the explicit stability limit")
+    assert result.stderr.count("grid.dt = 0.1") == 1
+
+
+def test_a_sweep_without_axes_says_it_runs_the_base_config(tmp_path):
+    path = tmp_path / "s.yaml"
+    path.write_text("name: s\nbase: coarse\naxes: {}\nsamples: 2\nseed: 1\n")
+    result = invoke("sweep", path, "--dry-run")
+    assert result.exit_code == 0
+    assert "1 point x 4 runs = 4 runs" in result.stdout
+    assert "(no axes: every run is of the base config)" in result.stdout
