@@ -228,6 +228,7 @@ def run(
         ConfigError: also when the records would not fit in memory or on disk.
         OutputError: `out` holds an earlier run and not `overwrite`.
         SimulationDivergedError: the state became NaN/Inf and `check` is True.
+        RunError: anything else stopped the run (the original error is its cause).
     """
     cfg = as_config(config)
     overrides = list(overrides)
@@ -378,11 +379,21 @@ def run(
             if error is None or isinstance(error, SimulationDivergedError):
                 result.write_summary()
         if error is not None and (check or not isinstance(error, SimulationDivergedError)):
-            raise error
+            if isinstance(error, SimulationDivergedError) or not isinstance(error, Exception):
+                raise error
+            t_last = ts_tracker.rows["time"][-1] if ts_tracker.rows["time"] else 0.0
+            kept = f"; what was recorded before is in {run_dir.path}" if run_dir else ""
+            msg = f"run stopped after t = {t_last:g}: {type(error).__name__}: {error}{kept}"
+            raise RunError(msg) from error
         return result
     finally:
         if log_handler is not None:
             detach_log(log_handler)
+
+
+class RunError(RuntimeError):
+    """A run stopped by something other than the physics (a full disk, a failing writer);
+    ``str(err)`` is one line saying when, why and where the records before it are."""
 
 
 def _events_from_csv(path: Path, commit_fraction: float) -> xr.Dataset:

@@ -16,7 +16,7 @@ from typing import Annotated
 
 import typer
 
-from ..api import RunResult, versions
+from ..api import RunError, RunResult, versions
 from ..backends import BackendError, backend_for, gpu_unavailable_reason
 from ..config import ConfigError, dump_config, load_config
 from ..io.output import OutputError, RunDirectory
@@ -134,6 +134,8 @@ def run(
         )
     except (ConfigError, BackendError, OutputError) as err:
         fail(str(err))
+    except RunError as err:
+        fail(str(err), EXIT_FAILED)
     _report(result)
     if result.status == "diverged":
         fail(result.message, EXIT_FAILED)

@@ -252,3 +252,37 @@ def test_a_sweep_without_axes_says_it_runs_the_base_config(tmp_path):
     assert result.exit_code == 0
     assert "1 point x 4 runs = 4 runs" in result.stdout
     assert "(no axes: every run is of the base config)" in result.stdout
+
+
+def test_a_full_disk_mid_run_stops_with_one_line_and_keeps_what_was_written(
+    tmp_path, tiny_config, monkeypatch
+):
+    """The time series is checkpointed as the run goes; when the disk fills up the run
+    stops, says when and why in one line (exit 1), and the last checkpoint stays readable."""
+    import errno
+
+    import xarray as xr
+
+    from pde_rotor.trackers import timeseries
+
+    written = timeseries.write_netcdf_atomic
+    calls = []
+
+    def fill_up(dataset, path):
+        calls.append(path)
+        if len(calls) >= 3:
+            raise OSError(errno.ENOSPC, "No space left on device", str(path))
+        written(dataset, path)
+
+    monkeypatch.setattr(timeseries, "write_netcdf_atomic", fill_up)
+    out = tmp_path / "run"
+    result = invoke(
+        "run", tiny_config, "--out", out, "-q", "--no-movie",
+        "--set", "output.checkpoint_seconds=1e-6",
+    )  # fmt: skip
+    assert result.exit_code == 1
+    assert result.stderr.count("\n") == 1 and "Traceback" not in result.output
+    assert "run stopped after t = " in result.stderr
+    assert "No space left on device" in result.stderr and str(out) in result.stderr
+    with xr.open_dataset(out / "timeseries.nc", engine="h5netcdf") as ds:
+        assert ds.sizes["time"] >= 1 and ds.attrs["status"] == "running"
