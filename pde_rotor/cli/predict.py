@@ -277,8 +277,15 @@ def register(app: typer.Typer) -> None:
             ),
         ] = None,
     ) -> None:
-        """Compare the model with every point of stored sweep reports (coverage, deviation)."""
+        """Compare the model with every point of stored sweep reports.
+
+        First the headline: an aggregate test (Pearson's X2 and G2 with their p-values)
+        over the informative conditionals P(inv | direction), and a calibration table
+        of the stops that went the less likely way, observed against expected by bins
+        of its predicted probability. Then every point, and the interval counts.
+        """
         from ..decision.check import compare, master_points
+        from ..decision.goodness import goodness_of_fit
         from ..decision.map import draw_master
 
         table = _table(table_path)
@@ -289,6 +296,12 @@ def register(app: typer.Typer) -> None:
             result = compare(table, reports)
         except ValueError as err:
             fail(str(err))
+        try:
+            fit = goodness_of_fit(result)
+        except ValueError:
+            fit = None  # protocol reports: intervals only
+        for line in fit.describe() if fit is not None else []:
+            typer.echo(line)
         for row in result.rows:
             typer.echo(
                 f"{row['sweep']}: t_stop = {row['t_stop']:g}, Delta = {row['asymmetry']:g}, "
@@ -308,6 +321,14 @@ def register(app: typer.Typer) -> None:
             f"{len(result.rows)} intervals; largest deviation "
             f"{worst['predicted'] - worst['measured']:+.3f} ({worst['column']} at t_stop = "
             f"{worst['t_stop']:g}, Delta = {worst['asymmetry']:g}, sigma = {worst['sigma']:g})"
+        )
+        conditionals = [r for r in result.rows if r["column"] != "P"]
+        open_ = [r for r in conditionals if 0.02 <= r["predicted"] <= 0.98]
+        typer.echo(
+            f"independent intervals (the conditionals; P is made of them): "
+            f"{sum(r['inside'] for r in conditionals)} of {len(conditionals)} hold the model, "
+            f"{sum(r['inside'] for r in open_)} of the {len(open_)} where it predicts "
+            "between 0.02 and 0.98"
         )
         if plot is not None:
             plot.mkdir(parents=True, exist_ok=True)

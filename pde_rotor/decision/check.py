@@ -35,6 +35,9 @@ MATCHED = (
 """Settings a report's base_config must share with the table where it names them."""
 
 
+COUNTS = ("inversions_ccw", "stops_ccw", "inversions_cw", "stops_cw")
+"""The counts behind the conditionals, where a report holds them (restart and bank)."""
+
 PREDICTED = ("protocol.t_stop", "geometry.asymmetry", "noise.sigma")
 """The settings a table predicts over: every other physics setting is the table's own."""
 
@@ -66,7 +69,7 @@ def report_points(ds: xr.Dataset) -> list[dict[str, float]]:
         "sigma": fixed.get("noise", {}).get("sigma", 0.0),
         "dx": fixed.get("grid", {}).get("dx", math.nan),
     }
-    names = [f"{c}{s}" for c in COLUMNS for s in ("", "_low", "_high")] + ["stops"]
+    names = [f"{c}{s}" for c in COLUMNS for s in ("", "_low", "_high")] + ["stops", *COUNTS]
     values = ds[[n for n in names if n in ds]]
     if not values["P"].dims:
         values = values.expand_dims("point")
@@ -139,7 +142,8 @@ class Comparison:
 
     Attributes:
         rows: one dict per point and column: where (t_stop, asymmetry, sigma), column,
-            measured, low, high, predicted, inside.
+            measured, low, high, predicted, inside, and for the conditionals the counts
+            behind them (inverted, stops; None where the report lacks them).
     """
 
     rows: list[dict[str, Any]]
@@ -177,8 +181,17 @@ def compare(table: DecisionTable, reports: Sequence[xr.Dataset]) -> Comparison:
                     continue
                 low, high = point[f"{column}_low"], point[f"{column}_high"]
                 value = float(predicted[column])
+                direction = column.removeprefix("P_")
+                inverted, stops = (
+                    point.get(f"inversions_{direction}"),
+                    point.get(f"stops_{direction}"),
+                )
                 rows.append(
                     {
+                        "inverted": int(inverted)
+                        if column != "P" and inverted is not None
+                        else None,
+                        "stops": int(stops) if column != "P" and stops is not None else None,
                         "sweep": ds.attrs.get("sweep", "?"),
                         "t_stop": t,
                         "asymmetry": d,
