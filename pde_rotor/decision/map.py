@@ -18,6 +18,7 @@ import xarray as xr
 
 from ..plotting.figures import add_footer, new_figure, save_figure
 from .check import mismatch, table_points
+from .goodness import GoodnessOfFit
 from .table import DecisionTable, diffusion_of, sigma_of
 
 
@@ -155,6 +156,42 @@ def draw_master(
     ax.set_ylim(-0.02, 1.02)
     ax.legend(fontsize=8)
     ax.set_title("Master curve: every stop of every point on one line if the model holds")
+    if footer:
+        add_footer(fig, footer)
+    return save_figure(fig, out, name)
+
+
+def draw_calibration(
+    fit: GoodnessOfFit, out: Path, name: str = "calibration_check", footer: str = ""
+) -> list[Path]:
+    """The model's calibration: per bin of the predicted probability q of the less likely
+    direction, the stops that went that way against the expected count, with the bin's
+    95 % Poisson range, and the aggregate test in the title (:mod:`.goodness`)."""
+    fig = new_figure(7.0, 5.0)
+    ax = fig.subplots()
+    bins = [b for b in fit.bins if b.conditionals and b.expected > 0]
+    at = np.arange(len(bins))
+    expected = np.array([b.expected for b in bins])
+    ratio = np.array([b.observed for b in bins]) / expected
+    spread = np.array([[1 - b.range[0] / b.expected, b.range[1] / b.expected - 1] for b in bins])
+    ax.errorbar(at, np.ones(len(bins)), yerr=spread.T, fmt="none", ecolor="0.6", elinewidth=8,
+                label="model: 1, with the 95 % range of a Poisson count")  # fmt: skip
+    colours = ["tab:blue" if b.holds else "tab:red" for b in bins]
+    ax.scatter(at, ratio, c=colours, zorder=3, s=40, label="ensembles (red: outside the range)")
+    for k, b in enumerate(bins):
+        ax.annotate(f"{b.observed} of {b.expected:.1f}", (at[k], ratio[k]),
+                    textcoords="offset points", xytext=(10, -3), fontsize=8)  # fmt: skip
+    ax.set_xticks(at, [f"[{b.low:g}, {b.high:g})\n{b.conditionals} cond." for b in bins])
+    ax.set_xlim(-0.5, len(bins) - 0.5)
+    ax.set_ylim(0, max(2.0, 1.3 * float(ratio.max())))  # a near-empty bin's range is clipped
+    ax.set_xlabel("predicted probability q of the less likely direction (bins)")
+    ax.set_ylabel("stops that went that way: observed / expected")
+    ax.legend(fontsize=8, loc="upper right")
+    ax.set_title(
+        f"Calibration of the decision model: X\u00b2 = {fit.pearson:.1f} on "
+        f"{fit.conditionals} conditionals (p = {fit.pearson_p:.2g})",
+        fontsize=10,
+    )
     if footer:
         add_footer(fig, footer)
     return save_figure(fig, out, name)

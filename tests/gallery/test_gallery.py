@@ -34,6 +34,7 @@ from pde_rotor.gallery.runner import (
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 EXPECTED = (
+    "calibration_check",
     "convergence",
     "fig1_geometry",
     "fig3_fields",
