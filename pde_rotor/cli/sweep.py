@@ -207,7 +207,7 @@ def register(app: typer.Typer) -> None:
         explain: Annotated[
             bool,
             typer.Option(
-                "--explain", help="Also say what the table's terms mean (P, from CCW, ...)."
+                "--explain", help="Also say what the table's terms mean: P, from CCW and the rest."
             ),
         ] = False,
         plot_out: Annotated[

@@ -5,14 +5,17 @@ Two numbers of the paper are wanted as the model really has them: the
 "It decayed around t_stop = 1.4"), and the Δ = 1e-4 onset, where P of Fig. 7(a)
 falls through 0.5 (the paper: near 1). Both are read from ensemble points with
 Wilson intervals (:func:`pde_rotor.statistics.proportions.wilson_interval`), without a model of the
-curve's shape:
+curve's shape. Two intervals are given, because they assume different things:
 
-* the estimate is where the straight lines between the measured P cross the level;
-* the interval is where the lines between the interval bounds do. For a falling curve
-  the lower bounds cross first: before that t_stop every point lies above the level
-  with 95 % confidence; the upper bounds cross last: after it every point lies below.
-  This inverts the pointwise band (conservative where neighbouring points are tight)
-  and assumes only that P is monotone between the points.
+* **interpolated**: the estimate is where the straight lines between the measured P
+  cross the level, and the interval is where the lines between the interval bounds do
+  (for a falling curve the lower bounds cross first, the upper bounds last). This
+  inverts the pointwise band, and it assumes that P, and each bound, runs straight
+  between neighbouring points: between two points a curved P can cross elsewhere.
+* **monotone**: assuming only that P falls (rises) with t_stop, the crossing lies after
+  every point whose interval lies wholly above the level and before every point whose
+  interval lies wholly below it. Nothing is assumed between the points, so this
+  interval is wider; its ends are measured points.
 
 An end that the band does not close within the measured points is open (None). Where
 the measured curve does not cross the level at all the estimate is None, but the band
@@ -55,6 +58,8 @@ class Crossing:
         high: upper end (None: beyond the last point).
         points: number of curve points behind it.
         partial: measured points left out because their runs are not all done.
+        monotone: the interval assuming only that P is monotone (module doc); an end
+            is None where no point's interval lies wholly on that side of the level.
     """
 
     level: float
@@ -63,6 +68,7 @@ class Crossing:
     high: float | None
     points: int
     partial: int = 0
+    monotone: tuple[float | None, float | None] = (None, None)
 
     def describe(self, name: str = "t_stop") -> str:
         """One line: ``P = 0.75 at t_stop = 1.86 [1.79, 1.93] (95 %)``, open ends as
@@ -74,7 +80,12 @@ class Crossing:
         else:
             low = "open" if self.low is None else f"{self.low:.3g}"
             high = "open" if self.high is None else f"{self.high:.3g}"
-            text = f"P = {self.level:g} at {name} = {self.value:.3g} [{low}, {high}] (95 %)"
+            text = (
+                f"P = {self.level:g} at {name} = {self.value:.3g} [{low}, {high}] (95 %, "
+                "straight lines between points)"
+            )
+            before, after = ("open" if v is None else f"{v:.3g}" for v in self.monotone)
+            text += f"; [{before}, {after}] assuming only that P is monotone"
         if self.partial:
             points = "point" if self.partial == 1 else "points"
             text += f"; {self.partial} partial {points} left out"
@@ -125,12 +136,21 @@ def level_crossing(
     # falling: the lower bounds pass the level first, the upper bounds last
     first, last = (lows, highs) if falling else (highs, lows)
     start = _first_crossing(xs, first, level, falling)
+    # monotone only: after every point wholly on the start side, before every point
+    # wholly on the end side
+    start_side = lows > level if falling else highs < level
+    end_side = highs < level if falling else lows > level
+    monotone = (
+        float(xs[start_side].max()) if start_side.any() else None,
+        float(xs[end_side].min()) if end_side.any() else None,
+    )
     return Crossing(
         level=level,
         value=value,
         low=None if start is None or start == xs[0] else start,
         high=None if value is None else _first_crossing(xs, last, level, falling),
         points=len(xs),
+        monotone=monotone,
     )
 
 

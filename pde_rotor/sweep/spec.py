@@ -268,6 +268,9 @@ def validate_point(data: Mapping[str, Any], where: str) -> RotorConfig:
         return validate_config(copy.deepcopy(dict(data)))
     except ConfigError as err:
         message = str(err)
-        if message.startswith(f"{where}:"):  # the point's own value is the problem
-            message = message[len(where) + 1 :].lstrip()
+        for coordinate in where.split(", "):  # the point's own key is the problem
+            key = coordinate.split(" = ")[0]
+            for prefix in (f"{coordinate}:", f"{key}:"):
+                if message.startswith(prefix):
+                    message = message[len(prefix) :].lstrip()
         raise SweepError(f"sweep point {where}: {message}") from None

@@ -672,7 +672,7 @@ def test_cli_sweep_and_report(two_worker_sweep, tmp_path):
     bad = write_sweep(tmp_path / "bad.yaml", {**TINY_SWEEP, "axes": {"protocol.t_stopp": [1]}})
     result = runner.invoke(app, ["sweep", str(bad), "-o", str(tmp_path / "never")])
     assert result.exit_code == 2
-    assert "error: protocol.t_stopp" in result.output
+    assert "error: sweep point protocol.t_stopp = 1: unknown key" in result.output
     assert not (tmp_path / "never").exists()
     result = runner.invoke(app, ["report", str(tmp_path)])
     assert result.exit_code == 2 and "not a sweep directory" in result.output
