@@ -72,7 +72,7 @@ def time_parts(sim: Simulation, calls: int) -> dict[str, float]:
     tab = np.empty((4, pde.shape.n_corners))
     tables = scheme.kernel_tables()
     domain = dom.arrays()
-    p = make_record(sim.config, scheme, sim.config.grid.dt)[0]
+    params = make_record(sim.config, scheme, sim.config.grid.dt)
     cur = sim.state.data.reshape(-1).copy()
     nxt = cur.copy()
     n = dom.coords.size
@@ -88,9 +88,13 @@ def time_parts(sim: Simulation, calls: int) -> dict[str, float]:
         return (time.perf_counter() - start) / calls * 1e3
 
     parts = {
-        "F and G": timed(lambda k: update_indicators(F, G, domain, p, tab, tables, angles[k])),
-        "rotor integrals": timed(lambda k: rotor_integrals(cur, F, domain, p, tab, tables, coef)),
-        "Euler update": timed(lambda k: euler_fields(cur, nxt, F, G, domain, p, pde.rotor.omega)),
+        "F and G": timed(lambda k: update_indicators(F, G, domain, params, tab, tables, angles[k])),
+        "rotor integrals": timed(
+            lambda k: rotor_integrals(cur, F, domain, params, tab, tables, coef)
+        ),
+        "Euler update": timed(
+            lambda k: euler_fields(cur, nxt, F, G, domain, params, pde.rotor.omega)
+        ),
     }
     if scheme.contour:
         parts["of which spline window"] = timed(lambda k: spline_window(cur, coef, n, lo, hi))

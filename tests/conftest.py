@@ -183,7 +183,7 @@ def compiled_indicators(pde: RotorPDE, phi: float) -> tuple[np.ndarray, np.ndarr
         F.reshape(-1),
         G.reshape(-1),
         dom.arrays(),
-        make_record(pde.config, pde.scheme, pde.config.grid.dt)[0],
+        make_record(pde.config, pde.scheme, pde.config.grid.dt),
         tab,
         pde.scheme.kernel_tables(),
         phi,

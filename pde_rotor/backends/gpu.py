@@ -69,8 +69,11 @@ def is_available(allow_simulator: bool = False) -> bool:
     return unavailable_reason(allow_simulator=allow_simulator) is None
 
 
-def _member_arrays(plan: EnsemblePlan) -> dict[str, np.ndarray]:
-    """Per-member parameter records and supports, and the common tables of the kernel."""
+def _member_arrays(
+    plan: EnsemblePlan,
+) -> tuple[np.ndarray, np.ndarray, tuple[np.ndarray, ...]]:
+    """(params, support, tables): the members' parameter records (E,) and supports of F
+    and G (E, 2, n), and the tables all members share (:meth:`Scheme.kernel_tables`)."""
     n = plan.domain.coords.size
     n_members = plan.n_members
     params = np.empty(n_members, dtype=PARAMS)
@@ -97,8 +100,7 @@ def _member_arrays(plan: EnsemblePlan) -> dict[str, np.ndarray]:
         if pde.shape.n_corners > MAX_CORNERS:
             msg = f"member {m}: n_corners = {pde.shape.n_corners} > {MAX_CORNERS}"
             raise ValueError(msg)
-    names = ("quad_s", "quad_t", "plate_tab", "edge_tab", "pill_tab")
-    return {"params": params, "support": support, **dict(zip(names, first_tables, strict=True))}
+    return params, support, first_tables
 
 
 def _interior_rows(plan: EnsemblePlan, support: np.ndarray) -> np.ndarray:
@@ -193,9 +195,9 @@ def run_ensemble(
     if len(rngs) != plan.n_members:
         raise ValueError(f"{len(rngs)} generators for {plan.n_members} members")
     state = initial if initial is not None else EnsembleState.initial(plan.configs, plan.domain)
-    host = _member_arrays(plan)
-    rows = _interior_rows(plan, host["support"])
-    noisy = host["params"]["kick"] != 0.0
+    params, support, tables = _member_arrays(plan)
+    rows = _interior_rows(plan, support)
+    noisy = params["kick"] != 0.0
     dom = plan.domain
     n_members = plan.n_members
 
@@ -210,10 +212,12 @@ def run_ensemble(
     d_coords = cuda.to_device(dom.coords)
     d_interior = cuda.to_device(np.stack([dom.interior_lo, dom.interior_hi]).astype(np.int64))
     d_rows = cuda.to_device(rows)
-    d_host = {key: cuda.to_device(value) for key, value in host.items()}
+    d_params = cuda.to_device(params)
+    d_support = cuda.to_device(support)
+    d_tables = tuple(cuda.to_device(table) for table in tables)
     d_rotor = cuda.to_device(state.rotor.copy())
     d_status = cuda.to_device(np.full(n_members, -1, dtype=np.int64))
-    contour = host["params"]["contour"]
+    contour = params["contour"]
     d_coef = cuda.device_array(n_members * dom.coords.size**2 if contour.any() else 1)
     records = np.full((n_members, plan.record_steps.size, len(RECORD_FIELDS)), np.nan)
     records[:, 0, :5] = state.rotor
@@ -237,13 +241,9 @@ def run_ensemble(
             d_coords,
             d_interior,
             d_rows,
-            d_host["support"],
-            d_host["params"],
-            d_host["quad_s"],
-            d_host["quad_t"],
-            d_host["plate_tab"],
-            d_host["edge_tab"],
-            d_host["pill_tab"],
+            d_support,
+            d_params,
+            d_tables,
             d_rotor,
             cuda.to_device(normals),
             d_records,

@@ -68,7 +68,7 @@ def _euler_row(cur, nxt, F, G, y_of, coef, dt, omega, x, base, sx, nn, j0, j1, f
 
 
 @nb.njit(cache=True, nogil=True, fastmath=FASTMATH)
-def euler_fields(cur, nxt, F, G, domain, p, omega):
+def euler_fields(cur, nxt, F, G, domain, params, omega):
     """One Euler step of Eqs. (eqc) and (eqv) (or (eqc) alone) on all interior cells.
 
     Args:
@@ -76,10 +76,11 @@ def euler_fields(cur, nxt, F, G, domain, p, omega):
         nxt: receives the new state on interior cells.
         F, G: flat plate and pill indicators (zero outside the support).
         domain: (coords, lo, hi, slo, shi) as for :func:`advance`.
-        p: the parameter record (:mod:`pde_rotor.kernels.records`); without ``p.flow``
-            only c is advanced (v = 0, Fig. 8).
+        params: the parameter record as for :func:`advance`; without ``flow`` only c is
+            advanced (v = 0, Fig. 8).
         omega: plate angular velocity (0 during a stop).
     """
+    p = params[0]
     coef = _rate_coefficients(p)
     if p.flow:  # two loops, so that `flow` is a compile-time constant of each
         _euler_rows(cur, nxt, F, G, domain, coef, p.dt, omega, True)
@@ -140,18 +141,19 @@ def spline_window(cur, coef, n, lo, hi):
 
 
 @nb.njit(cache=True, nogil=True)
-def rotor_integrals(cur, F, domain, p, tab, tables, coef):
+def rotor_integrals(cur, F, domain, params, tab, tables, coef):
     """The integrals of Eq. (eq_motion) over the plate (compiled).
 
     `tab` must hold the rotor table of the current angle
-    (:func:`pde_rotor.kernels.indicators.update_indicators`); `domain`, `p` and `tables`
-    as for :func:`advance`; `coef` (n^2) is scratch for the spline coefficients of the
-    contour form.
+    (:func:`pde_rotor.kernels.indicators.update_indicators`); `domain`, `params` and
+    `tables` as for :func:`advance`; `coef` (n^2) is scratch for the spline coefficients
+    of the contour form.
 
     Returns:
         (int F r x grad c dA, int F |r|^2 dA, int F r x v dA); the first in area form
-        with central differences, or in contour form with ``p.contour``.
+        with central differences, or in contour form with the record's ``contour``.
     """
+    p = params[0]
     coords, _, _, slo, shi = domain
     quad_s, quad_t = tables[0], tables[1]
     flow = p.flow
@@ -200,7 +202,7 @@ def rotor_integrals(cur, F, domain, p, tab, tables, coef):
 
 
 @nb.njit(cache=True, nogil=True)
-def rotor_forces(state, phi, omega, indicator_phi, F, G, domain, p, tab, tables, coef):
+def rotor_forces(state, phi, omega, indicator_phi, F, G, domain, params, tab, tables, coef):
     """Torque T, Eq. (torque), and friction torque of Eq. (eq_motion) at `state` (compiled).
 
     F and G (and the rotor table `tab`) are recomputed for angle `phi` unless they already
@@ -210,13 +212,13 @@ def rotor_forces(state, phi, omega, indicator_phi, F, G, domain, p, tab, tables,
         (T, -mu int F (|r|^2 omega - r x v) dA).
     """
     if phi != indicator_phi:
-        update_indicators(F, G, domain, p, tab, tables, phi)
-    cross_grad, moment, cross_v = rotor_integrals(state, F, domain, p, tab, tables, coef)
-    return _rotor_torques(cross_grad, moment, cross_v, omega, p)
+        update_indicators(F, G, domain, params, tab, tables, phi)
+    cross_grad, moment, cross_v = rotor_integrals(state, F, domain, params, tab, tables, coef)
+    return _rotor_torques(cross_grad, moment, cross_v, omega, params[0])
 
 
 @nb.njit(cache=True, nogil=True)
-def advance(data, spare, stage, F, G, domain, p, tables, rotor, xi, step0, n_steps):
+def advance(data, spare, stage, F, G, domain, params, tables, rotor, xi, step0, n_steps):
     """Advance c, v, phi, omega by `n_steps` fused steps, Euler or Heun (compiled).
 
     Forward Euler (the paper's method) when `stage` is empty. Otherwise Heun's method
@@ -234,12 +236,14 @@ def advance(data, spare, stage, F, G, domain, p, tables, rotor, xi, step0, n_ste
         F, G: flat indicator arrays (n^2), zero outside the support, updated in place.
         domain: (coords, lo, hi, slo, shi): cell-centre coordinates, the interior and
             the support column ranges [lo, hi) per row.
-        p: the parameter record (:func:`pde_rotor.kernels.records.make_record`); without
-            ``p.flow`` v is set to 0 and stays 0 (Fig. 8).
+        params: the run's parameter record, the (1,) array of
+            :func:`pde_rotor.kernels.records.make_record` (an array, which numba's
+            dispatcher types faster than a bare record); without ``flow`` v is set to 0
+            and stays 0 (Fig. 8).
         tables: (quad_s, quad_t, plate, edge, pill): the scheme's quadrature rules and
             filter tables (:class:`~pde_rotor.model.schemes.Scheme`).
         rotor: [phi, omega, torque, friction, stopped], updated in place.
-        xi: one standard normal per step for the noise (read where ``p.kick`` != 0).
+        xi: one standard normal per step for the noise (read where ``kick`` != 0).
         step0: global index of the first step (t = step0 dt).
         n_steps: number of steps.
 
@@ -247,6 +251,7 @@ def advance(data, spare, stage, F, G, domain, p, tables, rotor, xi, step0, n_ste
         -1 on success, else the index of the step at which phi, omega or T stopped
         being finite (the state is then left at the start of that step).
     """
+    p = params[0]
     dt = p.dt
     phi, omega = rotor[0], rotor[1]
     cur = data
@@ -265,24 +270,26 @@ def advance(data, spare, stage, F, G, domain, p, tables, rotor, xi, step0, n_ste
         stopped = _stopped_at(step0 + s, p.n_ini, p.n_stop, p.n_period, p.cycles)
         if stopped:
             omega = 0.0
-        torque, friction = rotor_forces(cur, phi, omega, phi_f, F, G, domain, p, tab, tables, coef)
+        torque, friction = rotor_forces(
+            cur, phi, omega, phi_f, F, G, domain, params, tab, tables, coef
+        )
         phi_f = phi
         if not (math.isfinite(torque) and math.isfinite(friction)):
             if s % 2 == 1:
                 data[:] = spare
             rotor[0], rotor[1] = phi, omega
             return s
-        euler_fields(cur, nxt, F, G, domain, p, omega)
+        euler_fields(cur, nxt, F, G, domain, params, omega)
         accel = _angular_acceleration(torque, friction, p)
         if heun:
             phi_p, omega_p = phi, 0.0
             if not stopped:
                 phi_p, omega_p = _euler_rotor(phi, omega, accel, dt)
             torque_p, friction_p = rotor_forces(
-                nxt, phi_p, omega_p, phi_f, F, G, domain, p, tab, tables, coef
+                nxt, phi_p, omega_p, phi_f, F, G, domain, params, tab, tables, coef
             )
             phi_f = phi_p
-            euler_fields(nxt, stage, F, G, domain, p, omega_p)
+            euler_fields(nxt, stage, F, G, domain, params, omega_p)
             heun_average(cur, stage, nxt, n, domain[1], domain[2], p.flow)
             if not stopped:
                 accel_p = _angular_acceleration(torque_p, friction_p, p)

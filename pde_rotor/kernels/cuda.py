@@ -91,11 +91,7 @@ def _advance(
     rows,
     support,
     params,
-    quad_s,
-    quad_t,
-    plate_tab,
-    edge_tab,
-    pill_tab,
+    tables,
     rotor,
     xi,
     records,
@@ -120,8 +116,8 @@ def _advance(
             (inside the interior ranges).
         params: (E,) parameter records, one per member
             (:func:`pde_rotor.kernels.records.make_record`).
-        quad_s, quad_t, plate_tab, edge_tab, pill_tab: the common quadrature rules of
-            the contour torque and filter tables (:meth:`Scheme.kernel_tables`).
+        tables: (quad_s, quad_t, plate, edge, pill), the common quadrature rules of the
+            contour torque and filter tables (:meth:`Scheme.kernel_tables`).
         rotor: (E, 5) [phi, omega, torque, friction, stopped], updated.
         xi: (E, n_steps) standard normals of the noise (read where the member's
             ``kick`` != 0).
@@ -147,6 +143,7 @@ def _advance(
     rot = cuda.shared.array(6, float64)  # phi, omega, torque, friction, stopped, failed
 
     p = params[m]
+    quad_s, quad_t, plate_tab, edge_tab, pill_tab = tables
     rates = _rate_coefficients(p)
     dt, dx = p.dt, p.dx
     inv_2dx = 0.5 / dx
@@ -294,10 +291,10 @@ def _advance(
             half //= 2
 
         if tid == 0:
-            cross_grad = red[0] if contour else red[0] * area
-            moment = red[n_threads] * area
-            cross_v = red[2 * n_threads] * area
-            torque, friction = _rotor_torques(cross_grad, moment, cross_v, omega, p)
+            total_grad = red[0] if contour else red[0] * area
+            total_moment = red[n_threads] * area
+            total_v = red[2 * n_threads] * area
+            torque, friction = _rotor_torques(total_grad, total_moment, total_v, omega, p)
             if not (math.isfinite(torque) and math.isfinite(friction)) or rot[5] != 0.0:
                 status[m] = step
                 rot[1] = omega

@@ -147,16 +147,17 @@ def pill_rows(G, coords, slo, shi, tab, n_corners, reach, rho, inv_delta, profil
 
 
 @nb.njit(cache=True, nogil=True)
-def update_indicators(F, G, domain, p, tab, tables, phi):
+def update_indicators(F, G, domain, params, tab, tables, phi):
     """Recompute F and G (flat n*n arrays) on the support cells for angle phi (compiled).
 
     Cells outside the support keep F = G = 0. `domain` is (coords, lo, hi, slo, shi) of
-    :func:`pde_rotor.kernels.cpu.advance`, `p` the parameter record
+    :func:`pde_rotor.kernels.cpu.advance`, `params` the (1,) parameter record array
     (:mod:`pde_rotor.kernels.records`), `tables` the scheme's (quad_s, quad_t, plate,
     edge, pill). `tab` (4, >= N) receives the edge normals and pill centres. Point values
     (:func:`plate_rows`, :func:`pill_rows`), or (``consistent``) the filtered fields
     from the filter tables (:meth:`~pde_rotor.model.schemes.Scheme.kernel_tables`).
     """
+    p = params[0]
     coords, _, _, slo, shi = domain
     _, _, plate_tab, edge_tab, pill_tab = tables
     n_corners, rho, inv_delta = p.n_corners, p.pill_radius, 1.0 / p.smoothing

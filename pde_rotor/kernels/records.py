@@ -114,8 +114,8 @@ def make_record(config: RotorConfig, scheme: Scheme, dt: float) -> np.ndarray:
         dt: the time step the kernels take (the solver's; ``grid.dt`` by default).
 
     Returns:
-        A (1,) array of dtype :data:`PARAMS`: ``[0]`` is the record the CPU loops take;
-        the GPU stacks one per member.
+        A (1,) array of dtype :data:`PARAMS`, which the CPU loops take (and read as
+        ``params[0]``); the GPU stacks one per member.
     """
     rec = np.zeros(1, dtype=PARAMS)
     for name, key in CONFIG_FIELDS.items():

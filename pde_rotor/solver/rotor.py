@@ -57,7 +57,7 @@ class FusedStepper:
     def normals(self, n_steps: int) -> np.ndarray:
         """The standard normals of the noise, one per step (none without noise); the
         kernel scales them to the Euler-Maruyama kicks of Eq. (noiseav)."""
-        if self.pde.config.noise.sigma == 0:
+        if self._record["kick"][0] == 0.0:
             return np.empty(0)
         return self.rng.standard_normal(n_steps)
 
@@ -79,7 +79,7 @@ class FusedStepper:
             pde.F.reshape(-1),
             pde.G.reshape(-1),
             dom.arrays(),
-            self._record[0],
+            self._record,
             scheme.kernel_tables(),
             rotor,
             self.normals(n_steps),

@@ -27,8 +27,9 @@ _filtered_pills = CPU.filtered_pills
 
 
 @nb.njit
-def cell_indicators(coords, slo, shi, p, tab, plate, edge, pill):
+def cell_indicators(coords, slo, shi, params, tab, plate, edge, pill):
     """F and G of the cell functions, one cell at a time (the GPU's way)."""
+    p = params[0]
     n = coords.size
     F = np.zeros(n * n)
     G = np.zeros(n * n)
@@ -59,7 +60,7 @@ def test_row_loops_equal_the_cell_functions(small_config, scheme: str, phi: floa
     dom = pde.domain
     F_cell, G_cell = cell_indicators(
         dom.coords, dom.support_lo, dom.support_hi,
-        make_record(pde.config, pde.scheme, pde.config.grid.dt)[0], tab,
+        make_record(pde.config, pde.scheme, pde.config.grid.dt), tab,
         *pde.scheme.kernel_tables()[2:],
     )  # fmt: skip
     assert F.max() > 0.99 and G.max() > 0.9  # the fields are there

@@ -127,9 +127,8 @@ def test_steady_flow_around_rotating_disk_matches_bessel_solution() -> None:
     pde = RotorPDE(cfg)
     dom = pde.domain
     dt = 0.9 * cfg.dt_limit()
-    record = make_record(cfg, pde.scheme, cfg.grid.dt)
-    record["dt"] = dt  # euler_fields reads no stop schedule, which needs the config's step
-    p = record[0]
+    params = make_record(cfg, pde.scheme, cfg.grid.dt)
+    params["dt"] = dt  # euler_fields reads no stop schedule, which needs the config's step
     x, y = pde.cell_coordinates()
     r = np.hypot(x, y)
     radius, omega = cfg.geometry.radius, -3.0
@@ -144,7 +143,7 @@ def test_steady_flow_around_rotating_disk_matches_bessel_solution() -> None:
             F.reshape(-1),
             G.reshape(-1),
             dom.arrays(),
-            p,
+            params,
             omega,
         )
 
@@ -186,9 +185,8 @@ def test_steady_camphor_of_fixed_pill_matches_bessel_solution() -> None:
     pde = RotorPDE(cfg)
     dom = pde.domain
     dt = 0.9 * cfg.dt_limit()
-    record = make_record(cfg, pde.scheme, cfg.grid.dt)
-    record["dt"] = dt  # euler_fields reads no stop schedule, which needs the config's step
-    p = record[0]
+    params = make_record(cfg, pde.scheme, cfg.grid.dt)
+    params["dt"] = dt  # euler_fields reads no stop schedule, which needs the config's step
     x, y = pde.cell_coordinates()
     r = np.hypot(x, y)
     rho = cfg.geometry.pill_radius
@@ -203,7 +201,7 @@ def test_steady_camphor_of_fixed_pill_matches_bessel_solution() -> None:
             F.reshape(-1),
             G.reshape(-1),
             dom.arrays(),
-            p,
+            params,
             0.0,
         )
 

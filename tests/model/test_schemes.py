@@ -140,7 +140,7 @@ def test_compiled_contour_torque_equals_numpy_reference(
         state.reshape(-1),
         F.reshape(-1),
         dom.arrays(),
-        make_record(cfg, scheme, cfg.grid.dt)[0],
+        make_record(cfg, scheme, cfg.grid.dt),
         tab,
         scheme.kernel_tables(),
         np.zeros(x.size),
