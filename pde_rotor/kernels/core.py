@@ -32,7 +32,8 @@ Physics (section "Model" of Koyano et al., Chaos 2020):
   :func:`filtered_pill_term`). The GPU calls the cell functions once per cell; the CPU
   calls the terms in loops over a row's cells, four at a time (SIMD);
 * the geometry of F and G shared by the cell functions and the CPU's row loops: the
-  plate's gauge h(r) = max_j r . e_j (:func:`projection`, :func:`gauge_step`), the frame
+  plate's gauge h(r) = max_j r . e_j (:func:`projection`, :func:`farther`,
+  :func:`gauge_step`), the frame
   of the nearest edge (:func:`tangential`, :func:`nearer_edge`, :func:`near_corner`) and
   the pills' reach (:func:`pill_reach`, :func:`filtered_pill_reach`);
 * :func:`cell_rates`: the right-hand sides of Eqs. (eqc) and (eqv) of one cell
@@ -76,6 +77,7 @@ class Core(NamedTuple):
     logistic: Callable
     rotor_table: Callable
     projection: Callable
+    farther: Callable
     gauge_step: Callable
     tangential: Callable
     nearer_edge: Callable
@@ -177,10 +179,15 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         return x * ex + y * ey
 
     @jit
+    def farther(p, h):
+        """Whether p = r . e_j exceeds h: strict, so that the first of equal edges wins."""
+        return p > h
+
+    @jit
     def gauge_step(h, x, y, ex, ey):
         """max(h, r . e_j): one edge's step of the gauge h(r) = max_j r . e_j (branch-free)."""
         p = projection(x, y, ex, ey)
-        return p if p > h else h
+        return p if farther(p, h) else h
 
     @jit
     def gauge(x, y, tab, n_corners):
@@ -201,7 +208,7 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         q = r . tau) and edge (ex, ey): the new edge where r . e_j > h (so the first of
         equal edges wins; branch-free)."""
         p = projection(x, y, ex, ey)
-        nearer = p > h
+        nearer = farther(p, h)
         return (p if nearer else h), (tangential(x, y, ex, ey) if nearer else q)
 
     @jit
@@ -541,6 +548,7 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         logistic=logistic,
         rotor_table=rotor_table,
         projection=projection,
+        farther=farther,
         gauge_step=gauge_step,
         tangential=tangential,
         nearer_edge=nearer_edge,

@@ -4,7 +4,7 @@ Every step the plate turns, F and G (the equations after Eq. (rj) of Koyano et a
 Chaos 2020; filtered for the scheme ``consistent``, :mod:`pde_rotor.model.filtering`) are
 recomputed on the cells within reach of the plate. The terms are the physics core's
 (:mod:`pde_rotor.kernels.core`: the gauge and nearest-edge frame ``projection``,
-``gauge_step``, ``nearer_edge``, ``near_corner``, the pills' reach ``pill_reach``,
+``farther``, ``gauge_step``, ``tangential``, ``near_corner``, the pills' reach ``pill_reach``,
 ``filtered_pill_reach``, and ``plate_profile``, ``pill_term``, ``filtered_edge``,
 ``filtered_corner``, ``filtered_pill_term``), the same the GPU sums once per cell in
 ``plate_cell``, ``pill_cell``, ``filtered_plate`` and ``filtered_pills``. Here the loops
@@ -27,8 +27,8 @@ from .core import CPU, FASTMATH
 _rotor_table = CPU.rotor_table
 _projection = CPU.projection
 _gauge_step = CPU.gauge_step
+_farther = CPU.farther
 _tangential = CPU.tangential
-_nearer_edge = CPU.nearer_edge
 _near_corner = CPU.near_corner
 _pill_reach = CPU.pill_reach
 _filtered_pill_reach = CPU.filtered_pill_reach
@@ -72,8 +72,9 @@ def filtered_plate_rows(F, coords, slo, shi, tab, p, edge, plate):
     """F_eps of the scheme ``consistent`` on the support cells (compiled).
 
     The physics core's ``filtered_plate`` in two passes over a row: the frame of the
-    nearest edge (h, q) (``nearer_edge``) and the edge profile for every cell four at a
-    time (SIMD, as :func:`plate_rows`), then the 2-D corner table for the cells within
+    nearest edge (h, q) (``nearer_edge`` from ``projection``, ``farther`` and
+    ``tangential``) and the edge profile for every cell four at a time (SIMD, as
+    :func:`plate_rows`), then the 2-D corner table for the cells within
     the crease width of a corner bisector (``near_corner``), one at a time. `p` is the
     parameter record (:mod:`pde_rotor.kernels.records`).
     """
@@ -97,7 +98,11 @@ def filtered_plate_rows(F, coords, slo, shi, tab, p, edge, plate):
         for k in range(1, n_corners):
             ex, ey = tab[0, k], tab[1, k]
             for j in range(row_y.size):
-                row_h[j], row_q[j] = _nearer_edge(row_h[j], row_q[j], x, row_y[j], ex, ey)
+                # the core's nearer_edge, spelt out: LLVM vectorises this loop only so
+                proj = _projection(x, row_y[j], ex, ey)
+                nearer = _farther(proj, row_h[j])
+                row_q[j] = _tangential(x, row_y[j], ex, ey) if nearer else row_q[j]
+                row_h[j] = proj if nearer else row_h[j]
         row_f = F[i * n + j0 : i * n + j1]
         for j in range(row_y.size):
             row_f[j] = _filtered_edge(row_h[j], apothem, edge, e_u0, e_inv)
