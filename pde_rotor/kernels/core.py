@@ -423,8 +423,9 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         """
         fx = (x - x0) * inv_dx
         fy = (y - x0) * inv_dx
-        i = math.floor(fx)
-        j = math.floor(fy)
+        # int(): numba-cuda types math.floor as float64, numba's CPU target as int64
+        i = int(math.floor(fx))  # noqa: RUF046
+        j = int(math.floor(fy))  # noqa: RUF046
         wx0, wx1, wx2, wx3 = bspline_weights(fx - i)
         wy0, wy1, wy2, wy3 = bspline_weights(fy - j)
         row = o0 + (i - 1) * n + j - 1
