@@ -5,8 +5,9 @@ inside the disk of radius 3):
 
 (a) ms/step of the fused kernel (pde_rotor.solver.rotor) with the ``paper`` scheme, single
     thread, full physics;
-(b) ms/step of RotorPDE.make_operator_stepper, the equations composed from py-pde's
-    compiled operators (grid.make_operator) with F and G evaluated on the whole grid;
+(b) ms/step of make_operator_stepper (benchmarks/operator_stepper.py), the equations
+    composed from py-pde's compiled operators (grid.make_operator) with F and G
+    evaluated on the whole grid;
 their ratio, the largest relative difference of the two states after the same steps;
 (c) ms/step of the fused kernel with the ``consistent`` scheme (numerics.scheme, the
     default) and its ratio to (a), timed in the same run;
@@ -26,10 +27,12 @@ import argparse
 import time
 
 import numpy as np
+from operator_stepper import make_operator_stepper
 
 from pde_rotor import RotorConfig, Simulation
 from pde_rotor.kernels.cpu import euler_fields, rotor_integrals, spline_window
 from pde_rotor.kernels.indicators import update_indicators
+from pde_rotor.kernels.records import make_record
 
 
 def time_fused(sim: Simulation, n_steps: int) -> float:
@@ -49,7 +52,7 @@ def time_operator(sim: Simulation, n_steps: int) -> tuple[float, float]:
     Returns:
         (seconds per step, max relative difference of the fields after the steps)
     """
-    step = sim.pde.make_operator_stepper(sim.config.grid.dt)
+    step = make_operator_stepper(sim.pde, sim.config.grid.dt)
     data = sim.state.data.copy()
     rotor = np.array([sim.rotor.phi, sim.rotor.omega])
     step(data.copy(), rotor.copy(), 1)  # compile
@@ -66,16 +69,16 @@ def time_parts(sim: Simulation, calls: int) -> dict[str, float]:
     """ms per call of each compiled part of a step, on the state of `sim`."""
     pde, dom, scheme = sim.pde, sim.pde.domain, sim.pde.scheme
     F, G = pde.F.reshape(-1), pde.G.reshape(-1)
-    tab, shape, num = np.empty((4, pde.shape.n_corners)), pde.shape.as_array(), scheme.as_array()
-    tables = scheme.table_arrays()
+    tab = np.empty((4, pde.shape.n_corners))
+    tables = scheme.kernel_tables()
+    domain = dom.arrays()
+    params = make_record(sim.config, scheme, sim.config.grid.dt)
     cur = sim.state.data.reshape(-1).copy()
     nxt = cur.copy()
     n = dom.coords.size
     coef = np.zeros(n * n)
-    par = pde.kernel_parameters(sim.config.grid.dt)
     lo, hi = scheme.window
     angles = sim.rotor.phi + 1e-3 * np.arange(calls + 1)
-    sup = (dom.coords, dom.support_lo, dom.support_hi)
 
     def timed(func) -> float:
         func(0)
@@ -85,29 +88,12 @@ def time_parts(sim: Simulation, calls: int) -> dict[str, float]:
         return (time.perf_counter() - start) / calls * 1e3
 
     parts = {
-        "F and G": timed(
-            lambda k: update_indicators(F, G, *sup, shape, tab, num, *tables, angles[k])
-        ),
+        "F and G": timed(lambda k: update_indicators(F, G, domain, params, tab, tables, angles[k])),
         "rotor integrals": timed(
-            lambda k: rotor_integrals(
-                cur, F, *sup, shape, tab, num, scheme.quad_s, scheme.quad_t, True, coef
-            )
+            lambda k: rotor_integrals(cur, F, domain, params, tab, tables, coef)
         ),
         "Euler update": timed(
-            lambda k: euler_fields(
-                cur,
-                nxt,
-                F,
-                G,
-                dom.coords,
-                dom.interior_lo,
-                dom.interior_hi,
-                dom.support_lo,
-                dom.support_hi,
-                par,
-                sim.rotor.omega,
-                True,
-            )
+            lambda k: euler_fields(cur, nxt, F, G, domain, params, sim.rotor.omega)
         ),
     }
     if scheme.contour:

@@ -178,6 +178,7 @@ def compiled_indicators(pde: RotorPDE, phi: float) -> tuple[np.ndarray, np.ndarr
     """F and G (n, n) of the compiled core on the support cells at angle phi, and the
     rotor table it filled (:func:`pde_rotor.kernels.indicators.update_indicators`)."""
     from pde_rotor.kernels.indicators import update_indicators
+    from pde_rotor.kernels.records import make_record
 
     dom = pde.domain
     F = np.zeros(dom.grid.shape)
@@ -186,13 +187,10 @@ def compiled_indicators(pde: RotorPDE, phi: float) -> tuple[np.ndarray, np.ndarr
     update_indicators(
         F.reshape(-1),
         G.reshape(-1),
-        dom.coords,
-        dom.support_lo,
-        dom.support_hi,
-        pde.shape.as_array(),
+        dom.arrays(),
+        make_record(pde.config, pde.scheme, pde.config.grid.dt),
         tab,
-        pde.scheme.as_array(),
-        *pde.scheme.table_arrays(),
+        pde.scheme.kernel_tables(),
         phi,
     )
     return F, G, tab

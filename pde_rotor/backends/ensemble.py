@@ -8,7 +8,6 @@ arguments, build the same :class:`EnsemblePlan` and return the same
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -161,17 +160,6 @@ def make_plan(
 def default_rngs(configs: Sequence[RotorConfig]) -> list[np.random.Generator]:
     """One Generator per member seeded like the CPU solver: ``default_rng(noise.seed)``."""
     return [np.random.default_rng(cfg.noise.seed) for cfg in configs]
-
-
-def kick_scale(config: RotorConfig) -> float:
-    """Euler-Maruyama factor of the noise, sqrt(2 dt) sigma / I (Eq. (noiseav)); 0: no noise.
-
-    The same expression as :meth:`pde_rotor.solver.rotor.FusedStepper.kicks`.
-    """
-    sigma = config.noise.sigma
-    if sigma == 0:
-        return 0.0
-    return math.sqrt(2.0 * config.grid.dt) * sigma / config.rotor.inertia
 
 
 @dataclass

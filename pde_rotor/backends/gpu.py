@@ -26,17 +26,15 @@ import numpy as np
 from numba import cuda
 
 from ..config import RotorConfig
-from ..kernels.core import M_CONTOUR, N_PAR, N_SCHEME
-from ..kernels.cuda import FLAG_FLOW, FLAG_NOISY, MAX_CORNERS, advance_kernel, simulator_enabled
+from ..kernels.cuda import MAX_CORNERS, advance_kernel, simulator_enabled
+from ..kernels.records import PARAMS, make_record
 from ..model.pde import RotorPDE
-from ..model.protocol import StopSchedule
 from .ensemble import (
     RECORD_FIELDS,
     EnsemblePlan,
     EnsembleResult,
     EnsembleState,
     default_rngs,
-    kick_scale,
     make_plan,
 )
 
@@ -71,15 +69,14 @@ def is_available(allow_simulator: bool = False) -> bool:
     return unavailable_reason(allow_simulator=allow_simulator) is None
 
 
-def _member_arrays(plan: EnsemblePlan) -> dict[str, np.ndarray]:
-    """Per-member parameters packed for the kernel (one row per member)."""
+def _member_arrays(
+    plan: EnsemblePlan,
+) -> tuple[np.ndarray, np.ndarray, tuple[np.ndarray, ...]]:
+    """(params, support, tables): the members' parameter records (E,) and supports of F
+    and G (E, 2, n), and the tables all members share (:meth:`Scheme.kernel_tables`)."""
     n = plan.domain.coords.size
     n_members = plan.n_members
-    par = np.empty((n_members, N_PAR))
-    shape = np.empty((n_members, 6))
-    num = np.empty((n_members, N_SCHEME))
-    sched = np.empty((n_members, 4), dtype=np.int64)
-    flags = np.zeros((n_members, 2), dtype=np.int64)
+    params = np.empty(n_members, dtype=PARAMS)
     support = np.empty((n_members, 2, n), dtype=np.int64)
     models: dict[str, RotorPDE] = {}  # members often share all but seed and protocol
     for m, cfg in enumerate(plan.configs):
@@ -87,11 +84,8 @@ def _member_arrays(plan: EnsemblePlan) -> dict[str, np.ndarray]:
         pde = models.get(key)
         if pde is None:
             pde = models[key] = RotorPDE(cfg)
-        par[m] = pde.kernel_parameters(plan.dt)
-        shape[m] = pde.shape.as_array()
-        num[m] = pde.scheme.as_array()
-        quad = (pde.scheme.quad_s, pde.scheme.quad_t)
-        tables = pde.scheme.table_arrays()
+        params[m] = make_record(cfg, pde.scheme, plan.dt)[0]
+        tables = pde.scheme.kernel_tables()
         if m == 0:
             first_tables = tables
         elif not all(np.array_equal(a, b) for a, b in zip(tables, first_tables, strict=True)):
@@ -101,27 +95,12 @@ def _member_arrays(plan: EnsemblePlan) -> dict[str, np.ndarray]:
                 "pill_radius, smoothing) for all members (only asymmetry may differ)"
             )
             raise ValueError(msg)
-        sched[m] = StopSchedule.from_config(cfg.protocol, plan.dt).as_array()
-        flags[m, FLAG_FLOW] = int(cfg.flow.enabled)
-        flags[m, FLAG_NOISY] = int(cfg.noise.sigma != 0)
         support[m, 0] = pde.domain.support_lo
         support[m, 1] = pde.domain.support_hi
         if pde.shape.n_corners > MAX_CORNERS:
             msg = f"member {m}: n_corners = {pde.shape.n_corners} > {MAX_CORNERS}"
             raise ValueError(msg)
-    return {
-        "par": par,
-        "shape": shape,
-        "num": num,
-        "quad_s": quad[0],
-        "quad_t": quad[1],
-        "plate_tab": first_tables[0],
-        "edge_tab": first_tables[1],
-        "pill_tab": first_tables[2],
-        "sched": sched,
-        "flags": flags,
-        "support": support,
-    }
+    return params, support, first_tables
 
 
 def _interior_rows(plan: EnsemblePlan, support: np.ndarray) -> np.ndarray:
@@ -146,15 +125,15 @@ def _interior_rows(plan: EnsemblePlan, support: np.ndarray) -> np.ndarray:
     return np.array([used[0], used[-1] + 1], dtype=np.int64)
 
 
-def _draw_kicks(
-    rngs: Sequence[np.random.Generator], scales: np.ndarray, n_steps: int
+def _draw_normals(
+    rngs: Sequence[np.random.Generator], noisy: np.ndarray, n_steps: int
 ) -> np.ndarray:
-    """(E, n_steps) noise increments, each member's in step order from its own Generator."""
-    kicks = np.zeros((scales.size, max(n_steps, 1)))
-    for m, scale in enumerate(scales):
-        if scale != 0.0:
-            kicks[m, :n_steps] = scale * rngs[m].standard_normal(n_steps)
-    return kicks
+    """(E, n_steps) standard normals of the noise, each noisy member's in step order from
+    its own Generator (the kernel scales them to the kicks of Eq. (noiseav))."""
+    normals = np.zeros((noisy.size, max(n_steps, 1)))
+    for m in np.flatnonzero(noisy):
+        normals[m, :n_steps] = rngs[m].standard_normal(n_steps)
+    return normals
 
 
 def run_ensemble(
@@ -216,9 +195,9 @@ def run_ensemble(
     if len(rngs) != plan.n_members:
         raise ValueError(f"{len(rngs)} generators for {plan.n_members} members")
     state = initial if initial is not None else EnsembleState.initial(plan.configs, plan.domain)
-    host = _member_arrays(plan)
-    rows = _interior_rows(plan, host["support"])
-    scales = np.array([kick_scale(cfg) for cfg in plan.configs])
+    params, support, tables = _member_arrays(plan)
+    rows = _interior_rows(plan, support)
+    noisy = params["kick"] != 0.0
     dom = plan.domain
     n_members = plan.n_members
 
@@ -233,10 +212,12 @@ def run_ensemble(
     d_coords = cuda.to_device(dom.coords)
     d_interior = cuda.to_device(np.stack([dom.interior_lo, dom.interior_hi]).astype(np.int64))
     d_rows = cuda.to_device(rows)
-    d_host = {key: cuda.to_device(value) for key, value in host.items()}
+    d_params = cuda.to_device(params)
+    d_support = cuda.to_device(support)
+    d_tables = tuple(cuda.to_device(table) for table in tables)
     d_rotor = cuda.to_device(state.rotor.copy())
     d_status = cuda.to_device(np.full(n_members, -1, dtype=np.int64))
-    contour = host["num"][:, M_CONTOUR] != 0.0
+    contour = params["contour"]
     d_coef = cuda.device_array(n_members * dom.coords.size**2 if contour.any() else 1)
     records = np.full((n_members, plan.record_steps.size, len(RECORD_FIELDS)), np.nan)
     records[:, 0, :5] = state.rotor
@@ -248,7 +229,7 @@ def run_ensemble(
     ]
 
     step, parity = plan.step_start, 0
-    kicks = _draw_kicks(rngs, scales, min(chunk_steps, plan.step_end - step))
+    normals = _draw_normals(rngs, noisy, min(chunk_steps, plan.step_end - step))
     while step < plan.step_end:
         n_steps = min(chunk_steps, plan.step_end - step)
         first = step // plan.record_every + 1
@@ -260,19 +241,11 @@ def run_ensemble(
             d_coords,
             d_interior,
             d_rows,
-            d_host["support"],
-            d_host["par"],
-            d_host["shape"],
-            d_host["num"],
-            d_host["quad_s"],
-            d_host["quad_t"],
-            d_host["plate_tab"],
-            d_host["edge_tab"],
-            d_host["pill_tab"],
-            d_host["sched"],
-            d_host["flags"],
+            d_support,
+            d_params,
+            d_tables,
             d_rotor,
-            cuda.to_device(kicks),
+            cuda.to_device(normals),
             d_records,
             d_status,
             d_coef,
@@ -284,7 +257,7 @@ def run_ensemble(
         )
         upcoming = min(chunk_steps, plan.step_end - step - n_steps)
         if upcoming > 0:  # drawn on the host while the GPU works
-            kicks = _draw_kicks(rngs, scales, upcoming)
+            normals = _draw_normals(rngs, noisy, upcoming)
         if last >= first:
             r0 = plan.record_index(first * plan.record_every)
             records[:, r0 : r0 + last - first + 1] = d_records.copy_to_host()[:, : last - first + 1]

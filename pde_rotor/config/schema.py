@@ -20,6 +20,11 @@ from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, model_valida
 
 from .errors import FieldError
 
+X_SATURATION = 20.0
+"""|x| beyond which float64 1/2 (1 + tanh(x)) is exactly 1 (1 - tanh(20) = 8.5e-18 < 2^-54)
+and below 4.3e-18: the smoothed indicators F and G (the equations after Eq. (rj)) are 0
+or 1 beyond X_SATURATION delta of their edges, and the kernels evaluate them only within."""
+
 
 def _reject_bool(value: Any) -> Any:
     """YAML ``true`` is not a number: refuse the silent coercion bool -> 1."""
@@ -78,6 +83,15 @@ class GeometryConfig(_Section):
     def pill_distance(self) -> float:
         """R_c = R - rho / cos(pi/N) - p, Eq. (rc)."""
         return self.radius - self.pill_radius / math.cos(math.pi / self.n_corners) - self.pill_inset
+
+    @property
+    def support_radius(self) -> float:
+        """Radius outside which F = G = 0 to within 4.3e-18: R + X_SATURATION delta / cos(pi/N).
+
+        The plate's F is 1/2 [1 + tanh((R cos(pi/N) - h) / delta)] with the gauge
+        h >= |r| cos(pi/N), and the pills lie inside the plate.
+        """
+        return self.radius + X_SATURATION * self.smoothing / math.cos(math.pi / self.n_corners)
 
     def edge_clearance(self) -> float:
         """Distance from a pill centre to the nearer edge of its corner.
@@ -433,10 +447,7 @@ class RotorConfig(_Section):
                 f"geometry.radius + 2 dx = {self.geometry.radius + 2 * dx:g})"
             )
             raise FieldError("grid.domain_radius", self.grid.domain_radius, msg)
-        from ..kernels.core import X_SATURATION
-
-        n = self.geometry.n_corners
-        support = self.geometry.radius + X_SATURATION * smoothing / math.cos(math.pi / n)
+        support = self.geometry.support_radius
         if support > self.grid.domain_radius:
             msg = (
                 f"smaller than the reach of the smoothed plate indicator F, R + "
@@ -449,7 +460,7 @@ class RotorConfig(_Section):
             msg = f"above the explicit stability limit (allowed: dt <= {limit:.4g} for this dx)"
             raise FieldError("grid.dt", self.grid.dt, msg)
         dt = self.grid.dt
-        kick = math.sqrt(2 * dt) * self.noise.sigma / self.rotor.inertia
+        kick = self.kick_scale()
         if kick >= PAPER_STEADY_OMEGA:
             limit = PAPER_STEADY_OMEGA * self.rotor.inertia / math.sqrt(2 * dt)
             msg = (
@@ -539,6 +550,15 @@ class RotorConfig(_Section):
                         )
                     )
         return [text for _, text in sorted(found, reverse=True)]
+
+    def kick_scale(self, dt: float | None = None) -> float:
+        """Euler-Maruyama factor of the torque noise, sqrt(2 dt) sigma / I (Eq. (noiseav)).
+
+        omega gains this times one standard normal per step of length dt (default
+        ``grid.dt``); 0 without noise.
+        """
+        step = self.grid.dt if dt is None else dt
+        return math.sqrt(2.0 * step) * self.noise.sigma / self.rotor.inertia
 
     def dt_limit(self) -> float:
         """Largest stable explicit Euler step of the linear terms of Eqs. (eqc), (eqv), (eq_motion).

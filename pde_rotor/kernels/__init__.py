@@ -2,6 +2,8 @@
 
 * :mod:`.core`: the scalar functions of the model, written once and compiled with
   numba; the CPU and CUDA loops call them;
+* :mod:`.records`: the kernels' scalar parameters as one numpy record per run, built
+  from the config in one place;
 * :mod:`.indicators`: F and G on the support cells, on the CPU;
 * :mod:`.cpu`: the fused explicit step of c, v, phi and omega on the CPU;
 * :mod:`.cuda`: the batched CUDA kernel of an ensemble (:mod:`pde_rotor.backends.gpu`).

@@ -31,13 +31,26 @@ Physics (section "Model" of Koyano et al., Chaos 2020):
   tables of :mod:`pde_rotor.model.filtering` (:func:`filtered_edge`, :func:`filtered_corner`,
   :func:`filtered_pill_term`). The GPU calls the cell functions once per cell; the CPU
   calls the terms in loops over a row's cells, four at a time (SIMD);
+* the geometry of F and G shared by the cell functions and the CPU's row loops: the
+  plate's gauge h(r) = max_j r . e_j (:func:`projection`, :func:`farther`,
+  :func:`gauge_step`), the frame
+  of the nearest edge (:func:`tangential`, :func:`nearer_edge`, :func:`near_corner`) and
+  the pills' reach (:func:`pill_reach`, :func:`filtered_pill_reach`);
 * :func:`cell_rates`: the right-hand sides of Eqs. (eqc) and (eqv) of one cell
-  (5-point Laplacian, central divergence);
+  (5-point Laplacian, central divergence), with the coefficients of
+  :func:`rate_coefficients`;
 * :func:`cell_integrals`: one cell's share of the integrals of Eq. (eq_motion):
   F r x grad c (area form of the torque, Eq. (torque)), F |r|^2 and F r x v;
 * :func:`contour_node`: one node of the contour form of the same torque integral
   (scheme ``consistent``, see :mod:`pde_rotor.model.schemes`), with c from its interpolating
-  cubic spline (:func:`spline_line`, :func:`interpolate`).
+  cubic spline (:func:`spline_line`, :func:`interpolate`);
+* the rotor, Eq. (eq_motion): :func:`rotor_torques` (T of Eq. (torque) and the friction
+  torque from the integrals), :func:`angular_acceleration`, the steps :func:`euler_rotor`
+  and :func:`heun_rotor`, the Euler-Maruyama kick of Eq. (noiseav) (:func:`noise_kick`),
+  and the stop schedule :func:`stopped_at`.
+
+The scalar parameters come as one record `p` (:mod:`pde_rotor.kernels.records`), read by
+field name (``p.dt``) on both targets.
 """
 
 from __future__ import annotations
@@ -48,39 +61,13 @@ from typing import NamedTuple
 
 import numba as nb
 
-X_SATURATION = 20.0
-"""|x| beyond which float64 1/2 (1 + tanh(x)) is exactly 1 (1 - tanh(20) = 8.5e-18 < 2^-54)
-and below 4.3e-18; F and G are evaluated only where some sample point lies within it."""
+from ..config import X_SATURATION
 
 SPLINE_POLE = math.sqrt(3.0) - 2.0
 """Pole of the cubic B-spline prefilter (Unser, IEEE Signal Process. Mag. 1999)."""
 
 SPLINE_MARGIN = 24
 """Cells the spline window extends beyond the contour's taps: |pole|^24 = 2e-14."""
-
-# indices into the float parameter vector of the kernels
-P_DT, P_DX, P_D, P_A, P_SRC, P_K, P_ETA, P_ETAB, P_DETA, P_I, P_MU, P_TSIGN = range(12)
-N_PAR = 12
-
-# indices into the scheme vector of the kernels (schemes.Scheme.as_array)
-(
-    M_CONTOUR,
-    M_TAN_HALF,
-    M_WINDOW_LO,
-    M_WINDOW_HI,
-    M_FILTERED,
-    M_TABLE_N,
-    M_TABLE_X0,
-    M_TABLE_INV_STEP,
-    M_PROFILE_INV_STEP,
-    M_CREASE,
-    M_EDGE_U0,
-    M_EDGE_INV_STEP,
-) = range(12)
-N_SCHEME = 12
-
-# indices into the shape vector of the kernels (geometry.RotorShape.as_array)
-S_N, S_APOTHEM, S_RHO, S_RC, S_ASYM, S_DELTA = range(6)
 
 
 class Core(NamedTuple):
@@ -89,6 +76,14 @@ class Core(NamedTuple):
     vector_expm1: Callable
     logistic: Callable
     rotor_table: Callable
+    projection: Callable
+    farther: Callable
+    gauge_step: Callable
+    tangential: Callable
+    nearer_edge: Callable
+    near_corner: Callable
+    pill_reach: Callable
+    filtered_pill_reach: Callable
     plate_profile: Callable
     pill_term: Callable
     plate_cell: Callable
@@ -99,6 +94,12 @@ class Core(NamedTuple):
     filtered_pill_term: Callable
     filtered_pills: Callable
     rate_coefficients: Callable
+    stopped_at: Callable
+    rotor_torques: Callable
+    angular_acceleration: Callable
+    euler_rotor: Callable
+    heun_rotor: Callable
+    noise_kick: Callable
     cell_rates: Callable
     cell_integrals: Callable
     spline_line: Callable
@@ -174,12 +175,59 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
             tab[3, k] = r_c * math.sin(a_pill)
 
     @jit
+    def projection(x, y, ex, ey):
+        """r . e_j, the distance of (x, y) along the edge normal e_j = (ex, ey)."""
+        return x * ex + y * ey
+
+    @jit
+    def farther(p, h):
+        """Whether p = r . e_j exceeds h: strict, so that the first of equal edges wins."""
+        return p > h
+
+    @jit
+    def gauge_step(h, x, y, ex, ey):
+        """max(h, r . e_j): one edge's step of the gauge h(r) = max_j r . e_j (branch-free)."""
+        p = projection(x, y, ex, ey)
+        return p if farther(p, h) else h
+
+    @jit
     def gauge(x, y, tab, n_corners):
         """h(r) = max_j r . e_j: the plate's level sets h = const are regular N-gons."""
-        proj = x * tab[0, 0] + y * tab[1, 0]
+        h = projection(x, y, tab[0, 0], tab[1, 0])
         for k in range(1, n_corners):
-            proj = max(proj, x * tab[0, k] + y * tab[1, k])
-        return proj
+            h = gauge_step(h, x, y, tab[0, k], tab[1, k])
+        return h
+
+    @jit
+    def tangential(x, y, ex, ey):
+        """r . tau_j, tau_j = e_j = (ex, ey) turned by +pi/2: the position along edge j."""
+        return y * ex - x * ey
+
+    @jit
+    def nearer_edge(h, q, x, y, ex, ey):
+        """(h, q) of (x, y) in the frame of the nearer of the edge so far (h = r . e,
+        q = r . tau) and edge (ex, ey): the new edge where r . e_j > h (so the first of
+        equal edges wins; branch-free)."""
+        p = projection(x, y, ex, ey)
+        nearer = farther(p, h)
+        return (p if nearer else h), (tangential(x, y, ex, ey) if nearer else q)
+
+    @jit
+    def near_corner(h, q, tan_half, crease):
+        """Whether (h, q) (frame of the nearest edge) lies within the crease width of a
+        corner bisector, h tan(pi/N) - |q| <= crease, where F_eps needs the 2-D table."""
+        return h * tan_half - abs(q) <= crease
+
+    @jit
+    def pill_reach(rho, inv_delta):
+        """rho + X_SATURATION delta: beyond, a pill's term of G is below 4.3e-18."""
+        return rho + X_SATURATION / inv_delta
+
+    @jit
+    def filtered_pill_reach(profile, inv_step):
+        """The end of the filtered pill profile (spacing 1 / inv_step): beyond, G_eps's
+        term is 0."""
+        return (profile.size - 1) / inv_step
 
     @jit
     def plate_profile(h, apothem, inv_delta):
@@ -201,7 +249,7 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
     def pill_cell(x, y, tab, n_corners, rho, inv_delta):
         """G at the cell centre (x, y) (scheme ``paper``): the sum over the pills within
         rho + X_SATURATION delta, in order (beyond, a pill's term is below 4.3e-18)."""
-        reach = rho + X_SATURATION / inv_delta
+        reach = pill_reach(rho, inv_delta)
         g = 0.0
         for k in range(n_corners):
             dx = x - tab[2, k]
@@ -211,20 +259,67 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         return g
 
     @jit
-    def rate_coefficients(par):
-        """(1/dx^2, 1/(2 dx), D, a, s0/(pi rho^2), eta, eta_b, D_eta) for :func:`cell_rates`,
-        computed once per sweep so that the cell loop holds no division."""
-        dx = par[P_DX]
+    def rate_coefficients(p):
+        """(1/dx^2, 1/(2 dx), D, a, s0/(pi rho^2), eta, eta_b, D_eta) for :func:`cell_rates`
+        from the parameter record `p` (:mod:`pde_rotor.kernels.records`), computed once per
+        sweep so that the cell loop holds no division."""
+        dx = p.dx
         return (
             1.0 / (dx * dx),
             0.5 / dx,
-            par[P_D],
-            par[P_A],
-            par[P_SRC],
-            par[P_ETA],
-            par[P_ETAB],
-            par[P_DETA],
+            p.diffusion,
+            p.evaporation,
+            p.source,
+            p.drag,
+            p.bulk_drag,
+            p.viscosity,
         )
+
+    @jit
+    def stopped_at(step, n_ini, n_stop, n_period, cycles):
+        """Whether the step from t = step dt lies in a stop phase (section "Model"):
+        stop m = 1..M covers the steps [n_ini + (m - 1) n_period, ... + n_stop)."""
+        rel = step - n_ini
+        if rel < 0 or rel >= cycles * n_period:
+            return False
+        return rel % n_period < n_stop
+
+    @jit
+    def rotor_torques(cross_grad, moment, cross_v, omega, p):
+        """Torque T, Eq. (torque), and friction torque of Eq. (eq_motion) from the integrals.
+
+        T = sign k int F r x grad c dA (sign: ``rotor.torque``, :mod:`pde_rotor.model.pde`),
+        friction = -mu (omega int F |r|^2 dA - int F r x v dA).
+
+        Returns:
+            (T, friction).
+        """
+        return (
+            p.torque_sign * p.tension_slope * cross_grad,
+            -p.friction * (moment * omega - cross_v),
+        )
+
+    @jit
+    def angular_acceleration(torque, friction, p):
+        """domega/dt of Eq. (eq_motion) without the noise: (T + friction) / I."""
+        return (friction + torque) * (1.0 / p.inertia)
+
+    @jit
+    def euler_rotor(phi, omega, accel, dt):
+        """One forward Euler step of dphi/dt = omega, domega/dt = accel: (phi, omega)."""
+        return phi + dt * omega, omega + dt * accel
+
+    @jit
+    def heun_rotor(phi, omega, accel, omega_p, accel_p, dt):
+        """Heun's corrector of (phi, omega) from the rates at the start (omega, accel)
+        and at the predicted point (omega_p, accel_p): the trapezoidal average."""
+        return phi + 0.5 * dt * (omega + omega_p), omega + 0.5 * dt * (accel + accel_p)
+
+    @jit
+    def noise_kick(omega, xi, p):
+        """omega plus the Euler-Maruyama increment of the noise of Eqs. (eq_motion) and
+        (noiseav), sqrt(2 dt) sigma / I xi for the standard normal xi of the step."""
+        return omega + p.kick * xi
 
     @jit
     def cell_rates(buf, o, sx, sy, nn, f, g, omega, x, y, coef, flow, plate):
@@ -233,7 +328,7 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         dc/dt = D lap c - div(c v) - a (1 - F) c + s0 / (pi rho^2) G,
         dv/dt = eta F (omega (-y, x) - v) - eta_b v + D_eta lap v,
         5-point Laplacian and central divergence, all at the old time level; `coef` is
-        :func:`rate_coefficients` of the parameter vector. `sx`, `sy`
+        :func:`rate_coefficients` of the parameter record. `sx`, `sy`
         are the offsets of the x and y neighbours (n and 1), `nn` that of the next field;
         all three of the caller's integer type (unsigned on the CPU, so that no index
         needs a negative-wraparound check). With `plate` False the cell lies outside the
@@ -335,8 +430,9 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         """
         fx = (x - x0) * inv_dx
         fy = (y - x0) * inv_dx
-        i = math.floor(fx)
-        j = math.floor(fy)
+        # int(): numba-cuda types math.floor as float64, numba's CPU target as int64
+        i = int(math.floor(fx))  # noqa: RUF046
+        j = int(math.floor(fy))  # noqa: RUF046
         wx0, wx1, wx2, wx3 = bspline_weights(fx - i)
         wy0, wy1, wy2, wy3 = bspline_weights(fy - j)
         row = o0 + (i - 1) * n + j - 1
@@ -387,22 +483,19 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         """F_eps of the cell centred at (x, y) (``consistent``, :mod:`pde_rotor.model.filtering`).
 
         The point is written in the frame of its nearest edge j (the one maximising
-        r . e_j; the first of equals): h = r . e_j, q = r . tau_j, tau_j = e_j turned by
-        +pi/2. Where h tan(pi/N) - |q| > `crease` (more than crease cos(pi/N) from the
-        corner bisectors) F_eps comes from :func:`filtered_edge`, closer from
-        :func:`filtered_corner`. Either way F_eps has the hexagon's symmetry exactly.
+        r . e_j; the first of equals, :func:`nearer_edge`): h = r . e_j, q = r . tau_j,
+        tau_j = e_j turned by +pi/2. Where h tan(pi/N) - |q| > `crease` (more than
+        crease cos(pi/N) from the corner bisectors, :func:`near_corner`) F_eps comes from
+        :func:`filtered_edge`, closer from :func:`filtered_corner`. Either way F_eps has
+        the hexagon's symmetry exactly.
         """
-        best = 0
-        h = x * tab[0, 0] + y * tab[1, 0]
+        h = projection(x, y, tab[0, 0], tab[1, 0])
+        q = tangential(x, y, tab[0, 0], tab[1, 0])
         for k in range(1, n_corners):
-            p = x * tab[0, k] + y * tab[1, k]
-            if p > h:
-                h = p
-                best = k
-        q = y * tab[0, best] - x * tab[1, best]
-        if h * tan_half - abs(q) > crease:
-            return filtered_edge(h, apothem, edge, e_u0, e_inv)
-        return filtered_corner(h, q, plate, t_n, t_x0, t_inv)
+            h, q = nearer_edge(h, q, x, y, tab[0, k], tab[1, k])
+        if near_corner(h, q, tan_half, crease):
+            return filtered_corner(h, q, plate, t_n, t_x0, t_inv)
+        return filtered_edge(h, apothem, edge, e_u0, e_inv)
 
     @jit
     def filtered_pill_term(dx, dy, profile, inv_step):
@@ -419,7 +512,7 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
     def filtered_pills(x, y, tab, n_corners, profile, inv_step):
         """G_eps of the cell centred at (x, y): sum_j g_eps(|r - R_j|) over the pills
         within the profile's reach, in order (beyond, a term is 0)."""
-        reach = (profile.size - 1) / inv_step
+        reach = filtered_pill_reach(profile, inv_step)
         g = 0.0
         for k in range(n_corners):
             dx = x - tab[2, k]
@@ -462,6 +555,14 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         vector_expm1=vector_expm1,
         logistic=logistic,
         rotor_table=rotor_table,
+        projection=projection,
+        farther=farther,
+        gauge_step=gauge_step,
+        tangential=tangential,
+        nearer_edge=nearer_edge,
+        near_corner=near_corner,
+        pill_reach=pill_reach,
+        filtered_pill_reach=filtered_pill_reach,
         plate_profile=plate_profile,
         pill_term=pill_term,
         plate_cell=plate_cell,
@@ -472,6 +573,12 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         filtered_pill_term=filtered_pill_term,
         filtered_pills=filtered_pills,
         rate_coefficients=rate_coefficients,
+        stopped_at=stopped_at,
+        rotor_torques=rotor_torques,
+        angular_acceleration=angular_acceleration,
+        euler_rotor=euler_rotor,
+        heun_rotor=heun_rotor,
+        noise_kick=noise_kick,
         cell_rates=cell_rates,
         cell_integrals=cell_integrals,
         spline_line=spline_line,

@@ -26,23 +26,7 @@ import math
 import numba as nb
 import numpy as np
 
-from ..model.protocol import stopped_at
-from .core import (
-    CPU,
-    FASTMATH,
-    M_CONTOUR,
-    M_TAN_HALF,
-    M_WINDOW_HI,
-    M_WINDOW_LO,
-    P_DT,
-    P_I,
-    P_K,
-    P_MU,
-    P_TSIGN,
-    S_APOTHEM,
-    S_DELTA,
-    S_N,
-)
+from .core import CPU, FASTMATH
 from .indicators import update_indicators
 
 _cell_rates = CPU.cell_rates
@@ -50,6 +34,12 @@ _rate_coefficients = CPU.rate_coefficients
 _cell_integrals = CPU.cell_integrals
 _contour_node = CPU.contour_node
 _spline_line = CPU.spline_line
+_stopped_at = CPU.stopped_at
+_rotor_torques = CPU.rotor_torques
+_angular_acceleration = CPU.angular_acceleration
+_euler_rotor = CPU.euler_rotor
+_heun_rotor = CPU.heun_rotor
+_noise_kick = CPU.noise_kick
 
 
 @nb.njit(cache=True, nogil=True, fastmath=FASTMATH, inline="always")
@@ -78,34 +68,33 @@ def _euler_row(cur, nxt, F, G, y_of, coef, dt, omega, x, base, sx, nn, j0, j1, f
 
 
 @nb.njit(cache=True, nogil=True, fastmath=FASTMATH)
-def euler_fields(cur, nxt, F, G, coords, lo, hi, slo, shi, par, omega, flow):
+def euler_fields(cur, nxt, F, G, domain, params, omega):
     """One Euler step of Eqs. (eqc) and (eqv) (or (eqc) alone) on all interior cells.
 
     Args:
         cur: flat state (c, v_x, v_y) at the old time level, 3 n^2 values.
         nxt: receives the new state on interior cells.
         F, G: flat plate and pill indicators (zero outside the support).
-        coords: cell-centre coordinates.
-        lo, hi: interior column ranges per row.
-        slo, shi: support column ranges per row (inside the interior ranges).
-        par: float parameters (indices P_* of :mod:`pde_rotor.kernels.core`).
+        domain: (coords, lo, hi, slo, shi) as for :func:`advance`.
+        params: the parameter record as for :func:`advance`; without ``flow`` only c is
+            advanced (v = 0, Fig. 8).
         omega: plate angular velocity (0 during a stop).
-        flow: whether v is advanced (False: v = 0, Fig. 8).
     """
-    if flow:  # two loops, so that `flow` is a compile-time constant of each
-        _euler_rows(cur, nxt, F, G, coords, lo, hi, slo, shi, par, omega, True)
+    p = params[0]
+    coef = _rate_coefficients(p)
+    if p.flow:  # two loops, so that `flow` is a compile-time constant of each
+        _euler_rows(cur, nxt, F, G, domain, coef, p.dt, omega, True)
     else:
-        _euler_rows(cur, nxt, F, G, coords, lo, hi, slo, shi, par, omega, False)
+        _euler_rows(cur, nxt, F, G, domain, coef, p.dt, omega, False)
 
 
 @nb.njit(cache=True, nogil=True, fastmath=FASTMATH, inline="always")
-def _euler_rows(cur, nxt, F, G, coords, lo, hi, slo, shi, par, omega, flow):
+def _euler_rows(cur, nxt, F, G, domain, coef, dt, omega, flow):
     """The rows of :func:`euler_fields`, each split into off-support and support cells."""
+    coords, lo, hi, slo, shi = domain
     n = coords.size
     sx = np.uint64(n)
     nn = np.uint64(n * n)
-    coef = _rate_coefficients(par)
-    dt = par[P_DT]
     for i in range(n):
         x = coords[i]
         base = np.uint64(i * n)
@@ -152,23 +141,27 @@ def spline_window(cur, coef, n, lo, hi):
 
 
 @nb.njit(cache=True, nogil=True)
-def rotor_integrals(cur, F, coords, slo, shi, shape, tab, num, quad_s, quad_t, flow, coef):
+def rotor_integrals(cur, F, domain, params, tab, tables, coef):
     """The integrals of Eq. (eq_motion) over the plate (compiled).
 
     `tab` must hold the rotor table of the current angle
-    (:func:`pde_rotor.kernels.indicators.update_indicators`).
-    `num` is :meth:`~pde_rotor.model.schemes.Scheme.as_array`; `coef` (n^2) is scratch for the
-    spline coefficients of the contour form.
+    (:func:`pde_rotor.kernels.indicators.update_indicators`); `domain`, `params` and
+    `tables` as for :func:`advance`; `coef` (n^2) is scratch for the spline coefficients
+    of the contour form.
 
     Returns:
         (int F r x grad c dA, int F |r|^2 dA, int F r x v dA); the first in area form
-        with central differences, or in contour form when num[M_CONTOUR] != 0.
+        with central differences, or in contour form with the record's ``contour``.
     """
+    p = params[0]
+    coords, _, _, slo, shi = domain
+    quad_s, quad_t = tables[0], tables[1]
+    flow = p.flow
     n = coords.size
     dx = coords[1] - coords[0]
     inv_2dx = 0.5 / dx
     sx, nn = n, n * n
-    contour = num[M_CONTOUR] != 0.0
+    contour = p.contour
     cross_grad = 0.0
     moment = 0.0
     cross_v = 0.0
@@ -185,10 +178,10 @@ def rotor_integrals(cur, F, coords, slo, shi, shape, tab, num, quad_s, quad_t, f
             cross_v += vel
     area = dx * dx
     if contour:
-        spline_window(cur, coef, n, int(num[M_WINDOW_LO]), int(num[M_WINDOW_HI]))
+        spline_window(cur, coef, n, p.window_lo, p.window_hi)
         cross_grad = 0.0
-        n_nodes = int(shape[S_N]) * quad_s.shape[1] * quad_t.shape[1]
-        apothem, delta = shape[S_APOTHEM], shape[S_DELTA]
+        n_nodes = p.n_corners * quad_s.shape[1] * quad_t.shape[1]
+        apothem, delta, tan_half = p.apothem, p.smoothing, p.tan_half
         for q in range(n_nodes):
             cross_grad += _contour_node(
                 coef,
@@ -199,7 +192,7 @@ def rotor_integrals(cur, F, coords, slo, shi, shape, tab, num, quad_s, quad_t, f
                 tab,
                 apothem,
                 delta,
-                num[M_TAN_HALF],
+                tan_half,
                 quad_s,
                 quad_t,
                 q,
@@ -209,71 +202,23 @@ def rotor_integrals(cur, F, coords, slo, shi, shape, tab, num, quad_s, quad_t, f
 
 
 @nb.njit(cache=True, nogil=True)
-def rotor_forces(
-    state,
-    phi,
-    omega,
-    indicator_phi,
-    F,
-    G,
-    coords,
-    slo,
-    shi,
-    shape,
-    tab,
-    num,
-    tables,
-    par,
-    flow,
-    coef,
-):
+def rotor_forces(state, phi, omega, indicator_phi, F, G, domain, params, tab, tables, coef):
     """Torque T, Eq. (torque), and friction torque of Eq. (eq_motion) at `state` (compiled).
 
     F and G (and the rotor table `tab`) are recomputed for angle `phi` unless they already
-    hold it (`indicator_phi` == phi). `tables` is (quad_s, quad_t, plate_tab, edge_tab,
-    pill_tab) of the scheme; the other arguments as for :func:`advance`.
+    hold it (`indicator_phi` == phi); the other arguments as for :func:`advance`.
 
     Returns:
         (T, -mu int F (|r|^2 omega - r x v) dA).
     """
-    quad_s, quad_t, plate_tab, edge_tab, pill_tab = tables
     if phi != indicator_phi:
-        update_indicators(
-            F, G, coords, slo, shi, shape, tab, num, plate_tab, edge_tab, pill_tab, phi
-        )
-    cross_grad, moment, cross_v = rotor_integrals(
-        state, F, coords, slo, shi, shape, tab, num, quad_s, quad_t, flow, coef
-    )
-    return par[P_TSIGN] * par[P_K] * cross_grad, -par[P_MU] * (moment * omega - cross_v)
+        update_indicators(F, G, domain, params, tab, tables, phi)
+    cross_grad, moment, cross_v = rotor_integrals(state, F, domain, params, tab, tables, coef)
+    return _rotor_torques(cross_grad, moment, cross_v, omega, params[0])
 
 
 @nb.njit(cache=True, nogil=True)
-def advance(
-    data,
-    spare,
-    stage,
-    F,
-    G,
-    coords,
-    lo,
-    hi,
-    slo,
-    shi,
-    shape,
-    par,
-    num,
-    quad_s,
-    quad_t,
-    plate_tab,
-    edge_tab,
-    pill_tab,
-    flow,
-    schedule,
-    rotor,
-    kicks,
-    step0,
-    n_steps,
-):
+def advance(data, spare, stage, F, G, domain, params, tables, rotor, xi, step0, n_steps):
     """Advance c, v, phi, omega by `n_steps` fused steps, Euler or Heun (compiled).
 
     Forward Euler (the paper's method) when `stage` is empty. Otherwise Heun's method
@@ -281,26 +226,24 @@ def advance(
     from (y, phi, omega), F and G and the rotor integrals recomputed at the predicted
     angle and state, a second Euler step from there into `stage`, and the average
     y + dt (f(y) + f(y~)) / 2 (:func:`heun_average`); phi and omega likewise. The noise
-    kick is additive, added once per step (stochastic Heun for additive noise).
+    kick is additive, added once per step (stochastic Heun for additive noise). The
+    stop schedule, the torques and the rotor's update are the physics core's.
 
     Args:
         data: flat state (c, v_x, v_y), 3 n^2 values, updated in place.
         spare: scratch array of the same shape.
         stage: scratch of the same shape for Heun's method, or empty for Euler.
         F, G: flat indicator arrays (n^2), zero outside the support, updated in place.
-        coords: cell-centre coordinates.
-        lo, hi: interior column ranges per row.
-        slo, shi: support column ranges per row.
-        shape: :meth:`RotorShape.as_array`.
-        par: float parameters, indices P_* of :mod:`pde_rotor.kernels.core`.
-        num: :meth:`~pde_rotor.model.schemes.Scheme.as_array`.
-        quad_s, quad_t: the scheme's quadrature rules (:class:`~pde_rotor.model.schemes.Scheme`).
-        plate_tab, edge_tab, pill_tab: the scheme's filter tables
-            (:meth:`~pde_rotor.model.schemes.Scheme.table_arrays`).
-        flow: whether the flow is on (False: v is set to 0 and stays 0, Fig. 8).
-        schedule: :meth:`StopSchedule.as_array`.
+        domain: (coords, lo, hi, slo, shi): cell-centre coordinates, the interior and
+            the support column ranges [lo, hi) per row.
+        params: the run's parameter record, the (1,) array of
+            :func:`pde_rotor.kernels.records.make_record` (an array, which numba's
+            dispatcher types faster than a bare record); without ``flow`` v is set to 0
+            and stays 0 (Fig. 8).
+        tables: (quad_s, quad_t, plate, edge, pill): the scheme's quadrature rules and
+            filter tables (:class:`~pde_rotor.model.schemes.Scheme`).
         rotor: [phi, omega, torque, friction, stopped], updated in place.
-        kicks: Euler-Maruyama noise increments of omega, one per step (may be empty).
+        xi: one standard normal per step for the noise (read where ``kick`` != 0).
         step0: global index of the first step (t = step0 dt).
         n_steps: number of steps.
 
@@ -308,26 +251,27 @@ def advance(
         -1 on success, else the index of the step at which phi, omega or T stopped
         being finite (the state is then left at the start of that step).
     """
-    dt, inv_inertia = par[P_DT], 1.0 / par[P_I]
-    tables = (quad_s, quad_t, plate_tab, edge_tab, pill_tab)
+    p = params[0]
+    dt = p.dt
     phi, omega = rotor[0], rotor[1]
     cur = data
     nxt = spare
-    nn = coords.size * coords.size
-    tab = np.empty((4, int(shape[S_N])))
-    coef = np.zeros(nn) if num[M_CONTOUR] != 0.0 else np.zeros(0)
+    n = domain[0].size
+    nn = n * n
+    tab = np.empty((4, p.n_corners))
+    coef = np.zeros(nn) if p.contour else np.zeros(0)
     phi_f = math.nan
-    noisy = kicks.size > 0
+    noisy = p.kick != 0.0
     heun = stage.size > 0
-    if not flow:
+    if not p.flow:
         data[nn:] = 0.0
         spare[nn:] = 0.0
     for s in range(n_steps):
-        stopped = stopped_at(step0 + s, schedule)
+        stopped = _stopped_at(step0 + s, p.n_ini, p.n_stop, p.n_period, p.cycles)
         if stopped:
             omega = 0.0
         torque, friction = rotor_forces(
-            cur, phi, omega, phi_f, F, G, coords, slo, shi, shape, tab, num, tables, par, flow, coef
+            cur, phi, omega, phi_f, F, G, domain, params, tab, tables, coef
         )
         phi_f = phi
         if not (math.isfinite(torque) and math.isfinite(friction)):
@@ -335,44 +279,25 @@ def advance(
                 data[:] = spare
             rotor[0], rotor[1] = phi, omega
             return s
-        euler_fields(cur, nxt, F, G, coords, lo, hi, slo, shi, par, omega, flow)
-        rate_omega = (friction + torque) * inv_inertia
+        euler_fields(cur, nxt, F, G, domain, params, omega)
+        accel = _angular_acceleration(torque, friction, p)
         if heun:
             phi_p, omega_p = phi, 0.0
             if not stopped:
-                phi_p = phi + dt * omega
-                omega_p = omega + dt * rate_omega
+                phi_p, omega_p = _euler_rotor(phi, omega, accel, dt)
             torque_p, friction_p = rotor_forces(
-                nxt,
-                phi_p,
-                omega_p,
-                phi_f,
-                F,
-                G,
-                coords,
-                slo,
-                shi,
-                shape,
-                tab,
-                num,
-                tables,
-                par,
-                flow,
-                coef,
+                nxt, phi_p, omega_p, phi_f, F, G, domain, params, tab, tables, coef
             )
             phi_f = phi_p
-            euler_fields(nxt, stage, F, G, coords, lo, hi, slo, shi, par, omega_p, flow)
-            heun_average(cur, stage, nxt, coords.size, lo, hi, flow)
+            euler_fields(nxt, stage, F, G, domain, params, omega_p)
+            heun_average(cur, stage, nxt, n, domain[1], domain[2], p.flow)
             if not stopped:
-                phi += 0.5 * dt * (omega + omega_p)
-                omega += 0.5 * dt * (rate_omega + (friction_p + torque_p) * inv_inertia)
-                if noisy:
-                    omega += kicks[s]
+                accel_p = _angular_acceleration(torque_p, friction_p, p)
+                phi, omega = _heun_rotor(phi, omega, accel, omega_p, accel_p, dt)
         elif not stopped:
-            phi += dt * omega
-            omega += dt * rate_omega
-            if noisy:
-                omega += kicks[s]
+            phi, omega = _euler_rotor(phi, omega, accel, dt)
+        if noisy and not stopped:
+            omega = _noise_kick(omega, xi[s], p)
         cur, nxt = nxt, cur
         rotor[2], rotor[3], rotor[4] = torque, friction, 1.0 if stopped else 0.0
     if n_steps % 2 == 1:

@@ -13,12 +13,16 @@ of the physics core (:mod:`pde_rotor.kernels.core`, compiled here as device func
   ``contour_node`` for the contour-form torque of the ``consistent`` scheme);
 * one forward Euler step of Eqs. (eqc) and (eqv) on the interior cells
   (``cell_rates``), omega = 0 during a stop; without flow v is set to 0 and stays 0;
-* then phi += dt omega, omega += dt (T + friction) / I, plus the Euler-Maruyama kick
-  of Eq. (noiseav), except in a stop phase, where omega stays 0;
-* the stop schedule in integer steps (:func:`pde_rotor.model.protocol.stopped_at`);
+* then the rotor's Euler step with the torques of Eq. (torque) and (eq_motion)
+  (``rotor_torques``, ``angular_acceleration``, ``euler_rotor``) plus the Euler-Maruyama
+  kick of Eq. (noiseav) (``noise_kick``), except in a stop phase, where omega stays 0;
+* the stop schedule in integer steps (``stopped_at``);
 * the noise: one standard normal per step per member, drawn on the host from a numpy
   Generator seeded like the CPU solver's (``default_rng(noise.seed)``) in step order,
   so both backends use the identical noise sequence.
+
+The parameters of a member are one record (:mod:`pde_rotor.kernels.records`), the
+member's row of `params`.
 
 Layout and parallelisation. One thread block advances one member for a whole chunk of
 steps in one kernel launch: members are independent, so a step only needs the block's
@@ -42,40 +46,10 @@ from collections.abc import Callable
 
 from numba import cuda, float64
 
-from .core import (
-    M_CONTOUR,
-    M_CREASE,
-    M_EDGE_INV_STEP,
-    M_EDGE_U0,
-    M_FILTERED,
-    M_PROFILE_INV_STEP,
-    M_TABLE_INV_STEP,
-    M_TABLE_N,
-    M_TABLE_X0,
-    M_TAN_HALF,
-    M_WINDOW_HI,
-    M_WINDOW_LO,
-    P_DT,
-    P_DX,
-    P_I,
-    P_K,
-    P_MU,
-    P_TSIGN,
-    S_APOTHEM,
-    S_ASYM,
-    S_DELTA,
-    S_N,
-    S_RC,
-    S_RHO,
-    Core,
-    make_core,
-)
+from .core import Core, make_core
 
 MAX_CORNERS = 24
 """Largest N the kernel's shared geometry table holds (the config allows 3..24)."""
-
-# columns of the per-member integer flags
-FLAG_FLOW, FLAG_NOISY = 0, 1
 
 
 def simulator_enabled() -> bool:
@@ -103,6 +77,11 @@ _rate_coefficients = GPU.rate_coefficients
 _cell_integrals = GPU.cell_integrals
 _contour_node = GPU.contour_node
 _spline_line = GPU.spline_line
+_stopped_at = GPU.stopped_at
+_rotor_torques = GPU.rotor_torques
+_angular_acceleration = GPU.angular_acceleration
+_euler_rotor = GPU.euler_rotor
+_noise_kick = GPU.noise_kick
 
 
 def _advance(
@@ -111,18 +90,10 @@ def _advance(
     interior,
     rows,
     support,
-    par,
-    shape,
-    num,
-    quad_s,
-    quad_t,
-    plate_tab,
-    edge_tab,
-    pill_tab,
-    sched,
-    flags,
+    params,
+    tables,
     rotor,
-    kicks,
+    xi,
     records,
     status,
     coef,
@@ -143,15 +114,13 @@ def _advance(
         rows: [i0, i1), the rows holding interior cells.
         support: (E, 2, n) column range of each member's support of F and G per row
             (inside the interior ranges).
-        par: (E, N_PAR) float parameters, the P_* layout of :mod:`pde_rotor.kernels.core`.
-        shape: (E, 6) :meth:`RotorShape.as_array` per member.
-        num: (E, N_SCHEME) :meth:`Scheme.as_array` per member.
-        quad_s, quad_t: the common quadrature rules of the contour torque.
-        plate_tab, edge_tab, pill_tab: the common filter tables (:meth:`Scheme.table_arrays`).
-        sched: (E, 4) :meth:`StopSchedule.as_array` per member.
-        flags: (E, 2) flow enabled, noise on.
+        params: (E,) parameter records, one per member
+            (:func:`pde_rotor.kernels.records.make_record`).
+        tables: (quad_s, quad_t, plate, edge, pill), the common quadrature rules of the
+            contour torque and filter tables (:meth:`Scheme.kernel_tables`).
         rotor: (E, 5) [phi, omega, torque, friction, stopped], updated.
-        kicks: (E, n_steps) noise increments of omega (read where noise is on).
+        xi: (E, n_steps) standard normals of the noise (read where the member's
+            ``kick`` != 0).
         records: (E, R, 6) receives the rotor and the total camphor int c dA after each
             step that ends on a multiple of `record_every`, at row
             (step + 1) // record_every - record0.
@@ -173,30 +142,27 @@ def _advance(
     tab = cuda.shared.array((4, MAX_CORNERS), float64)  # edge normals, pill centres
     rot = cuda.shared.array(6, float64)  # phi, omega, torque, friction, stopped, failed
 
-    pm = par[m]
-    rates = _rate_coefficients(pm)
-    dt, dx = pm[P_DT], pm[P_DX]
+    p = params[m]
+    quad_s, quad_t, plate_tab, edge_tab, pill_tab = tables
+    rates = _rate_coefficients(p)
+    dt, dx = p.dt, p.dx
     inv_2dx = 0.5 / dx
     area = dx * dx
-    inv_inertia = 1.0 / pm[P_I]
-    mu = pm[P_MU]
-    tsign_k = pm[P_TSIGN] * pm[P_K]
-    n_corners = int(shape[m, S_N])
-    apothem, rho, r_c = shape[m, S_APOTHEM], shape[m, S_RHO], shape[m, S_RC]
-    asym, delta = shape[m, S_ASYM], shape[m, S_DELTA]
+    n_corners = p.n_corners
+    apothem, rho, r_c = p.apothem, p.pill_radius, p.pill_distance
+    asym, delta = p.asymmetry, p.smoothing
     inv_delta = 1.0 / delta
-    filtered = num[m, M_FILTERED] != 0.0
-    t_n, t_x0 = int(num[m, M_TABLE_N]), num[m, M_TABLE_X0]
-    t_inv, p_inv = num[m, M_TABLE_INV_STEP], num[m, M_PROFILE_INV_STEP]
-    crease, e_u0, e_inv = num[m, M_CREASE], num[m, M_EDGE_U0], num[m, M_EDGE_INV_STEP]
-    contour = num[m, M_CONTOUR] != 0.0
-    tan_half = num[m, M_TAN_HALF]
-    w_lo = int(num[m, M_WINDOW_LO])
-    width = int(num[m, M_WINDOW_HI]) - w_lo
+    filtered = p.filtered
+    t_n, t_x0 = p.table_n, p.table_x0
+    t_inv, p_inv = p.table_inv_step, p.profile_inv_step
+    crease, e_u0, e_inv = p.crease, p.edge_u0, p.edge_inv_step
+    contour = p.contour
+    tan_half = p.tan_half
+    w_lo = p.window_lo
+    width = p.window_hi - w_lo
     n_nodes = n_corners * quad_s.shape[1] * quad_t.shape[1] if contour else 0
-    n_ini, n_stop, n_period, n_cycles = sched[m, 0], sched[m, 1], sched[m, 2], sched[m, 3]
-    flow = flags[m, FLAG_FLOW] != 0
-    noisy = flags[m, FLAG_NOISY] != 0
+    flow = p.flow
+    noisy = p.kick != 0.0
     i0, i1 = rows[0], rows[1]
     lanes = min(n_threads, 32)  # a warp sweeps a row, coalesced along y
     group = tid // lanes
@@ -218,9 +184,7 @@ def _advance(
         step = step0 + s
         p_cur = (parity0 + s) % 2
         p_nxt = 1 - p_cur
-        # stop schedule, pde_rotor.model.protocol.stopped_at
-        rel = step - n_ini
-        stopped = rel >= 0 and rel < n_cycles * n_period and rel % n_period < n_stop
+        stopped = _stopped_at(step, p.n_ini, p.n_stop, p.n_period, p.cycles)
         phi = rot[0]
         omega = rot[1]
         if stopped:
@@ -327,18 +291,20 @@ def _advance(
             half //= 2
 
         if tid == 0:
-            torque = tsign_k * (red[0] if contour else red[0] * area)
-            friction = -mu * ((red[n_threads] * area) * omega - red[2 * n_threads] * area)
+            total_grad = red[0] if contour else red[0] * area
+            total_moment = red[n_threads] * area
+            total_v = red[2 * n_threads] * area
+            torque, friction = _rotor_torques(total_grad, total_moment, total_v, omega, p)
             if not (math.isfinite(torque) and math.isfinite(friction)) or rot[5] != 0.0:
                 status[m] = step
                 rot[1] = omega
                 rot[5] = 1.0
             else:
                 if not stopped:
-                    phi += dt * omega
-                    omega += dt * (friction + torque) * inv_inertia
+                    accel = _angular_acceleration(torque, friction, p)
+                    phi, omega = _euler_rotor(phi, omega, accel, dt)
                     if noisy:
-                        omega += kicks[m, s]
+                        omega = _noise_kick(omega, xi[m, s], p)
                 rot[0] = phi
                 rot[1] = omega
                 rot[2] = torque

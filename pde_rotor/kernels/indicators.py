@@ -3,13 +3,15 @@
 Every step the plate turns, F and G (the equations after Eq. (rj) of Koyano et al.,
 Chaos 2020; filtered for the scheme ``consistent``, :mod:`pde_rotor.model.filtering`) are
 recomputed on the cells within reach of the plate. The terms are the physics core's
-(:mod:`pde_rotor.kernels.core`: ``plate_profile``, ``pill_term``, ``filtered_edge``,
+(:mod:`pde_rotor.kernels.core`: the gauge and nearest-edge frame ``projection``,
+``farther``, ``gauge_step``, ``tangential``, ``near_corner``, the pills' reach ``pill_reach``,
+``filtered_pill_reach``, and ``plate_profile``, ``pill_term``, ``filtered_edge``,
 ``filtered_corner``, ``filtered_pill_term``), the same the GPU sums once per cell in
 ``plate_cell``, ``pill_cell``, ``filtered_plate`` and ``filtered_pills``. Here the loops
 over edges and pills stand outside the loops over a row's cells, so that LLVM computes
 a row four cells at a time (SIMD): the loops run over slices, whose indices numba knows
 to be non-negative, the terms are branch-free, and ``error_model="numpy"`` drops the
-division-by-zero branch. tests/test_indicators.py checks the rows against the cell
+division-by-zero branch. tests/kernels/test_indicators.py checks the rows against the cell
 functions.
 """
 
@@ -20,28 +22,16 @@ import math
 import numba as nb
 import numpy as np
 
-from .core import (
-    CPU,
-    FASTMATH,
-    M_CREASE,
-    M_EDGE_INV_STEP,
-    M_EDGE_U0,
-    M_FILTERED,
-    M_PROFILE_INV_STEP,
-    M_TABLE_INV_STEP,
-    M_TABLE_N,
-    M_TABLE_X0,
-    M_TAN_HALF,
-    S_APOTHEM,
-    S_ASYM,
-    S_DELTA,
-    S_N,
-    S_RC,
-    S_RHO,
-    X_SATURATION,
-)
+from .core import CPU, FASTMATH
 
 _rotor_table = CPU.rotor_table
+_projection = CPU.projection
+_gauge_step = CPU.gauge_step
+_farther = CPU.farther
+_tangential = CPU.tangential
+_near_corner = CPU.near_corner
+_pill_reach = CPU.pill_reach
+_filtered_pill_reach = CPU.filtered_pill_reach
 _plate_profile = CPU.plate_profile
 _pill_term = CPU.pill_term
 _filtered_edge = CPU.filtered_edge
@@ -53,10 +43,10 @@ _filtered_pill_term = CPU.filtered_pill_term
 def plate_rows(F, coords, slo, shi, tab, n_corners, apothem, inv_delta):
     """F of the scheme ``paper`` on the support cells (compiled).
 
-    The gauge and profile of :func:`~pde_rotor.kernels.core.make_core`'s ``plate_cell``, with
-    the loop over the edges outside the loop over a row's cells, so that a row is
-    computed four cells at a time (SIMD; the loops run over slices, whose indices numba
-    knows to be non-negative).
+    The gauge (``projection``, ``gauge_step``) and profile of the physics core's
+    ``plate_cell``, with the loop over the edges outside the loop over a row's cells, so
+    that a row is computed four cells at a time (SIMD; the loops run over slices, whose
+    indices numba knows to be non-negative).
     """
     n = coords.size
     h = np.empty(n)
@@ -67,29 +57,31 @@ def plate_rows(F, coords, slo, shi, tab, n_corners, apothem, inv_delta):
         row_h = h[j0:j1]
         ex, ey = tab[0, 0], tab[1, 0]
         for j in range(row_y.size):
-            row_h[j] = x * ex + row_y[j] * ey
+            row_h[j] = _projection(x, row_y[j], ex, ey)
         for k in range(1, n_corners):
             ex, ey = tab[0, k], tab[1, k]
             for j in range(row_y.size):
-                p = x * ex + row_y[j] * ey
-                row_h[j] = p if p > row_h[j] else row_h[j]
+                row_h[j] = _gauge_step(row_h[j], x, row_y[j], ex, ey)
         row_f = F[i * n + j0 : i * n + j1]
         for j in range(row_y.size):
             row_f[j] = _plate_profile(row_h[j], apothem, inv_delta)
 
 
 @nb.njit(cache=True, nogil=True, fastmath=FASTMATH, error_model="numpy")
-def filtered_plate_rows(F, coords, slo, shi, tab, n_corners, apothem, num, edge, plate):
+def filtered_plate_rows(F, coords, slo, shi, tab, p, edge, plate):
     """F_eps of the scheme ``consistent`` on the support cells (compiled).
 
-    ``filtered_plate`` of :func:`~pde_rotor.kernels.core.make_core` in two passes over a row:
-    the nearest edge (h, q) and the edge profile for every cell four at a time (SIMD,
-    as :func:`plate_rows`), then the 2-D corner table for the cells within the crease
-    width of a corner bisector, one at a time.
+    The physics core's ``filtered_plate`` in two passes over a row: the frame of the
+    nearest edge (h, q) (``nearer_edge`` from ``projection``, ``farther`` and
+    ``tangential``) and the edge profile for every cell four at a time (SIMD, as
+    :func:`plate_rows`), then the 2-D corner table for the cells within
+    the crease width of a corner bisector (``near_corner``), one at a time. `p` is the
+    parameter record (:mod:`pde_rotor.kernels.records`).
     """
-    tan_half, crease = num[M_TAN_HALF], num[M_CREASE]
-    e_u0, e_inv = num[M_EDGE_U0], num[M_EDGE_INV_STEP]
-    t_n, t_x0, t_inv = int(num[M_TABLE_N]), num[M_TABLE_X0], num[M_TABLE_INV_STEP]
+    n_corners, apothem = p.n_corners, p.apothem
+    tan_half, crease = p.tan_half, p.crease
+    e_u0, e_inv = p.edge_u0, p.edge_inv_step
+    t_n, t_x0, t_inv = p.table_n, p.table_x0, p.table_inv_step
     n = coords.size
     h = np.empty(n)
     q = np.empty(n)
@@ -101,20 +93,21 @@ def filtered_plate_rows(F, coords, slo, shi, tab, n_corners, apothem, num, edge,
         row_q = q[j0:j1]
         ex, ey = tab[0, 0], tab[1, 0]
         for j in range(row_y.size):
-            row_h[j] = x * ex + row_y[j] * ey
-            row_q[j] = row_y[j] * ex - x * ey
+            row_h[j] = _projection(x, row_y[j], ex, ey)
+            row_q[j] = _tangential(x, row_y[j], ex, ey)
         for k in range(1, n_corners):
             ex, ey = tab[0, k], tab[1, k]
             for j in range(row_y.size):
-                p = x * ex + row_y[j] * ey
-                nearer = p > row_h[j]
-                row_q[j] = row_y[j] * ex - x * ey if nearer else row_q[j]
-                row_h[j] = p if nearer else row_h[j]
+                # the core's nearer_edge, spelt out: LLVM vectorises this loop only so
+                proj = _projection(x, row_y[j], ex, ey)
+                nearer = _farther(proj, row_h[j])
+                row_q[j] = _tangential(x, row_y[j], ex, ey) if nearer else row_q[j]
+                row_h[j] = proj if nearer else row_h[j]
         row_f = F[i * n + j0 : i * n + j1]
         for j in range(row_y.size):
             row_f[j] = _filtered_edge(row_h[j], apothem, edge, e_u0, e_inv)
         for j in range(row_y.size):
-            if row_h[j] * tan_half - abs(row_q[j]) <= crease:
+            if _near_corner(row_h[j], row_q[j], tan_half, crease):
                 row_f[j] = _filtered_corner(row_h[j], row_q[j], plate, t_n, t_x0, t_inv)
 
 
@@ -159,26 +152,27 @@ def pill_rows(G, coords, slo, shi, tab, n_corners, reach, rho, inv_delta, profil
 
 
 @nb.njit(cache=True, nogil=True)
-def update_indicators(F, G, coords, slo, shi, shape, tab, num, plate_tab, edge_tab, pill_tab, phi):
+def update_indicators(F, G, domain, params, tab, tables, phi):
     """Recompute F and G (flat n*n arrays) on the support cells for angle phi (compiled).
 
-    Cells outside the support keep F = G = 0. `tab` (4, >= N) receives the edge normals
-    and pill centres; `num` is :meth:`~pde_rotor.model.schemes.Scheme.as_array`: point values
+    Cells outside the support keep F = G = 0. `domain` is (coords, lo, hi, slo, shi) of
+    :func:`pde_rotor.kernels.cpu.advance`, `params` the (1,) parameter record array
+    (:mod:`pde_rotor.kernels.records`), `tables` the scheme's (quad_s, quad_t, plate,
+    edge, pill). `tab` (4, >= N) receives the edge normals and pill centres. Point values
     (:func:`plate_rows`, :func:`pill_rows`), or (``consistent``) the filtered fields
-    from `plate_tab`, `edge_tab` and `pill_tab`
-    (:meth:`~pde_rotor.model.schemes.Scheme.table_arrays`).
+    from the filter tables (:meth:`~pde_rotor.model.schemes.Scheme.kernel_tables`).
     """
-    n_corners = int(shape[S_N])
-    apothem, rho, inv_delta = shape[S_APOTHEM], shape[S_RHO], 1.0 / shape[S_DELTA]
-    _rotor_table(phi, n_corners, shape[S_RC], shape[S_ASYM], tab)
-    if num[M_FILTERED] == 0.0:
-        plate_rows(F, coords, slo, shi, tab, n_corners, apothem, inv_delta)
-        reach = rho + X_SATURATION / inv_delta
+    p = params[0]
+    coords, _, _, slo, shi = domain
+    _, _, plate_tab, edge_tab, pill_tab = tables
+    n_corners, rho, inv_delta = p.n_corners, p.pill_radius, 1.0 / p.smoothing
+    _rotor_table(phi, n_corners, p.pill_distance, p.asymmetry, tab)
+    if not p.filtered:
+        plate_rows(F, coords, slo, shi, tab, n_corners, p.apothem, inv_delta)
+        reach = _pill_reach(rho, inv_delta)
         pill_rows(G, coords, slo, shi, tab, n_corners, reach, rho, inv_delta, pill_tab[:0], 1.0)
         return
-    p_inv = num[M_PROFILE_INV_STEP]
-    pill_rows(
-        G, coords, slo, shi, tab, n_corners, (pill_tab.size - 1) / p_inv, rho, inv_delta,
-        pill_tab, p_inv,
-    )  # fmt: skip
-    filtered_plate_rows(F, coords, slo, shi, tab, n_corners, apothem, num, edge_tab, plate_tab)
+    p_inv = p.profile_inv_step
+    reach = _filtered_pill_reach(pill_tab, p_inv)
+    pill_rows(G, coords, slo, shi, tab, n_corners, reach, rho, inv_delta, pill_tab, p_inv)
+    filtered_plate_rows(F, coords, slo, shi, tab, p, edge_tab, plate_tab)

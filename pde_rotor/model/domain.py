@@ -44,6 +44,11 @@ class Domain:
     support_lo: np.ndarray
     support_hi: np.ndarray
 
+    def arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """(coords, interior_lo, interior_hi, support_lo, support_hi): the `domain` the
+        compiled kernels take (:func:`pde_rotor.kernels.cpu.advance`)."""
+        return self.coords, self.interior_lo, self.interior_hi, self.support_lo, self.support_hi
+
     @property
     def interior_mask(self) -> np.ndarray:
         """Boolean (n, n) array, True on cells with centre radius < L."""

@@ -55,7 +55,7 @@ import numpy as np
 from scipy.ndimage import gaussian_filter, gaussian_filter1d, map_coordinates, spline_filter
 from scipy.special import i0e
 
-from ..kernels.core import X_SATURATION
+from ..config import X_SATURATION
 from .geometry import RotorShape, edge_normal_angles, pill_centres, plate_indicator
 
 PROFILE_REFINEMENT = 256

@@ -14,11 +14,12 @@ See docs/model.md.
 
 F and G are the smoothed indicators of the paper (the two unnumbered equations after
 Eq. (rj)). Both are 1/2 (1 + tanh(x)) of a signed distance x in units of delta. For
-|x| >= X_SATURATION they equal 0 or 1 to within exp(-2 X_SATURATION) = 4e-18, so the
-kernels (:mod:`pde_rotor.kernels.core`) evaluate them only inside the disk of radius
-R + X_SATURATION delta / cos(pi/N) (F) and within rho + X_SATURATION delta of each pill
-(G). This module holds the numpy reference versions (point values; the filtered fields of
-the ``consistent`` scheme are in :mod:`pde_rotor.model.filtering`).
+|x| >= X_SATURATION (:mod:`pde_rotor.config`) they equal 0 or 1 to within
+exp(-2 X_SATURATION) = 4e-18, so the kernels (:mod:`pde_rotor.kernels.core`) evaluate them
+only inside the disk of :attr:`GeometryConfig.support_radius` (F) and within
+rho + X_SATURATION delta of each pill (G). This module holds the numpy reference
+versions (point values; the filtered fields of the ``consistent`` scheme are in
+:mod:`pde_rotor.model.filtering`).
 """
 
 from __future__ import annotations
@@ -29,7 +30,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..config import GeometryConfig
-from ..kernels.core import X_SATURATION
 
 
 @dataclass(frozen=True)
@@ -44,6 +44,8 @@ class RotorShape:
         pill_distance: R_c, Eq. (rc).
         asymmetry: Delta [rad].
         smoothing: delta.
+        support_radius: radius outside which F = G = 0 exactly
+            (:attr:`GeometryConfig.support_radius`).
     """
 
     n_corners: int
@@ -53,6 +55,7 @@ class RotorShape:
     pill_distance: float
     asymmetry: float
     smoothing: float
+    support_radius: float
 
     @classmethod
     def from_config(cls, geometry: GeometryConfig) -> RotorShape:
@@ -66,24 +69,7 @@ class RotorShape:
             pill_distance=geometry.pill_distance,
             asymmetry=geometry.asymmetry,
             smoothing=geometry.smoothing,
-        )
-
-    @property
-    def support_radius(self) -> float:
-        """Radius outside which F = G = 0 exactly (see module docstring)."""
-        return self.radius + X_SATURATION * self.smoothing / math.cos(math.pi / self.n_corners)
-
-    def as_array(self) -> np.ndarray:
-        """Pack the shape for the compiled kernels: [N, apothem, rho, R_c, Delta, delta]."""
-        return np.array(
-            [
-                self.n_corners,
-                self.apothem,
-                self.pill_radius,
-                self.pill_distance,
-                self.asymmetry,
-                self.smoothing,
-            ]
+            support_radius=geometry.support_radius,
         )
 
 

@@ -8,8 +8,7 @@ Controller and trackers see it, and a branch of a run starts from both.
 
 :meth:`RotorPDE.evolution_rate` and :meth:`RotorPDE.rotor_torques` are the executable
 specification used by the tests; :mod:`pde_rotor.kernels.cpu` computes the same right-hand
-side in one fused compiled loop, and :meth:`RotorPDE.make_operator_stepper` composes it
-from py-pde's compiled operators (the benchmark's reference).
+side in one fused compiled loop from the physics core (:mod:`pde_rotor.kernels.core`).
 
 Torque, Eq. (torque). The force that the surface exerts on the plate is the surface
 tension pulling on its contour, gamma n dl (n the outward normal). Its torque is
@@ -27,11 +26,9 @@ from __future__ import annotations
 
 import copy
 import math
-from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-import numba as nb
 import numpy as np
 from pde import FieldCollection, ScalarField, VectorField
 from pde.pdes.base import PDEBase
@@ -141,27 +138,6 @@ class RotorPDE(PDEBase):
             [ScalarField(grid, label="c"), VectorField(grid, label="v")],
             label="rotor state",
             rotor=rotor,
-        )
-
-    def kernel_parameters(self, dt: float) -> np.ndarray:
-        """Float parameters of the compiled kernels (index constants P_* in the solver)."""
-        cfg = self.config
-        rho = cfg.geometry.pill_radius
-        return np.array(
-            [
-                dt,
-                cfg.grid.dx,
-                cfg.camphor.diffusion,
-                cfg.camphor.evaporation,
-                cfg.camphor.supply / (math.pi * rho**2),
-                cfg.camphor.tension_slope,
-                cfg.flow.drag,
-                cfg.flow.bulk_drag,
-                cfg.flow.viscosity,
-                cfg.rotor.inertia,
-                cfg.rotor.friction,
-                TORQUE_SIGN[cfg.rotor.torque],
-            ]
         )
 
     def cell_coordinates(self) -> tuple[np.ndarray, np.ndarray]:
@@ -277,64 +253,3 @@ class RotorPDE(PDEBase):
         if dt is None:
             dt = self.config.grid.dt
         return super().solve(state, t_range, dt, tracker, solver="rotor", **kwargs)
-
-    def make_operator_stepper(self, dt: float) -> Callable[[np.ndarray, np.ndarray, int], None]:
-        """Euler stepper composed from py-pde's compiled operators (benchmark reference).
-
-        The same equations as the fused solver, built the way a py-pde user would:
-        ``grid.make_operator`` for laplace, divergence, vector_laplace and gradient,
-        array expressions for the rest, F and G evaluated with tanh on the whole grid.
-        No stop schedule and no noise.
-
-        Returns:
-            step(data, rotor, n_steps): advances data (3, n, n) and rotor [phi, omega].
-        """
-        grid = self.domain.grid
-        laplace = grid.make_operator("laplace", BOUNDARY)
-        divergence = grid.make_operator("divergence", BOUNDARY)
-        vector_laplace = grid.make_operator("vector_laplace", BOUNDARY)
-        gradient = grid.make_operator("gradient", BOUNDARY)
-        x, y = self.cell_coordinates()
-        mask = self.domain.interior_mask.astype(float)
-        cfg, shape = self.config, self.shape
-        diff, evap = cfg.camphor.diffusion, cfg.camphor.evaporation
-        src = cfg.camphor.supply / (math.pi * shape.pill_radius**2)
-        eta, eta_b, d_eta = cfg.flow.drag, cfg.flow.bulk_drag, cfg.flow.viscosity
-        tsign_k = TORQUE_SIGN[cfg.rotor.torque] * cfg.camphor.tension_slope
-        mu, inertia, area = cfg.rotor.friction, cfg.rotor.inertia, self.domain.cell_area
-        n_corners, apothem, rho = shape.n_corners, shape.apothem, shape.pill_radius
-        r_c, asym, inv_delta = shape.pill_distance, shape.asymmetry, 1.0 / shape.smoothing
-
-        @nb.njit(cache=False)
-        def step(data: np.ndarray, rotor: np.ndarray, n_steps: int) -> None:
-            for _ in range(n_steps):
-                phi, omega = rotor[0], rotor[1]
-                proj = np.full(x.shape, -np.inf)
-                G = np.zeros(x.shape)
-                for k in range(n_corners):
-                    a_edge = phi + 2.0 * np.pi * (k + 0.5) / n_corners
-                    proj = np.maximum(proj, x * np.cos(a_edge) + y * np.sin(a_edge))
-                    a_pill = phi + 2.0 * np.pi * (k + 1) / n_corners + asym
-                    dist = np.sqrt(
-                        (x - r_c * np.cos(a_pill)) ** 2 + (y - r_c * np.sin(a_pill)) ** 2
-                    )
-                    G += 0.5 * (1.0 + np.tanh((rho - dist) * inv_delta))
-                F = 0.5 * (1.0 + np.tanh((apothem - proj) * inv_delta))
-                c, v = data[0], data[1:]
-                grad = gradient(c)
-                cross_grad = np.sum(F * (x * grad[1] - y * grad[0])) * area
-                cross_v = np.sum(F * (x * v[1] - y * v[0])) * area
-                moment = np.sum(F * (x * x + y * y)) * area
-                c_rate = diff * laplace(c) - divergence(c * v) - evap * (1.0 - F) * c + src * G
-                v_rate = np.empty_like(v)
-                v_rate[0] = eta * F * (-omega * y - v[0]) - eta_b * v[0]
-                v_rate[1] = eta * F * (omega * x - v[1]) - eta_b * v[1]
-                v_rate += d_eta * vector_laplace(v)
-                data[0] += dt * mask * c_rate
-                data[1:] += dt * mask * v_rate
-                rotor[0] = phi + dt * omega
-                rotor[1] = (
-                    omega + dt * (tsign_k * cross_grad - mu * (moment * omega - cross_v)) / inertia
-                )
-
-        return step

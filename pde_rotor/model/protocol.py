@@ -3,17 +3,18 @@
 The first stop starts at t_ini; stop m (m = 1..M) lasts from t_ini + (m-1) T to
 t_ini + t_stop + (m-1) T with T = t_stop + t_release. During a stop phi is frozen and
 dphi/dt = 0; c and v keep evolving. Times are handled as integer step counts so that
-the schedule does not drift with floating point round-off.
+the schedule does not drift with floating point round-off; the rule itself is the
+physics core's ``stopped_at`` (:mod:`pde_rotor.kernels.core`), which the kernels call.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-import numba as nb
 import numpy as np
 
 from ..config import ProtocolConfig
+from ..kernels.core import CPU
 
 
 @dataclass(frozen=True)
@@ -45,13 +46,9 @@ class StopSchedule:
             cycles=protocol.cycles,
         )
 
-    def as_array(self) -> np.ndarray:
-        """Pack for the compiled kernel: [n_ini, n_stop, n_period, cycles]."""
-        return np.array([self.n_ini, self.n_stop, self.n_period, self.cycles], dtype=np.int64)
-
     def is_stopped(self, step: int) -> bool:
         """Whether step `step` (advancing t = step dt by dt) lies in a stop phase."""
-        return bool(stopped_at(step, self.as_array()))
+        return bool(CPU.stopped_at(step, self.n_ini, self.n_stop, self.n_period, self.cycles))
 
     def cycle(self, step: int) -> int:
         """Cycle number m (1..M) that `step` belongs to, 0 before the first stop."""
@@ -92,12 +89,3 @@ def steps_of(duration: float, dt: float) -> int:
         msg = f"duration {duration:g} is not an integer multiple of dt = {dt:g}"
         raise ValueError(msg)
     return steps
-
-
-@nb.njit(cache=True, nogil=True)
-def stopped_at(step: int, schedule: np.ndarray) -> bool:
-    """Whether the step starting at t = step dt lies in a stop phase (compiled)."""
-    rel = step - schedule[0]
-    if rel < 0 or rel >= schedule[3] * schedule[2]:
-        return False
-    return rel % schedule[2] < schedule[1]

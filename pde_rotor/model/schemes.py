@@ -37,7 +37,7 @@ its angle (docs/model.md). Two schemes are offered (``numerics.scheme``):
       equations see F_eps and G_eps (docs/model.md, "Schemes").
 
 The per-cell work of both schemes is in :mod:`pde_rotor.kernels.core`; this module only builds
-the numbers the kernels need.
+the numbers the kernels need (:func:`pde_rotor.kernels.records.make_record` packs them).
 """
 
 from __future__ import annotations
@@ -50,23 +50,8 @@ import numpy as np
 from scipy.ndimage import map_coordinates
 
 from ..config import RotorConfig
-from ..kernels.core import (
-    M_CONTOUR,
-    M_CREASE,
-    M_EDGE_INV_STEP,
-    M_EDGE_U0,
-    M_FILTERED,
-    M_PROFILE_INV_STEP,
-    M_TABLE_INV_STEP,
-    M_TABLE_N,
-    M_TABLE_X0,
-    M_TAN_HALF,
-    M_WINDOW_HI,
-    M_WINDOW_LO,
-    N_SCHEME,
-    SPLINE_MARGIN,
-)
-from .filtering import CREASE_WIDTHS, FilterTables, make_tables
+from ..kernels.core import SPLINE_MARGIN
+from .filtering import FilterTables, make_tables
 from .geometry import RotorShape
 
 
@@ -168,30 +153,13 @@ class Scheme:
             window=window,
         )
 
-    def as_array(self) -> np.ndarray:
-        """Pack for the kernels, the M_* layout of :mod:`pde_rotor.kernels.core`."""
-        out = np.zeros(N_SCHEME)
-        out[M_CONTOUR] = float(self.contour)
-        out[M_TAN_HALF] = self.tan_half
-        out[M_WINDOW_LO], out[M_WINDOW_HI] = self.window
-        if self.tables is not None:
-            out[M_FILTERED] = 1.0
-            out[M_TABLE_N] = self.tables.plate_n
-            out[M_TABLE_X0] = self.tables.plate_x0
-            out[M_TABLE_INV_STEP] = 1.0 / self.tables.plate_step
-            out[M_PROFILE_INV_STEP] = 1.0 / self.tables.pill_step
-            reach = CREASE_WIDTHS * self.tables.plate_reach
-            out[M_CREASE] = reach / math.cos(math.atan(self.tan_half))
-            out[M_EDGE_U0] = self.tables.edge_u0
-            out[M_EDGE_INV_STEP] = 1.0 / self.tables.edge_step
-        return out
-
-    def table_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(plate spline coefficients, edge profile, pill profile) for the kernels;
-        one-element dummies of the same type for point values."""
+    def kernel_tables(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """(quad_s, quad_t, plate spline coefficients, edge profile, pill profile): the
+        arrays the kernels take besides the parameter record; one-element dummies of the
+        same type for point values."""
         if self.tables is None:
-            return np.zeros(1), np.zeros(1), np.zeros(1)
-        return self.tables.plate, self.tables.edge, self.tables.pill
+            return self.quad_s, self.quad_t, np.zeros(1), np.zeros(1), np.zeros(1)
+        return self.quad_s, self.quad_t, self.tables.plate, self.tables.edge, self.tables.pill
 
 
 def interpolate_spline(

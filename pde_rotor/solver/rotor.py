@@ -13,7 +13,6 @@ trackers drive the run unchanged.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
@@ -23,8 +22,8 @@ from pde import FieldCollection
 from pde.solvers.base import SolverBase
 
 from ..kernels.cpu import advance
+from ..kernels.records import make_record
 from ..model.pde import RotorFields, RotorPDE, RotorState
-from ..model.protocol import StopSchedule
 
 
 class SimulationDivergedError(FloatingPointError):
@@ -45,25 +44,22 @@ class FusedStepper:
     pde: RotorPDE
     dt: float
     rng: np.random.Generator
-    schedule: StopSchedule = field(init=False)
     _spare: np.ndarray = field(init=False, repr=False)
     _stage: np.ndarray = field(init=False, repr=False)
-    _par: np.ndarray = field(init=False, repr=False)
+    _record: np.ndarray = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
-        self.schedule = StopSchedule.from_config(self.pde.config.protocol, self.dt)
-        self._par = self.pde.kernel_parameters(self.dt)
+        self._record = make_record(self.pde.config, self.pde.scheme, self.dt)
         self._spare = np.zeros((3, *self.pde.domain.grid.shape))
         heun = self.pde.config.numerics.integrator == "heun"
         self._stage = np.zeros_like(self._spare) if heun else np.empty(0)
 
-    def kicks(self, n_steps: int) -> np.ndarray:
-        """Euler-Maruyama increments of omega: sqrt(2 dt) sigma / I N(0, 1), Eq. (noiseav)."""
-        sigma = self.pde.config.noise.sigma
-        if sigma == 0:
+    def normals(self, n_steps: int) -> np.ndarray:
+        """The standard normals of the noise, one per step (none without noise); the
+        kernel scales them to the Euler-Maruyama kicks of Eq. (noiseav)."""
+        if self._record["kick"][0] == 0.0:
             return np.empty(0)
-        scale = math.sqrt(2.0 * self.dt) * sigma / self.pde.config.rotor.inertia
-        return scale * self.rng.standard_normal(n_steps)
+        return self.rng.standard_normal(n_steps)
 
     def __call__(self, data: np.ndarray, rotor_state: RotorState, step0: int, n_steps: int) -> None:
         """Advance `data` and `rotor_state` together by `n_steps` steps from step `step0`.
@@ -82,21 +78,11 @@ class FusedStepper:
             self._stage.reshape(-1),
             pde.F.reshape(-1),
             pde.G.reshape(-1),
-            dom.coords,
-            dom.interior_lo,
-            dom.interior_hi,
-            dom.support_lo,
-            dom.support_hi,
-            pde.shape.as_array(),
-            self._par,
-            scheme.as_array(),
-            scheme.quad_s,
-            scheme.quad_t,
-            *scheme.table_arrays(),
-            pde.config.flow.enabled,
-            self.schedule.as_array(),
+            dom.arrays(),
+            self._record,
+            scheme.kernel_tables(),
             rotor,
-            self.kicks(n_steps),
+            self.normals(n_steps),
             step0,
             n_steps,
         )

@@ -15,22 +15,8 @@ import numba as nb
 import numpy as np
 import pytest
 
-from pde_rotor.kernels.core import (
-    CPU,
-    M_CREASE,
-    M_EDGE_INV_STEP,
-    M_EDGE_U0,
-    M_FILTERED,
-    M_PROFILE_INV_STEP,
-    M_TABLE_INV_STEP,
-    M_TABLE_N,
-    M_TABLE_X0,
-    M_TAN_HALF,
-    S_APOTHEM,
-    S_DELTA,
-    S_N,
-    S_RHO,
-)
+from pde_rotor.kernels.core import CPU
+from pde_rotor.kernels.records import make_record
 from pde_rotor.model.pde import RotorPDE
 from tests.conftest import compiled_indicators
 
@@ -41,26 +27,26 @@ _filtered_pills = CPU.filtered_pills
 
 
 @nb.njit
-def cell_indicators(coords, slo, shi, shape, tab, num, plate, edge, pill):
+def cell_indicators(coords, slo, shi, params, tab, plate, edge, pill):
     """F and G of the cell functions, one cell at a time (the GPU's way)."""
+    p = params[0]
     n = coords.size
     F = np.zeros(n * n)
     G = np.zeros(n * n)
-    n_corners = int(shape[S_N])
-    apothem, rho, inv_delta = shape[S_APOTHEM], shape[S_RHO], 1.0 / shape[S_DELTA]
+    n_corners = p.n_corners
+    apothem, rho, inv_delta = p.apothem, p.pill_radius, 1.0 / p.smoothing
     for i in range(n):
         for j in range(slo[i], shi[i]):
             x, y = coords[i], coords[j]
-            if num[M_FILTERED] == 0.0:
+            if not p.filtered:
                 F[i * n + j] = _plate_cell(x, y, tab, n_corners, apothem, inv_delta)
                 G[i * n + j] = _pill_cell(x, y, tab, n_corners, rho, inv_delta)
             else:
                 F[i * n + j] = _filtered_plate(
-                    x, y, tab, n_corners, apothem, num[M_TAN_HALF], num[M_CREASE], edge,
-                    num[M_EDGE_U0], num[M_EDGE_INV_STEP], plate, int(num[M_TABLE_N]),
-                    num[M_TABLE_X0], num[M_TABLE_INV_STEP],
+                    x, y, tab, n_corners, apothem, p.tan_half, p.crease, edge, p.edge_u0,
+                    p.edge_inv_step, plate, p.table_n, p.table_x0, p.table_inv_step,
                 )  # fmt: skip
-                G[i * n + j] = _filtered_pills(x, y, tab, n_corners, pill, num[M_PROFILE_INV_STEP])
+                G[i * n + j] = _filtered_pills(x, y, tab, n_corners, pill, p.profile_inv_step)
     return F.reshape(n, n), G.reshape(n, n)
 
 
@@ -73,8 +59,9 @@ def test_row_loops_equal_the_cell_functions(small_config, scheme: str, phi: floa
     F, G, tab = compiled_indicators(pde, phi)
     dom = pde.domain
     F_cell, G_cell = cell_indicators(
-        dom.coords, dom.support_lo, dom.support_hi, pde.shape.as_array(), tab,
-        pde.scheme.as_array(), *pde.scheme.table_arrays(),
+        dom.coords, dom.support_lo, dom.support_hi,
+        make_record(pde.config, pde.scheme, pde.config.grid.dt), tab,
+        *pde.scheme.kernel_tables()[2:],
     )  # fmt: skip
     assert F.max() > 0.99 and G.max() > 0.9  # the fields are there
     np.testing.assert_allclose(F, F_cell, rtol=0, atol=1e-14)

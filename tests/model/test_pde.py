@@ -19,6 +19,7 @@ from scipy.special import i0, i1, k0, k1
 
 from pde_rotor import RotorConfig, Simulation
 from pde_rotor.kernels.cpu import euler_fields
+from pde_rotor.kernels.records import make_record
 from pde_rotor.model.pde import RotorPDE
 
 # fine enough for < 1 % against the Bessel solutions, small enough to take ~1 s each
@@ -127,7 +128,8 @@ def test_steady_flow_around_rotating_disk_matches_bessel_solution() -> None:
     pde = RotorPDE(cfg)
     dom = pde.domain
     dt = 0.9 * cfg.dt_limit()
-    par = pde.kernel_parameters(dt)
+    params = make_record(cfg, pde.scheme, cfg.grid.dt)
+    params["dt"] = dt  # euler_fields reads no stop schedule, which needs the config's step
     x, y = pde.cell_coordinates()
     r = np.hypot(x, y)
     radius, omega = cfg.geometry.radius, -3.0
@@ -141,14 +143,9 @@ def test_steady_flow_around_rotating_disk_matches_bessel_solution() -> None:
             nxt.reshape(-1),
             F.reshape(-1),
             G.reshape(-1),
-            dom.coords,
-            dom.interior_lo,
-            dom.interior_hi,
-            dom.support_lo,
-            dom.support_hi,
-            par,
+            dom.arrays(),
+            params,
             omega,
-            True,
         )
 
     n_relax = round(2.0 / dt)
@@ -189,7 +186,8 @@ def test_steady_camphor_of_fixed_pill_matches_bessel_solution() -> None:
     pde = RotorPDE(cfg)
     dom = pde.domain
     dt = 0.9 * cfg.dt_limit()
-    par = pde.kernel_parameters(dt)
+    params = make_record(cfg, pde.scheme, cfg.grid.dt)
+    params["dt"] = dt  # euler_fields reads no stop schedule, which needs the config's step
     x, y = pde.cell_coordinates()
     r = np.hypot(x, y)
     rho = cfg.geometry.pill_radius
@@ -203,14 +201,9 @@ def test_steady_camphor_of_fixed_pill_matches_bessel_solution() -> None:
             nxt.reshape(-1),
             F.reshape(-1),
             G.reshape(-1),
-            dom.coords,
-            dom.interior_lo,
-            dom.interior_hi,
-            dom.support_lo,
-            dom.support_hi,
-            par,
+            dom.arrays(),
+            params,
             0.0,
-            False,
         )
 
     before = relax(step, np.zeros((3, *G.shape)), round(3.0 / dt))

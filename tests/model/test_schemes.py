@@ -19,6 +19,7 @@ import pytest
 from pde_rotor.config import RotorConfig
 from pde_rotor.kernels.core import CPU
 from pde_rotor.kernels.cpu import rotor_integrals, spline_window
+from pde_rotor.kernels.records import make_record
 from pde_rotor.model.analysis import stopped_concentration, stopped_torque
 from pde_rotor.model.geometry import edge_normal_angles, plate_indicator
 from pde_rotor.model.pde import RotorPDE
@@ -138,15 +139,10 @@ def test_compiled_contour_torque_equals_numpy_reference(
     got = rotor_integrals(
         state.reshape(-1),
         F.reshape(-1),
-        dom.coords,
-        dom.support_lo,
-        dom.support_hi,
-        pde.shape.as_array(),
+        dom.arrays(),
+        make_record(cfg, scheme, cfg.grid.dt),
         tab,
-        scheme.as_array(),
-        scheme.quad_s,
-        scheme.quad_t,
-        True,
+        scheme.kernel_tables(),
         np.zeros(x.size),
     )
     want = contour_cross_grad(

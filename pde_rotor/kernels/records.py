@@ -1,0 +1,146 @@
+"""The scalar parameters of the compiled kernels as one numpy record per run.
+
+:data:`PARAMS` is the structured dtype that the CPU loops (:mod:`pde_rotor.kernels.cpu`),
+the CUDA kernel (:mod:`pde_rotor.kernels.cuda`) and the physics core
+(:mod:`pde_rotor.kernels.core`) read by field name (numba compiles ``p.dt`` to a load of
+the record's field on both targets); :func:`make_record` is the one place that fills it
+from a run's configuration. Adding a parameter to the kernels touches the schema
+(:mod:`pde_rotor.config.schema`), this builder and the core function that uses it.
+
+The fields, by the equation that uses them (Koyano et al., Chaos 2020):
+
+* time and grid: ``dt`` (the step of the run), ``dx``;
+* Eq. (eqc): ``diffusion`` D, ``evaporation`` a, ``source`` s0 / (pi rho^2);
+* Eq. (eqv): ``flow`` (False: v = 0, Fig. 8), ``drag`` eta, ``bulk_drag`` eta_b,
+  ``viscosity`` D_eta;
+* Eqs. (torque), (eq_motion), (noiseav): ``tension_slope`` k, ``torque_sign`` (+-1,
+  ``rotor.torque``), ``inertia`` I, ``friction`` mu, ``kick`` sqrt(2 dt) sigma / I;
+* Eqs. (ejt0), (rc), (rj) and F, G: ``n_corners`` N, ``apothem`` R cos(pi/N),
+  ``pill_radius`` rho, ``pill_distance`` R_c, ``asymmetry`` Delta, ``smoothing`` delta;
+* the stop schedule in steps: ``n_ini``, ``n_stop``, ``n_period``, ``cycles``;
+* the scheme (:mod:`pde_rotor.model.schemes`): ``contour`` (contour-form torque),
+  ``tan_half`` tan(pi/N), ``window_lo``, ``window_hi`` (the spline window), and for the
+  filtered F and G of ``consistent`` (``filtered``) the layout of the filter tables:
+  ``table_n``, ``table_x0``, ``table_inv_step`` (the plate's 2-D table),
+  ``profile_inv_step`` (the pill profile), ``crease``, ``edge_u0``, ``edge_inv_step``
+  (the edge profile).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..config import RotorConfig
+from ..model.filtering import CREASE_WIDTHS
+from ..model.geometry import RotorShape
+from ..model.pde import TORQUE_SIGN
+from ..model.protocol import StopSchedule
+from ..model.schemes import Scheme
+
+_F8, _I8, _B1 = np.float64, np.int64, np.bool_
+
+CONFIG_FIELDS: dict[str, str] = {
+    "dx": "grid.dx",
+    "diffusion": "camphor.diffusion",
+    "evaporation": "camphor.evaporation",
+    "tension_slope": "camphor.tension_slope",
+    "flow": "flow.enabled",
+    "drag": "flow.drag",
+    "bulk_drag": "flow.bulk_drag",
+    "viscosity": "flow.viscosity",
+    "inertia": "rotor.inertia",
+    "friction": "rotor.friction",
+    "n_corners": "geometry.n_corners",
+    "pill_radius": "geometry.pill_radius",
+    "pill_distance": "geometry.pill_distance",
+    "asymmetry": "geometry.asymmetry",
+    "smoothing": "geometry.smoothing",
+    "cycles": "protocol.cycles",
+}
+"""Record fields copied from the configuration: field name -> dotted key of the config."""
+
+PARAMS = np.dtype(
+    [
+        ("dt", _F8),
+        ("dx", _F8),
+        ("diffusion", _F8),
+        ("evaporation", _F8),
+        ("source", _F8),
+        ("drag", _F8),
+        ("bulk_drag", _F8),
+        ("viscosity", _F8),
+        ("tension_slope", _F8),
+        ("torque_sign", _F8),
+        ("inertia", _F8),
+        ("friction", _F8),
+        ("kick", _F8),
+        ("n_corners", _I8),
+        ("apothem", _F8),
+        ("pill_radius", _F8),
+        ("pill_distance", _F8),
+        ("asymmetry", _F8),
+        ("smoothing", _F8),
+        ("n_ini", _I8),
+        ("n_stop", _I8),
+        ("n_period", _I8),
+        ("cycles", _I8),
+        ("tan_half", _F8),
+        ("window_lo", _I8),
+        ("window_hi", _I8),
+        ("table_n", _I8),
+        ("table_x0", _F8),
+        ("table_inv_step", _F8),
+        ("profile_inv_step", _F8),
+        ("crease", _F8),
+        ("edge_u0", _F8),
+        ("edge_inv_step", _F8),
+        ("flow", _B1),
+        ("contour", _B1),
+        ("filtered", _B1),
+    ],
+    align=True,
+)
+"""The kernels' parameter record (fields: see the module docstring)."""
+
+
+def make_record(config: RotorConfig, scheme: Scheme, dt: float) -> np.ndarray:
+    """The kernels' parameters of one run as a record array of length 1.
+
+    Args:
+        config: the run configuration.
+        scheme: its discretisation (:meth:`Scheme.from_config` of `config`).
+        dt: the time step the kernels take (the solver's; ``grid.dt`` by default).
+
+    Returns:
+        A (1,) array of dtype :data:`PARAMS`, which the CPU loops take (and read as
+        ``params[0]``); the GPU stacks one per member.
+    """
+    rec = np.zeros(1, dtype=PARAMS)
+    for name, key in CONFIG_FIELDS.items():
+        rec[name] = config.get(key)
+    rho = config.geometry.pill_radius
+    rec["dt"] = dt
+    rec["source"] = config.camphor.supply / (math.pi * rho**2)
+    rec["torque_sign"] = TORQUE_SIGN[config.rotor.torque]
+    rec["kick"] = config.kick_scale(dt)
+    rec["apothem"] = RotorShape.from_config(config.geometry).apothem
+    schedule = StopSchedule.from_config(config.protocol, dt)
+    rec["n_ini"] = schedule.n_ini
+    rec["n_stop"] = schedule.n_stop
+    rec["n_period"] = schedule.n_period
+    rec["contour"] = scheme.contour
+    rec["tan_half"] = scheme.tan_half
+    rec["window_lo"], rec["window_hi"] = scheme.window
+    tables = scheme.tables
+    if tables is not None:
+        rec["filtered"] = True
+        rec["table_n"] = tables.plate_n
+        rec["table_x0"] = tables.plate_x0
+        rec["table_inv_step"] = 1.0 / tables.plate_step
+        rec["profile_inv_step"] = 1.0 / tables.pill_step
+        rec["crease"] = CREASE_WIDTHS * tables.plate_reach / math.cos(math.atan(scheme.tan_half))
+        rec["edge_u0"] = tables.edge_u0
+        rec["edge_inv_step"] = 1.0 / tables.edge_step
+    return rec
