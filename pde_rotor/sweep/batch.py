@@ -20,24 +20,28 @@ backend computed it:
 from __future__ import annotations
 
 import json
-import math
-import time
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from ..backends import EnsembleResult, EnsembleState
+from ..backends.base import EnsembleRunner
 from ..config import RotorConfig
-from ..model.protocol import steps_of
-from ..statistics.proportions import protocol_counts
+from .estimators import (
+    Timing,
+    check_finite,
+    check_spin_up,
+    draw_stop,
+    protocol_runs,
+    release_outcome,
+    restart_result,
+    spin_up,
+    timed_contents,
+)
 from .plan import Run
 from .spec import BankEstimator, RestartEstimator
-from .tasks import Timing, check_spin_up, period_steps, release_outcome, run_content, spin_up
-
-EnsembleRunner = Callable[..., EnsembleResult]
-"""``run_ensemble(configs, t_end, *, record_interval=..., initial=..., rngs=...)``."""
 
 RECORD_BUDGET = 2**24
 """Most (member, recorded step) pairs of one ensemble call of restarts (0.7 GB)."""
@@ -58,6 +62,9 @@ def batches(runs: Sequence[Run], size: int) -> list[list[Run]]:
 def execute_batch(runs: Sequence[Run], ensemble: EnsembleRunner) -> list[dict[str, Any]]:
     """Compute runs of one estimator as ensembles; their run-file contents.
 
+    Protocol runs go to the protocol estimator (:func:`.estimators.protocol_runs`), the
+    code the per-run tasks call with the CPU backend.
+
     Args:
         runs: runs sharing grid and numerics (:func:`batches`).
         ensemble: the backend's ``run_ensemble``; the backend its result names is
@@ -67,50 +74,11 @@ def execute_batch(runs: Sequence[Run], ensemble: EnsembleRunner) -> list[dict[st
         ValueError: a member whose state diverged.
         RuntimeError: a spin-up that ends in the other direction.
     """
-    start = time.perf_counter()
     if runs[0].estimator["kind"] == "protocol":
-        results, backend = _protocol(runs, ensemble)
-    else:
-        results, backend = _restarts(runs, ensemble)
-    share = (time.perf_counter() - start) / len(runs)
-    pairs = zip(runs, results, strict=True)
-    return [run_content(run, result, share, backend) for run, result in pairs]
-
-
-def _check(result: EnsembleResult, keys: Sequence[str]) -> None:
-    """Raise if a member's state stopped being finite, naming its run."""
-    for m, key in enumerate(keys):
-        if np.isfinite(result.diverged_at[m]):
-            msg = f"run {key} diverged at t = {result.diverged_at[m]:g}"
-            raise ValueError(msg)
-
-
-def _protocol(runs: Sequence[Run], ensemble: EnsembleRunner) -> tuple[list[dict], str]:
-    """Protocol runs: omega after the steps before each stop and at the end."""
-    configs = [RotorConfig.model_validate(run.config) for run in runs]
-    steps = []
-    for config in configs:
-        p, dt = config.protocol, config.grid.dt
-        n_ini, n_period = steps_of(p.t_ini, dt), steps_of(p.t_stop + p.t_release, dt)
-        steps.append([n_ini + m * n_period for m in range(p.cycles + 1)])
-    every = math.gcd(*(s for member in steps for s in member))
-    dt = configs[0].grid.dt
-    result = ensemble(configs, max(m[-1] for m in steps) * dt, record_interval=every * dt)
-    _check(result, [run.key for run in runs])
-    outcomes = []
-    for m, member in enumerate(steps):
-        omegas = [float(result.omega[m, s // every]) for s in member]
-        counts = protocol_counts(omegas)
-        outcomes.append(
-            {
-                "omegas": omegas,
-                "inversions_ccw": counts.ccw.k,
-                "n_ccw": counts.ccw.n,
-                "inversions_cw": counts.cw.k,
-                "n_cw": counts.cw.n,
-            }
-        )
-    return outcomes, result.backend
+        configs = [RotorConfig.model_validate(run.config) for run in runs]
+        keys = [run.key for run in runs]
+        return timed_contents(runs, lambda: protocol_runs(configs, keys, ensemble))
+    return timed_contents(runs, lambda: _restarts(runs, ensemble))
 
 
 def _warm_states(
@@ -159,13 +127,9 @@ def _restarts(runs: Sequence[Run], ensemble: EnsembleRunner) -> tuple[list[dict]
     warm = _warm_states(runs, configs, estimator, ensemble)
     members = []
     for run, config, (_, rotor, step) in zip(runs, configs, warm, strict=True):
-        n_period = period_steps(config, float(rotor[1]))
-        rng = np.random.default_rng(run.stop_seed if bank else config.noise.seed)
-        extra = int(rng.integers(0, n_period))
-        timing = Timing.of(config, estimator, step + extra)
-        if bank:
-            rng = np.random.default_rng(config.noise.seed)
-        members.append(_Member(run.key, timing, extra, timing.protocol(config), rng))
+        stop = draw_stop(config, estimator, float(rotor[1]), step, run.stop_seed if bank else None)
+        timing = stop.timing
+        members.append(_Member(run.key, timing, stop.extra, timing.protocol(config), stop.rng))
     order = sorted(range(len(runs)), key=lambda m: members[m].timing.n0)
     results: list[dict | None] = [None] * len(runs)
     backend = "cpu"
@@ -220,7 +184,7 @@ def _ensemble_restarts(
             quiet.append(q)
         approach = max(m.timing.n0 for m in members)
         first = ensemble(quiet, approach * dt, record_interval=dt, initial=initial)
-        _check(first, [m.key for m in members])
+        check_finite(first, [m.key for m in members])
         phases.append((step0, first))
         initial, step0 = first.state, approach
     rngs: list[Any] = [
@@ -228,7 +192,7 @@ def _ensemble_restarts(
     ]
     configs = [m.config for m in members]
     result = ensemble(configs, end * dt, record_interval=dt, initial=initial, rngs=rngs)
-    _check(result, [m.key for m in members])
+    check_finite(result, [m.key for m in members])
     phases.append((step0, result))
 
     def record(k: int, name: str, step: int) -> float:
@@ -236,18 +200,15 @@ def _ensemble_restarts(
         return float(getattr(phase, name)[k, step - begin])
 
     outcomes = []
-    period = 2 * math.pi / members[0].config.geometry.n_corners
     for k, member in enumerate(members):
         timing = member.timing
         omega_before = record(k, "omega", timing.n0)
-        outcome = release_outcome(
+        release = release_outcome(
             lambda step, k=k: record(k, "omega", step), timing, estimator, omega_before, dt
         )
-        outcome["phi_stop"] = record(k, "phi", timing.n0) % period
-        outcome["extra_steps"] = member.extra
-        if bank:
-            outcome["torque_end"] = record(k, "torque", timing.release)
-        outcomes.append(outcome)
+        torque_end = record(k, "torque", timing.release) if bank else None
+        phi_stop = record(k, "phi", timing.n0)
+        outcomes.append(restart_result(release, member.config, phi_stop, member.extra, torque_end))
     return outcomes, result.backend
 
 

@@ -1,0 +1,310 @@
+"""The sweep estimators' rules, written once for every place a run is computed.
+
+A run is computed either by a per-run task on a dask worker (:mod:`.tasks`) or as a
+member of an ensemble batch (:mod:`.batch`); both take from here what makes a stored run
+mean the same whichever computed it:
+
+* the protocol estimator itself (:func:`protocol_runs`), over any ensemble backend
+  (:class:`pde_rotor.backends.base.EnsembleRunner`): the tasks call it with the CPU
+  backend, the batches with theirs;
+* for the restart and bank estimators: the spin-up configuration (:func:`spin_up`), the
+  draw of the stop angle and of the noise Generator from the seeds (:func:`draw_stop`),
+  the step counts of the stop and the release (:class:`Timing`), the commit check of
+  the release (:func:`release_outcome`) and the result of a restart
+  (:func:`restart_result`);
+* the divergence check (:func:`check_finite`) and the record of a run with its share
+  of the wall time (:func:`timed_contents`).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..backends.base import EnsembleRunner
+from ..backends.ensemble import EnsembleResult
+from ..config import RotorConfig
+from ..model.protocol import steps_of
+from ..statistics.inversion import classify_release
+from ..statistics.proportions import protocol_counts
+from .plan import SCHEMA_VERSION, Run
+from .spec import RestartEstimator
+
+
+def steps(duration: float, dt: float) -> int:
+    """Steps of `duration` (rounded)."""
+    return round(duration / dt)
+
+
+def spin_up(
+    config: RotorConfig, estimator: RestartEstimator, direction: int
+) -> tuple[str, dict[str, Any]]:
+    """The spin-up configuration of `config` in `direction` and its hash (the cache key)."""
+    data = config.model_dump(mode="json")
+    data["protocol"].update(t_ini=estimator.warmup, cycles=0)
+    data["noise"].update(sigma=0.0, seed=0)
+    data["rotor"]["omega0"] = direction * estimator.spinup_omega
+    data.pop("output", None)
+    return hashlib.sha256(json.dumps(data, sort_keys=True).encode()).hexdigest(), data
+
+
+def check_spin_up(omega: float, direction: int, estimator: RestartEstimator) -> None:
+    """Raise unless the spin-up ended rotating in `direction`.
+
+    Raises:
+        RuntimeError: omega after the warmup has the other sign (or none).
+    """
+    if np.sign(omega) != direction:
+        msg = (
+            f"spin-up from omega0 = {direction * estimator.spinup_omega:g} ended with omega = "
+            f"{omega:.4g} at t = {estimator.warmup:g}, not in the requested direction; "
+            "raise estimator.spinup_omega"
+        )
+        raise RuntimeError(msg)
+
+
+@dataclass(frozen=True)
+class Timing:
+    """Step counts of one restart: global step of the stop, stop, release cap, check."""
+
+    n0: int
+    n_stop: int
+    n_cap: int
+    n_check: int
+
+    @classmethod
+    def of(cls, config: RotorConfig, estimator: RestartEstimator, n0: int) -> Timing:
+        """The timing of a restart of `config` that stops after global step `n0`."""
+        dt = config.grid.dt
+        cap = estimator.release_cap
+        cap = cap if cap is not None else config.protocol.t_release
+        return cls(
+            n0,
+            steps(config.protocol.t_stop, dt),
+            steps(cap, dt),
+            max(1, steps(estimator.check_interval, dt)),
+        )
+
+    @property
+    def release(self) -> int:
+        """Global step at which the stop ends and the release begins."""
+        return self.n0 + self.n_stop
+
+    def protocol(self, config: RotorConfig) -> RotorConfig:
+        """`config` with the one-stop protocol of this restart."""
+        dt = config.grid.dt
+        data = config.model_dump(mode="json")
+        data["protocol"].update(
+            t_ini=self.n0 * dt, t_stop=self.n_stop * dt, t_release=self.n_cap * dt, cycles=1
+        )
+        return RotorConfig.model_validate(data)
+
+
+def stop_period(config: RotorConfig) -> float:
+    """The period 2 pi / N of the stop angle."""
+    return 2 * math.pi / config.geometry.n_corners
+
+
+def period_steps(config: RotorConfig, omega: float) -> int:
+    """Steps per period 2 pi / N of the stop angle at the angular velocity `omega`."""
+    return max(1, round(stop_period(config) / (abs(omega) * config.grid.dt)))
+
+
+@dataclass
+class Stop:
+    """Where a restart stops, and the Generator of its release's noise.
+
+    Attributes:
+        extra: steps of steady rotation after the warm state before the stop.
+        timing: the restart's step counts.
+        rng: the noise of the release (of the whole branch for a restart).
+    """
+
+    extra: int
+    timing: Timing
+    rng: np.random.Generator
+
+
+def draw_stop(
+    config: RotorConfig,
+    estimator: RestartEstimator,
+    omega: float,
+    warm_step: int,
+    stop_seed: int | None = None,
+) -> Stop:
+    """Draw the stop of a restart from the warm state at global step `warm_step`.
+
+    The extra steps are uniform over one period 2 pi / N of the stop angle at the warm
+    angular velocity `omega`. A restart (`stop_seed` None) draws them first from the
+    Generator seeded with ``config.noise.seed``, which then drives the noise; a bank run
+    draws them from the Generator seeded with `stop_seed` (shared by the runs of one
+    stop), and its noise is the Generator seeded with ``config.noise.seed``.
+    """
+    rng = np.random.default_rng(config.noise.seed if stop_seed is None else stop_seed)
+    extra = int(rng.integers(0, period_steps(config, omega)))
+    if stop_seed is not None:
+        rng = np.random.default_rng(config.noise.seed)
+    return Stop(extra, Timing.of(config, estimator, warm_step + extra), rng)
+
+
+def release_outcome(
+    omega_at: Callable[[int], float],
+    timing: Timing,
+    estimator: RestartEstimator,
+    omega_before: float,
+    dt: float,
+) -> dict:
+    """The restart and bank estimators' release, classified by the one inversion rule.
+
+    omega is checked every check_interval after the release, at most until the release
+    cap, and the checks go to :func:`pde_rotor.statistics.inversion.classify_release` (commit once
+    omega != 0 and |omega| >= commit_fraction |omega_before|; never committed: direction
+    after 0, not an inversion), which stops reading them at the committing check.
+
+    Args:
+        omega_at: omega after a global step (advances a simulation, or reads records).
+        timing: the restart's step counts.
+        estimator: commit fraction, check interval.
+        omega_before: omega just before the stop.
+        dt: time step.
+    """
+    n_checks = -(-timing.n_cap // timing.n_check)  # the last check is at the cap
+    offsets = [min(k * timing.n_check, timing.n_cap) for k in range(1, n_checks + 1)]
+    checks = (omega_at(timing.release + n) for n in offsets)
+    release = classify_release(omega_before, checks, estimator.commit_fraction)
+    return {
+        "direction_before": release.direction_before,
+        "direction_after": release.direction_after,
+        "inverted": release.inverted,
+        "committed": release.committed,
+        "omega_before": float(omega_before),
+        "omega_end": float(release.omega_after),
+        "t_commit": float(offsets[release.check] * dt) if release.committed else math.nan,
+    }
+
+
+def restart_result(
+    release: dict,
+    config: RotorConfig,
+    phi_stop: float,
+    extra: int,
+    torque_end: float | None = None,
+) -> dict:
+    """The stored result of a restart (a bank run: with `torque_end`).
+
+    Args:
+        release: :func:`release_outcome`.
+        config: the run's configuration (the period of the stop angle).
+        phi_stop: the rotor angle at the stop, stored modulo 2 pi / N.
+        extra: the drawn extra steps before the stop.
+        torque_end: the torque on the stopped plate at the end of the stop.
+    """
+    result = {**release, "phi_stop": float(phi_stop % stop_period(config)), "extra_steps": extra}
+    if torque_end is not None:
+        result["torque_end"] = float(torque_end)
+    return result
+
+
+def check_finite(result: EnsembleResult, keys: Sequence[str]) -> None:
+    """Raise if a member's state stopped being finite, naming its run.
+
+    Raises:
+        ValueError: the first diverged member, with its run key and time.
+    """
+    for m, key in enumerate(keys):
+        if np.isfinite(result.diverged_at[m]):
+            msg = f"run {key} diverged at t = {result.diverged_at[m]:g}"
+            raise ValueError(msg)
+
+
+def protocol_steps(config: RotorConfig) -> list[int]:
+    """Global steps after which the protocol estimator reads omega: before every stop,
+    and at the end."""
+    p, dt = config.protocol, config.grid.dt
+    n_ini, n_period = steps_of(p.t_ini, dt), steps_of(p.t_stop + p.t_release, dt)
+    return [n_ini + m * n_period for m in range(p.cycles + 1)]
+
+
+def protocol_result(omegas: Sequence[float]) -> dict:
+    """The stored result of a protocol run: the omegas and the counts of
+    :func:`~pde_rotor.statistics.proportions.protocol_counts`."""
+    counts = protocol_counts(omegas)
+    return {
+        "omegas": [float(w) for w in omegas],
+        "inversions_ccw": counts.ccw.k,
+        "n_ccw": counts.ccw.n,
+        "inversions_cw": counts.cw.k,
+        "n_cw": counts.cw.n,
+    }
+
+
+def protocol_runs(
+    configs: Sequence[RotorConfig], keys: Sequence[str], ensemble: EnsembleRunner
+) -> tuple[list[dict], str]:
+    """The protocol estimator: runs of one grid as one ensemble from t = 0.
+
+    omega is recorded at the gcd of the steps it is read at (:func:`protocol_steps`).
+
+    Args:
+        configs: the runs' configurations.
+        keys: their run keys (named if a run diverges).
+        ensemble: the backend's ``run_ensemble``.
+
+    Returns:
+        One :func:`protocol_result` per run, and the backend that computed them.
+
+    Raises:
+        ValueError: a member whose state diverged.
+    """
+    reads = [protocol_steps(config) for config in configs]
+    every = math.gcd(*(s for member in reads for s in member))
+    dt = configs[0].grid.dt
+    result = ensemble(configs, max(m[-1] for m in reads) * dt, record_interval=every * dt)
+    check_finite(result, keys)
+    outcomes = [
+        protocol_result([result.omega[m, s // every] for s in member])
+        for m, member in enumerate(reads)
+    ]
+    return outcomes, result.backend
+
+
+def run_content(run: Run, result: dict, wall_time: float, backend: str) -> dict[str, Any]:
+    """What the record of `run` in the store holds: its key, point, sample, result and cost.
+
+    The resolved config is not repeated: the run key is its hash, and the sweep file in
+    the sweep directory resolves it again.
+    """
+    return {
+        "key": run.key,
+        "schema": SCHEMA_VERSION,
+        "coords": run.coords,
+        "sample": run.sample,
+        "direction": run.direction,
+        "result": result,
+        "wall_time": wall_time,
+        "backend": backend,
+    }
+
+
+def timed_contents(
+    runs: Sequence[Run], compute: Callable[[], tuple[list[dict], str]]
+) -> list[dict[str, Any]]:
+    """Compute the results of `runs` and return their records; the wall time is split
+    evenly among the runs.
+
+    Args:
+        runs: the runs computed together.
+        compute: returns one result per run and the backend that computed them.
+    """
+    start = time.perf_counter()
+    results, backend = compute()
+    share = (time.perf_counter() - start) / len(runs)
+    pairs = zip(runs, results, strict=True)
+    return [run_content(run, result, share, backend) for run, result in pairs]
