@@ -20,6 +20,7 @@ if "numba.cuda" not in sys.modules:
 
 import inspect
 import json
+from collections import OrderedDict
 
 import numpy as np
 import pytest
@@ -33,6 +34,7 @@ from pde_rotor.sweep import (
     SweepError,
     SweepSpec,
     batch,
+    estimators,
     execution,
     gather,
     read_runs,
@@ -153,7 +155,7 @@ def test_restart_and_bank_batches_read_the_runs_the_tasks_compute(
     )
     run_sweep(sweep, tmp_path / "tasks", workers=1, progress=False)
     recorder = Recorder()
-    monkeypatch.setattr(batch, "_WARM", {})  # no steady state kept from another test
+    monkeypatch.setattr(estimators, "_WARM", OrderedDict())  # no state of another test
     outcome = run_sweep(sweep, tmp_path / "batch", ensemble=recorder, progress=False)
     assert (outcome.computed, outcome.failed) == (12, [])
     # one ensemble of the spin-ups (per configuration without noise, and direction)
@@ -226,12 +228,13 @@ def test_the_dask_tasks_and_the_cpu_batches_store_the_same_runs(monkeypatch, est
     sweep = protocol_sweep(
         estimator=estimator, axes=axes, samples=2, base={**TINY_GPU, "noise": {"sigma": 1e-5}}
     )
-    monkeypatch.setattr(batch, "_WARM", {})
     runs = execution.in_order(sweep.runs())
     groups: dict[str, list] = {}
     for run in runs:
         groups.setdefault(tasks.stop_group(run), []).append(run)
+    monkeypatch.setattr(estimators, "_WARM", OrderedDict())  # each path spins up its own
     by_task = {c["key"]: c for group in groups.values() for c in tasks.execute_group(group)}
+    monkeypatch.setattr(estimators, "_WARM", OrderedDict())
     by_batch = {
         c["key"]: c
         for part in batch.batches(runs, 3)
