@@ -11,7 +11,9 @@ initial rotor state. Members of one ensemble share the grid (``grid`` section).
   (numba-cuda, fp64), with the same discretisation, stop logic and noise stream; its
   kernel is :mod:`pde_rotor.kernels.cuda`.
 
-Both return an :class:`~pde_rotor.backends.ensemble.EnsembleResult`;
+Both implement the one ensemble interface, :class:`~pde_rotor.backends.base.EnsembleBackend`
+(its runner: :class:`~pde_rotor.backends.base.EnsembleRunner`), and return an
+:class:`~pde_rotor.backends.ensemble.EnsembleResult`;
 :func:`~pde_rotor.backends.batch.run_batch` runs a sweep's members in batches and
 classifies their stops by the inversion rule. Nothing here
 imports numba-cuda: :func:`gpu_available` and :func:`run_ensemble` import the GPU
@@ -32,6 +34,7 @@ import numpy as np
 from ..config import RotorConfig
 from ..model.pde import RotorPDE, RotorState
 from ..solver.rotor import MemberStepper, SimulationDivergedError, StepperFactory
+from .base import EnsembleBackend, EnsembleRunner
 from .batch import MemberRun, run_batch
 from .ensemble import EnsembleResult, EnsembleState
 
@@ -40,7 +43,9 @@ _logger = logging.getLogger(__name__)
 __all__ = [
     "GPU_INSTALL_HINT",
     "BackendError",
+    "EnsembleBackend",
     "EnsembleResult",
+    "EnsembleRunner",
     "EnsembleState",
     "MemberRun",
     "backend_for",

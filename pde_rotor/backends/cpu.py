@@ -51,6 +51,9 @@ def run_ensemble(
     final = EnsembleState(data=state.data.copy(), rotor=state.rotor.copy(), step=plan.step_end)
     diverged = np.full(n_members, -1, dtype=np.int64)
     dt = plan.dt
+    targets = plan.record_steps[1:].tolist()
+    if plan.record_steps[-1] < plan.step_end:  # t_end between two records: advance to it
+        targets.append(plan.step_end)
     for m, cfg in enumerate(plan.configs):
         sim = Simulation(cfg, rng=rngs[m])
         sim.state.data[:] = state.data[m]
@@ -58,13 +61,14 @@ def run_ensemble(
         stepper = sim.solver.make_stepper(sim.state, dt)
         records[m, 0] = _record(sim, area)
         t = plan.step_start * dt
-        for r, step in enumerate(plan.record_steps[1:], start=1):
+        for r, step in enumerate(targets, start=1):
             try:
                 t = stepper(sim.state, t, step * dt)
             except SimulationDivergedError:
                 diverged[m] = round(t / dt)
                 break
-            records[m, r] = _record(sim, area)
+            if r < n_records:
+                records[m, r] = _record(sim, area)
         final.data[m] = sim.state.data
         final.rotor[m] = sim.rotor.as_array()
         if progress is not None:

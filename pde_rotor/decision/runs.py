@@ -20,8 +20,9 @@ import numpy as np
 
 from ..config import RotorConfig
 from ..solver.simulation import Simulation
+from ..sweep.estimators import Timing, period_steps
 from ..sweep.spec import RestartEstimator
-from ..sweep.tasks import Timing, period_steps, warm_state
+from ..sweep.tasks import warm_state
 from .table import DIRECTIONS, TAIL, DecisionTable
 
 SETTLE = 0.25

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import pde_rotor
-from pde_rotor.backends import run_batch
+from pde_rotor.backends import cpu, run_batch
 from pde_rotor.config import RotorConfig
 from pde_rotor.model.protocol import StopSchedule
 from pde_rotor.statistics.proportions import protocol_counts
@@ -81,3 +81,16 @@ def test_bad_batches_fail_before_running():
         run_batch([], backend="cpu")
     with pytest.raises(ValueError, match="max_members = 0"):
         run_batch(MEMBERS, backend="cpu", max_members=0)
+
+
+def test_the_cpu_backend_advances_to_an_end_between_two_records():
+    """t_end off the record grid: the CPU backend still stops at t_end (as the GPU
+    backend does), with the state and noise of a run recorded at every step."""
+    config = member()
+    dt = config.grid.dt
+    coarse = cpu.run_ensemble([config], 7 * dt, record_interval=3 * dt)
+    fine = cpu.run_ensemble([config], 7 * dt, record_interval=dt)
+    assert coarse.state.step == fine.state.step == 7
+    np.testing.assert_array_equal(coarse.state.rotor, fine.state.rotor)
+    np.testing.assert_array_equal(coarse.state.data, fine.state.data)
+    np.testing.assert_array_equal(coarse.omega, fine.omega[:, [0, 3, 6]])

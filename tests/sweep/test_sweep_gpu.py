@@ -18,21 +18,28 @@ if "numba.cuda" not in sys.modules:
 
     numba_config.reload_config()
 
+import inspect
+import json
+from collections import OrderedDict
+
 import numpy as np
 import pytest
 import xarray as xr
 
 from pde_rotor.backends import cpu
 from pde_rotor.backends import gpu as gpu_backend
+from pde_rotor.backends.base import EnsembleBackend, EnsembleRunner
 from pde_rotor.sweep import (
     Sweep,
     SweepError,
     SweepSpec,
     batch,
+    estimators,
     execution,
     gather,
     read_runs,
     run_sweep,
+    tasks,
 )
 
 TINY_GPU: dict[str, Any] = {
@@ -148,7 +155,7 @@ def test_restart_and_bank_batches_read_the_runs_the_tasks_compute(
     )
     run_sweep(sweep, tmp_path / "tasks", workers=1, progress=False)
     recorder = Recorder()
-    monkeypatch.setattr(batch, "_WARM", {})  # no steady state kept from another test
+    monkeypatch.setattr(estimators, "_WARM", OrderedDict())  # no state of another test
     outcome = run_sweep(sweep, tmp_path / "batch", ensemble=recorder, progress=False)
     assert (outcome.computed, outcome.failed) == (12, [])
     # one ensemble of the spin-ups (per configuration without noise, and direction)
@@ -184,3 +191,61 @@ def test_a_tiny_sweep_runs_through_the_gpu_kernels(tmp_path, fast_simulator):
     on_gpu, on_cpu = gather(sweep, tmp_path / "gpu"), gather(sweep, tmp_path / "cpu")
     xr.testing.assert_allclose(on_gpu, on_cpu, rtol=1e-9)
     assert read_runs(tmp_path / "gpu")[sweep.runs()[0].key]["backend"] == "gpu"
+
+
+@pytest.mark.parametrize("backend", [cpu, gpu_backend], ids=["cpu", "gpu"])
+def test_both_backends_implement_the_ensemble_interface(backend):
+    """Each backend module is an EnsembleBackend, its run_ensemble an EnsembleRunner
+    that takes every argument of the interface, by the same kind and default."""
+    assert isinstance(backend, EnsembleBackend)
+    assert isinstance(backend.run_ensemble, EnsembleRunner)
+    declared = inspect.signature(EnsembleBackend.run_ensemble).parameters
+    offered = inspect.signature(backend.run_ensemble).parameters
+    for name, parameter in declared.items():
+        if name == "self":
+            continue
+        assert name in offered, name
+        assert offered[name].kind == parameter.kind, name
+        assert offered[name].default == parameter.default, name
+    extra = [p for name, p in offered.items() if name not in declared]
+    assert all(p.default is not inspect.Parameter.empty for p in extra)
+
+
+@pytest.mark.parametrize(
+    ("estimator", "axes"),
+    [
+        ({"kind": "protocol"}, {"geometry.asymmetry": [0.0, 0.05]}),
+        (RESTART, {"geometry.asymmetry": [0.0, 0.05]}),
+        ({**RESTART, "kind": "bank"}, {"noise.sigma": [0.0, 1e-5]}),
+    ],
+    ids=["protocol", "restart", "bank"],
+)
+def test_the_dask_tasks_and_the_cpu_batches_store_the_same_runs(monkeypatch, estimator, axes):
+    """The task a dask worker runs (tasks.execute_group, per stop group) and a batch on
+    the CPU ensemble backend (batch.execute_batch) give every run the same record but for
+    its wall time: the same result, bit for bit, key, point, sample, direction and
+    backend."""
+    sweep = protocol_sweep(
+        estimator=estimator, axes=axes, samples=2, base={**TINY_GPU, "noise": {"sigma": 1e-5}}
+    )
+    runs = execution.in_order(sweep.runs())
+    groups: dict[str, list] = {}
+    for run in runs:
+        groups.setdefault(tasks.stop_group(run), []).append(run)
+    monkeypatch.setattr(estimators, "_WARM", OrderedDict())  # each path spins up its own
+    by_task = {c["key"]: c for group in groups.values() for c in tasks.execute_group(group)}
+    monkeypatch.setattr(estimators, "_WARM", OrderedDict())
+    by_batch = {
+        c["key"]: c
+        for part in batch.batches(runs, 3)
+        for c in batch.execute_batch(part, cpu.run_ensemble)
+    }
+    assert by_task.keys() == by_batch.keys() == {r.key for r in runs}
+    for key, want in by_task.items():
+        got = by_batch[key]
+        assert got.keys() == want.keys()
+        for name in want.keys() - {"result", "wall_time"}:
+            assert got[name] == want[name], name
+        for name, value in want["result"].items():
+            assert got["result"][name] == pytest.approx(value, rel=0, abs=0, nan_ok=True), name
+    assert len({json.dumps(c["result"]) for c in by_task.values()}) == len(runs)
