@@ -126,7 +126,7 @@ def run_tests(out: Path, tiny: bool) -> dict[str, Any]:
         files.append("tests/sweep/test_sweep_gpu.py")
     xml = out / "tests_junit.xml"
     command = [sys.executable, "-m", "pytest", *files, "-n", "0", "-q", "-p", "no:cacheprovider"]
-    command += ["-o", "addopts=", f"--junitxml={xml}"]
+    command.append(f"--junitxml={xml}")
     if tiny:
         command += ["-k", "backend_choice"]
     env = {**os.environ, "NUMBA_ENABLE_CUDASIM": "1" if tiny else "0"}
@@ -366,6 +366,8 @@ def summary(results: dict[str, Any]) -> str:
         + ("agree" if sweep["agree"] else f"DIFFER ({len(sweep['mismatches'])} mismatches)"),
     ]
     lines += [f"  {line}" for line in sweep["mismatches"][:10]]
+    install = "-" if results["install_s"] is None else f"{results['install_s']:.0f} s"
+    lines.append(f"wall time: install {install}, checks {results['check_s']:.0f} s")
     return "\n".join([*lines, checks])
 
 
@@ -400,6 +402,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     out = args.out.resolve()
     out.mkdir(parents=True, exist_ok=True)
+    start = time.perf_counter()
     results: dict[str, Any] = {
         "mode": "tiny (CUDA simulator)" if tiny else "device",
         "date": datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
@@ -410,12 +413,17 @@ def main(argv: Sequence[str] | None = None) -> int:
     if results["device"]["available"]:
         results["tests"] = run_tests(out, tiny)
         print(f"tests: {results['tests']['summary']}", flush=True)
+        print(f"timing: E = {sizes} on the GPU, 1 member on the CPU", flush=True)
         results["throughput"] = throughput(sizes, steps, cpu_steps, tiny)
+        print("sweep: on the GPU, then on the CPU", flush=True)
         results["sweep"] = sweep_check(out, tiny, args.rtol)
     else:  # nothing to test, time or compare
         results["tests"] = {"returncode": None}
         results["throughput"] = {"measured": False}
         results["sweep"] = {"agree": False}
+    install = os.environ.get("GPU_CHECK_INSTALL_S")
+    results["install_s"] = float(install) if install else None
+    results["check_s"] = time.perf_counter() - start
     results["checks"] = checks_of(results)
     results["ok"] = all(results["checks"].values())
     (out / "gpu_check_results.json").write_text(json.dumps(results, indent=2) + "\n")

@@ -19,10 +19,12 @@ for arg in "$@"; do
 done
 
 if [ -z "${PYTHON:-}" ]; then
+    start=$SECONDS
     python3 -m venv .venv-gpu
     .venv-gpu/bin/pip install -q --upgrade pip
     .venv-gpu/bin/pip install -q -e ".[test,gpu]"
     PYTHON=.venv-gpu/bin/python
+    export GPU_CHECK_INSTALL_S=$((SECONDS - start))
 fi
 
 if [ "$tiny" = 1 ]; then

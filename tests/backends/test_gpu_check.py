@@ -72,6 +72,7 @@ def test_the_tiny_run_records_every_figure(tiny_run):
     assert 0 <= sweep["max_rel_deviation"] <= sweep["rtol"]
     assert results["checks"] == dict.fromkeys(("device", "tests", "throughput", "sweep"), True)
     assert results["ok"]
+    assert results["install_s"] is None and results["check_s"] > 0  # PYTHON given: no install
     text = (out / "gpu_check_results.txt").read_text()
     for figure in (
         "device: numba CUDA simulator",
