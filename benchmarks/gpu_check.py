@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import importlib.util
 import io
 import json
 import math
@@ -181,16 +182,31 @@ def timed_rate(
     }
 
 
+def bench_configs(n_members: int, tiny: bool) -> list[Any]:
+    """`n_members` configs of the timed grid (paper or tiny), differing in Delta and seed,
+    from benchmarks/bench_gpu.py's ``member_configs``."""
+    if "bench_gpu" not in sys.modules:
+        spec = importlib.util.spec_from_file_location(
+            "bench_gpu", Path(__file__).with_name("bench_gpu.py")
+        )
+        assert spec is not None and spec.loader is not None
+        sys.modules["bench_gpu"] = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(sys.modules["bench_gpu"])
+    base = TINY_GRID if tiny else paper_base()
+    return sys.modules["bench_gpu"].member_configs(n_members, base, base["noise"]["sigma"])
+
+
 def throughput(sizes: Sequence[int], steps: int, cpu_steps: int, tiny: bool) -> dict[str, Any]:
     """GPU member-steps/s for each ensemble size and the CPU backend's, and the ratios."""
-    from bench_gpu import member_configs
-
     from pde_rotor.backends import run_ensemble
 
-    base = TINY_GRID if tiny else paper_base()
-    sigma = base["noise"]["sigma"]
+    one = bench_configs(1, tiny)
+    grid = one[0].grid
     short = 2 if tiny else 100
-    results: dict[str, Any] = {"grid": base["grid"], "scheme": base["numerics"]["scheme"]}
+    results: dict[str, Any] = {
+        "grid": {"dx": grid.dx, "dt": grid.dt, "domain_radius": grid.domain_radius},
+        "scheme": one[0].numerics.scheme,
+    }
 
     def runner(configs: list[Any], backend: str) -> Callable[[int], Any]:
         dt = configs[0].grid.dt
@@ -198,14 +214,11 @@ def throughput(sizes: Sequence[int], steps: int, cpu_steps: int, tiny: bool) -> 
             configs, n * dt, backend=backend, record_interval=dt * min(n, 100)
         )
 
-    one = member_configs(1, base, sigma)
     results["cpu"] = timed_rate(runner(one, "cpu"), 1, short, cpu_steps)
     cpu_rate = results["cpu"]["member_steps_per_s"]
     results["gpu"] = []
     for n_members in sizes:
-        rate = timed_rate(
-            runner(member_configs(n_members, base, sigma), "gpu"), n_members, short, steps
-        )
+        rate = timed_rate(runner(bench_configs(n_members, tiny), "gpu"), n_members, short, steps)
         rate["speedup"] = rate["member_steps_per_s"] / cpu_rate
         results["gpu"].append(rate)
     rates = [r["member_steps_per_s"] for r in results["gpu"]]
@@ -398,7 +411,6 @@ def main(argv: Sequence[str] | None = None) -> int:
     from numba.core import config as numba_config
 
     numba_config.reload_config()
-    sys.path.insert(0, str(Path(__file__).resolve().parent))  # bench_gpu
 
     out = args.out.resolve()
     out.mkdir(parents=True, exist_ok=True)

@@ -148,3 +148,14 @@ def test_the_full_check_sweeps_one_design_on_both_backends():
     assert (gpu.base["solver"]["backend"], cpu.base["solver"]["backend"]) == ("gpu", "cpu")
     assert [r.key for r in gpu.runs()] == [r.key for r in cpu.runs()]
     assert len(gpu.runs()) == 8 and gpu.spec.estimator.kind == "restart"
+
+
+def test_the_full_check_times_the_paper_grid():
+    """configs/paper_fig4a.yaml's grid and scheme, one seed and Delta per member."""
+    configs = gpu_check.bench_configs(3, tiny=False)
+    grid = configs[0].grid
+    assert (grid.dx, grid.dt, grid.domain_radius) == (0.025, 1e-4, 3.0)
+    assert {c.numerics.scheme for c in configs} == {"consistent"}
+    assert all(c.grid == grid for c in configs)
+    assert len({c.noise.seed for c in configs}) == len({c.geometry.asymmetry for c in configs}) == 3
+    assert all(c.noise.sigma > 0 for c in configs)
