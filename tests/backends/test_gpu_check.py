@@ -67,6 +67,7 @@ def test_the_tiny_run_records_every_figure(tiny_run):
     assert rate["goal_member_steps_per_s"] == gpu_check.GOAL
     sweep = results["sweep"]
     assert (sweep["gpu"]["backend"], sweep["cpu"]["backend"]) == ("gpu", "cpu")
+    assert (sweep["gpu"]["stored_by"], sweep["cpu"]["stored_by"]) == (["gpu"], ["cpu"])
     assert sweep["gpu"]["runs"] == sweep["cpu"]["runs"] == sweep["gpu"]["computed"] == 2
     assert sweep["agree"] and sweep["mismatches"] == []
     assert 0 <= sweep["max_rel_deviation"] <= sweep["rtol"]
