@@ -1,0 +1,461 @@
+"""One-command check of the GPU ensemble backend on a GPU machine (run by gpu_check.sh).
+
+Records, in one results file (``gpu_check_results.json`` and a text copy,
+``gpu_check_results.txt``, in ``--out``, default ``$OUT`` or ``./gpu_check``):
+
+1. the device: ``nvidia-smi`` and ``numba.cuda.detect()``;
+2. the CUDA tests (tests/backends/test_gpu.py, tests/sweep/test_sweep_gpu.py) run with
+   ``NUMBA_ENABLE_CUDASIM=0`` on the device: the test modules enable the simulator only
+   when the variable is unset;
+3. member-steps/s of ``run_ensemble(backend="gpu")`` with E members at the resolution of
+   configs/paper_fig4a.yaml (fp64, its scheme), against ``backend="cpu"`` with one member,
+   each timed as the difference of two runs of different length (setup cancels), with
+   the first call's wall time (compilation and warm-up) reported separately;
+4. a small restart sweep (configs/sweeps/fig5_quick.yaml, 2 samples at 2 stop durations)
+   once on the GPU (``set.solver.backend=gpu``) and once on the CPU (dask), each run's
+   stored outcome compared (discrete values equal, floats to ``--rtol``).
+
+Exits 1 if a check fails (no device, a failed test, a rate hidden by timing noise, a
+sweep outcome that differs), 0 otherwise; the goal of 5e5 member-steps/s is reported,
+not enforced. ``--tiny`` runs the same steps in numba's CUDA simulator on a tiny grid, a
+few members and steps, one test and a protocol sweep of two runs: the check of this
+script itself on a machine without a GPU.
+
+Run:  python benchmarks/gpu_check.py [--tiny] [--out DIR] [--sizes 64,128,256]
+      [--steps 2000] [--cpu-steps 2000] [--rtol 1e-6]
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import importlib.util
+import io
+import json
+import math
+import os
+import platform
+import shutil
+import subprocess
+import sys
+import time
+import xml.etree.ElementTree as ET
+from collections.abc import Callable, Sequence
+from datetime import datetime, timezone
+from pathlib import Path
+from typing import Any
+
+ROOT = Path(__file__).resolve().parents[1]
+"""The checkout (the tests and configs are read from it)."""
+
+GOAL = 5e5
+"""Member-steps per second to report against (fp64, H100-class GPU, paper grid)."""
+
+TINY_GRID: dict[str, Any] = {
+    "grid": {"dx": 0.1, "dt": 1e-3, "domain_radius": 1.6},
+    "geometry": {"radius": 0.3, "pill_radius": 0.06, "pill_inset": 0.03, "smoothing": 0.05},
+    "numerics": {"scheme": "paper"},
+    "noise": {"sigma": 1e-5},
+}
+"""The grid of tests/backends/test_gpu.py (32 x 32 cells), on which the simulator
+interprets a member-step in a fraction of a second."""
+
+TINY_SWEEP: dict[str, Any] = {
+    "name": "gpu_check_tiny",
+    "base": {
+        **TINY_GRID,
+        "rotor": {"omega0": 20.0},
+        "noise": {"sigma": 0.0},
+        "protocol": {"t_ini": 0.02, "t_stop": 0.01, "t_release": 0.01, "cycles": 1},
+    },
+    "axes": {"geometry.asymmetry": [0.0, 0.05]},
+    "estimator": {"kind": "protocol"},
+    "samples": 1,
+    "seed": 3,
+}
+"""Two protocol runs of 40 steps, one stop, on the tiny grid of tests/sweep/test_sweep_gpu.py."""
+
+SWEEP_FILE = "configs/sweeps/fig5_quick.yaml"
+SWEEP_SETS = ["samples=2", "axes.protocol.t_stop=[0.5,1.0]"]
+"""The sweep of the full check: 2 stop durations x 2 samples x 2 directions = 8 restarts
+on the coarse grid."""
+
+
+def device_info(tiny: bool) -> dict[str, Any]:
+    """``nvidia-smi`` and ``numba.cuda.detect()`` output, and the device the backend uses."""
+    from pde_rotor.backends import device_name, gpu_unavailable_reason
+
+    smi = shutil.which("nvidia-smi")
+    if smi is None:
+        smi_text = "nvidia-smi: not found"
+    else:
+        done = subprocess.run([smi], capture_output=True, text=True, check=False)
+        smi_text = (done.stdout + done.stderr).strip()
+    from numba import cuda
+
+    buffer = io.StringIO()
+    with contextlib.redirect_stdout(buffer):
+        try:
+            found = bool(cuda.detect())
+        except Exception as err:  # no driver: recorded, the check then fails on "available"
+            print(f"{type(err).__name__}: {err}".strip())
+            found = False
+    reason = gpu_unavailable_reason(allow_simulator=tiny)
+    return {
+        "name": device_name("gpu") if reason is None else "none",
+        "available": reason is None,
+        "reason": reason,
+        "detect_found": found,
+        "nvidia_smi": smi_text,
+        "numba_detect": buffer.getvalue().strip(),
+    }
+
+
+def junit_counts(path: Path) -> dict[str, int]:
+    """Tests, failures, errors and skips of a pytest junit XML file."""
+    counts = {"tests": 0, "failures": 0, "errors": 0, "skipped": 0}
+    for suite in ET.parse(path).getroot().iter("testsuite"):
+        for name in counts:
+            counts[name] += int(suite.get(name, 0))
+    return counts
+
+
+def run_tests(out: Path, tiny: bool) -> dict[str, Any]:
+    """The CUDA test files on the device (with `tiny`: in the simulator, the one test
+    of the backend choice, which asserts which of the two it runs on)."""
+    files = ["tests/backends/test_gpu.py"]
+    if not tiny:
+        files.append("tests/sweep/test_sweep_gpu.py")
+    xml = out / "tests_junit.xml"
+    xml.unlink(missing_ok=True)  # no counts of an earlier run
+    command = [sys.executable, "-m", "pytest", *files, "-n", "0", "-q", "-p", "no:cacheprovider"]
+    command.append(f"--junitxml={xml}")
+    if tiny:
+        command += ["-k", "backend_choice"]
+    env = {**os.environ, "NUMBA_ENABLE_CUDASIM": "1" if tiny else "0"}
+    start = time.perf_counter()
+    done = subprocess.run(command, cwd=ROOT, env=env, capture_output=True, text=True, check=False)
+    (out / "tests_output.txt").write_text(done.stdout + done.stderr)
+    counts = junit_counts(xml) if xml.is_file() else {}
+    return {
+        "files": files,
+        "on": "simulator" if tiny else "device",
+        "returncode": done.returncode,
+        "seconds": time.perf_counter() - start,
+        **counts,
+        "passed": counts.get("tests", 0)
+        - sum(counts.get(k, 0) for k in ("failures", "errors", "skipped")),
+        "summary": done.stdout.strip().splitlines()[-1] if done.stdout.strip() else "",
+    }
+
+
+def paper_base() -> dict[str, Any]:
+    """The sections of configs/paper_fig4a.yaml (its noise is replaced per member)."""
+    import yaml
+
+    return yaml.safe_load((ROOT / "configs" / "paper_fig4a.yaml").read_text())
+
+
+def timed_rate(
+    run: Callable[[int], Any], n_members: int, short: int, steps: int
+) -> dict[str, float]:
+    """Member-steps/s of `run(n_steps)` as the difference of a short and a long run (the
+    faster of two each), NaN if timing noise hides the difference.
+
+    The first call (compilation, warm-up) is timed separately as ``first_call_s``.
+    """
+
+    def seconds(n_steps: int) -> float:
+        start = time.perf_counter()
+        run(n_steps)
+        return time.perf_counter() - start
+
+    first = seconds(short)
+    t_short = min(seconds(short), seconds(short))
+    t_long = min(seconds(short + steps), seconds(short + steps))
+    rate = n_members * steps / (t_long - t_short) if t_long > t_short else math.nan
+    return {
+        "members": n_members,
+        "steps": steps,
+        "first_call_s": first,
+        "short_s": t_short,
+        "long_s": t_long,
+        "member_steps_per_s": rate,
+    }
+
+
+def bench_configs(n_members: int, tiny: bool) -> list[Any]:
+    """`n_members` configs of the timed grid (paper or tiny), differing in Delta and seed,
+    from benchmarks/bench_gpu.py's ``member_configs``."""
+    if "bench_gpu" not in sys.modules:
+        spec = importlib.util.spec_from_file_location(
+            "bench_gpu", Path(__file__).with_name("bench_gpu.py")
+        )
+        assert spec is not None and spec.loader is not None
+        sys.modules["bench_gpu"] = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(sys.modules["bench_gpu"])
+    base = TINY_GRID if tiny else paper_base()
+    return sys.modules["bench_gpu"].member_configs(n_members, base, base["noise"]["sigma"])
+
+
+def throughput(sizes: Sequence[int], steps: int, cpu_steps: int, tiny: bool) -> dict[str, Any]:
+    """GPU member-steps/s for each ensemble size and the CPU backend's, and the ratios."""
+    from pde_rotor.backends import run_ensemble
+
+    one = bench_configs(1, tiny)
+    grid = one[0].grid
+    short = 2 if tiny else 100
+    results: dict[str, Any] = {
+        "grid": {"dx": grid.dx, "dt": grid.dt, "domain_radius": grid.domain_radius},
+        "scheme": one[0].numerics.scheme,
+    }
+
+    def runner(configs: list[Any], backend: str) -> Callable[[int], Any]:
+        dt = configs[0].grid.dt
+        return lambda n: run_ensemble(
+            configs, n * dt, backend=backend, record_interval=dt * min(n, 100)
+        )
+
+    results["cpu"] = timed_rate(runner(one, "cpu"), 1, short, cpu_steps)
+    cpu_rate = results["cpu"]["member_steps_per_s"]
+    results["gpu"] = []
+    for n_members in sizes:
+        rate = timed_rate(runner(bench_configs(n_members, tiny), "gpu"), n_members, short, steps)
+        rate["speedup"] = rate["member_steps_per_s"] / cpu_rate
+        results["gpu"].append(rate)
+    rates = [r["member_steps_per_s"] for r in results["gpu"]]
+    best = max((r for r in rates if math.isfinite(r)), default=math.nan)
+    results["measured"] = all(math.isfinite(r) and r > 0 for r in [cpu_rate, *rates])
+    results["best_gpu_member_steps_per_s"] = best
+    results["goal_member_steps_per_s"] = GOAL
+    results["goal_met"] = best >= GOAL
+    return results
+
+
+def compare_value(got: Any, want: Any, rtol: float) -> bool:
+    """Whether two stored values agree: floats to `rtol` (NaN equals NaN), lists element
+    by element, everything else (bool, int, str, None) exactly."""
+    if isinstance(got, list) and isinstance(want, list):
+        return len(got) == len(want) and all(
+            compare_value(a, b, rtol) for a, b in zip(got, want, strict=True)
+        )
+    if isinstance(got, float) or isinstance(want, float):
+        if isinstance(got, bool) or isinstance(want, bool) or got is None or want is None:
+            return False
+        if math.isnan(got) or math.isnan(want):
+            return math.isnan(got) and math.isnan(want)
+        return math.isclose(got, want, rel_tol=rtol, abs_tol=0.0)
+    return type(got) is type(want) and got == want
+
+
+def compare_runs(
+    gpu: dict[str, dict[str, Any]], cpu: dict[str, dict[str, Any]], rtol: float
+) -> list[str]:
+    """The differences between two sweeps' run results (by run key): one line each."""
+    problems = [f"run {key}: only on the CPU" for key in sorted(cpu.keys() - gpu.keys())]
+    problems += [f"run {key}: only on the GPU" for key in sorted(gpu.keys() - cpu.keys())]
+    for key in sorted(gpu.keys() & cpu.keys()):
+        got, want = gpu[key], cpu[key]
+        for name in sorted(got.keys() | want.keys()):
+            if name not in got or name not in want:
+                problems.append(f"run {key}: {name} only on the {'GPU' if name in got else 'CPU'}")
+            elif not compare_value(got[name], want[name], rtol):
+                problems.append(f"run {key}: {name} GPU {got[name]!r} != CPU {want[name]!r}")
+    return problems
+
+
+def max_float_deviation(gpu: dict[str, dict[str, Any]], cpu: dict[str, dict[str, Any]]) -> float:
+    """Largest relative difference of the finite float results of the runs of both."""
+    worst = 0.0
+    for key in gpu.keys() & cpu.keys():
+        for name in gpu[key].keys() & cpu[key].keys():
+            pairs = zip(
+                *(v if isinstance(v, list) else [v] for v in (gpu[key][name], cpu[key][name])),
+                strict=False,
+            )
+            for a, b in pairs:
+                if isinstance(a, float) and isinstance(b, float) and math.isfinite(a + b) and b:
+                    worst = max(worst, abs(a - b) / abs(b))
+    return worst
+
+
+def sweep_of(tiny: bool, backend: str) -> Any:
+    """The sweep of the check (:data:`TINY_SWEEP` or :data:`SWEEP_FILE` with
+    :data:`SWEEP_SETS`) with ``solver.backend`` = `backend`."""
+    from pde_rotor.sweep import Sweep, SweepSpec
+
+    if tiny:
+        base = {**TINY_SWEEP["base"], "solver": {"backend": backend}}
+        return Sweep.from_spec(SweepSpec.model_validate({**TINY_SWEEP, "base": base}))
+    return Sweep.load(ROOT / SWEEP_FILE, [*SWEEP_SETS, f"set.solver.backend={backend}"])
+
+
+def sweep_check(out: Path, tiny: bool, rtol: float) -> dict[str, Any]:
+    """The same sweep on the GPU and on the CPU, stored in two directories, compared."""
+    from pde_rotor.sweep import read_runs, run_sweep, sweep_backend
+
+    result: dict[str, Any] = {"sweep": "tiny protocol sweep" if tiny else SWEEP_FILE}
+    result["sets"] = [] if tiny else SWEEP_SETS
+    stored = {}
+    for backend in ("gpu", "cpu"):
+        sweep = sweep_of(tiny, backend)
+        sweep_dir = out / f"sweep_{backend}"
+        shutil.rmtree(sweep_dir, ignore_errors=True)
+        start = time.perf_counter()
+        outcome = run_sweep(sweep, sweep_dir, workers=1 if tiny else None, progress=False)
+        result[backend] = {
+            "backend": sweep_backend(sweep),
+            "runs": outcome.total,
+            "computed": outcome.computed,
+            "failed": len(outcome.failed),
+            "seconds": time.perf_counter() - start,
+            "dir": str(sweep_dir),
+        }
+        records = read_runs(sweep_dir)
+        result[backend]["stored_by"] = sorted({rec["backend"] for rec in records.values()})
+        stored[backend] = {key: rec["result"] for key, rec in records.items()}
+        flags = [r["inverted"] for r in stored[backend].values() if "inverted" in r]
+        if flags:
+            result[backend]["inverted"] = f"{sum(flags)} of {len(flags)}"
+    problems = compare_runs(stored["gpu"], stored["cpu"], rtol)
+    result["rtol"] = rtol
+    result["max_rel_deviation"] = max_float_deviation(stored["gpu"], stored["cpu"])
+    result["mismatches"] = problems
+    result["agree"] = (
+        not problems
+        and bool(stored["cpu"])
+        and result["gpu"]["stored_by"] == ["gpu"]
+        and result["cpu"]["stored_by"] == ["cpu"]
+        and result["gpu"]["failed"] == result["cpu"]["failed"] == 0
+    )
+    return result
+
+
+def checks_of(results: dict[str, Any]) -> dict[str, bool]:
+    """The pass/fail checks of a results dictionary (the goal is not one of them)."""
+    tests = results["tests"]
+    return {
+        "device": results["device"]["available"],
+        "tests": tests["returncode"] == 0 and tests.get("passed", 0) > 0,
+        "throughput": results["throughput"]["measured"],
+        "sweep": results["sweep"]["agree"],
+    }
+
+
+def summary(results: dict[str, Any]) -> str:
+    """The figures of `results` as text lines."""
+    dev, tests, rate, sweep = (results[k] for k in ("device", "tests", "throughput", "sweep"))
+    checks = "checks: " + ", ".join(
+        f"{k} {'ok' if v else 'FAILED'}" for k, v in results["checks"].items()
+    )
+    lines = [
+        f"gpu_check {results['mode']} run, {results['date']} on {results['host']}",
+        f"device: {dev['name']}" + (f" (unavailable: {dev['reason']})" if dev["reason"] else ""),
+    ]
+    if not dev["available"]:
+        return "\n".join([*lines, "tests, throughput, sweep: not run (no device)", checks])
+    lines += [
+        f"tests on the {tests['on']}: {tests.get('passed', 0)} passed, "
+        f"{tests.get('failures', 0)} failed, {tests.get('errors', 0)} errors, "
+        f"{tests.get('skipped', 0)} skipped ({tests['seconds']:.1f} s)",
+        f"throughput at dx = {rate['grid']['dx']}, dt = {rate['grid']['dt']}, "
+        f"L = {rate['grid']['domain_radius']}, scheme {rate['scheme']}, fp64:",
+        f"  cpu  E = 1: {rate['cpu']['member_steps_per_s']:.4g} member-steps/s "
+        f"({rate['cpu']['steps']} steps; first call {rate['cpu']['first_call_s']:.2f} s)",
+    ]
+    lines += [
+        f"  gpu  E = {r['members']}: {r['member_steps_per_s']:.4g} member-steps/s "
+        f"= {r['speedup']:.3g} x cpu ({r['steps']} steps; first call, compile included, "
+        f"{r['first_call_s']:.2f} s)"
+        for r in rate["gpu"]
+    ]
+    lines.append(
+        f"  goal {rate['goal_member_steps_per_s']:.0e} member-steps/s: "
+        f"{'met' if rate['goal_met'] else 'not met'} "
+        f"(best {rate['best_gpu_member_steps_per_s']:.4g})"
+    )
+    label = " ".join([sweep["sweep"], *(f"--set {v}" for v in sweep["sets"])])
+    inverted = {b: sweep[b].get("inverted", "-") for b in ("gpu", "cpu")}
+    lines += [
+        f"sweep {label}: {sweep['cpu']['runs']} runs, gpu {sweep['gpu']['seconds']:.1f} s, "
+        f"cpu {sweep['cpu']['seconds']:.1f} s",
+        f"  inverted: gpu {inverted['gpu']}, cpu {inverted['cpu']}; max rel. deviation "
+        f"{sweep['max_rel_deviation']:.2e} (tolerance {sweep['rtol']:g}): "
+        + ("agree" if sweep["agree"] else f"DIFFER ({len(sweep['mismatches'])} mismatches)"),
+    ]
+    lines += [f"  {line}" for line in sweep["mismatches"][:10]]
+    install = "-" if results["install_s"] is None else f"{results['install_s']:.0f} s"
+    lines.append(f"wall time: install {install}, checks {results['check_s']:.0f} s")
+    return "\n".join([*lines, checks])
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the check; returns the exit status (1 if a check failed)."""
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument(
+        "--tiny",
+        action="store_true",
+        default=os.environ.get("GPU_CHECK_TINY") == "1",
+        help="CUDA simulator, tiny grid (also GPU_CHECK_TINY=1)",
+    )
+    parser.add_argument("--out", type=Path, default=Path(os.environ.get("OUT") or "gpu_check"))
+    parser.add_argument("--sizes", default=None, help="ensemble sizes E [64,128,256; tiny: 2]")
+    parser.add_argument("--steps", type=int, default=None, help="timed GPU steps [2000; tiny: 4]")
+    parser.add_argument(
+        "--cpu-steps", type=int, default=None, help="timed CPU steps [2000; tiny: 1000]"
+    )
+    parser.add_argument("--rtol", type=float, default=1e-6, help="sweep float tolerance")
+    args = parser.parse_args(argv)
+    tiny = args.tiny
+    sizes = [int(v) for v in (args.sizes or ("2" if tiny else "64,128,256")).split(",")]
+    steps = args.steps or (4 if tiny else 2000)
+    cpu_steps = args.cpu_steps or (1000 if tiny else 2000)
+    os.environ["NUMBA_ENABLE_CUDASIM"] = "1" if tiny else "0"
+    if "numba.cuda" in sys.modules:
+        raise RuntimeError("gpu_check: numba.cuda was imported before the simulator was chosen")
+    from numba.core import config as numba_config
+
+    numba_config.reload_config()
+
+    out = args.out.resolve()
+    out.mkdir(parents=True, exist_ok=True)
+    start = time.perf_counter()
+    results: dict[str, Any] = {
+        "mode": "tiny (CUDA simulator)" if tiny else "device",
+        "date": datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+        "host": platform.node(),
+    }
+    results["device"] = device_info(tiny)
+    print(f"device: {results['device']['name']}", flush=True)
+    if results["device"]["available"]:
+        results["tests"] = run_tests(out, tiny)
+        print(f"tests: {results['tests']['summary']}", flush=True)
+        print(f"timing: E = {sizes} on the GPU, 1 member on the CPU", flush=True)
+        results["throughput"] = throughput(sizes, steps, cpu_steps, tiny)
+        print("sweep: on the GPU, then on the CPU", flush=True)
+        results["sweep"] = sweep_check(out, tiny, args.rtol)
+    else:  # nothing to test, time or compare
+        results["tests"] = {"returncode": None}
+        results["throughput"] = {"measured": False}
+        results["sweep"] = {"agree": False}
+    install = os.environ.get("GPU_CHECK_INSTALL_S")
+    results["install_s"] = float(install) if install else None
+    results["check_s"] = time.perf_counter() - start
+    results["checks"] = checks_of(results)
+    results["ok"] = all(results["checks"].values())
+    (out / "gpu_check_results.json").write_text(json.dumps(results, indent=2) + "\n")
+    text = summary(results) + f"\nresults: {out / 'gpu_check_results.json'}"
+    (out / "gpu_check_results.txt").write_text(
+        text
+        + "\n\n"
+        + results["device"]["nvidia_smi"]
+        + "\n\n"
+        + results["device"]["numba_detect"]
+        + "\n"
+    )
+    print(text)
+    return 0 if results["ok"] else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
