@@ -1,17 +1,18 @@
 """Do the committed sweep stores still give the committed reports?
 
 Every stored report that a sweep directory of the repository produced is regenerated
-from that directory (:func:`pde_rotor.sweep.gather`, which reads the store) and
-compared with the committed file: every count variable (integers: inversions, stops,
-runs_done, ...) must be identical and every float variable equal to within
-:data:`FLOAT_TOLERANCE` (NaN where the committed one is NaN); the largest float
-difference is printed, so a change of the last bit (a Wilson bound now computed by scipy
-instead of the closed form, 1e-16) shows without failing the check. ``data/NAME.nc`` is
-the report of ``data/sweeps/NAME`` for the design in ``configs/sweeps/NAME.yaml`` or,
-where it was written for a subset of that design, for the design recorded in the directory's sweep.yaml (the one whose axis
-values are the report's coordinates); ``data/sweeps/NAME/report.nc`` is the report of
-the directory's own design. Run it before and after a change of the store (e.g.
-``pde-rotor compact``): one line per report, exit status 1 if any differs.
+from that directory (:func:`pde_rotor.sweep.gather`, which reads the store) and compared
+with the committed file: every count variable (integers: inversions, stops, runs_done,
+...) must be identical and every float variable equal to within :data:`FLOAT_TOLERANCE`
+(NaN where the committed one is NaN); the largest float difference is printed, so a
+change of the last bit (a Wilson bound now computed by scipy instead of the closed form,
+1e-16) shows without failing the check. ``data/NAME.nc`` is the report of
+``data/sweeps/NAME`` for the design in ``configs/sweeps/NAME.yaml`` or, where it was
+written for a subset of that design, for the design recorded in the directory's
+sweep.yaml (the one whose axis values are the report's coordinates);
+``data/sweeps/NAME/report.nc`` is the report of the directory's own design. Run it
+before and after a change of the store (e.g. ``pde-rotor compact``): one line per
+report, exit status 1 if any differs.
 
     python benchmarks/store_migration_check.py [DATA_DIR]
 """
