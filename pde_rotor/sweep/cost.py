@@ -27,6 +27,7 @@ machines, and a loaded one, differ by their speed.
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
@@ -145,18 +146,36 @@ class SweepEstimate:
         runs: runs to compute.
         core_seconds: their estimated compute time on one core, spin-ups included.
         workers: worker processes they are spread over (None: unknown, a scheduler's).
+        load: the machine's load average when estimated (other work competing for cores).
+        cores: the machine's cores.
     """
 
     runs: int
     core_seconds: float
     workers: int | None
+    load: float = 0.0
+    cores: int = 1
+
+    @property
+    def slowdown(self) -> float:
+        """How much slower each worker runs on a machine busy with other work: the
+        processes wanting a core (the load already there plus the workers) per core, at
+        least 1."""
+        if not self.workers:
+            return 1.0
+        return max(1.0, (self.load + min(self.workers, self.runs or 1)) / self.cores)
 
     def describe(self) -> str:
         """``about 52 min of one core, 26 min on 2 workers (...)``."""
         text = f"about {format_duration(self.core_seconds)} of one core"
         if self.workers and self.runs:
-            wall = self.core_seconds / min(self.workers, self.runs)
-            text += f", {format_duration(wall)} on {self.workers} workers"
+            wall = self.core_seconds / min(self.workers, self.runs) * self.slowdown
+            busy = (
+                f" at the machine's present load of {self.load:.1f} on {self.cores} cores"
+                if self.slowdown > 1
+                else ""
+            )
+            text += f", {format_duration(wall)} on {self.workers} workers{busy}"
         return (
             f"{text} (an estimate from measured costs per step; restarts assumed to commit "
             f"{COMMIT_TIME:g} time unit after their release)"
@@ -208,7 +227,8 @@ def estimate_sweep(runs: Sequence[Run], workers: int | None) -> SweepEstimate:
         warm[spin_up] = warm.get(spin_up, 0) + 1
         if warm[spin_up] <= (workers or 1):
             total += steps(run.estimator["warmup"], config) * step_seconds(config)
-    return SweepEstimate(len(runs), total, workers)
+    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else 0.0
+    return SweepEstimate(len(runs), total, workers, load, os.cpu_count() or 1)
 
 
 def format_duration(seconds: float) -> str:

@@ -200,3 +200,18 @@ def test_stops_cost_the_steps_of_a_stopped_plate(scheme):
     expected = round(5.5 / dt) * turning + 3 * round(0.5 / dt) * stopped
     assert protocol_seconds(config) == pytest.approx(expected)
     assert estimate_run(config, movie=False).seconds == pytest.approx(expected)
+
+
+def test_a_sweep_estimate_counts_the_load_already_on_the_machine():
+    """Workers on a machine already busy share its cores: on 2 cores with a load of 2,
+    two workers each run at half speed, and the estimate says so."""
+    from pde_rotor.sweep.cost import SweepEstimate
+
+    idle = SweepEstimate(runs=100, core_seconds=3600.0, workers=2, load=0.0, cores=2)
+    busy = SweepEstimate(runs=100, core_seconds=3600.0, workers=2, load=2.0, cores=2)
+    assert idle.slowdown == 1.0 and busy.slowdown == 2.0
+    assert "30 min on 2 workers (" in idle.describe()
+    assert "60 min on 2 workers at the machine's present load of 2.0 on 2 cores" in (
+        busy.describe()
+    )
+    assert SweepEstimate(runs=100, core_seconds=3600.0, workers=None, load=5.0).slowdown == 1.0
