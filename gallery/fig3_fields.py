@@ -29,7 +29,7 @@ from pde_rotor.gallery.common import (
 from pde_rotor.model.geometry import RotorShape, pill_centres
 from pde_rotor.plotting.run import plate_corners
 from pde_rotor.solver.simulation import Simulation
-from pde_rotor.units import LENGTH_UNITS, OMEGA_UNITS, TIME_UNITS
+from pde_rotor.units import CONCENTRATION_UNITS, LENGTH_UNITS, OMEGA_UNITS, TIME_UNITS
 
 NAME = "fig3_fields"
 HALF_WIDTH = 1.5
@@ -74,7 +74,11 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     ax_c, ax_v = fig.subplots(1, 2)
     image = ax_c.imshow(c.T, origin="lower", extent=extent, cmap="viridis", vmin=0.0)
     fig.colorbar(
-        image, ax=ax_c, location="top", shrink=0.8, label="camphor surface concentration c"
+        image,
+        ax=ax_c,
+        location="top",
+        shrink=0.8,
+        label=f"camphor surface concentration c [{CONCENTRATION_UNITS}]",
     )
     draw_rotor(ax_c, shape, phi, "white")
     ax_c.set_title("(a)", loc="left")

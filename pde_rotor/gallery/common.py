@@ -220,7 +220,7 @@ def fidelity_label(
     parts = [f"pde_rotor, {fid.name} fidelity"]
     if config is not None:
         parts.append(grid_label(config))
-        parts.append(f"\u03c3 = {config.noise.sigma:g}")
+        parts.append(f"scheme {config.numerics.scheme}, \u03c3 = {config.noise.sigma:g}")
     if detail:
         parts.append(detail)
     if backend:

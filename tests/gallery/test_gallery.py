@@ -245,6 +245,7 @@ def test_fidelity_footer_names_grid_and_samples():
     assert "dx = 0.05" in label
     assert "dt = 0.0004" in label
     assert "M = 6" in label
+    assert f"scheme {config.numerics.scheme}, \u03c3 = {config.noise.sigma:g}" in label
     full = common.fidelity("full").config(common.PAPER_CONFIG)
     assert (full.grid.dx, full.grid.dt) == (0.025, 1e-4)  # the paper's resolution
 
