@@ -136,3 +136,14 @@ def test_no_import_cycles():
 def test_the_package_top_holds_at_most_six_modules():
     top = sorted(p.name for p in PACKAGE.glob("*.py") if p.name != "__init__.py")
     assert len(top) <= 6, top
+
+
+def test_every_subpackage_says_what_each_of_its_modules_does():
+    """A newcomer reads a folder's __init__ first: it names every module of the folder."""
+    silent = []
+    for init in sorted(PACKAGE.glob("*/__init__.py")):
+        doc = ast.get_docstring(ast.parse(init.read_text(encoding="utf-8"))) or ""
+        for module in sorted(init.parent.glob("*.py")):
+            if module.name != "__init__.py" and f":mod:`.{module.stem}`" not in doc:
+                silent.append(f"{init.parent.name}/{module.name}")
+    assert silent == []

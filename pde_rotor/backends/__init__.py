@@ -4,10 +4,10 @@ A *member* is one independent simulation of Eqs. (eqc), (eqv), (eq_motion) with 
 configuration: parameters (Delta, t_stop, sigma, ...), noise seed, stop schedule and
 initial rotor state. Members of one ensemble share the grid (``grid`` section).
 
-* :mod:`pde_rotor.backends.cpu`: the members one after the other with the fused CPU
+* :mod:`.cpu`: the members one after the other with the fused CPU
   solver (:class:`pde_rotor.solver.rotor.RotorSolver`, driven through its py-pde stepper);
   the reference the GPU backend is checked against.
-* :mod:`pde_rotor.backends.gpu`: all members in one batched CUDA computation
+* :mod:`.gpu`: all members in one batched CUDA computation
   (numba-cuda, fp64), with the same discretisation, stop logic and noise stream; its
   kernel is :mod:`pde_rotor.kernels.cuda`.
 
@@ -19,6 +19,12 @@ classifies their stops by the inversion rule. Nothing here
 imports numba-cuda: :func:`gpu_available` and :func:`run_ensemble` import the GPU
 module only when asked, so ``import pde_rotor`` works on machines without a GPU or
 without the ``gpu`` extra.
+
+* :mod:`.base`: the interface (runtime-checkable Protocols) both backends implement;
+* :mod:`.ensemble`: the plan, state and result of an ensemble shared by the backends;
+* :mod:`.batch`: a sweep's members in batches, classified by the inversion rule;
+* this package: :func:`run_ensemble`, the backend choice and :func:`member_stepper`,
+  which runs a single configuration as one member under py-pde's Controller.
 """
 
 from __future__ import annotations

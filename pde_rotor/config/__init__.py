@@ -12,6 +12,13 @@ changed from the command line with ``--set key.path=value`` (:func:`apply_overri
 Every invalid input raises :class:`ConfigError` whose message is one line that names
 the key path and the allowed values (:func:`format_validation_error`), before anything
 is compiled.
+
+* :mod:`.schema`: the pydantic schema (one model per section) with its bounds and
+  cross-field checks, and the constants the paper and the calibration fix;
+* :mod:`.yaml_io`: YAML in and out, ``--set`` overrides, the dotted-key setter;
+* :mod:`.messages`: one-line messages naming the key path and the allowed values;
+* :mod:`.errors`: the two errors of configuration input;
+* :mod:`.compare`: which physics settings two configs differ in.
 """
 
 from __future__ import annotations

@@ -15,6 +15,14 @@ Its constructor takes the run's configuration, which sets its sampling times.
 What the records of a run need in memory and on disk is estimated, and a run that
 cannot fit refused, by :mod:`.budget`. One module per tracker; this package hands them
 on under one name, as py-pde's ``pde.trackers`` does.
+
+* :mod:`.base`: the base of the rotor trackers (interrupts in whole steps, run status);
+* :mod:`.progress`: a tqdm bar with an ETA that leaves the compile time out;
+* :mod:`.timeseries`: phi, omega, torques and total camphor in timeseries.nc;
+* :mod:`.events`: one row per stop-and-release cycle, inverted or not;
+* :mod:`.snapshots`: the fields c and v in a py-pde HDF5 FileStorage;
+* :mod:`.movie`: the movie of c, v and the rotor, into an mp4;
+* :mod:`.budget`: the memory and disk the records need, checked before a run.
 """
 
 from __future__ import annotations
