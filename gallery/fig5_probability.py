@@ -37,7 +37,7 @@ from pde_rotor.gallery.sweeps import (
     probability_footer,
     sweep_data,
 )
-from pde_rotor.statistics.crossing import DECAY_LEVEL
+from pde_rotor.statistics.crossing import DECAY_LEVEL, DECAY_START_LEVEL
 
 NAME = "fig5_probability"
 SWEEP = "fig5"
@@ -53,7 +53,10 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     ax = fig.subplots()
     errorbar_p(ax, x, ds, fmt="o-", color="tab:red", label="P (95 % CI)")
     draw_conditionals(ax, x, ds)
-    draw_crossing(ax, f"{NAME}: ", ds, DECAY_LEVEL, "decay point")
+    decay = [
+        draw_crossing(ax, f"{NAME}: ", ds, level, name)
+        for level, name in ((DECAY_START_LEVEL, "decay starts"), (DECAY_LEVEL, "decay point"))
+    ]
     model = draw_model(ax, f"{NAME}: ", ds, "t_stop", "tab:red")
     paper = draw_paper_points(ax, f"{NAME}: ", "t_stop", asymmetry=0.0, enabled=1.0)
     draw_paper_claims(ax, SWEEP)
@@ -65,7 +68,18 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
         fontsize=10,
     )
     add_footer(
-        fig, "\n".join(filter(None, [probability_footer(args.fidelity, data), model, paper]))
+        fig,
+        "\n".join(
+            filter(
+                None,
+                [
+                    probability_footer(args.fidelity, data),
+                    *(line.removeprefix(f"{NAME}: ") for line in decay),
+                    model,
+                    paper,
+                ],
+            )
+        ),
     )
     print_points(f"{NAME}: ", "t_stop", x, ds)
     return save(fig, args.out, NAME)

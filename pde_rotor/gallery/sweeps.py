@@ -214,7 +214,10 @@ def draw_crossing(ax: Any, prefix: str, ds: xr.Dataset, level: float, name: str)
     for end, is_open, reach in ((low, found.low is None, -0.1), (high, found.high is None, 0.1)):
         if is_open:
             ax.hlines(level, end, end + reach, color="k", ls=":")
-    ax.plot([found.value], [level], "kD", ms=6, zorder=4, label=f"{name}: {found.describe()}")
+    low_text = "open" if found.low is None else f"{found.low:.3g}"
+    high_text = "open" if found.high is None else f"{found.high:.3g}"
+    label = f"{name}: P = {level:g} at t_stop = {found.value:.3g} [{low_text}, {high_text}]"
+    ax.plot([found.value], [level], "kD", ms=6, zorder=4, label=label)
     return line
 
 
@@ -390,7 +393,7 @@ def draw_shared_points(
 
 MODEL_POINTS = 200
 """Points of a drawn model curve."""
-MODEL_LABEL = "decision model (\u00a74)"
+MODEL_LABEL = "decision model"
 """Legend entry of the model's dashed curves."""
 
 

@@ -43,6 +43,10 @@ DECAY_LEVEL = 0.75
 """P that marks the Δ = 0 decay point (halfway from certain inversion, 1, to the coin
 toss, 0.5, that long stops of a symmetric rotor give)."""
 
+DECAY_START_LEVEL = 0.95
+"""P that marks where the Δ = 0 decay starts: the other reading of the paper's "decayed
+around t_stop = 1.4" (P falls from 1 through 0.95)."""
+
 ONSET_LEVEL = 0.5
 """P that marks the Δ ≠ 0 onset (halfway from 1 to the long-stop plateau near 0)."""
 
