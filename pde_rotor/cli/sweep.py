@@ -192,10 +192,26 @@ def register(app: typer.Typer) -> None:
                 min=0.0,
                 max=1.0,
                 metavar="LEVEL",
-                help="Also print where P crosses this level along t_stop, with its 95 % "
-                "interval (0.75: the Delta = 0 decay point; 0.5: the onset); repeatable.",
+                help="Also print where P crosses this level along --along, with its 95 % "
+                "intervals (Delta = 0 decay: 0.95 where it starts, 0.75 halfway; onset: "
+                "0.5); repeatable.",
             ),
         ] = None,
+        along: Annotated[
+            str,
+            typer.Option(
+                metavar="AXIS",
+                help="The axis the crossings are read along (a dimension of the report, "
+                "e.g. sigma).",
+            ),
+        ] = "t_stop",
+        rising: Annotated[
+            bool,
+            typer.Option(
+                "--rising",
+                help="P rises along the axis (P(3, 2e-5) against sigma) [default: it falls].",
+            ),
+        ] = False,
         plot: Annotated[
             bool,
             typer.Option(
@@ -249,12 +265,12 @@ def register(app: typer.Typer) -> None:
             save(draw(ds, None, target), figure)
         for level in crossing or []:
             try:
-                curves = report_crossings(ds, level)
+                curves = report_crossings(ds, level, along, falling=not rising)
             except ValueError as err:
                 fail(f"--crossing {level:g}: {err}")
             for where, found in curves:
                 at = ", ".join(f"{k} = {v:g}" for k, v in where.items())
-                text = found if isinstance(found, str) else found.describe()
+                text = found if isinstance(found, str) else found.describe(along)
                 typer.echo(f"crossing{f' ({at})' if at else ''}: {text}")
 
     @app.command("compact", short_help="Merge a sweep's run logs into one file.")

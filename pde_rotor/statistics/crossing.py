@@ -194,12 +194,12 @@ def report_crossing(
 
 
 def report_crossings(
-    ds: xr.Dataset, level: float, x_dim: str = "t_stop"
+    ds: xr.Dataset, level: float, x_dim: str = "t_stop", falling: bool = True
 ) -> list[tuple[dict[str, Any], Crossing | str]]:
     """The crossing of every curve of a report along `x_dim` (P falling along it, as
-    along t_stop in Figs. 5, 7(a), 7(b) and 8): one per combination of
-    its other dimensions (their coordinates first), or the reason a curve has none
-    (fewer than two measured points).
+    along t_stop in Figs. 5, 7(a), 7(b) and 8, unless `falling` is False): one per
+    combination of its other dimensions (their coordinates first), or the reason a curve
+    has none (fewer than two measured points).
 
     Raises:
         ValueError: the report has no dimension `x_dim`.
@@ -212,7 +212,7 @@ def report_crossings(
     for values in itertools.product(*(ds[d].values for d in others)):
         where = {d: v.item() for d, v in zip(others, values, strict=True)}
         try:
-            found.append((where, report_crossing(ds.sel(where), level, x_dim)))
+            found.append((where, report_crossing(ds.sel(where), level, x_dim, falling)))
         except ValueError as err:
             found.append((where, str(err)))
     return found

@@ -286,3 +286,21 @@ def test_a_full_disk_mid_run_stops_with_one_line_and_keeps_what_was_written(
     assert "No space left on device" in result.stderr and str(out) in result.stderr
     with xr.open_dataset(out / "timeseries.nc", engine="h5netcdf") as ds:
         assert ds.sizes["time"] >= 1 and ds.attrs["status"] == "running"
+
+
+def test_crossings_are_read_along_any_axis_rising_or_falling(tmp_path):
+    """The noise of the 0.2 plateau, from the ensembles alone: P(3, 2e-5) rises with
+    sigma, read along sigma as the crossing functions read it."""
+    from pde_rotor.statistics.crossing import report_crossing
+    from pde_rotor.sweep.stored import load_report
+
+    store = ROOT / "data" / "sweeps" / "science_calibration"
+    args = ("report", store, "--out", tmp_path / "r.nc", "--crossing", "0.2", "--along", "sigma")
+    result = invoke(*args, "--rising")
+    assert result.exit_code == 0, result.output
+    ds = load_report(ROOT / "data" / "science_calibration.nc").squeeze()
+    expected = report_crossing(ds, 0.2, x_dim="sigma", falling=False).describe("sigma")
+    assert f"crossing (t_stop = 3): {expected}" in result.stdout
+    falling = invoke(*args)  # read as falling, the curve starts below 0.2: "at sigma = 0"
+    assert expected not in falling.stdout and "P = 0.2 at sigma = 0 [open" in falling.stdout
+    one_line(invoke(*args[:-2], "--along", "dx"), "no dimension 'dx'")
