@@ -30,9 +30,10 @@ import numpy as np
 from operator_stepper import make_operator_stepper
 
 from pde_rotor import RotorConfig, Simulation
-from pde_rotor.kernels.cpu import euler_fields, rotor_integrals, spline_window
+from pde_rotor.kernels.cpu import contour_torque, euler_fields, rotor_integrals, sweep_rows
 from pde_rotor.kernels.indicators import update_indicators
 from pde_rotor.kernels.records import make_record
+from pde_rotor.kernels.spline import spline_window
 
 
 def time_fused(sim: Simulation, n_steps: int) -> float:
@@ -87,17 +88,32 @@ def time_parts(sim: Simulation, calls: int) -> dict[str, float]:
             func(k)
         return (time.perf_counter() - start) / calls * 1e3
 
+    sums = np.zeros((n, 3))
+    pair_sums = np.zeros(tab.shape[1] * tables[0].shape[1])
+    omega = sim.rotor.omega
     parts = {
         "F and G": timed(lambda k: update_indicators(F, G, domain, params, tab, tables, angles[k])),
         "rotor integrals": timed(
             lambda k: rotor_integrals(cur, F, domain, params, tab, tables, coef)
         ),
-        "Euler update": timed(
-            lambda k: euler_fields(cur, nxt, F, G, domain, params, sim.rotor.omega)
-        ),
+        "Euler update": timed(lambda k: euler_fields(cur, nxt, F, G, domain, params, omega)),
     }
     if scheme.contour:
         parts["of which spline window"] = timed(lambda k: spline_window(cur, coef, n, lo, hi))
+    parts["fused row sweep (all)"] = timed(
+        lambda k: sweep_rows(
+            cur, nxt, F, G, domain, params, tab, tables, True, omega, coef, sums, 1
+        )
+    )
+    parts["row sweep, plate stopped"] = timed(
+        lambda k: sweep_rows(
+            cur, nxt, F, G, domain, params, tab, tables, False, omega, coef, sums, 1
+        )
+    )
+    if scheme.contour:
+        parts["columns + contour nodes"] = timed(
+            lambda k: contour_torque(coef, dom.coords, params, tab, tables, pair_sums, 1)
+        )
     return parts
 
 

@@ -102,8 +102,13 @@ class Core(NamedTuple):
     noise_kick: Callable
     cell_rates: Callable
     cell_integrals: Callable
+    spline_causal: Callable
+    spline_anticausal_start: Callable
+    spline_anticausal: Callable
+    spline_gain: Callable
     spline_line: Callable
     interpolate: Callable
+    contour_point: Callable
     contour_node: Callable
 
 
@@ -383,29 +388,55 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         return f * (x * dcdy - y * dcdx), f * (x * x + y * y), cross_v
 
     @jit
+    def spline_causal(prev, value):
+        """One step of the causal recursion of the cubic B-spline prefilter (Unser's
+        recursive filter, pole z = sqrt(3) - 2): the sample `value` plus z times the
+        previous output `prev`; the first output is the first sample."""
+        return value + SPLINE_POLE * prev
+
+    @jit
+    def spline_anticausal_start(last):
+        """The first (last-sample) output of the anticausal recursion, from the causal
+        output `last` there: -z / (1 - z^2) times it (the samples beyond taken as 0)."""
+        z = SPLINE_POLE
+        return -z / (1.0 - z * z) * last
+
+    @jit
+    def spline_anticausal(nxt, causal):
+        """One step of the anticausal recursion back along the line: z (next - causal),
+        from the output `nxt` one sample on and the causal output `causal` here."""
+        return SPLINE_POLE * (nxt - causal)
+
+    @jit
+    def spline_gain(anticausal):
+        """The B-spline coefficient from the anticausal output: times 6 (the filter's gain)."""
+        return 6.0 * anticausal
+
+    @jit
     def spline_line(buf, o, stride, count):
         """Cubic B-spline prefilter, in place, of `count` samples buf[o + k stride].
 
         Turns samples into the coefficients of the interpolating cubic spline (Unser's
-        recursive filter, pole z = sqrt(3) - 2), taking the samples beyond both ends as 0:
-        a coefficient then errs by |z|^k = 0.268^k times the values k cells beyond the
-        line's ends, so lines cut from a larger field need a margin. Written out because
-        it runs inside the numba and CUDA kernels, which cannot call scipy.ndimage's
-        prefilter (``map_coordinates`` applies it in
+        recursive filter: :func:`spline_causal` forward, :func:`spline_anticausal_start`
+        and :func:`spline_anticausal` back, :func:`spline_gain`), taking the samples
+        beyond both ends as 0: a coefficient then errs by |z|^k = 0.268^k times the
+        values k cells beyond the line's ends, so lines cut from a larger field need a
+        margin. Written out because it runs inside the numba and CUDA kernels, which
+        cannot call scipy.ndimage's prefilter (``map_coordinates`` applies it in
         :func:`pde_rotor.model.schemes.interpolate_spline`;
-        tests/model/test_schemes.py compares them).
+        tests/model/test_schemes.py compares them). The CPU filters many lines at once
+        with the same steps (:mod:`pde_rotor.kernels.spline`).
         """
-        z = SPLINE_POLE
         prev = buf[o]
         for k in range(1, count):
-            prev = buf[o + k * stride] + z * prev
+            prev = spline_causal(prev, buf[o + k * stride])
             buf[o + k * stride] = prev
         last = o + (count - 1) * stride
-        nxt = -z / (1.0 - z * z) * buf[last]
-        buf[last] = 6.0 * nxt
+        nxt = spline_anticausal_start(buf[last])
+        buf[last] = spline_gain(nxt)
         for k in range(count - 2, -1, -1):
-            nxt = z * (nxt - buf[o + k * stride])
-            buf[o + k * stride] = 6.0 * nxt
+            nxt = spline_anticausal(nxt, buf[o + k * stride])
+            buf[o + k * stride] = spline_gain(nxt)
 
     @jit
     def bspline_weights(t):
@@ -522,6 +553,23 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         return g
 
     @jit
+    def contour_point(
+        coef, o0, n, x0, inv_dx, tab, apothem, delta, tan_half, quad_s, quad_t, j, m, k_t
+    ):
+        """The contour node of edge j, band node m and edge node k_t (see :func:`contour_node`).
+
+        Returns:
+            the node's weighted contribution to int F r x grad c dA.
+        """
+        h = apothem - delta * quad_s[0, m]
+        half = h * tan_half
+        t = half * quad_t[0, k_t]
+        ex = tab[0, j]
+        ey = tab[1, j]
+        c = interpolate(coef, o0, n, x0, inv_dx, h * ex - t * ey, h * ey + t * ex)
+        return -quad_s[1, m] * quad_t[1, k_t] * half * t * c
+
+    @jit
     def contour_node(coef, o0, n, x0, inv_dx, tab, apothem, delta, tan_half, quad_s, quad_t, q):
         """Node q of the contour form of int F r x grad c dA (see :mod:`pde_rotor.model.schemes`).
 
@@ -533,7 +581,8 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         +pi/2, t in [-h tan(pi/N), h tan(pi/N)]. `quad_s` (2, M) holds the nodes s_m and
         weights of a Gauss rule for the weight 1/2 sech^2(s), `quad_t` (2, L) the
         Gauss-Legendre nodes and weights on [-1, 1]. Node q enumerates (edge j, m, l) as
-        q = (j M + m) L + l. `coef` holds the B-spline coefficients of c (:func:`interpolate`).
+        q = (j M + m) L + l (:func:`contour_point` of that triple). `coef` holds the
+        B-spline coefficients of c (:func:`interpolate`).
 
         Returns:
             the node's weighted contribution to int F r x grad c dA.
@@ -543,13 +592,9 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         k_t = q % n_t
         m = (q // n_t) % n_s
         j = q // (n_t * n_s)
-        h = apothem - delta * quad_s[0, m]
-        half = h * tan_half
-        t = half * quad_t[0, k_t]
-        ex = tab[0, j]
-        ey = tab[1, j]
-        c = interpolate(coef, o0, n, x0, inv_dx, h * ex - t * ey, h * ey + t * ex)
-        return -quad_s[1, m] * quad_t[1, k_t] * half * t * c
+        return contour_point(
+            coef, o0, n, x0, inv_dx, tab, apothem, delta, tan_half, quad_s, quad_t, j, m, k_t
+        )
 
     return Core(
         vector_expm1=vector_expm1,
@@ -581,8 +626,13 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         noise_kick=noise_kick,
         cell_rates=cell_rates,
         cell_integrals=cell_integrals,
+        spline_causal=spline_causal,
+        spline_anticausal_start=spline_anticausal_start,
+        spline_anticausal=spline_anticausal,
+        spline_gain=spline_gain,
         spline_line=spline_line,
         interpolate=interpolate,
+        contour_point=contour_point,
         contour_node=contour_node,
     )
 

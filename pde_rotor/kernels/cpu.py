@@ -27,13 +27,14 @@ import numba as nb
 import numpy as np
 
 from .core import CPU, FASTMATH
-from .indicators import update_indicators
+from .indicators import indicator_row
+from .spline import ROW_GROUP, spline_columns, spline_rows, spline_window
 
 _cell_rates = CPU.cell_rates
 _rate_coefficients = CPU.rate_coefficients
 _cell_integrals = CPU.cell_integrals
-_contour_node = CPU.contour_node
-_spline_line = CPU.spline_line
+_contour_point = CPU.contour_point
+_rotor_table = CPU.rotor_table
 _stopped_at = CPU.stopped_at
 _rotor_torques = CPU.rotor_torques
 _angular_acceleration = CPU.angular_acceleration
@@ -42,8 +43,14 @@ _heun_rotor = CPU.heun_rotor
 _noise_kick = CPU.noise_kick
 
 
-@nb.njit(cache=True, nogil=True, fastmath=FASTMATH, inline="always")
-def _euler_row(cur, nxt, F, G, y_of, coef, dt, omega, x, base, sx, nn, j0, j1, flow, plate):
+_LOOP = {"cache": True, "nogil": True, "fastmath": FASTMATH, "error_model": "numpy"}
+"""numba options of the loops: fastmath without reassociation (:data:`.core.FASTMATH`)."""
+_PARALLEL = {**_LOOP, "parallel": True}
+"""... and of the loops shared among threads (numba ``prange``)."""
+
+
+@nb.njit(inline="always", **_LOOP)
+def _euler_cells(cur, nxt, F, G, y_of, coef, dt, omega, x, base, sx, nn, j0, j1, flow, plate):
     """Euler step of the cells [j0, j1) of one row (offset `base`) (compiled)."""
     sy = np.uint64(1)
     f = 0.0
@@ -67,158 +74,255 @@ def _euler_row(cur, nxt, F, G, y_of, coef, dt, omega, x, base, sx, nn, j0, j1, f
             nxt[ox + nn] = uy + dt * rate_y
 
 
-@nb.njit(cache=True, nogil=True, fastmath=FASTMATH)
-def euler_fields(cur, nxt, F, G, domain, params, omega):
-    """One Euler step of Eqs. (eqc) and (eqv) (or (eqc) alone) on all interior cells.
-
-    Args:
-        cur: flat state (c, v_x, v_y) at the old time level, 3 n^2 values.
-        nxt: receives the new state on interior cells.
-        F, G: flat plate and pill indicators (zero outside the support).
-        domain: (coords, lo, hi, slo, shi) as for :func:`advance`.
-        params: the parameter record as for :func:`advance`; without ``flow`` only c is
-            advanced (v = 0, Fig. 8).
-        omega: plate angular velocity (0 during a stop).
-    """
-    p = params[0]
-    coef = _rate_coefficients(p)
-    if p.flow:  # two loops, so that `flow` is a compile-time constant of each
-        _euler_rows(cur, nxt, F, G, domain, coef, p.dt, omega, True)
-    else:
-        _euler_rows(cur, nxt, F, G, domain, coef, p.dt, omega, False)
-
-
-@nb.njit(cache=True, nogil=True, fastmath=FASTMATH, inline="always")
-def _euler_rows(cur, nxt, F, G, domain, coef, dt, omega, flow):
-    """The rows of :func:`euler_fields`, each split into off-support and support cells."""
-    coords, lo, hi, slo, shi = domain
+@nb.njit(inline="always", **_LOOP)
+def _euler_row(cur, nxt, F, G, i, coords, lo, hi, slo, shi, coef, dt, omega, flow):
+    """One Euler step of Eqs. (eqc) and (eqv) (or (eqc) alone) on the interior cells of
+    row i: the cells before, on and after the support (where F, G may be nonzero), an
+    empty support where the row has none (no branch around the loops, which would keep
+    numba's reference counts in the loop over rows)."""
     n = coords.size
     sx = np.uint64(n)
     nn = np.uint64(n * n)
-    for i in range(n):
-        x = coords[i]
-        base = np.uint64(i * n)
-        j0, j1 = np.uint64(lo[i]), np.uint64(hi[i])
-        if shi[i] > slo[i]:
-            s0, s1 = np.uint64(slo[i]), np.uint64(shi[i])
-            _euler_row(
-                cur, nxt, F, G, coords, coef, dt, omega, x, base, sx, nn, j0, s0, flow, False
-            )
-            _euler_row(cur, nxt, F, G, coords, coef, dt, omega, x, base, sx, nn, s0, s1, flow, True)
-            _euler_row(
-                cur, nxt, F, G, coords, coef, dt, omega, x, base, sx, nn, s1, j1, flow, False
-            )
+    x = coords[i]
+    base = np.uint64(i * n)
+    j0, j1 = np.uint64(lo[i]), np.uint64(hi[i])
+    plate = shi[i] > slo[i]
+    s0 = np.uint64(slo[i]) if plate else j0
+    s1 = np.uint64(shi[i]) if plate else j0
+    _euler_cells(cur, nxt, F, G, coords, coef, dt, omega, x, base, sx, nn, j0, s0, flow, False)
+    _euler_cells(cur, nxt, F, G, coords, coef, dt, omega, x, base, sx, nn, s0, s1, flow, True)
+    _euler_cells(cur, nxt, F, G, coords, coef, dt, omega, x, base, sx, nn, s1, j1, flow, False)
+
+
+@nb.njit(inline="always", **_LOOP)
+def _row_integrals(cur, F, i, coords, j0, j1, inv_2dx, flow, sums):
+    """Row i's sums of the integrands of Eq. (eq_motion) over its support cells [j0, j1)
+    (``cell_integrals``: F r x grad c, F |r|^2, F r x v, without dA) into sums[i]."""
+    n = coords.size
+    x = coords[i]
+    cross_grad = 0.0
+    moment = 0.0
+    cross_v = 0.0
+    for j in range(j0, j1):
+        o = i * n + j
+        f = F[o]
+        if f == 0.0:
+            continue
+        grad, mom, vel = _cell_integrals(cur, o, n, 1, n * n, f, x, coords[j], inv_2dx, flow)
+        cross_grad += grad
+        moment += mom
+        cross_v += vel
+    sums[i, 0] = cross_grad
+    sums[i, 1] = moment
+    sums[i, 2] = cross_v
+
+
+@nb.njit(inline="always", **_LOOP)
+def _euler_rows(cur, nxt, F, G, i0, i1, domain, coef, dt, omega, flow):
+    """:func:`_euler_row` of the rows [i0, i1), `flow` a compile-time constant."""
+    coords, lo, hi, slo, shi = domain
+    for i in range(i0, i1):
+        _euler_row(cur, nxt, F, G, i, coords, lo, hi, slo, shi, coef, dt, omega, flow)
+
+
+# Called, not inlined: a prange body stays small and fast to compile. numba's (private)
+# ``_nrt=False``: no reference counting of the arrays, which in these nested loops numba
+# would not prune (a fifth of the Euler update); the block allocates nothing.
+@nb.njit(_nrt=False, **_LOOP)
+def _sweep_block(cur, nxt, F, G, domain, params, tab, tables, turned, omega, work, b, blocks):
+    """The rows of block b of `blocks` (groups of :data:`.spline.ROW_GROUP` rows, every
+    `blocks`-th group): see :func:`sweep_rows`; `work` is (coef, sums, scratch (4, n))."""
+    p = params[0]  # read here: numba cannot pass a record into a prange loop's body
+    coef, sums, scratch = work
+    coords, _, _, slo, shi = domain
+    n = coords.size
+    rates = _rate_coefficients(p)
+    dt = p.dt
+    inv_2dx = 0.5 / (coords[1] - coords[0])
+    w_lo, w_hi = p.window_lo, p.window_hi
+    for g in range(b, (n + ROW_GROUP - 1) // ROW_GROUP, blocks):
+        i0 = g * ROW_GROUP
+        i1 = min(n, i0 + ROW_GROUP)
+        for i in range(i0, i1):
+            j0, j1 = slo[i], shi[i]
+            if turned and j1 > j0:
+                indicator_row(F, G, i, coords, j0, j1, p, tab, tables, scratch)
+            _row_integrals(cur, F, i, coords, j0, j1, inv_2dx, p.flow, sums)
+        if p.flow:  # two loops, so that `flow` is a compile-time constant of each
+            _euler_rows(cur, nxt, F, G, i0, i1, domain, rates, dt, omega, True)
         else:
-            _euler_row(
-                cur, nxt, F, G, coords, coef, dt, omega, x, base, sx, nn, j0, j1, flow, False
+            _euler_rows(cur, nxt, F, G, i0, i1, domain, rates, dt, omega, False)
+        if p.contour and max(i0, w_lo) < min(i1, w_hi):
+            spline_rows(cur, coef, n, max(i0, w_lo), min(i1, w_hi), w_lo, w_hi, scratch[3])
+
+
+@nb.njit(**_PARALLEL)
+def sweep_rows(cur, nxt, F, G, domain, params, tab, tables, turned, omega, coef, sums, threads):
+    """One pass over the rows of the grid: all of a step's work that goes row by row.
+
+    For each row i: F and G of its support cells at the angle of the rotor table `tab`
+    if the plate `turned` (:func:`pde_rotor.kernels.indicators.indicator_row`), the
+    row's sums of the integrands of Eq. (eq_motion) on `cur` into sums[i] (n, 3), the
+    Euler step of Eqs. (eqc), (eqv) of its interior cells from `cur` into `nxt` with the
+    angular velocity `omega` and, with the contour torque, the row's part of the spline
+    window of c into `coef` (:func:`.spline.spline_rows`). A row reads F and G of its
+    own cells only, so all of this fits in one pass. The rows go in groups of
+    :data:`.spline.ROW_GROUP`, every `threads`-th group to one block of a numba
+    ``prange`` (one block per thread of ``numba.set_num_threads``); each row's results
+    are the same however the rows are shared.
+    """
+    n = domain[0].size
+    blocks = min(threads, n // ROW_GROUP)
+    if blocks <= 1:  # no parallel region to start
+        for b in range(blocks):
+            work = (coef, sums, np.empty((4, n)))
+            _sweep_block(cur, nxt, F, G, domain, params, tab, tables, turned, omega, work, b, 1)
+    else:
+        for b in nb.prange(blocks):
+            work = (coef, sums, np.empty((4, n)))
+            _sweep_block(
+                cur,
+                nxt,
+                F,
+                G,
+                domain,
+                params,
+                tab,
+                tables,
+                turned,
+                omega,
+                work,
+                np.int64(b),
+                blocks,
             )
 
 
-@nb.njit(cache=True, nogil=True, fastmath=FASTMATH)
-def heun_average(cur, stage, nxt, n, lo, hi, flow):
-    """nxt = (cur + stage) / 2 on the interior cells of c (and v with `flow`) (compiled).
+@nb.njit(**_LOOP)  # called, not inlined: a prange body stays small, fast to compile
+def _columns_block(coef, n, lo, hi, b, blocks):
+    """Block b of `blocks` of the columns of the spline window: :func:`.spline.spline_columns`."""
+    width = hi - lo
+    j0 = lo + b * width // blocks
+    j1 = lo + (b + 1) * width // blocks
+    carry = np.empty(j1 - j0)
+    spline_columns(coef, n, lo, hi, j0, j1, carry)
 
-    With stage = y~ + dt f(y~), y~ = y + dt f(y), this is Heun's y + dt (f(y) + f(y~)) / 2.
-    """
-    nn = n * n
+
+@nb.njit(**_LOOP)  # called, not inlined: a prange body stays small, fast to compile
+def _contour_block(coef, coords, params, tab, quad_s, quad_t, sums, b, blocks):
+    """Block b of the contour nodes: the sum over the nodes along the edge of each
+    (edge j, band node m) of every `blocks`-th pair into sums[j M + m]."""
+    p = params[0]
+    n = coords.size
+    x0 = coords[0]
+    inv_dx = 1.0 / p.dx
+    n_s, n_t = quad_s.shape[1], quad_t.shape[1]
+    apothem, delta, tan_half = p.apothem, p.smoothing, p.tan_half
+    for pair in range(b, p.n_corners * n_s, blocks):
+        j = pair // n_s
+        m = pair - j * n_s
+        total = 0.0
+        for k_t in range(n_t):
+            total += _contour_point(
+                coef, 0, n, x0, inv_dx, tab, apothem, delta, tan_half, quad_s, quad_t, j, m, k_t
+            )
+        sums[pair] = total
+
+
+@nb.njit(**_PARALLEL)
+def contour_torque(coef, coords, params, tab, tables, sums, threads):
+    """int F r x grad c dA in contour form (compiled), after :func:`sweep_rows` has filled
+    the rows of the spline window of c into `coef`: the window's columns
+    (:func:`.spline.spline_columns`), then the nodes of the physics core's ``contour_point``,
+    in `threads` blocks of columns and of (edge, band node) pairs; `sums` (N M)
+    receives the pairs' sums, added in order (the same for any number of threads)."""
+    p = params[0]
+    quad_s, quad_t = tables[0], tables[1]
+    n = coords.size
+    lo, hi = p.window_lo, p.window_hi
+    pairs = p.n_corners * quad_s.shape[1]
+    blocks = min(threads, (hi - lo) // 8, pairs)
+    if blocks <= 1:  # no parallel region to start
+        for b in range(blocks):
+            _columns_block(coef, n, lo, hi, b, blocks)
+            _contour_block(coef, coords, params, tab, quad_s, quad_t, sums, b, blocks)
+    else:
+        for b in nb.prange(blocks):
+            _columns_block(coef, n, lo, hi, np.int64(b), blocks)
+        for b in nb.prange(blocks):
+            _contour_block(coef, coords, params, tab, quad_s, quad_t, sums, np.int64(b), blocks)
+    total = 0.0
+    for pair in range(pairs):
+        total += sums[pair]
+    return total
+
+
+@nb.njit(**_LOOP)  # called, not inlined: a prange body stays small, fast to compile
+def _average_rows(cur, stage, nxt, domain, flow, b, blocks):
+    """nxt = (cur + stage) / 2 on the interior cells of every `blocks`-th row from b."""
+    coords, lo, hi, _, _ = domain
+    n = coords.size
     for ch in range(3 if flow else 1):
-        for i in range(n):
-            row = ch * nn + i * n
+        for i in range(b, n, blocks):
+            row = ch * n * n + i * n
             for j in range(lo[i], hi[i]):
                 nxt[row + j] = 0.5 * (cur[row + j] + stage[row + j])
 
 
-@nb.njit(cache=True, nogil=True)
-def spline_window(cur, coef, n, lo, hi):
-    """coef[window] = cubic B-spline coefficients of c (cur[:n^2]) on rows, columns [lo, hi)."""
-    for i in range(lo, hi):
-        for j in range(lo, hi):
-            coef[i * n + j] = cur[i * n + j]
-    for i in range(lo, hi):
-        _spline_line(coef, i * n + lo, 1, hi - lo)
-    for j in range(lo, hi):
-        _spline_line(coef, lo * n + j, n, hi - lo)
+@nb.njit(**_PARALLEL)
+def heun_average(cur, stage, nxt, domain, flow, threads):
+    """nxt = (cur + stage) / 2 on the interior cells of c (and v with `flow`) (compiled),
+    the rows in `threads` blocks.
 
-
-@nb.njit(cache=True, nogil=True)
-def rotor_integrals(cur, F, domain, params, tab, tables, coef):
-    """The integrals of Eq. (eq_motion) over the plate (compiled).
-
-    `tab` must hold the rotor table of the current angle
-    (:func:`pde_rotor.kernels.indicators.update_indicators`); `domain`, `params` and
-    `tables` as for :func:`advance`; `coef` (n^2) is scratch for the spline coefficients
-    of the contour form.
-
-    Returns:
-        (int F r x grad c dA, int F |r|^2 dA, int F r x v dA); the first in area form
-        with central differences, or in contour form with the record's ``contour``.
+    With stage = y~ + dt f(y~), y~ = y + dt f(y), this is Heun's y + dt (f(y) + f(y~)) / 2.
     """
-    p = params[0]
-    coords, _, _, slo, shi = domain
-    quad_s, quad_t = tables[0], tables[1]
-    flow = p.flow
-    n = coords.size
-    dx = coords[1] - coords[0]
-    inv_2dx = 0.5 / dx
-    sx, nn = n, n * n
-    contour = p.contour
+    if threads <= 1:  # no parallel region to start
+        for b in range(threads):
+            _average_rows(cur, stage, nxt, domain, flow, b, threads)
+    else:
+        for b in nb.prange(threads):
+            _average_rows(cur, stage, nxt, domain, flow, np.int64(b), threads)
+
+
+@nb.njit(inline="always", **_LOOP)
+def _total_integrals(sums, coords):
+    """The integrals of Eq. (eq_motion) from the rows' sums (n, 3), added row by row in
+    order, times dA: (int F r x grad c dA in area form, int F |r|^2 dA, int F r x v dA)."""
     cross_grad = 0.0
     moment = 0.0
     cross_v = 0.0
-    for i in range(n):
-        x = coords[i]
-        for j in range(slo[i], shi[i]):
-            o = i * n + j
-            f = F[o]
-            if f == 0.0:
-                continue
-            grad, mom, vel = _cell_integrals(cur, o, sx, 1, nn, f, x, coords[j], inv_2dx, flow)
-            cross_grad += grad
-            moment += mom
-            cross_v += vel
+    for i in range(sums.shape[0]):
+        cross_grad += sums[i, 0]
+        moment += sums[i, 1]
+        cross_v += sums[i, 2]
+    dx = coords[1] - coords[0]
     area = dx * dx
-    if contour:
-        spline_window(cur, coef, n, p.window_lo, p.window_hi)
-        cross_grad = 0.0
-        n_nodes = p.n_corners * quad_s.shape[1] * quad_t.shape[1]
-        apothem, delta, tan_half = p.apothem, p.smoothing, p.tan_half
-        for q in range(n_nodes):
-            cross_grad += _contour_node(
-                coef,
-                0,
-                n,
-                coords[0],
-                1.0 / dx,
-                tab,
-                apothem,
-                delta,
-                tan_half,
-                quad_s,
-                quad_t,
-                q,
-            )
-        return cross_grad, moment * area, cross_v * area
     return cross_grad * area, moment * area, cross_v * area
 
 
-@nb.njit(cache=True, nogil=True)
-def rotor_forces(state, phi, omega, indicator_phi, F, G, domain, params, tab, tables, coef):
-    """Torque T, Eq. (torque), and friction torque of Eq. (eq_motion) at `state` (compiled).
-
-    F and G (and the rotor table `tab`) are recomputed for angle `phi` unless they already
-    hold it (`indicator_phi` == phi); the other arguments as for :func:`advance`.
+@nb.njit(inline="always", **_LOOP)
+def _step(cur, nxt, F, G, domain, params, tab, tables, phi, turned, omega, work, threads):
+    """A step's pass over the grid at angle phi, angular velocity omega: F and G anew if
+    the plate `turned` since they were computed, the Euler step of the fields from `cur`
+    into `nxt` (:func:`sweep_rows`) and the torques on `cur` (the contour form by
+    :func:`contour_torque`), in `threads` blocks. `work` is (coef, row sums, pair sums)
+    scratch.
 
     Returns:
-        (T, -mu int F (|r|^2 omega - r x v) dA).
+        (T, -mu int F (|r|^2 omega - r x v) dA), Eqs. (torque), (eq_motion).
     """
-    if phi != indicator_phi:
-        update_indicators(F, G, domain, params, tab, tables, phi)
-    cross_grad, moment, cross_v = rotor_integrals(state, F, domain, params, tab, tables, coef)
-    return _rotor_torques(cross_grad, moment, cross_v, omega, params[0])
+    p = params[0]
+    coef, sums, pair_sums = work
+    if turned:
+        _rotor_table(phi, p.n_corners, p.pill_distance, p.asymmetry, tab)
+    sweep_rows(cur, nxt, F, G, domain, params, tab, tables, turned, omega, coef, sums, threads)
+    cross_grad, moment, cross_v = _total_integrals(sums, domain[0])
+    if p.contour:
+        cross_grad = contour_torque(coef, domain[0], params, tab, tables, pair_sums, threads)
+    return _rotor_torques(cross_grad, moment, cross_v, omega, p)
 
 
-@nb.njit(cache=True, nogil=True)
-def advance(data, spare, stage, F, G, domain, params, tables, rotor, xi, step0, n_steps):
+@nb.njit(**_LOOP)
+def advance(data, spare, stage, F, G, domain, params, tables, rotor, xi, step0, n_steps, threads):
     """Advance c, v, phi, omega by `n_steps` fused steps, Euler or Heun (compiled).
 
     Forward Euler (the paper's method) when `stage` is empty. Otherwise Heun's method
@@ -228,6 +332,11 @@ def advance(data, spare, stage, F, G, domain, params, tables, rotor, xi, step0, 
     y + dt (f(y) + f(y~)) / 2 (:func:`heun_average`); phi and omega likewise. The noise
     kick is additive, added once per step (stochastic Heun for additive noise). The
     stop schedule, the torques and the rotor's update are the physics core's.
+
+    The grid's work is shared among `threads` blocks, run on numba's threads (numba
+    ``prange``; the caller sets their number with ``numba.set_num_threads``): rows,
+    spline columns and contour nodes. Every sum is taken over fixed parts (rows, node
+    pairs) in a fixed order, so the result has the same bits for any number of threads.
 
     Args:
         data: flat state (c, v_x, v_y), 3 n^2 values, updated in place.
@@ -246,6 +355,7 @@ def advance(data, spare, stage, F, G, domain, params, tables, rotor, xi, step0, 
         xi: one standard normal per step for the noise (read where ``kick`` != 0).
         step0: global index of the first step (t = step0 dt).
         n_steps: number of steps.
+        threads: blocks the grid's work is split into (1: one thread, no parallel region).
 
     Returns:
         -1 on success, else the index of the step at which phi, omega or T stopped
@@ -259,7 +369,11 @@ def advance(data, spare, stage, F, G, domain, params, tables, rotor, xi, step0, 
     n = domain[0].size
     nn = n * n
     tab = np.empty((4, p.n_corners))
-    coef = np.zeros(nn) if p.contour else np.zeros(0)
+    work = (
+        np.zeros(nn) if p.contour else np.zeros(0),
+        np.zeros((n, 3)),
+        np.zeros(p.n_corners * tables[0].shape[1]),
+    )
     phi_f = math.nan
     noisy = p.kick != 0.0
     heun = stage.size > 0
@@ -270,8 +384,8 @@ def advance(data, spare, stage, F, G, domain, params, tables, rotor, xi, step0, 
         stopped = _stopped_at(step0 + s, p.n_ini, p.n_stop, p.n_period, p.cycles)
         if stopped:
             omega = 0.0
-        torque, friction = rotor_forces(
-            cur, phi, omega, phi_f, F, G, domain, params, tab, tables, coef
+        torque, friction = _step(
+            cur, nxt, F, G, domain, params, tab, tables, phi, phi != phi_f, omega, work, threads
         )
         phi_f = phi
         if not (math.isfinite(torque) and math.isfinite(friction)):
@@ -279,18 +393,17 @@ def advance(data, spare, stage, F, G, domain, params, tables, rotor, xi, step0, 
                 data[:] = spare
             rotor[0], rotor[1] = phi, omega
             return s
-        euler_fields(cur, nxt, F, G, domain, params, omega)
         accel = _angular_acceleration(torque, friction, p)
         if heun:
             phi_p, omega_p = phi, 0.0
             if not stopped:
                 phi_p, omega_p = _euler_rotor(phi, omega, accel, dt)
-            torque_p, friction_p = rotor_forces(
-                nxt, phi_p, omega_p, phi_f, F, G, domain, params, tab, tables, coef
+            turned = phi_p != phi_f
+            torque_p, friction_p = _step(
+                nxt, stage, F, G, domain, params, tab, tables, phi_p, turned, omega_p, work, threads
             )
             phi_f = phi_p
-            euler_fields(nxt, stage, F, G, domain, params, omega_p)
-            heun_average(cur, stage, nxt, n, domain[1], domain[2], p.flow)
+            heun_average(cur, stage, nxt, domain, p.flow, threads)
             if not stopped:
                 accel_p = _angular_acceleration(torque_p, friction_p, p)
                 phi, omega = _heun_rotor(phi, omega, accel, omega_p, accel_p, dt)
@@ -304,3 +417,59 @@ def advance(data, spare, stage, F, G, domain, params, tables, rotor, xi, step0, 
         data[:] = spare
     rotor[0], rotor[1] = phi, omega
     return -1
+
+
+@nb.njit(**_LOOP)
+def euler_fields(cur, nxt, F, G, domain, params, omega):
+    """One Euler step of Eqs. (eqc) and (eqv) (or (eqc) alone) on all interior cells,
+    row by row as the time step's :func:`sweep_rows` (compiled; tests and profiles).
+
+    Args:
+        cur: flat state (c, v_x, v_y) at the old time level, 3 n^2 values.
+        nxt: receives the new state on interior cells.
+        F, G: flat plate and pill indicators (zero outside the support).
+        domain: (coords, lo, hi, slo, shi) as for :func:`advance`.
+        params: the parameter record as for :func:`advance`; without ``flow`` only c is
+            advanced (v = 0, Fig. 8).
+        omega: plate angular velocity (0 during a stop).
+    """
+    p = params[0]
+    rates = _rate_coefficients(p)
+    n = domain[0].size
+    if p.flow:  # as in _sweep_block
+        _euler_rows(cur, nxt, F, G, 0, n, domain, rates, p.dt, omega, True)
+    else:
+        _euler_rows(cur, nxt, F, G, 0, n, domain, rates, p.dt, omega, False)
+
+
+@nb.njit(**_LOOP)
+def rotor_integrals(cur, F, domain, params, tab, tables, coef):
+    """The integrals of Eq. (eq_motion) over the plate, as the time step takes them
+    (compiled; tests and profiles).
+
+    `tab` must hold the rotor table of the current angle
+    (:func:`pde_rotor.kernels.indicators.update_indicators`); `domain`, `params` and
+    `tables` as for :func:`advance`; `coef` (n^2) is scratch for the spline coefficients
+    of the contour form.
+
+    Returns:
+        (int F r x grad c dA, int F |r|^2 dA, int F r x v dA); the first in area form
+        with central differences, or in contour form with the record's ``contour``.
+    """
+    p = params[0]
+    coords, _, _, slo, shi = domain
+    n = coords.size
+    inv_2dx = 0.5 / (coords[1] - coords[0])
+    sums = np.zeros((n, 3))
+    for i in range(n):
+        _row_integrals(cur, F, i, coords, slo[i], shi[i], inv_2dx, p.flow, sums)
+    cross_grad, moment, cross_v = _total_integrals(sums, coords)
+    if p.contour:
+        spline_window(cur, coef, n, p.window_lo, p.window_hi)
+        pair_sums = np.zeros(p.n_corners * tables[0].shape[1])
+        for b in range(1):  # as contour_torque calls it
+            _contour_block(coef, coords, params, tab, tables[0], tables[1], pair_sums, b, 1)
+        cross_grad = 0.0
+        for pair in range(pair_sums.size):
+            cross_grad += pair_sums[pair]
+    return cross_grad, moment, cross_v

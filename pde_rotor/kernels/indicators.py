@@ -39,85 +39,83 @@ _filtered_corner = CPU.filtered_corner
 _filtered_pill_term = CPU.filtered_pill_term
 
 
-@nb.njit(cache=True, nogil=True, fastmath=FASTMATH, error_model="numpy")
-def plate_rows(F, coords, slo, shi, tab, n_corners, apothem, inv_delta):
-    """F of the scheme ``paper`` on the support cells (compiled).
+_ROW = {"cache": True, "nogil": True, "fastmath": FASTMATH, "error_model": "numpy"}
+"""numba options of the row functions: inlined into the loops over rows that call them."""
+
+
+@nb.njit(inline="always", **_ROW)
+def plate_row(F, i, coords, j0, j1, tab, n_corners, apothem, inv_delta, h):
+    """F of the scheme ``paper`` on the support cells [j0, j1) of row i (compiled).
 
     The gauge (``projection``, ``gauge_step``) and profile of the physics core's
-    ``plate_cell``, with the loop over the edges outside the loop over a row's cells, so
-    that a row is computed four cells at a time (SIMD; the loops run over slices, whose
-    indices numba knows to be non-negative).
+    ``plate_cell``, with the loop over the edges outside the loop over the row's cells,
+    so that the row is computed four cells at a time (SIMD; the loops run over slices,
+    whose indices numba knows to be non-negative). `h` (>= n) is scratch.
     """
     n = coords.size
-    h = np.empty(n)
-    for i in range(n):
-        x = coords[i]
-        j0, j1 = slo[i], shi[i]
-        row_y = coords[j0:j1]
-        row_h = h[j0:j1]
-        ex, ey = tab[0, 0], tab[1, 0]
+    x = coords[i]
+    row_y = coords[j0:j1]
+    row_h = h[j0:j1]
+    ex, ey = tab[0, 0], tab[1, 0]
+    for j in range(row_y.size):
+        row_h[j] = _projection(x, row_y[j], ex, ey)
+    for k in range(1, n_corners):
+        ex, ey = tab[0, k], tab[1, k]
         for j in range(row_y.size):
-            row_h[j] = _projection(x, row_y[j], ex, ey)
-        for k in range(1, n_corners):
-            ex, ey = tab[0, k], tab[1, k]
-            for j in range(row_y.size):
-                row_h[j] = _gauge_step(row_h[j], x, row_y[j], ex, ey)
-        row_f = F[i * n + j0 : i * n + j1]
-        for j in range(row_y.size):
-            row_f[j] = _plate_profile(row_h[j], apothem, inv_delta)
+            row_h[j] = _gauge_step(row_h[j], x, row_y[j], ex, ey)
+    row_f = F[i * n + j0 : i * n + j1]
+    for j in range(row_y.size):
+        row_f[j] = _plate_profile(row_h[j], apothem, inv_delta)
 
 
-@nb.njit(cache=True, nogil=True, fastmath=FASTMATH, error_model="numpy")
-def filtered_plate_rows(F, coords, slo, shi, tab, p, edge, plate):
-    """F_eps of the scheme ``consistent`` on the support cells (compiled).
+@nb.njit(inline="always", **_ROW)
+def filtered_plate_row(F, i, coords, j0, j1, tab, p, edge, plate, h, q):
+    """F_eps of the scheme ``consistent`` on the support cells [j0, j1) of row i (compiled).
 
-    The physics core's ``filtered_plate`` in two passes over a row: the frame of the
+    The physics core's ``filtered_plate`` in two passes over the row: the frame of the
     nearest edge (h, q) (``nearer_edge`` from ``projection``, ``farther`` and
     ``tangential``) and the edge profile for every cell four at a time (SIMD, as
-    :func:`plate_rows`), then the 2-D corner table for the cells within
-    the crease width of a corner bisector (``near_corner``), one at a time. `p` is the
-    parameter record (:mod:`pde_rotor.kernels.records`).
+    :func:`plate_row`), then the 2-D corner table for the cells within the crease width
+    of a corner bisector (``near_corner``), one at a time. `p` is the parameter record
+    (:mod:`pde_rotor.kernels.records`); `h`, `q` (>= n) are scratch.
     """
     n_corners, apothem = p.n_corners, p.apothem
     tan_half, crease = p.tan_half, p.crease
     e_u0, e_inv = p.edge_u0, p.edge_inv_step
     t_n, t_x0, t_inv = p.table_n, p.table_x0, p.table_inv_step
     n = coords.size
-    h = np.empty(n)
-    q = np.empty(n)
-    for i in range(n):
-        x = coords[i]
-        j0, j1 = slo[i], shi[i]
-        row_y = coords[j0:j1]
-        row_h = h[j0:j1]
-        row_q = q[j0:j1]
-        ex, ey = tab[0, 0], tab[1, 0]
+    x = coords[i]
+    row_y = coords[j0:j1]
+    row_h = h[j0:j1]
+    row_q = q[j0:j1]
+    ex, ey = tab[0, 0], tab[1, 0]
+    for j in range(row_y.size):
+        row_h[j] = _projection(x, row_y[j], ex, ey)
+        row_q[j] = _tangential(x, row_y[j], ex, ey)
+    for k in range(1, n_corners):
+        ex, ey = tab[0, k], tab[1, k]
         for j in range(row_y.size):
-            row_h[j] = _projection(x, row_y[j], ex, ey)
-            row_q[j] = _tangential(x, row_y[j], ex, ey)
-        for k in range(1, n_corners):
-            ex, ey = tab[0, k], tab[1, k]
-            for j in range(row_y.size):
-                # the core's nearer_edge, spelt out: LLVM vectorises this loop only so
-                proj = _projection(x, row_y[j], ex, ey)
-                nearer = _farther(proj, row_h[j])
-                row_q[j] = _tangential(x, row_y[j], ex, ey) if nearer else row_q[j]
-                row_h[j] = proj if nearer else row_h[j]
-        row_f = F[i * n + j0 : i * n + j1]
-        for j in range(row_y.size):
-            row_f[j] = _filtered_edge(row_h[j], apothem, edge, e_u0, e_inv)
-        for j in range(row_y.size):
-            if _near_corner(row_h[j], row_q[j], tan_half, crease):
-                row_f[j] = _filtered_corner(row_h[j], row_q[j], plate, t_n, t_x0, t_inv)
+            # the core's nearer_edge, spelt out: LLVM vectorises this loop only so
+            proj = _projection(x, row_y[j], ex, ey)
+            nearer = _farther(proj, row_h[j])
+            row_q[j] = _tangential(x, row_y[j], ex, ey) if nearer else row_q[j]
+            row_h[j] = proj if nearer else row_h[j]
+    row_f = F[i * n + j0 : i * n + j1]
+    for j in range(row_y.size):
+        row_f[j] = _filtered_edge(row_h[j], apothem, edge, e_u0, e_inv)
+    for j in range(row_y.size):
+        if _near_corner(row_h[j], row_q[j], tan_half, crease):
+            row_f[j] = _filtered_corner(row_h[j], row_q[j], plate, t_n, t_x0, t_inv)
 
 
-@nb.njit(cache=True, nogil=True, fastmath=FASTMATH, error_model="numpy")
-def pill_rows(G, coords, slo, shi, tab, n_corners, reach, rho, inv_delta, profile, inv_step):
-    """G on the support cells (compiled): the pill terms of the scheme ``paper``, or of
-    ``consistent`` where `profile` is not empty (its filtered radial profile).
+@nb.njit(inline="always", **_ROW)
+def pill_row(G, i, coords, j0, j1, tab, n_corners, reach, rho, inv_delta, profile, inv_step, g):
+    """G on the support cells [j0, j1) of row i (compiled): the pill terms of the scheme
+    ``paper``, or of ``consistent`` where `profile` is not empty (its filtered radial
+    profile). `g` (>= n) is scratch.
 
     The terms of ``pill_cell`` / ``filtered_pills`` summed in the same order, the loop
-    over the pills outside the loop over a row's cells (SIMD, as :func:`plate_rows`). A
+    over the pills outside the loop over the row's cells (SIMD, as :func:`plate_row`). A
     pill adds to the cells of its bounding square of half-width `reach` only: beyond,
     its term is 0 (``consistent``) or below 4.3e-18 (``paper``).
     """
@@ -125,54 +123,67 @@ def pill_rows(G, coords, slo, shi, tab, n_corners, reach, rho, inv_delta, profil
     x0 = coords[0]
     inv_dx = 1.0 / (coords[1] - x0)
     filtered = profile.size > 0
-    g = np.empty(n)
-    for i in range(n):
-        x = coords[i]
-        j0, j1 = slo[i], shi[i]
-        row_g = g[j0:j1]
-        for j in range(row_g.size):
-            row_g[j] = 0.0
-        for k in range(n_corners):
-            px, py = x - tab[2, k], tab[3, k]
-            if abs(px) >= reach:
-                continue
-            ja = max(j0, math.ceil((py - reach - x0) * inv_dx))
-            jb = max(ja, min(j1, math.floor((py + reach - x0) * inv_dx) + 1))
-            box_y = coords[ja:jb]
-            box_g = g[ja:jb]
-            if filtered:
-                for j in range(box_y.size):
-                    box_g[j] += _filtered_pill_term(px, box_y[j] - py, profile, inv_step)
-            else:
-                for j in range(box_y.size):
-                    box_g[j] += _pill_term(px, box_y[j] - py, rho, inv_delta)
-        row_out = G[i * n + j0 : i * n + j1]
-        for j in range(row_g.size):
-            row_out[j] = row_g[j]
+    x = coords[i]
+    row_g = g[j0:j1]
+    for j in range(row_g.size):
+        row_g[j] = 0.0
+    for k in range(n_corners):
+        px, py = x - tab[2, k], tab[3, k]
+        if abs(px) >= reach:
+            continue
+        ja = max(j0, math.ceil((py - reach - x0) * inv_dx))
+        jb = max(ja, min(j1, math.floor((py + reach - x0) * inv_dx) + 1))
+        box_y = coords[ja:jb]
+        box_g = g[ja:jb]
+        if filtered:
+            for j in range(box_y.size):
+                box_g[j] += _filtered_pill_term(px, box_y[j] - py, profile, inv_step)
+        else:
+            for j in range(box_y.size):
+                box_g[j] += _pill_term(px, box_y[j] - py, rho, inv_delta)
+    row_out = G[i * n + j0 : i * n + j1]
+    for j in range(row_g.size):
+        row_out[j] = row_g[j]
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(inline="always", **_ROW)
+def indicator_row(F, G, i, coords, j0, j1, p, tab, tables, scratch):
+    """F and G on the support cells [j0, j1) of row i at the angle of the rotor table
+    `tab` (compiled): point values (:func:`plate_row`, :func:`pill_row`), or
+    (``consistent``) the filtered fields from the filter tables. `p` is the parameter
+    record, `tables` the scheme's (quad_s, quad_t, plate, edge, pill), `scratch` (3, n)."""
+    _, _, plate_tab, edge_tab, pill_tab = tables
+    n_corners, rho, inv_delta = p.n_corners, p.pill_radius, 1.0 / p.smoothing
+    if not p.filtered:
+        plate_row(F, i, coords, j0, j1, tab, n_corners, p.apothem, inv_delta, scratch[0])
+        reach = _pill_reach(rho, inv_delta)
+        pill_row(
+            G, i, coords, j0, j1, tab, n_corners, reach, rho, inv_delta, pill_tab[:0], 1.0,
+            scratch[2],
+        )  # fmt: skip
+        return
+    p_inv = p.profile_inv_step
+    reach = _filtered_pill_reach(pill_tab, p_inv)
+    pill_row(
+        G, i, coords, j0, j1, tab, n_corners, reach, rho, inv_delta, pill_tab, p_inv, scratch[2]
+    )
+    filtered_plate_row(F, i, coords, j0, j1, tab, p, edge_tab, plate_tab, scratch[0], scratch[1])
+
+
+@nb.njit(**_ROW)
 def update_indicators(F, G, domain, params, tab, tables, phi):
     """Recompute F and G (flat n*n arrays) on the support cells for angle phi (compiled).
 
     Cells outside the support keep F = G = 0. `domain` is (coords, lo, hi, slo, shi) of
     :func:`pde_rotor.kernels.cpu.advance`, `params` the (1,) parameter record array
     (:mod:`pde_rotor.kernels.records`), `tables` the scheme's (quad_s, quad_t, plate,
-    edge, pill). `tab` (4, >= N) receives the edge normals and pill centres. Point values
-    (:func:`plate_rows`, :func:`pill_rows`), or (``consistent``) the filtered fields
-    from the filter tables (:meth:`~pde_rotor.model.schemes.Scheme.kernel_tables`).
+    edge, pill). `tab` (4, >= N) receives the edge normals and pill centres. Row by row
+    (:func:`indicator_row`), as the time step does.
     """
     p = params[0]
     coords, _, _, slo, shi = domain
-    _, _, plate_tab, edge_tab, pill_tab = tables
-    n_corners, rho, inv_delta = p.n_corners, p.pill_radius, 1.0 / p.smoothing
-    _rotor_table(phi, n_corners, p.pill_distance, p.asymmetry, tab)
-    if not p.filtered:
-        plate_rows(F, coords, slo, shi, tab, n_corners, p.apothem, inv_delta)
-        reach = _pill_reach(rho, inv_delta)
-        pill_rows(G, coords, slo, shi, tab, n_corners, reach, rho, inv_delta, pill_tab[:0], 1.0)
-        return
-    p_inv = p.profile_inv_step
-    reach = _filtered_pill_reach(pill_tab, p_inv)
-    pill_rows(G, coords, slo, shi, tab, n_corners, reach, rho, inv_delta, pill_tab, p_inv)
-    filtered_plate_rows(F, coords, slo, shi, tab, p, edge_tab, plate_tab)
+    _rotor_table(phi, p.n_corners, p.pill_distance, p.asymmetry, tab)
+    scratch = np.empty((3, coords.size))
+    for i in range(coords.size):
+        if shi[i] > slo[i]:
+            indicator_row(F, G, i, coords, slo[i], shi[i], p, tab, tables, scratch)

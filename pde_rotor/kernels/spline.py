@@ -1,0 +1,120 @@
+"""The cubic spline of c for the contour torque on the CPU: many lines filtered at once.
+
+The contour form of the torque (scheme ``consistent``, :mod:`pde_rotor.model.schemes`)
+interpolates c with its cubic spline, whose B-spline coefficients come from Unser's
+recursive prefilter along both axes of a square window of cells around the plate
+(:class:`~pde_rotor.model.schemes.Scheme`, ``window``): first along y (the rows), then
+along x (the columns). Each line is a recursion, one sample after the other; filtered one
+line at a time, a line waits on the latency of each step. Here the steps of the physics
+core (:mod:`pde_rotor.kernels.core`: ``spline_causal``, ``spline_anticausal_start``,
+``spline_anticausal``, ``spline_gain``, the steps of ``spline_line``) advance several
+lines side by side (:func:`spline_lines`): a group of rows together, and the columns
+together, where the lines lie next to each other in memory and LLVM computes them four
+or eight at a time (SIMD). Each line's arithmetic is that of ``spline_line``, so the
+coefficients do not depend on how lines are grouped (or shared among threads).
+"""
+
+from __future__ import annotations
+
+import numba as nb
+import numpy as np
+
+from .core import CPU
+
+_spline_causal = CPU.spline_causal
+_spline_anticausal_start = CPU.spline_anticausal_start
+_spline_anticausal = CPU.spline_anticausal
+_spline_gain = CPU.spline_gain
+
+_LINES = {"cache": True, "nogil": True, "error_model": "numpy"}
+"""numba options of the loops below (inlined into the time step that calls them): no
+fastmath, so that no multiply-add is fused and each coefficient has the bits of
+``spline_line`` (scalar, as the GPU's) exactly."""
+
+
+@nb.njit(inline="always", **_LINES)
+def spline_lines(buf, o, stride, count, lane_stride, lanes, carry):
+    """The core's ``spline_line`` on `lanes` lines at once, in place.
+
+    Line r holds the `count` samples buf[o + r lane_stride + k stride]; step k of every
+    line is taken before step k + 1 of any, so the recursions run side by side. `carry`
+    (>= lanes) holds each line's last output (the anticausal outputs before their gain).
+    """
+    end = lanes * lane_stride
+    first = buf[o : o + end : lane_stride]
+    for r in range(lanes):
+        carry[r] = first[r]
+    for k in range(1, count):
+        line = buf[o + k * stride : o + k * stride + end : lane_stride]
+        for r in range(lanes):
+            value = _spline_causal(carry[r], line[r])
+            carry[r] = value
+            line[r] = value
+    last = o + (count - 1) * stride
+    line = buf[last : last + end : lane_stride]
+    for r in range(lanes):
+        value = _spline_anticausal_start(line[r])
+        carry[r] = value
+        line[r] = _spline_gain(value)
+    for k in range(count - 2, -1, -1):
+        line = buf[o + k * stride : o + k * stride + end : lane_stride]
+        for r in range(lanes):
+            value = _spline_anticausal(carry[r], line[r])
+            carry[r] = value
+            line[r] = _spline_gain(value)
+
+
+@nb.njit(inline="always", **_LINES)
+def adjacent_lines(buf, o, stride, count, lanes, carry):
+    """:func:`spline_lines` for lines next to each other (lane_stride 1): the same steps
+    over contiguous slices, which LLVM computes several lanes at a time (SIMD)."""
+    prev = buf[o : o + lanes]
+    for k in range(1, count):
+        line = buf[o + k * stride : o + k * stride + lanes]
+        for r in range(lanes):
+            line[r] = _spline_causal(prev[r], line[r])
+        prev = line
+    for r in range(lanes):
+        value = _spline_anticausal_start(prev[r])
+        carry[r] = value
+        prev[r] = _spline_gain(value)
+    for k in range(count - 2, -1, -1):
+        line = buf[o + k * stride : o + k * stride + lanes]
+        for r in range(lanes):
+            value = _spline_anticausal(carry[r], line[r])
+            carry[r] = value
+            line[r] = _spline_gain(value)
+
+
+@nb.njit(inline="always", **_LINES)
+def spline_rows(cur, coef, n, i0, i1, lo, hi, carry):
+    """coef = c (cur[:n^2]) on rows [i0, i1), columns [lo, hi), prefiltered along the rows
+    (y), the rows side by side (`carry` >= i1 - i0)."""
+    for i in range(i0, i1):
+        src = cur[i * n + lo : i * n + hi]
+        dst = coef[i * n + lo : i * n + hi]
+        for j in range(src.size):
+            dst[j] = src[j]
+    spline_lines(coef, i0 * n + lo, 1, hi - lo, n, i1 - i0, carry)
+
+
+@nb.njit(inline="always", **_LINES)
+def spline_columns(coef, n, lo, hi, j0, j1, carry):
+    """Prefilter coef along the columns (x) [j0, j1) over the rows [lo, hi), the columns
+    side by side (contiguous: SIMD; `carry` >= j1 - j0)."""
+    adjacent_lines(coef, lo * n + j0, n, hi - lo, j1 - j0, carry)
+
+
+ROW_GROUP = 8
+"""Rows prefiltered side by side: enough to hide the latency of a step of the recursion."""
+
+
+@nb.njit(**_LINES)
+def spline_window(cur, coef, n, lo, hi):
+    """coef[window] = cubic B-spline coefficients of c (cur[:n^2]) on rows, columns [lo, hi)
+    (compiled): :func:`spline_rows` in groups of :data:`ROW_GROUP` rows, then
+    :func:`spline_columns`; the time step does the same, shared among threads."""
+    carry = np.empty(max(ROW_GROUP, hi - lo))
+    for i0 in range(lo, hi, ROW_GROUP):
+        spline_rows(cur, coef, n, i0, min(hi, i0 + ROW_GROUP), lo, hi, carry)
+    spline_columns(coef, n, lo, hi, lo, hi, carry)
