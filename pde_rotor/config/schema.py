@@ -371,6 +371,16 @@ class SolverConfig(_Section):
             "and a GPU), auto (gpu when available, else cpu)"
         ),
     )
+    threads: Int | None = Field(
+        None,
+        ge=1,
+        description=(
+            "threads one run's time steps use on the CPU (results are identical for any "
+            "number); null: numba's thread count, which is every core this process may use "
+            "(os.sched_getaffinity; NUMBA_NUM_THREADS caps it), and 1 in the worker "
+            "processes of a sweep (pde-rotor sweep --threads)"
+        ),
+    )
 
 
 class OutputConfig(_Section):

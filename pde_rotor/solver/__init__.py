@@ -2,5 +2,6 @@
 
 * :mod:`.rotor`: :class:`RotorSolver`, the fused explicit py-pde solver;
 * :mod:`.simulation`: config -> model -> solver -> py-pde Controller, one run, on the
-  CPU or as one member of an ensemble backend (the GPU).
+  CPU or as one member of an ensemble backend (the GPU);
+* :mod:`.threads`: the threads one run's steps use (``solver.threads``).
 """

@@ -24,6 +24,7 @@ from pde.solvers.base import SolverBase
 from ..kernels.cpu import advance
 from ..kernels.records import make_record
 from ..model.pde import RotorFields, RotorPDE, RotorState
+from .threads import resolve_threads, running_on
 
 
 class SimulationDivergedError(FloatingPointError):
@@ -39,16 +40,21 @@ class FusedStepper:
         dt: time step.
         rng: numpy Generator for the noise; one standard normal is drawn per step, in
             step order, so a run is reproducible whatever the tracker intervals.
+        threads: threads the steps use (``solver.threads`` resolved,
+            :func:`~pde_rotor.solver.threads.resolve_threads`); the result does not
+            depend on it.
     """
 
     pde: RotorPDE
     dt: float
     rng: np.random.Generator
+    threads: int = field(init=False)
     _spare: np.ndarray = field(init=False, repr=False)
     _stage: np.ndarray = field(init=False, repr=False)
     _record: np.ndarray = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
+        self.threads = resolve_threads(self.pde.config.solver.threads)
         self._record = make_record(self.pde.config, self.pde.scheme, self.dt)
         self._spare = np.zeros((3, *self.pde.domain.grid.shape))
         heun = self.pde.config.numerics.integrator == "heun"
@@ -72,20 +78,22 @@ class FusedStepper:
         scheme = pde.scheme
         rotor = rotor_state.as_array()
         work = data if data.flags.c_contiguous else np.ascontiguousarray(data)
-        failed = advance(
-            work.reshape(-1),
-            self._spare.reshape(-1),
-            self._stage.reshape(-1),
-            pde.F.reshape(-1),
-            pde.G.reshape(-1),
-            dom.arrays(),
-            self._record,
-            scheme.kernel_tables(),
-            rotor,
-            self.normals(n_steps),
-            step0,
-            n_steps,
-        )
+        with running_on(self.threads):
+            failed = advance(
+                work.reshape(-1),
+                self._spare.reshape(-1),
+                self._stage.reshape(-1),
+                pde.F.reshape(-1),
+                pde.G.reshape(-1),
+                dom.arrays(),
+                self._record,
+                scheme.kernel_tables(),
+                rotor,
+                self.normals(n_steps),
+                step0,
+                n_steps,
+                self.threads,
+            )
         if work is not data:
             data[...] = work
         rotor_state.update_from(rotor)
