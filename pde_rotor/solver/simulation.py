@@ -18,7 +18,8 @@ from .rotor import RotorSolver, StepperFactory, make_fused_stepper
 
 pde.config["backend.numba.multithreading"] = "never"
 """py-pde's own threading is 50x slower on 2 shared cores above 256^2 cells; the fused
-kernel is single-threaded, so py-pde must never switch threads on by itself."""
+kernel runs its own threads (``solver.threads``), so py-pde must never switch threads on
+by itself."""
 
 
 class Simulation:
