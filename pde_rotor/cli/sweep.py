@@ -42,9 +42,20 @@ def register(app: typer.Typer) -> None:
         workers: Annotated[
             int | None,
             typer.Option(
-                min=1, metavar="N", help="LocalCluster worker processes [default: usable cores]."
+                min=1,
+                metavar="N",
+                help="LocalCluster worker processes [default: usable cores / --threads].",
             ),
         ] = None,
+        threads: Annotated[
+            int,
+            typer.Option(
+                min=1,
+                metavar="T",
+                help="Threads of each worker's runs (their solver.threads); workers x T may "
+                "not exceed the usable cores.",
+            ),
+        ] = 1,
         out: Annotated[
             Path | None,
             typer.Option(
@@ -83,6 +94,7 @@ def register(app: typer.Typer) -> None:
             check_scheduler,
             format_table,
             gather,
+            local_workers,
             read_runs,
             report,
             run_sweep,
@@ -99,13 +111,23 @@ def register(app: typer.Typer) -> None:
         sweep_dir = out if out is not None else DEFAULT_ROOT / sweep.stem
         runs = spec.runs()
         n_runs = len(runs)
-        n = None if scheduler else workers or usable_cores()
+        each = f", {threads} thread{'s' if threads != 1 else ''} each"
+        n = None
         if backend == "gpu":
             where = "the GPU in ensemble batches"
+            n = workers or usable_cores()
         elif scheduler:
-            where = f"the dask scheduler at {scheduler}"
+            where = f"the dask scheduler at {scheduler} (runs of {threads} "
+            where += f"thread{'s' if threads != 1 else ''} each, at most a worker's cores)"
         else:
-            where = f"a LocalCluster of {n} worker process{'es' if n != 1 else ''}"
+            try:
+                n = local_workers(workers, threads)
+            except SweepError as err:
+                fail(str(err))
+            where = (
+                f"a LocalCluster of {n} worker process{'es' if n != 1 else ''}{each} "
+                f"({n * threads} of the {usable_cores()} usable cores)"
+            )
         if dry_run:
             try:
                 stored = read_runs(sweep_dir)
@@ -120,7 +142,7 @@ def register(app: typer.Typer) -> None:
                 + ("" if spec.spec.axes else " (no axes: every run is of the base config)")
             )
             typer.echo(f"to compute: {len(todo)} runs on {where}")
-            typer.echo(f"estimated cost: {estimate_sweep(todo, n).describe()}")
+            typer.echo(f"estimated cost: {estimate_sweep(todo, n, threads).describe()}")
             return
         output_dir(sweep_dir)
         if scheduler and backend != "gpu":
@@ -141,7 +163,12 @@ def register(app: typer.Typer) -> None:
         previous = signal.signal(signal.SIGTERM, _interrupt)
         try:
             outcome = run_sweep(
-                spec, sweep_dir, scheduler=scheduler, workers=workers, progress=not quiet
+                spec,
+                sweep_dir,
+                scheduler=scheduler,
+                workers=n,
+                threads=threads,
+                progress=not quiet,
             )
         except SweepError as err:  # the directory is busy or cannot be written
             fail(str(err))

@@ -376,9 +376,10 @@ class SolverConfig(_Section):
         ge=1,
         description=(
             "threads one run's time steps use on the CPU (results are identical for any "
-            "number); null: numba's thread count, which is every core this process may use "
-            "(os.sched_getaffinity; NUMBA_NUM_THREADS caps it), and 1 in the worker "
-            "processes of a sweep (pde-rotor sweep --threads)"
+            "number); null: every core this process may use (os.sched_getaffinity) that no "
+            "other process keeps busy when the run starts, at most numba's thread count "
+            "(NUMBA_NUM_THREADS; 1 in the worker processes of a sweep, pde-rotor sweep "
+            "--threads)"
         ),
     )
 

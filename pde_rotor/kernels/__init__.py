@@ -4,7 +4,10 @@
   numba; the CPU and CUDA loops call them;
 * :mod:`.records`: the kernels' scalar parameters as one numpy record per run, built
   from the config in one place;
-* :mod:`.indicators`: F and G on the support cells, on the CPU;
-* :mod:`.cpu`: the fused explicit step of c, v, phi and omega on the CPU;
+* :mod:`.indicators`: F and G on the support cells, row by row, on the CPU;
+* :mod:`.spline`: the cubic spline of c for the contour torque, many lines at once, on
+  the CPU;
+* :mod:`.cpu`: the fused explicit step of c, v, phi and omega on the CPU, one pass over
+  the rows shared among threads;
 * :mod:`.cuda`: the batched CUDA kernel of an ensemble (:mod:`pde_rotor.backends.gpu`).
 """

@@ -2,38 +2,78 @@
 
 The fused CPU step (:func:`pde_rotor.kernels.cpu.advance`) shares its rows, spline
 columns and contour nodes among numba's threads and adds every sum over fixed parts in a
-fixed order, so a run has the same bits on any number of threads. ``solver.threads:
-null`` takes numba's thread count of the calling thread: every core the process may use
-(numba's default, ``os.sched_getaffinity``, capped by ``NUMBA_NUM_THREADS``), or what the
-caller set with ``numba.set_num_threads``, as a sweep's worker does (one thread each by
-default, :func:`pde_rotor.sweep.tasks.execute_group`).
+fixed order, so a run has the same bits on any number of threads. The threads meet
+three times a step; where another process keeps one of their cores busy, each meeting
+waits for a thread the system has not scheduled, and two threads step 3 to 50 times
+slower than one (docs/numerics.md, "Threads"). So ``solver.threads: null`` takes every
+core the process may use that no other process is running on when the run starts
+(:func:`free_cores`), at most numba's thread count of the calling thread: numba's
+default is the cores the process may use (``os.sched_getaffinity``, capped by
+``NUMBA_NUM_THREADS``), and a sweep's worker sets it to its runs' threads (one by default,
+:func:`pde_rotor.sweep.tasks.execute_group`).
 """
 
 from __future__ import annotations
 
+import os
+import time
 from collections.abc import Iterator
 from contextlib import contextmanager
+from pathlib import Path
 
 import numba
 
 from ..config import ConfigError
 
+LOADAVG = Path("/proc/loadavg")
+"""Linux's load file: its fourth field is running / existing tasks (threads) right now."""
+SAMPLES = 5
+"""Readings of :data:`LOADAVG` per decision, 1 ms apart; the fewest running tasks counts
+(a process that only wakes for a moment is not taken for one that keeps a core busy)."""
+
+
+def usable_cores() -> int:
+    """CPU cores this process may run on (all cores where affinity is unknown)."""
+    affinity = getattr(os, "sched_getaffinity", None)
+    return len(affinity(0)) if affinity is not None else os.cpu_count() or 1
+
+
+def free_cores() -> int:
+    """The usable cores minus the tasks of other processes running now (at least 1).
+
+    Counted from :data:`LOADAVG` (the reading process itself is one of its running
+    tasks), the fewest of :data:`SAMPLES` readings; all usable cores where the file
+    cannot be read (not Linux).
+    """
+    cores = usable_cores()
+    running = []
+    for k in range(SAMPLES):
+        if k:
+            time.sleep(1e-3)
+        try:
+            running.append(int(LOADAVG.read_text().split()[3].split("/")[0]))
+        except (OSError, IndexError, ValueError):
+            return cores
+    return max(1, min(cores, cores - (min(running) - 1)))
+
 
 def resolve_threads(requested: int | None) -> int:
-    """The threads a run uses: `requested` (``solver.threads``) or numba's thread count.
+    """The threads a run uses: `requested` (``solver.threads``), or for None the free
+    cores (:func:`free_cores`), at most numba's thread count of the calling thread.
 
     Raises:
         ConfigError: `requested` exceeds the threads numba may start in this process (one
             line naming ``solver.threads``, before any step).
     """
     if requested is None:
-        return numba.get_num_threads()
+        allowed = numba.get_num_threads()
+        return 1 if allowed == 1 else min(allowed, free_cores())
     limit = numba.config.NUMBA_NUM_THREADS
     if requested > limit:
         msg = (
             f"solver.threads = {requested}: numba starts at most {limit} threads in this "
             f"process (NUMBA_NUM_THREADS, by default the cores it may use); give 1 to "
-            f"{limit}, or null for all of them"
+            f"{limit}, or null for the free ones"
         )
         raise ConfigError(msg)
     return requested

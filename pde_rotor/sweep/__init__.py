@@ -64,7 +64,14 @@ value 2ab/(a+b) where Delta != 0 (:mod:`.estimates`).
 from __future__ import annotations
 
 from .estimates import CHAIN, P_DEFINITIONS, POOLED, mcnemar_p, point_statistics
-from .execution import SweepOutcome, check_scheduler, run_sweep, sweep_backend, usable_cores
+from .execution import (
+    SweepOutcome,
+    check_scheduler,
+    local_workers,
+    run_sweep,
+    sweep_backend,
+    usable_cores,
+)
 from .plan import SCHEMA_VERSION, SPEC_FILE, Run, Sweep, base_config, run_key, run_seed
 from .reporting import format_table, gather, report
 from .spec import (
@@ -135,6 +142,7 @@ __all__ = [
     "execute_group",
     "format_table",
     "gather",
+    "local_workers",
     "lock",
     "mcnemar_p",
     "point_statistics",

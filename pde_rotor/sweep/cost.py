@@ -138,6 +138,18 @@ def estimate_run(config: RotorConfig, movie: bool | None = None) -> RunEstimate:
     return RunEstimate(n, cell_counts(config)[0], frames, seconds)
 
 
+THREAD_SERIAL_FRACTION = 0.1
+"""Share of a step's one-thread time that more threads do not shorten (the parallel
+regions' start and the serial sums), Amdahl's law: a step on T threads takes
+s + (1 - s) / T of its one-thread time. Placeholder until bench_threads.py measures it."""
+
+
+def thread_speedup(threads: int) -> float:
+    """How many times faster one run steps on `threads` threads than on one (Amdahl's
+    law with :data:`THREAD_SERIAL_FRACTION`), on otherwise idle cores."""
+    return 1.0 / (THREAD_SERIAL_FRACTION + (1.0 - THREAD_SERIAL_FRACTION) / threads)
+
+
 @dataclass(frozen=True)
 class SweepEstimate:
     """Estimated cost of the runs of a sweep still to compute.
@@ -147,7 +159,8 @@ class SweepEstimate:
         core_seconds: their estimated compute time on one core, spin-ups included.
         workers: worker processes they are spread over (None: unknown, a scheduler's).
         load: the machine's load average when estimated (other work competing for cores).
-        cores: the machine's cores.
+        cores: the cores this process may use.
+        threads: threads of each worker's runs (``pde-rotor sweep --threads``).
     """
 
     runs: int
@@ -155,34 +168,48 @@ class SweepEstimate:
     workers: int | None
     load: float = 0.0
     cores: int = 1
+    threads: int = 1
+
+    @property
+    def busy_workers(self) -> int:
+        """Workers that get runs (no more than there are runs)."""
+        return min(self.workers or 1, self.runs or 1)
 
     @property
     def slowdown(self) -> float:
         """How much slower each worker runs on a machine busy with other work: the
-        processes wanting a core (the load already there plus the workers) per core, at
-        least 1."""
+        threads wanting a core (the load already there plus the workers' threads) per
+        core, at least 1."""
         if not self.workers:
             return 1.0
-        return max(1.0, (self.load + min(self.workers, self.runs or 1)) / self.cores)
+        return max(1.0, (self.load + self.busy_workers * self.threads) / self.cores)
+
+    @property
+    def wall_seconds(self) -> float:
+        """Estimated wall time: the core-seconds spread over the workers, each run
+        :func:`thread_speedup` faster on its threads, times :attr:`slowdown`."""
+        return (
+            self.core_seconds / (self.busy_workers * thread_speedup(self.threads)) * self.slowdown
+        )
 
     def describe(self) -> str:
         """``about 52 min of one core, 26 min on 2 workers (...)``."""
         text = f"about {format_duration(self.core_seconds)} of one core"
         if self.workers and self.runs:
-            wall = self.core_seconds / min(self.workers, self.runs) * self.slowdown
             busy = (
                 f" at the machine's present load of {self.load:.1f} on {self.cores} cores"
                 if self.slowdown > 1
                 else ""
             )
-            text += f", {format_duration(wall)} on {self.workers} workers{busy}"
+            each = f" of {self.threads} threads" if self.threads > 1 else ""
+            text += f", {format_duration(self.wall_seconds)} on {self.workers} workers{each}{busy}"
         return (
             f"{text} (an estimate from measured costs per step; restarts assumed to commit "
             f"{COMMIT_TIME:g} time unit after their release)"
         )
 
 
-def estimate_sweep(runs: Sequence[Run], workers: int | None) -> SweepEstimate:
+def estimate_sweep(runs: Sequence[Run], workers: int | None, threads: int = 1) -> SweepEstimate:
     """Estimated cost of computing `runs` of one sweep (no trackers, no movie).
 
     * protocol estimator: t_end of each run (:func:`protocol_seconds`);
@@ -195,6 +222,7 @@ def estimate_sweep(runs: Sequence[Run], workers: int | None) -> SweepEstimate:
         runs: the runs to compute (:meth:`pde_rotor.sweep.Sweep.runs`, finished ones
             left out).
         workers: worker processes (None: unknown; spin-ups are counted once).
+        threads: threads of each worker's runs.
     """
     from . import RestartEstimator, stop_group, warm_key
 
@@ -227,8 +255,10 @@ def estimate_sweep(runs: Sequence[Run], workers: int | None) -> SweepEstimate:
         warm[spin_up] = warm.get(spin_up, 0) + 1
         if warm[spin_up] <= (workers or 1):
             total += steps(run.estimator["warmup"], config) * step_seconds(config)
+    from .execution import usable_cores
+
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else 0.0
-    return SweepEstimate(len(runs), total, workers, load, os.cpu_count() or 1)
+    return SweepEstimate(len(runs), total, workers, load, usable_cores(), threads)
 
 
 def format_duration(seconds: float) -> str:

@@ -9,7 +9,6 @@ to dask tasks (:func:`.tasks.execute_group`) or to ensemble batches
 
 from __future__ import annotations
 
-import os
 import signal
 import threading
 from collections.abc import Callable, Iterable, Sequence
@@ -20,6 +19,7 @@ from pathlib import Path
 from typing import Any
 
 from ..backends import resolve_backend, run_ensemble
+from ..solver.threads import usable_cores
 from .batch import EnsembleRunner, batches, execute_batch
 from .plan import Run, Sweep
 from .spec import SweepError
@@ -46,10 +46,27 @@ class SweepOutcome:
     sweep_dir: Path
 
 
-def usable_cores() -> int:
-    """CPU cores this process may run on (all cores where affinity is unknown)."""
-    affinity = getattr(os, "sched_getaffinity", None)
-    return len(affinity(0)) if affinity is not None else os.cpu_count() or 1
+def local_workers(workers: int | None, threads: int = 1) -> int:
+    """The worker processes of a LocalCluster whose runs use `threads` threads each:
+    `workers`, by default as many as the usable cores hold.
+
+    Raises:
+        SweepError: workers x threads exceed the usable cores (one line, what to give).
+    """
+    cores = usable_cores()
+    n = workers or max(1, cores // threads)
+    if n * threads > cores:
+        fix = (
+            f"--workers {cores // threads} with --threads {threads}"
+            if threads <= cores
+            else f"--threads {cores}"
+        )
+        msg = (
+            f"--workers {n} x --threads {threads} = {n * threads} threads exceed the "
+            f"{cores} usable cores of this machine: give at most {fix}"
+        )
+        raise SweepError(msg)
+    return n
 
 
 CONNECT_TIMEOUT = 5.0
@@ -91,13 +108,14 @@ def check_scheduler(scheduler: str, timeout: float | None = None) -> None:
     connect(scheduler, timeout).close()
 
 
-def _start_client(scheduler: str | None, workers: int | None) -> tuple[Any, Any]:
-    """A dask Client on the given scheduler, or on a new LocalCluster of processes."""
+def _start_client(scheduler: str | None, workers: int | None, threads: int) -> tuple[Any, Any]:
+    """A dask Client on the given scheduler, or on a new LocalCluster of processes
+    (:func:`local_workers`)."""
     from distributed import Client, LocalCluster
 
     if scheduler:
         return connect(scheduler), None
-    n = workers or usable_cores()
+    n = local_workers(workers, threads)
     # Ctrl-C in a terminal signals the whole process group. The worker processes inherit
     # an ignored SIGINT (an ignored signal stays ignored across exec, and Python then
     # installs no KeyboardInterrupt handler), so only this process handles it: it closes
@@ -140,6 +158,7 @@ def run_sweep(
     *,
     scheduler: str | None = None,
     workers: int | None = None,
+    threads: int = 1,
     progress: bool = True,
     ensemble: EnsembleRunner | None = None,
     batch_size: int = 256,
@@ -156,7 +175,11 @@ def run_sweep(
         sweep_dir: directory of the results (created; reused to resume).
         scheduler: address of a running dask scheduler (e.g. of a dask-jobqueue
             SLURMCluster); None starts a LocalCluster of worker processes.
-        workers: number of LocalCluster workers (default: the usable CPU cores).
+        workers: number of LocalCluster workers (default: the usable CPU cores over
+            `threads`).
+        threads: threads of each worker's runs (their ``solver.threads``,
+            :func:`.tasks.execute_group`); workers x threads may not exceed the usable
+            cores (:func:`local_workers`).
         progress: show a tqdm bar counting finished runs.
         ensemble: the batch runner (``run_ensemble`` of a backend); given, it computes
             the runs whatever ``solver.backend`` says (default: the GPU backend when
@@ -168,6 +191,7 @@ def run_sweep(
         and are retried by the next call.
 
     Raises:
+        SweepError: workers x threads exceed the usable cores (before anything runs).
         StoreBusyError: another process is running a sweep in `sweep_dir` (one line, before
             anything runs or is written).
         StoreError: the store cannot be written (the runs stored so far are kept).
@@ -176,6 +200,8 @@ def run_sweep(
         sweep = Sweep.load(sweep)
     if ensemble is None and sweep_backend(sweep) == "gpu":
         ensemble = partial(run_ensemble, backend="gpu")
+    if ensemble is None and not scheduler:
+        workers = local_workers(workers, threads)
     with lock(sweep_dir):
         sweep_dir = prepare(sweep, sweep_dir)
         runs = sweep.runs()
@@ -193,7 +219,7 @@ def run_sweep(
         outcome = SweepOutcome(len(runs), len(runs) - len(todo), 0, [], sweep_dir)
         if todo:
             with RunLog(sweep_dir) as log:
-                _compute(sweep, groups, outcome, log, submit, scheduler, workers, progress)
+                _compute(sweep, groups, outcome, log, submit, scheduler, workers, threads, progress)
     return outcome
 
 
@@ -234,6 +260,7 @@ def _compute(
     submit: Callable[[list[Run]], Future] | None,
     scheduler: str | None,
     workers: int | None,
+    threads: int,
     progress: bool,
 ) -> None:
     """Compute `groups` (dask tasks, or `submit` in this process) and append each result
@@ -253,9 +280,10 @@ def _compute(
         if submit is None:
             from distributed import as_completed
 
-            client, cluster = _start_client(scheduler, workers)
+            client, cluster = _start_client(scheduler, workers, threads)
             futures = [
-                client.submit(execute_group, group, key=f"runs-{group[0].key}") for group in groups
+                client.submit(execute_group, group, threads, key=f"runs-{group[0].key}")
+                for group in groups
             ]
             by_key = {f.key: g for f, g in zip(futures, groups, strict=True)}
             done: Iterable[tuple[list[Run], Any]] = (

@@ -14,9 +14,12 @@ from collections import OrderedDict
 from collections.abc import Sequence
 from typing import Any
 
+import numba
+
 from ..backends import cpu
 from ..config import RotorConfig
 from ..solver.simulation import Simulation
+from ..solver.threads import running_on
 from .estimators import check_spin_up, protocol_runs, restart_runs, spin_up, timed_contents
 from .plan import Run
 from .spec import RestartEstimator
@@ -65,19 +68,21 @@ def execute(run: Run) -> dict[str, Any]:
     return execute_group([run])[0]
 
 
-def execute_group(runs: Sequence[Run]) -> list[dict[str, Any]]:
+def execute_group(runs: Sequence[Run], threads: int = 1) -> list[dict[str, Any]]:
     """Run a group of runs (one stop shared for the bank estimator); their file contents.
 
     The estimators of :mod:`.estimators`, the code the ensemble batches run, with the
     CPU backend: a restart or bank group advances from one step it reads to the next
     and ends its release once committed. The wall time of a group is split evenly among
-    its runs.
+    its runs. The runs step on `threads` threads (their ``solver.threads`` is null:
+    numba's count, set here; at most the threads numba may start in this process).
     """
-    if runs[0].estimator["kind"] == "protocol":
-        configs = [RotorConfig.model_validate(run.config) for run in runs]
-        keys = [run.key for run in runs]
-        return timed_contents(runs, lambda: protocol_runs(configs, keys, cpu.run_ensemble))
-    return timed_contents(runs, lambda: restart_runs(runs, cpu.run_ensemble, every_step=False))
+    with running_on(min(threads, numba.config.NUMBA_NUM_THREADS)):
+        if runs[0].estimator["kind"] == "protocol":
+            configs = [RotorConfig.model_validate(run.config) for run in runs]
+            keys = [run.key for run in runs]
+            return timed_contents(runs, lambda: protocol_runs(configs, keys, cpu.run_ensemble))
+        return timed_contents(runs, lambda: restart_runs(runs, cpu.run_ensemble, every_step=False))
 
 
 def stop_group(run: Run) -> str:

@@ -19,6 +19,7 @@ import pytest
 
 from pde_rotor.config import ConfigError, RotorConfig
 from pde_rotor.model.pde import RotorPDE
+from pde_rotor.solver import threads
 from pde_rotor.solver.rotor import FusedStepper, make_fused_stepper
 from pde_rotor.solver.simulation import Simulation
 from pde_rotor.solver.threads import resolve_threads, running_on
@@ -58,9 +59,25 @@ def test_two_threads_give_the_bits_of_one(
     np.testing.assert_array_equal(two_rotor, one_rotor)
 
 
-def test_thread_count_is_numbas_by_default_and_bounded_by_it() -> None:
-    """null takes numba's count; more than numba may start is refused naming the key."""
-    assert resolve_threads(None) == numba.get_num_threads()
+def test_default_takes_the_free_cores_and_a_request_is_bounded_by_numba(
+    monkeypatch, tmp_path
+) -> None:
+    """null: the usable cores less the tasks other processes run now, at most numba's
+    count; more threads than numba may start are refused in one line naming the key."""
+    load = tmp_path / "loadavg"
+    monkeypatch.setattr(threads, "LOADAVG", load)
+    monkeypatch.setattr(threads, "usable_cores", lambda: 4)
+    load.write_text("1.31 0.92 0.80 3/412 1234\n")  # this process and two others
+    assert threads.free_cores() == 2
+    load.write_text("7.0 7.0 7.0 9/412 1234\n")
+    assert threads.free_cores() == 1
+    load.write_text("0.01 0.02 0.00 1/412 1234\n")
+    assert threads.free_cores() == 4
+    load.unlink()  # not Linux: every usable core
+    assert threads.free_cores() == 4
+    assert 1 <= resolve_threads(None) <= numba.get_num_threads()
+    with running_on(1):
+        assert resolve_threads(None) == 1  # a sweep worker's runs
     assert resolve_threads(1) == 1
     limit = numba.config.NUMBA_NUM_THREADS
     with pytest.raises(ConfigError, match=r"^solver\.threads = \d+: numba starts at most"):

@@ -215,3 +215,16 @@ def test_a_sweep_estimate_counts_the_load_already_on_the_machine():
         busy.describe()
     )
     assert SweepEstimate(runs=100, core_seconds=3600.0, workers=None, load=5.0).slowdown == 1.0
+
+
+def test_a_sweep_estimate_counts_the_threads_of_each_worker():
+    """One worker of two threads on two idle cores: each run steps thread_speedup(2)
+    faster; with a load of 1 already there, three threads share the two cores."""
+    from pde_rotor.sweep.cost import SweepEstimate, thread_speedup
+
+    assert thread_speedup(1) == 1.0 and 1.0 < thread_speedup(2) < 2.0
+    idle = SweepEstimate(runs=10, core_seconds=3600.0, workers=1, cores=2, threads=2)
+    busy = SweepEstimate(runs=10, core_seconds=3600.0, workers=1, load=1.0, cores=2, threads=2)
+    assert idle.wall_seconds == pytest.approx(3600.0 / thread_speedup(2))
+    assert busy.slowdown == 1.5
+    assert "on 1 workers of 2 threads (" in idle.describe()

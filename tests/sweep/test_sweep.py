@@ -39,6 +39,7 @@ from pde_rotor.sweep import (
     execute_group,
     format_table,
     gather,
+    local_workers,
     mcnemar_p,
     read_runs,
     report,
@@ -46,6 +47,7 @@ from pde_rotor.sweep import (
     run_sweep,
     shipped_base,
     stop_group,
+    usable_cores,
     warm_state,
 )
 
@@ -508,12 +510,30 @@ def test_protocol_report_says_p_is_inversions_over_m(tmp_path):
     assert row.split()[4] == "2/2"
 
 
-def test_one_worker_gives_the_same_dataset_as_two(two_worker_sweep, tmp_path):
+def test_one_worker_of_two_threads_gives_the_same_dataset_as_two_workers(
+    two_worker_sweep, tmp_path
+):
+    """Neither the number of workers nor the threads of their runs change a result."""
     _, ds2 = two_worker_sweep
     path = write_sweep(tmp_path / "tiny.yaml", TINY_SWEEP)
-    outcome = run_sweep(path, tmp_path / "out", workers=1, progress=False)
+    outcome = run_sweep(path, tmp_path / "out", workers=1, threads=2, progress=False)
     assert outcome.computed == 12, outcome.failed
     xr.testing.assert_identical(report(tmp_path / "out", echo=False), ds2)
+
+
+def test_workers_times_threads_fit_the_cores(monkeypatch):
+    """By default as many workers as the cores hold; more threads than cores are refused
+    in one line that says what to give."""
+    from pde_rotor.sweep import execution
+
+    monkeypatch.setattr(execution, "usable_cores", lambda: 4)
+    assert local_workers(None) == 4
+    assert local_workers(None, 2) == 2
+    assert local_workers(3, 1) == 3
+    with pytest.raises(SweepError, match=r"^--workers 3 x --threads 2 = 6 threads exceed the 4 "):
+        local_workers(3, 2)
+    with pytest.raises(SweepError, match=r"give at most --threads 4$"):
+        local_workers(None, 5)
 
 
 def test_resume_after_a_killed_sweep(two_worker_sweep, tmp_path):
@@ -640,9 +660,21 @@ def test_cli_dry_run_counts_runs_and_estimates_the_cost(two_worker_sweep, tmp_pa
     fresh = runner.invoke(app, [*args, str(tmp_path / "new"), "--set", "samples=2"])
     assert fresh.exit_code == 0, fresh.output
     assert "2 points x 4 runs = 8 runs, 0 already done" in fresh.stdout
-    assert "to compute: 8 runs on a LocalCluster of 2 worker processes" in fresh.stdout
+    assert "to compute: 8 runs on a LocalCluster of 2 worker processes, 1 thread each" in (
+        fresh.stdout
+    )
     assert "estimated cost: about " in fresh.stdout and "estimate" in fresh.stdout
     assert not (tmp_path / "new").exists()
+    threaded = runner.invoke(
+        app, ["sweep", str(path), "--dry-run", "--threads", "2", "-o", str(tmp_path / "new")]
+    )
+    assert threaded.exit_code == 0, threaded.output
+    cores = usable_cores()
+    assert f"LocalCluster of {cores // 2} worker process" in threaded.stdout
+    assert f"2 threads each ({cores // 2 * 2} of the {cores} usable cores)" in threaded.stdout
+    crowded = runner.invoke(app, [*args, str(tmp_path / "new"), "--threads", str(cores)])
+    assert crowded.exit_code == 2
+    assert f"--workers 2 x --threads {cores} = {2 * cores} threads exceed" in crowded.output
     grown = runner.invoke(app, [*args, str(sweep_dir), "--set", "samples=4"])
     assert grown.exit_code == 0, grown.output
     assert "16 runs, 12 already done" in grown.stdout and "to compute: 4 runs" in grown.stdout
