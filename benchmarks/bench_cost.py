@@ -1,14 +1,16 @@
 """Measure the constants of the cost estimate (pde_rotor.sweep.cost) on this machine.
 
-Times the fused solver on the paper's grid (dx = delta = 0.025) and on the coarse grid
-(dx = delta = 0.05) of a turning rotor, fits the cost per interior cell and per support
-cell of one step to the two, checks the fit on a third grid (dx = delta = 1/30); times
-a stopped plate on the same grids (F and G are not recomputed: only the rotor integrals
-cost on the support cells) and fits its cost per support cell with the interior cost of
-the turning fit; and times the movie frames of configs/quickstart.yaml.
-pde_rotor/sweep/cost.py holds the constants fitted to the README's 0.29 ms/step on the paper's
-grid and the coarse/paper ratio this script measures (0.44-0.50), and the stopped/turning
-ratio it measures; a machine that is faster or slower scales them all.
+Times the fused solver on the paper's grid (dx = delta = 0.025), the coarse grid
+(dx = delta = 0.05) and a third (dx = delta = 1/30) of a turning rotor; takes the cost
+per interior cell of one step from the Euler update of the fields on the paper's grid,
+and the cost per support cell as the mean over the three grids of the rest of a step;
+prints how well the two give each grid's step; does the same for a stopped plate (F and
+G are not recomputed: only the rotor integrals cost on the support cells); and times the
+movie frames of configs/quickstart.yaml. The steps run on one thread (solver.threads: 1)
+and are timed in CPU seconds of that thread, which other work on the machine does not
+inflate (it only delays them): the constants are for one idle core, and the sweep
+estimate adds the load it finds. pde_rotor/sweep/cost.py holds the constants it measured on the project's machine
+(docs/results.md); a machine that is faster or slower scales them all.
 
 Run:  python benchmarks/bench_cost.py [--steps 3000] [--scheme consistent|paper]
 """
@@ -19,10 +21,10 @@ import argparse
 import time
 from pathlib import Path
 
-import numpy as np
-
 from pde_rotor import Simulation, run
 from pde_rotor.config import load_config, validate_config
+from pde_rotor.kernels.cpu import euler_fields
+from pde_rotor.kernels.records import make_record
 from pde_rotor.sweep.cost import (
     SECONDS_PER_CELL_STEP,
     SECONDS_PER_STOPPED_SUPPORT_CELL_STEP,
@@ -47,13 +49,48 @@ def ms_per_step(
             "geometry": {"smoothing": dx},
             "protocol": protocol,
             "numerics": {"scheme": scheme},
+            "solver": {"threads": 1},
         }
     )
     sim = Simulation(config)
     sim.run(50 * dt)  # compile, or load the cached kernel
-    start = time.perf_counter()
+    start = time.thread_time()
     sim.run(sim.t + n_steps * dt)
-    return 1e3 * (time.perf_counter() - start) / n_steps, cell_counts(config)
+    return 1e3 * (time.thread_time() - start) / n_steps, cell_counts(config)
+
+
+def euler_seconds(scheme: str, calls: int = 300) -> float:
+    """CPU seconds of one Euler update of the fields on the paper's grid."""
+    config = validate_config({"numerics": {"scheme": scheme}, "protocol": {"cycles": 0}})
+    sim = Simulation(config)
+    sim.run(50 * config.grid.dt)
+    pde = sim.pde
+    cur = sim.state.data.reshape(-1).copy()
+    nxt = cur.copy()
+    record = make_record(config, pde.scheme, config.grid.dt)
+    args = (cur, nxt, pde.F.reshape(-1), pde.G.reshape(-1), pde.domain.arrays(), record, 1.0)
+    euler_fields(*args)
+    start = time.thread_time()
+    for _ in range(calls):
+        euler_fields(*args)
+    return (time.thread_time() - start) / calls
+
+
+def fit_support(
+    measured: dict[str, tuple[float, tuple[int, int]]], per_cell: float, what: str
+) -> float:
+    """The mean support cost per cell-step over the grids, given the interior cost, and
+    each grid's step predicted by the two."""
+    each = {
+        name: (1e-3 * ms - interior * per_cell) / support
+        for name, (ms, (interior, support)) in measured.items()
+    }
+    per_support = sum(each.values()) / len(each)
+    print(f"fit, {what}: {per_support:.3g} s per support cell-step (mean of the grids)")
+    for name, (ms, (interior, support)) in measured.items():
+        predicted = 1e3 * (interior * per_cell + support * per_support)
+        print(f"  {name:<7} predicted {predicted:.3f} ms/step, measured {ms:.3f}")
+    return per_support
 
 
 def main() -> None:
@@ -66,29 +103,21 @@ def main() -> None:
     }
     for name, (ms, (interior, support)) in measured.items():
         print(f"{name:<7} {interior:6d} interior, {support:5d} support cells: {ms:.3f} ms/step")
-    rows = [measured["paper"], measured["coarse"]]
-    matrix = np.array([cells for _, cells in rows], dtype=float)
-    per_cell, per_support = np.linalg.solve(matrix, [1e-3 * ms for ms, _ in rows])
-    print(f"fit: {per_cell:.3g} s per interior cell-step, {per_support:.3g} s per support one")
-    per_support_now = SECONDS_PER_SUPPORT_CELL_STEP[args.scheme]
-    print(
-        f"pde_rotor.sweep.cost ({args.scheme}): "
-        f"{SECONDS_PER_CELL_STEP:.3g} and {per_support_now:.3g}"
-    )
-    ms, (interior, support) = measured["third"]
-    predicted = 1e3 * (interior * per_cell + support * per_support)
-    print(f"third grid: predicted {predicted:.3f} ms/step, measured {ms:.3f}")
+    per_cell = euler_seconds(args.scheme) / measured["paper"][1][0]
+    print(f"interior: {per_cell:.3g} s per cell-step (the Euler update on the paper's grid)")
+    per_support = fit_support(measured, per_cell, "turning plate")
+    now = SECONDS_PER_SUPPORT_CELL_STEP[args.scheme]
+    print(f"pde_rotor.sweep.cost ({args.scheme}): {SECONDS_PER_CELL_STEP:.3g} and {now:.3g}")
     stopped = {
-        name: ms_per_step(dx, dt, args.steps, args.scheme, stopped=True)[0]
+        name: ms_per_step(dx, dt, args.steps, args.scheme, stopped=True)
         for name, (dx, dt) in GRIDS.items()
     }
-    for name, ms in stopped.items():
+    for name, (ms, _) in stopped.items():
         ratio = ms / measured[name][0]
         print(f"{name:<7} stopped plate: {ms:.3f} ms/step, {ratio:.2f} of a turning one")
-    fit = [(measured[name][1], stopped[name]) for name in ("paper", "coarse")]
-    per_stopped = sum((1e-3 * ms - i * per_cell) / s for (i, s), ms in fit) / len(fit)
+    fit_support(stopped, per_cell, "stopped plate")
     now = SECONDS_PER_STOPPED_SUPPORT_CELL_STEP[args.scheme]
-    print(f"fit: {per_stopped:.3g} s per support cell-step of a stopped plate (now {now:.3g})")
+    print(f"pde_rotor.sweep.cost ({args.scheme}), stopped plate: {now:.3g}")
     config = load_config(QUICKSTART, ["output.progress=false"])
     with_movie = run(config, "runs/bench_cost", movie=True, overwrite=True).wall_time
     without = run(config, "runs/bench_cost", movie=False, overwrite=True).wall_time

@@ -4,24 +4,24 @@ One step of the fused solver updates c and v on every cell inside the disk of ra
 (a cost per *interior* cell) and, while the plate turns, recomputes F and G and the
 rotor integrals on the cells within reach of the plate (a cost per *support* cell, the
 disk of radius :attr:`pde_rotor.model.geometry.RotorShape.support_radius`, which grows with the
-edge width delta). The two constants below are fitted to two grids:
+edge width delta). ``benchmarks/bench_cost.py`` measures the constants below on one
+thread, in CPU seconds (which the load of other work does not inflate):
 
-* the paper's grid, dx = delta = 0.025 (45 244 interior, 5 824 support cells): 0.29 ms
-  per step with the ``paper`` scheme (README, ``benchmarks/bench_solver.py``), 1.4 times
-  that with the ``consistent`` one (the same benchmark's ratio);
-* the coarse grid, dx = delta = 0.05 (11 304 interior, 3 436 support cells): 0.14 ms
-  per step, the 0.44-0.50 of the paper grid's time that ``benchmarks/bench_cost.py``
-  measures on the same machine.
+* the interior cost is the Euler update's, 0.038 ms for the 45 244 interior cells of the
+  paper's grid (dx = delta = 0.025);
+* the support cost of each scheme is the rest of a turning plate's step per support cell,
+  the mean over three grids (dx = delta = 0.025, 0.05 and 1/30: 5 834, 3 441 and 4 559
+  support cells), which it gives to within 13 % (paper: 0.101, 0.061, 0.089 ms/step;
+  consistent: 0.169, 0.105, 0.134).
 
 A cost per cell alone would put the coarse grid at a quarter of the paper's; it costs
-about half, because the support shrinks less than the disk. A stopped plate keeps its F
-and G, so on the support cells a stop step costs only the rotor integrals (the torque of
-Eq. (torque) is still computed every step): a third constant per scheme
-(:data:`SECONDS_PER_STOPPED_SUPPORT_CELL_STEP` says where each was measured).
-``benchmarks/bench_cost.py`` re-measures the turning constants and predicts a third
-grid (dx = delta = 1/30) within 3-10 %, and times a stopped plate. Every figure here
-is an estimate for one core like the project's (numba, single-threaded); other
-machines, and a loaded one, differ by their speed.
+more than half, because the support shrinks less than the disk. A stopped plate keeps
+its F and G, so on the support cells a stop step costs only the rotor integrals (the
+torque of Eq. (torque) is still computed every step): a third constant per scheme, fitted
+alike (paper: 0.062, 0.023, 0.041 ms/step; consistent: 0.090, 0.044, 0.066). Every figure
+here is for one idle core of the project's machine (docs/results.md, 2026-11-26); the
+sweep estimate adds the load it finds on the machine (:class:`SweepEstimate`) and the
+threads of each run (:func:`thread_speedup`). Other machines differ by their speed.
 """
 
 from __future__ import annotations
@@ -38,19 +38,15 @@ from ..model.geometry import RotorShape
 if TYPE_CHECKING:
     from . import Run
 
-SECONDS_PER_CELL_STEP = 2.0e-9
+SECONDS_PER_CELL_STEP = 8.4e-10
 """Wall time of one step per interior cell (field update of Eqs. (eqc), (eqv))."""
-SECONDS_PER_SUPPORT_CELL_STEP: dict[str, float] = {"paper": 3.4e-8, "consistent": 5.4e-8}
-"""Wall time of one step per support cell (F, G and the rotor integrals), per
-``numerics.scheme``: the consistent scheme's filtered F and G and contour torque cost
-1.4 times the paper scheme's step on the paper's grid (``benchmarks/bench_solver.py``,
-ratio (c)/(a)), all of it on the support cells."""
-SECONDS_PER_STOPPED_SUPPORT_CELL_STEP: dict[str, float] = {"paper": 1.2e-8, "consistent": 2.6e-8}
+SECONDS_PER_SUPPORT_CELL_STEP: dict[str, float] = {"paper": 1.3e-8, "consistent": 2.45e-8}
+"""Wall time of one step of a turning plate per support cell (F, G and the rotor
+integrals), per ``numerics.scheme``: the consistent scheme's filtered F and G and contour
+torque cost 1.7 times the paper scheme's step on the paper's grid."""
+SECONDS_PER_STOPPED_SUPPORT_CELL_STEP: dict[str, float] = {"paper": 4.1e-9, "consistent": 9.6e-9}
 """Wall time of one step of a stopped plate per support cell (the rotor integrals only;
-F and G keep the stop angle), per ``numerics.scheme``: paper from
-``benchmarks/bench_cost.py --scheme paper`` ("stopped plate", 1.24e-8); consistent from
-the wall times of 800 stored fig5 restarts (docs/statistics.md, "Dry run"), which the
-benchmark's second-long timings on a shared machine scatter around (2.2e-8, 7.7e-8)."""
+F and G keep the stop angle), per ``numerics.scheme``."""
 SECONDS_PER_MOVIE_FRAME = 0.07
 """Wall time to render and encode one movie frame at ``output.movie_dpi = 100``
 (configs/quickstart.yaml: 215 frames add 15 s)."""
@@ -202,7 +198,8 @@ class SweepEstimate:
                 else ""
             )
             each = f" of {self.threads} threads" if self.threads > 1 else ""
-            text += f", {format_duration(self.wall_seconds)} on {self.workers} workers{each}{busy}"
+            workers = f"{self.workers} worker{'s' if self.workers != 1 else ''}"
+            text += f", {format_duration(self.wall_seconds)} on {workers}{each}{busy}"
         return (
             f"{text} (an estimate from measured costs per step; restarts assumed to commit "
             f"{COMMIT_TIME:g} time unit after their release)"

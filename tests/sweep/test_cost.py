@@ -161,7 +161,7 @@ def test_restart_sweep_costs_stops_releases_and_one_spin_up_per_worker(workers):
     estimate = estimate_sweep(sweep.runs(), workers)
     assert estimate.core_seconds == pytest.approx(expected)
     assert estimate.runs == 12
-    assert f"on {workers} workers" in estimate.describe()
+    assert f"on {workers} worker{'s' if workers > 1 else ''}" in estimate.describe()
 
 
 def test_bank_sweep_shares_the_stop_across_the_noise_axis():
@@ -227,4 +227,4 @@ def test_a_sweep_estimate_counts_the_threads_of_each_worker():
     busy = SweepEstimate(runs=10, core_seconds=3600.0, workers=1, load=1.0, cores=2, threads=2)
     assert idle.wall_seconds == pytest.approx(3600.0 / thread_speedup(2))
     assert busy.slowdown == 1.5
-    assert "on 1 workers of 2 threads (" in idle.describe()
+    assert "on 1 worker of 2 threads (" in idle.describe()
