@@ -9,8 +9,9 @@ G are not recomputed: only the rotor integrals cost on the support cells); and t
 movie frames of configs/quickstart.yaml. The steps run on one thread (solver.threads: 1)
 and are timed in CPU seconds of that thread, which other work on the machine does not
 inflate (it only delays them): the constants are for one idle core, and the sweep
-estimate adds the load it finds. pde_rotor/sweep/cost.py holds the constants it measured on the project's machine
-(docs/results.md); a machine that is faster or slower scales them all.
+estimate adds the load it finds. pde_rotor/sweep/cost.py holds the constants it measured
+on the project's machine (docs/results.md); a machine that is faster or slower scales
+them all.
 
 Run:  python benchmarks/bench_cost.py [--steps 3000] [--scheme consistent|paper]
 """
@@ -105,7 +106,7 @@ def main() -> None:
         print(f"{name:<7} {interior:6d} interior, {support:5d} support cells: {ms:.3f} ms/step")
     per_cell = euler_seconds(args.scheme) / measured["paper"][1][0]
     print(f"interior: {per_cell:.3g} s per cell-step (the Euler update on the paper's grid)")
-    per_support = fit_support(measured, per_cell, "turning plate")
+    fit_support(measured, per_cell, "turning plate")
     now = SECONDS_PER_SUPPORT_CELL_STEP[args.scheme]
     print(f"pde_rotor.sweep.cost ({args.scheme}): {SECONDS_PER_CELL_STEP:.3g} and {now:.3g}")
     stopped = {
