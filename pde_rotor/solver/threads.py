@@ -28,8 +28,9 @@ from ..config import ConfigError
 LOADAVG = Path("/proc/loadavg")
 """Linux's load file: its fourth field is running / existing tasks (threads) right now."""
 SAMPLES = 5
-"""Readings of :data:`LOADAVG` per decision, 1 ms apart; the fewest running tasks counts
-(a process that only wakes for a moment is not taken for one that keeps a core busy)."""
+"""Readings of :data:`LOADAVG` per decision on the threads, 1 ms apart; the fewest
+running tasks counts (a process that only wakes for a moment is not taken for one that
+keeps a core busy)."""
 
 
 def usable_cores() -> int:
@@ -38,23 +39,40 @@ def usable_cores() -> int:
     return len(affinity(0)) if affinity is not None else os.cpu_count() or 1
 
 
-def free_cores() -> int:
-    """The usable cores minus the tasks of other processes running now (at least 1).
-
-    Counted from :data:`LOADAVG` (the reading process itself is one of its running
-    tasks), the fewest of :data:`SAMPLES` readings; all usable cores where the file
-    cannot be read (not Linux).
-    """
-    cores = usable_cores()
-    running = []
-    for k in range(SAMPLES):
+def other_tasks(samples: int = SAMPLES, pause: float = 1e-3) -> list[int] | None:
+    """Tasks of other processes running now, per reading of :data:`LOADAVG` (the reading
+    process itself is one of its running tasks), `pause` seconds apart; None where the
+    file cannot be read (not Linux)."""
+    counts = []
+    for k in range(samples):
         if k:
-            time.sleep(1e-3)
+            time.sleep(pause)
         try:
-            running.append(int(LOADAVG.read_text().split()[3].split("/")[0]))
+            counts.append(int(LOADAVG.read_text().split()[3].split("/")[0]) - 1)
         except (OSError, IndexError, ValueError):
-            return cores
-    return max(1, min(cores, cores - (min(running) - 1)))
+            return None
+    return counts
+
+
+def free_cores() -> int:
+    """The usable cores minus the tasks of other processes running now (at least 1), the
+    fewest of :data:`SAMPLES` readings (:func:`other_tasks`); all usable cores where they
+    cannot be read."""
+    cores = usable_cores()
+    others = other_tasks()
+    if others is None:
+        return cores
+    return max(1, min(cores, cores - min(others)))
+
+
+def other_load(samples: int = 50, pause: float = 0.01) -> float:
+    """The cores other processes keep busy now: the mean of `samples` readings of their
+    running tasks over half a second (:func:`other_tasks`); where they cannot be read, the
+    1-minute load average (which also counts this process's own recent work)."""
+    others = other_tasks(samples, pause)
+    if others is None:
+        return os.getloadavg()[0] if hasattr(os, "getloadavg") else 0.0
+    return sum(others) / len(others)
 
 
 def resolve_threads(requested: int | None) -> int:

@@ -27,13 +27,13 @@ threads of each run (:func:`thread_speedup`). Other machines differ by their spe
 from __future__ import annotations
 
 import math
-import os
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from ..config import RotorConfig
 from ..model.geometry import RotorShape
+from ..solver.threads import other_load, usable_cores
 
 if TYPE_CHECKING:
     from . import Run
@@ -154,7 +154,8 @@ class SweepEstimate:
         runs: runs to compute.
         core_seconds: their estimated compute time on one core, spin-ups included.
         workers: worker processes they are spread over (None: unknown, a scheduler's).
-        load: the machine's load average when estimated (other work competing for cores).
+        load: the cores other work keeps busy when estimated
+            (:func:`pde_rotor.solver.threads.other_load`).
         cores: the cores this process may use.
         threads: threads of each worker's runs (``pde-rotor sweep --threads``).
     """
@@ -174,8 +175,7 @@ class SweepEstimate:
     @property
     def slowdown(self) -> float:
         """How much slower each worker runs on a machine busy with other work: the
-        threads wanting a core (the load already there plus the workers' threads) per
-        core, at least 1."""
+        threads wanting a core (the other work's plus the workers') per core, at least 1."""
         if not self.workers:
             return 1.0
         return max(1.0, (self.load + self.busy_workers * self.threads) / self.cores)
@@ -252,10 +252,7 @@ def estimate_sweep(runs: Sequence[Run], workers: int | None, threads: int = 1) -
         warm[spin_up] = warm.get(spin_up, 0) + 1
         if warm[spin_up] <= (workers or 1):
             total += steps(run.estimator["warmup"], config) * step_seconds(config)
-    from .execution import usable_cores
-
-    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else 0.0
-    return SweepEstimate(len(runs), total, workers, load, usable_cores(), threads)
+    return SweepEstimate(len(runs), total, workers, other_load(), usable_cores(), threads)
 
 
 def format_duration(seconds: float) -> str:

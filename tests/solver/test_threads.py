@@ -71,6 +71,7 @@ def test_default_takes_the_free_cores_and_a_request_is_bounded_by_numba(
     assert threads.free_cores() == 2
     load.write_text("7.0 7.0 7.0 9/412 1234\n")
     assert threads.free_cores() == 1
+    assert threads.other_load(samples=3, pause=0.0) == 8.0  # what a sweep estimate counts
     load.write_text("0.01 0.02 0.00 1/412 1234\n")
     assert threads.free_cores() == 4
     load.unlink()  # not Linux: every usable core
