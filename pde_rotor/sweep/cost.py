@@ -50,6 +50,19 @@ F and G keep the stop angle), per ``numerics.scheme``."""
 SECONDS_PER_MOVIE_FRAME = 0.07
 """Wall time to render and encode one movie frame at ``output.movie_dpi = 100``
 (configs/quickstart.yaml: 215 frames add 15 s)."""
+SECONDS_PER_CALL = 1.5e-3
+"""Set-up of one call of the CPU ensemble backend per member (a Simulation and its py-pde
+stepper), besides :data:`SECONDS_PER_CALL_CELL` per interior cell: 2.0 ms on the coarse
+grid, 3.4 ms on the paper's (``pde_rotor.backends.cpu.run_ensemble`` of one step). A
+restart calls it at each commitment check."""
+SECONDS_PER_CALL_CELL = 4.1e-8
+"""The part of :data:`SECONDS_PER_CALL` that grows with the interior cells."""
+CALLS_PER_RESTART = 2
+"""Calls of a restart besides its commitment checks: the approach to the stop and the stop."""
+START_SECONDS = 5.0
+"""Wall time a sweep on a LocalCluster spends besides its runs: the cluster's and its
+workers' start (imports, the compiled kernels read from numba's cache) and the report
+(configs/sweeps/cost_check.yaml: 30 s for runs that took 25 s)."""
 COMMIT_TIME = 0.8
 """Release time until a restart has committed to a direction: the mean ``t_commit`` of
 the 6814 releases stored under data/sweeps/ is 0.82 (0.77 to 0.87 by sweep)."""
@@ -65,6 +78,11 @@ def cell_counts(config: RotorConfig) -> tuple[int, int]:
         round(math.pi * config.grid.domain_radius**2 / dx2),
         round(math.pi * support**2 / dx2),
     )
+
+
+def call_seconds(config: RotorConfig) -> float:
+    """Estimated set-up of one call of the CPU ensemble backend for one member."""
+    return SECONDS_PER_CALL + SECONDS_PER_CALL_CELL * cell_counts(config)[0]
 
 
 def step_seconds(config: RotorConfig, stopped: bool = False) -> float:
@@ -183,10 +201,10 @@ class SweepEstimate:
     @property
     def wall_seconds(self) -> float:
         """Estimated wall time: the core-seconds spread over the workers, each run
-        :func:`thread_speedup` faster on its threads, times :attr:`slowdown`."""
-        return (
-            self.core_seconds / (self.busy_workers * thread_speedup(self.threads)) * self.slowdown
-        )
+        :func:`thread_speedup` faster on its threads, times :attr:`slowdown`, and the
+        workers' start (:data:`START_SECONDS`)."""
+        runs = self.core_seconds / (self.busy_workers * thread_speedup(self.threads))
+        return runs * self.slowdown + (START_SECONDS if self.workers else 0.0)
 
     def describe(self) -> str:
         """``about 52 min of one core, 26 min on 2 workers (...)``."""
@@ -211,7 +229,9 @@ def estimate_sweep(runs: Sequence[Run], workers: int | None, threads: int = 1) -
 
     * protocol estimator: t_end of each run (:func:`protocol_seconds`);
     * restart: the stop (steps of a stopped plate) and a release of :data:`COMMIT_TIME`
-      (at most the release cap) per run, plus the noise-free spin-up (``warmup``) that
+      (at most the release cap) per run, with the set-up of its calls of the CPU backend
+      (:func:`call_seconds`: the approach, the stop and a commitment check every
+      ``check_interval``), plus the noise-free spin-up (``warmup``) that
       each worker computes once per spin-up state it meets (:func:`pde_rotor.sweep.warm_key`);
     * bank: as restart, with one stop per group of runs that share it.
 
@@ -237,7 +257,9 @@ def estimate_sweep(runs: Sequence[Run], workers: int | None, threads: int = 1) -
                 estimator = RestartEstimator.model_validate({**run.estimator, "kind": "restart"})
                 spin_up = warm_key(config, estimator, run.direction)
                 cap = estimator.release_cap or config.protocol.t_release
+                checks = math.ceil(min(cap, COMMIT_TIME) / estimator.check_interval - 1e-9)
                 release = steps(min(cap, COMMIT_TIME), config) * step_seconds(config)
+                release += (CALLS_PER_RESTART + checks) * call_seconds(config)
                 stop = steps(config.protocol.t_stop, config) * step_seconds(config, stopped=True)
                 points[run.point, run.direction] = (config, spin_up, release, stop)
         # per run: its release (restart, bank) or its whole protocol (protocol estimator)

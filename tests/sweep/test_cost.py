@@ -12,9 +12,11 @@ from pde_rotor.model.geometry import RotorShape
 from pde_rotor.solver.simulation import Simulation
 from pde_rotor.sweep import Sweep, SweepSpec
 from pde_rotor.sweep.cost import (
+    CALLS_PER_RESTART,
     COMMIT_TIME,
     LONG_RUN_SECONDS,
     SECONDS_PER_CELL_STEP,
+    call_seconds,
     cell_counts,
     estimate_run,
     estimate_sweep,
@@ -158,6 +160,8 @@ def test_restart_sweep_costs_stops_releases_and_one_spin_up_per_worker(workers):
     stopped = step_seconds(config, stopped=True)
     turning = 12 * round(COMMIT_TIME / dt) + 2 * 2 * workers * round(2.0 / dt)
     expected = turning * per_step + 6 * (round(0.4 / dt) + round(0.8 / dt)) * stopped
+    checks = round(COMMIT_TIME / 0.05)  # check_interval
+    expected += 12 * (CALLS_PER_RESTART + checks) * call_seconds(config)
     estimate = estimate_sweep(sweep.runs(), workers)
     assert estimate.core_seconds == pytest.approx(expected)
     assert estimate.runs == 12
@@ -220,11 +224,11 @@ def test_a_sweep_estimate_counts_the_load_already_on_the_machine():
 def test_a_sweep_estimate_counts_the_threads_of_each_worker():
     """One worker of two threads on two idle cores: each run steps thread_speedup(2)
     faster; with a load of 1 already there, three threads share the two cores."""
-    from pde_rotor.sweep.cost import SweepEstimate, thread_speedup
+    from pde_rotor.sweep.cost import START_SECONDS, SweepEstimate, thread_speedup
 
     assert thread_speedup(1) == 1.0 and 1.0 < thread_speedup(2) < 2.0
     idle = SweepEstimate(runs=10, core_seconds=3600.0, workers=1, cores=2, threads=2)
     busy = SweepEstimate(runs=10, core_seconds=3600.0, workers=1, load=1.0, cores=2, threads=2)
-    assert idle.wall_seconds == pytest.approx(3600.0 / thread_speedup(2))
+    assert idle.wall_seconds == pytest.approx(3600.0 / thread_speedup(2) + START_SECONDS)
     assert busy.slowdown == 1.5
     assert "on 1 worker of 2 threads (" in idle.describe()
