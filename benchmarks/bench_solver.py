@@ -11,12 +11,16 @@ inside the disk of radius 3):
 their ratio, the largest relative difference of the two states after the same steps;
 (c) ms/step of the fused kernel with the ``consistent`` scheme (numerics.scheme, the
     default) and its ratio to (a), timed in the same run;
-(d) for each scheme, ms per call of the parts of a step (the compiled functions of
-    pde_rotor.solver.rotor): F and G at a new angle, the rotor integrals of Eq. (eq_motion)
-    (with, for ``consistent``, the spline window of c for the contour torque) and the
-    Euler update of Eqs. (eqc), (eqv): where a step's time goes;
+(d) for each scheme, ms per call of the parts of a step, each called alone (the
+    compiled functions of pde_rotor.kernels): F and G at a new angle, the rotor integrals
+    of Eq. (eq_motion) (with, for ``consistent``, the spline window of c and the contour
+    torque), the Euler update of Eqs. (eqc), (eqv); then as the step calls them: the
+    fused pass over the rows (F and G, the integrals' row sums, the Euler update and the
+    spline's row pass), the same pass of a stopped plate (F and G kept), and for
+    ``consistent`` the spline's columns with the contour nodes: where a step's time goes;
 and the steady angular velocity omega(t = 8) without noise for each scheme (paper: ~176;
-an independent implementation: 176.06) with its wall time.
+an independent implementation: 176.06) with its wall time, to four decimals and in full.
+Every step runs on one thread (solver.threads: 1; benchmarks/bench_threads.py times more).
 
 Run:  python benchmarks/bench_solver.py [--steps 4000] [--skip-steady] [--part-calls 300]
 """
@@ -100,18 +104,18 @@ def time_parts(sim: Simulation, calls: int) -> dict[str, float]:
     }
     if scheme.contour:
         parts["of which spline window"] = timed(lambda k: spline_window(cur, coef, n, lo, hi))
-    parts["fused row sweep (all)"] = timed(
+    parts["fused pass over rows"] = timed(
         lambda k: sweep_rows(
             cur, nxt, F, G, domain, params, tab, tables, True, omega, coef, sums, 1
         )
     )
-    parts["row sweep, plate stopped"] = timed(
+    parts["same, plate stopped"] = timed(
         lambda k: sweep_rows(
             cur, nxt, F, G, domain, params, tab, tables, False, omega, coef, sums, 1
         )
     )
     if scheme.contour:
-        parts["columns + contour nodes"] = timed(
+        parts["columns, contour nodes"] = timed(
             lambda k: contour_torque(coef, dom.coords, params, tab, tables, pair_sums, 1)
         )
     return parts
@@ -127,7 +131,7 @@ def main() -> None:
     args = parser.parse_args()
 
     config = RotorConfig.model_validate(
-        {"protocol": {"cycles": 0}, "numerics": {"scheme": "paper"}}
+        {"protocol": {"cycles": 0}, "numerics": {"scheme": "paper"}, "solver": {"threads": 1}}
     )
     sim = Simulation(config)
     n = sim.pde.domain.grid.shape[0]
@@ -157,7 +161,7 @@ def main() -> None:
             wall = time.perf_counter() - start
             per_step = wall / round(8.0 / cfg.grid.dt) * 1e3
             scheme = cfg.numerics.scheme
-            print(f"omega(t=8), {scheme:>10} : {sim.rotor.omega:.4f}")
+            print(f"omega(t=8), {scheme:>10} : {sim.rotor.omega:.4f} ({sim.rotor.omega!r})")
             print(f"wall time of that run   : {wall:.1f} s ({per_step:.4f} ms/step incl. compile)")
 
 
