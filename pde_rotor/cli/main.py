@@ -20,6 +20,7 @@ from ..api import RunError, RunResult, versions
 from ..backends import BackendError, backend_for, gpu_unavailable_reason
 from ..config import ConfigError, dump_config, load_config
 from ..io.output import OutputError, RunDirectory
+from ..solver.threads import resolve_threads
 from ..sweep.cost import estimate_run
 from ..trackers.budget import check_budget
 from .common import EXIT_BAD_INPUT, EXIT_FAILED, EXIT_INTERRUPTED, SetOption, fail, output_file
@@ -248,7 +249,7 @@ def info() -> None:
     for name, version in versions().items():
         typer.echo(f"{name:<12} {version}")
     typer.echo(f"{'matplotlib':<12} {mpl.__version__}")
-    typer.echo("backend      cpu: numba fused kernel (single-threaded)")
+    typer.echo("backend      cpu: numba fused kernel (solver.threads)")
     reason = gpu_unavailable_reason()
     typer.echo(f"gpu          {'available' if reason is None else 'unavailable: ' + reason}")
     try:
@@ -258,7 +259,8 @@ def info() -> None:
     typer.echo(
         f"threads      numba {numba.config.NUMBA_NUM_THREADS} "
         f"(layer {numba.config.THREADING_LAYER}), cpus usable {affinity}, "
-        f"cpus total {os.cpu_count()}"
+        f"cpus total {os.cpu_count()}, a run now: {resolve_threads(None)} "
+        "(solver.threads: null)"
     )
     try:
         import imageio_ffmpeg
