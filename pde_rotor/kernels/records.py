@@ -144,3 +144,31 @@ def make_record(config: RotorConfig, scheme: Scheme, dt: float) -> np.ndarray:
         rec["edge_u0"] = tables.edge_u0
         rec["edge_inv_step"] = 1.0 / tables.edge_step
     return rec
+
+
+BODY = np.dtype(
+    [
+        ("plate", _I8),
+        ("n_corners", _I8),
+        ("size_a", _F8),
+        ("size_b", _F8),
+        ("reach", _F8),
+        ("pill_start", _I8),
+        ("pill_count", _I8),
+        ("motion", _I8),
+        ("mass", _F8),
+        ("inertia", _F8),
+        ("friction", _F8),
+        ("kick", _F8),
+        ("n_ini", _I8),
+        ("n_stop", _I8),
+        ("n_period", _I8),
+        ("cycles", _I8),
+    ],
+    align=True,
+)
+"""One body of :func:`pde_rotor.kernels.bodies.advance_bodies`: plate kind
+(:data:`pde_rotor.kernels.body_core.PLATE_POLYGON`...), its corners and sizes (``size_a``:
+apothem, radius or half length; ``size_b``: half width), the footprint radius ``reach``,
+its pills' range in the pill table, motion kind, m, I, mu, the noise kick
+sqrt(2 dt) sigma / I, and its stop schedule in steps."""
