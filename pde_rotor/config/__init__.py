@@ -28,8 +28,6 @@ is compiled.
 from __future__ import annotations
 
 from .bodies import (
-    MOTION_KINDS,
-    PLATE_SHAPES,
     BodyConfig,
     DiskPlate,
     FixedAxisMotion,
@@ -79,10 +77,8 @@ from .yaml_io import (
 __all__ = [
     "CALIBRATED_SIGMA",
     "DISH_CENTRE",
-    "MOTION_KINDS",
     "PAPER_SCHEME_SIGMA",
     "PAPER_STEADY_OMEGA",
-    "PLATE_SHAPES",
     "PROVENANCE_KEY",
     "SHORTHAND_KEYS",
     "TIME_KEYS",

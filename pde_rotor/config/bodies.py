@@ -150,9 +150,6 @@ PlateConfig = Annotated[
 ]
 """The plate of a body, by its ``shape``; each shape allows only its own keys."""
 
-PLATE_SHAPES = ("polygon", "disk", "strip", "none")
-"""The values of ``plate.shape``."""
-
 
 class PillConfig(_Section):
     """One camphor pill, a disk of radius rho in the body frame with the source s0/(pi rho^2)."""
@@ -217,9 +214,6 @@ class FreeMotion(_Section):
 
 MotionConfig = Annotated[FixedMotion | FixedAxisMotion | FreeMotion, Field(discriminator="kind")]
 """How a body moves, by its ``kind``; each kind allows only its own keys."""
-
-MOTION_KINDS = ("fixed", "fixed_axis", "free")
-"""The values of ``motion.kind``."""
 
 
 class StartConfig(_Section):
