@@ -38,7 +38,7 @@ from typing import Any
 import numpy as np
 
 from ..config import RotorConfig
-from ..model.pde import RotorPDE, RotorState
+from ..model.pde import RotorPDE, RotorState, refuse_bodies
 from ..solver.rotor import MemberStepper, SimulationDivergedError, StepperFactory
 from .base import EnsembleBackend, EnsembleRunner
 from .batch import MemberRun, run_batch
@@ -137,12 +137,16 @@ def backend_for(config: RotorConfig) -> str:
     """The backend that will run `config`: ``solver.backend`` resolved for its numerics.
 
     The GPU kernel integrates with forward Euler only: with another
-    ``numerics.integrator``, ``auto`` runs on the CPU and ``gpu`` is refused.
+    ``numerics.integrator``, ``auto`` runs on the CPU and ``gpu`` is refused. No backend
+    runs bodies yet (:func:`pde_rotor.model.pde.refuse_bodies`): the CLI and
+    :func:`pde_rotor.run` ask here before they write anything.
 
     Raises:
         BackendError: "gpu" requested and no usable GPU, or an integrator the GPU kernel
             does not implement (one line, naming the key).
+        ConfigError: the config has bodies or a moved dish (one line).
     """
+    refuse_bodies(config)
     requested = config.solver.backend
     integrator = config.numerics.integrator
     if requested != "cpu" and integrator != "euler":

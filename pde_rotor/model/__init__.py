@@ -5,6 +5,8 @@ scalar functions of :mod:`pde_rotor.kernels.core`, which it shares with the comp
 loops so that every indicator is written once.
 
 * :mod:`.geometry`: the rotor's plate indicator F and pill indicator G (Eqs. (F), (G));
+* :mod:`.bodies`: the same for every body of a ``bodies:`` config (plates of any shape,
+  pills anywhere, poses), with the plate velocity and the footprint;
 * :mod:`.domain`: the circular domain of radius L on a py-pde CartesianGrid;
 * :mod:`.protocol`: the stop-and-release schedule (section "Model");
 * :mod:`.schemes`, :mod:`.filtering`: the ``paper`` and ``consistent`` discretisations

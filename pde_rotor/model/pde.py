@@ -33,7 +33,7 @@ import numpy as np
 from pde import FieldCollection, ScalarField, VectorField
 from pde.pdes.base import PDEBase
 
-from ..config import RotorConfig
+from ..config import DISH_CENTRE, ConfigError, RotorConfig
 from .domain import Domain, make_domain
 from .filtering import filtered_indicators
 from .geometry import (
@@ -104,6 +104,31 @@ class RotorFields(FieldCollection):
         return new
 
 
+def refuse_bodies(config: RotorConfig) -> None:
+    """Refuse, in one line, what the compiled kernels cannot run yet: a ``bodies:`` list
+    or a dish off the rotor's axis (``grid.domain_centre``); `pde-rotor check` validates
+    such configs. Asked by :class:`RotorPDE` (every run path builds one) and by
+    :func:`pde_rotor.backends.backend_for` (before the CLI and :func:`pde_rotor.run`
+    write a run directory).
+
+    Raises:
+        ConfigError: the config has bodies or a dish centre other than the origin.
+    """
+    if config.bodies is not None:
+        msg = (
+            f"bodies: {len(config.bodies)} bodies cannot run yet: the solver runs the single "
+            "rotor of geometry: until the multi-body kernels land (pde-rotor check "
+            "validates the config)"
+        )
+        raise ConfigError(msg)
+    if config.grid.domain_centre != DISH_CENTRE:
+        msg = (
+            f"grid.domain_centre = {list(config.grid.domain_centre)}: the solver keeps the "
+            "rotor at the dish centre until the multi-body kernels land (allowed: [0, 0])"
+        )
+        raise ConfigError(msg)
+
+
 class RotorPDE(PDEBase):
     """Camphor rotor of Koyano et al. (Chaos 2020): Eqs. (eqc), (eqv), (eq_motion).
 
@@ -121,8 +146,12 @@ class RotorPDE(PDEBase):
         """
         Args:
             config: the run configuration.
+
+        Raises:
+            ConfigError: the config has bodies (:func:`refuse_bodies`).
         """
         super().__init__()
+        refuse_bodies(config)
         self.config = config
         self.shape = RotorShape.from_config(config.geometry)
         self.domain: Domain = make_domain(config.grid, self.shape)
