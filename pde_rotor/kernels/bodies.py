@@ -27,7 +27,7 @@ import math
 import numba as nb
 import numpy as np
 
-from .body_core import CPU_BODIES, MOTION_FIXED, MOTION_FREE, PLATE_POLYGON, PLATE_STRIP
+from .body_core import CPU_BODIES, MOTION_FIXED, MOTION_FREE, PLATE_POLYGON
 from .core import CPU, FASTMATH
 
 _plate_rates = CPU.plate_rates
@@ -136,7 +136,7 @@ def draw_body(F, G, owner, domain, k, body, pills, pose, normals, centres, box, 
             if j < lo[i] or j >= hi[i]:
                 return STATUS_EDGE
             o = i * n + j
-            if owner[o] >= 0:
+            if owner[o] >= 0 and owner[o] != k:
                 return -1 - owner[o]
             indicator, source = _body_pill_cell(
                 x, y, centres, pills, b.pill_start, b.pill_count, inv_delta
@@ -318,7 +318,7 @@ def advance_bodies(
                     return s
                 drawn[k, 0], drawn[k, 1], drawn[k, 2] = pose[k, 0], pose[k, 1], pose[k, 2]
                 redrawn = True
-        if redrawn:
+        if redrawn or s == 0:  # the support rows are scratch of each call
             support_rows(box, n, domain[3], domain[4])
         for k in range(n_bodies):
             b = body[k]
