@@ -83,6 +83,13 @@ class CamphorDisk:
             radius=config.geometry.pill_radius,
         )
 
+    def __post_init__(self) -> None:
+        for name in ("diffusion", "evaporation", "radius"):
+            if not getattr(self, name) > 0:
+                value = getattr(self, name)
+                msg = f"{name} must be > 0 (the rest state needs sublimation), got {value}"
+                raise ValueError(msg)
+
     @property
     def decay(self) -> float:
         """q = sqrt(a/D), the inverse diffusion length."""
@@ -111,6 +118,11 @@ class Wall:
 
     radius: float
     condition: Literal["no_flux", "absorbing"]
+
+    def __post_init__(self) -> None:
+        if self.condition not in ("no_flux", "absorbing"):
+            msg = f"wall condition must be 'no_flux' or 'absorbing', got {self.condition!r}"
+            raise ValueError(msg)
 
 
 # --- Bessel functions of the outer region --------------------------------------------------
@@ -209,7 +221,7 @@ def free_disk_displacement_force(
     In the lab frame the field is c0 + X h(r) cos(theta) exp(lambda t), h the m = 1
     solution of (D L_1 - a (1 - F) - lambda) h = 0 that is regular at 0, continuous,
     meets the wall, and whose slope jumps at rho by -(a c0(rho) + S) / D (the moving
-    source and sink, docs/bodies.md). The force on the displaced contour is
+    source and sink, docs/bodies.md, "Growth rate"). The force on the displaced contour is
     f = -k pi rho (dc0/dr(rho) + h(rho)) X. On an unbounded surface Phi(0) = 0
     (translation invariance) and K(lambda) = Phi(lambda) / lambda; in a dish Phi(0) is minus
     the wall's stiffness.
@@ -253,8 +265,7 @@ def free_disk_force_coefficient(disk: CamphorDisk, lam: complex = 0.0) -> comple
 
     At lambda = 0 the closed form of docs/bodies.md ("Translation"), with x = q rho,
 
-        K(0) = k s0 rho^2 / (4 D^2)
-               * (2 x K0^2 + 4 K0 K1 - x K1^2) / (2 x K1 (x K0 + 2 K1)),
+        K(0) = k s0 rho^2 / (8 D^2) [2 K0 / (x K1) - K1 / (x K0 + 2 K1)],
 
     K_n = K_n(x); otherwise Phi(lambda) / lambda (:func:`free_disk_displacement_force`).
     That quotient loses about log10(a/|lambda|) digits to cancellation, so for
@@ -280,8 +291,8 @@ def free_disk_force_coefficient(disk: CamphorDisk, lam: complex = 0.0) -> comple
         curvature = (above - 2 * at_zero + below) / step**2
         return _real_if_real(at_zero + lam * slope + lam**2 * curvature / 2, lam)
     k0, k1 = _bessel_k(0, x), _bessel_k(1, x)
-    prefactor = disk.tension_slope * disk.supply * disk.radius**2 / (4 * disk.diffusion**2)
-    return prefactor * (2 * x * k0**2 + 4 * k0 * k1 - x * k1**2) / (2 * x * k1 * (x * k0 + 2 * k1))
+    prefactor = disk.tension_slope * disk.supply * disk.radius**2 / (8 * disk.diffusion**2)
+    return prefactor * (2 * k0 / (x * k1) - k1 / (x * k0 + 2 * k1))
 
 
 def free_disk_critical_friction(disk: CamphorDisk) -> float:
@@ -374,7 +385,7 @@ def dish_hopf_onset(disk: CamphorDisk, wall: Wall, mass: float = 0.0) -> tuple[f
 
 
 def dish_drift_rate(disk: CamphorDisk, wall: Wall, friction: float, mass: float = 0.0) -> float:
-    """Largest real root of m lambda^2 + mu A lambda - Phi(lambda) = 0 (docs/bodies.md, "Dish").
+    """Largest real root of m lambda^2 + mu A lambda - Phi(lambda) = 0 (docs/bodies.md, section 2).
 
     With an absorbing wall (the simulator's Dirichlet circle) Phi(0) > 0: the wall pulls
     the disk off the centre at every friction, slowly when the wall is far. This is the
@@ -414,10 +425,10 @@ def free_disk_smoothed_coefficients(
 
     F = G = 1/2 [1 + tanh((rho - r)/delta)], radial finite volumes of width `spacing`
     out to rho + `reach` diffusion lengths (c = 0 there). In the co-moving frame
-    (D L_1 - a (1 - F) - lambda) g = -dc0/dr, and K = -k int F d(g cos)/dx dA
-    = k pi int g F' r dr. Their ratio is the critical friction the simulation should
-    find at this delta; it tends to :func:`free_disk_critical_friction` as delta -> 0
-    (docs/bodies.md, "Smoothed indicators").
+    (D L_1 - a (1 - F) - lambda) g = -dc0/dr, and the force -k int F grad c1 dA =
+    k int c1 grad F dA gives K = k pi int g F' r dr. K / A is the critical friction the
+    simulation should find at this delta; it tends to :func:`free_disk_critical_friction`
+    as delta -> 0 (docs/bodies.md, "Smoothed indicators").
 
     Args:
         disk: the disk.
@@ -448,7 +459,7 @@ def free_disk_smoothed_coefficients(
     return force, 2 * math.pi * float(np.sum(indicator * r)) * h
 
 
-# --- the translating disk: Fourier modes in theta on a two-piece Chebyshev grid ----------
+# --- the translating disk: Fourier modes in theta on radial Chebyshev panels ------------
 
 
 def _chebyshev(lo: float, hi: float, n: int) -> tuple[np.ndarray, np.ndarray]:
@@ -505,8 +516,7 @@ class _RadialModes:
             rows[lo, lo], rows[lo, hi] = 1.0, -1.0
             rows[hi] = self.deriv[lo] - self.deriv[hi]
         rows[self.size - 1, self.size - 1] = 1.0
-        self.matching = rows.tocsr()
-        """The rows at the panel ends: c and dc/dr continuous, c = 0 at R."""
+        self.matching = rows.tocsr()  # panel ends: c and dc/dr continuous, c = 0 at R
 
     @property
     def size(self) -> int:
@@ -653,7 +663,7 @@ def free_disk_steady_speed(disk: CamphorDisk, friction: float) -> float:
 
 def _stretched_axis(fine_lo: float, fine_hi: float, spacing: float, end: float) -> np.ndarray:
     """Nodes on [0, end]: spacing h on [fine_lo, fine_hi], growing by GROWTH per node
-    outside it, up to a tenth of a diffusion length (here: of `end` / 80)."""
+    outside it, up to end / 80."""
     coarse = max(spacing, end / 80)
     fine = np.arange(fine_lo, fine_hi + spacing / 2, spacing)
 
@@ -720,7 +730,8 @@ class RotorGrid:
     """The quadrant grid of the two-disk rotor and its smoothed indicators.
 
     Attributes:
-        x, y: node coordinates, 0 first, the Dirichlet boundary last.
+        x: node abscissae, 0 first, the Dirichlet boundary last.
+        y: node ordinates, likewise.
         indicator: F = G = sum of the two disks' 1/2 [1 + tanh((rho - |r - X_j|)/delta)]
             on the nodes (x[:-1], y[:-1]).
         turning: dF/dtheta = x dF/dy - y dF/dx on the interior nodes (x[1:-1], y[1:-1]),
@@ -769,7 +780,10 @@ def rotor_grid(
 
 
 def _rest_field(disk: CamphorDisk, grid: RotorGrid) -> np.ndarray:
-    """c0 of the rotor at rest on the quadrant (even in x and y): D lap c0 - a (1 - F) c0 = -S G."""
+    """c0 of the rotor at rest on the quadrant (even in x and y).
+
+    Solves D lap c0 - a (1 - F) c0 = -S G, Eq. (eqc) at rest.
+    """
     lap = sp.kron(_second_difference(grid.x, 1), sp.identity(grid.y.size - 1)) + sp.kron(
         sp.identity(grid.x.size - 1), _second_difference(grid.y, 1)
     )
@@ -795,9 +809,10 @@ def rotor_torque_coefficient(
         D lap c1 - (a (1 - F) + lambda) c1 = -omega dc0/dtheta,
 
     and the torque is T1 = -k int F dc1/dtheta dA = k int c1 dF/dtheta dA = K_rot omega
-    (docs/bodies.md, "Two-disk rotor"). c0 is even and c1 odd in x and y, so both are
+    (docs/bodies.md, section 3). c0 is even and c1 odd in x and y, so both are
     solved on the quadrant by sparse LU, with c = 0 `margin` diffusion lengths beyond
-    the disks. The result converges as delta^2 to the sharp limit.
+    the disks. The result tends to the sharp limit about as delta^2, led by the smoothed
+    disks' larger area pi (rho^2 + pi^2 delta^2 / 12).
 
     Args:
         disk: one of the two disks.

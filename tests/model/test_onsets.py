@@ -369,3 +369,11 @@ def test_docs_table_of_free_disk_onsets_is_the_closed_form(disk):
         sized = dataclasses.replace(disk, radius=rho)
         assert mu_c == pytest.approx(free_disk_critical_friction(sized), rel=1e-4), row
         assert k3 == pytest.approx(free_disk_cubic_coefficient(sized), rel=1e-3), row
+
+
+def test_bad_inputs_are_refused_in_one_line():
+    cfg = RotorConfig()
+    with pytest.raises(ValueError, match="evaporation must be > 0"):
+        dataclasses.replace(CamphorDisk.from_config(cfg), evaporation=0.0)
+    with pytest.raises(ValueError, match="no_flux"):
+        Wall(3.0, "reflecting")
