@@ -112,7 +112,7 @@ class Wall:
 
     Attributes:
         radius: L.
-        condition: ``"no_flux"`` (dc/dr = 0 at L, a glass dish) or ``"absorbing"``
+        condition: ``"no_flux"`` (dc/dr = 0 at L) or ``"absorbing"``
             (c = 0 at L, the simulator's domain, docs/model.md).
     """
 

@@ -154,6 +154,21 @@ def test_force_coefficient_is_the_smoothed_solve_as_delta_shrinks(disk):
     assert force == pytest.approx(free_disk_force_coefficient(disk, lam), rel=1e-3)
 
 
+def test_force_coefficient_is_the_lab_frame_solve_on_a_wide_surface(disk):
+    """K(0) = dPhi/dlambda at 0 and K(0.5 a) = Phi(0.5 a)/0.5 a from this file's lab-frame
+    finite volumes (delta = rho / 40, a dish of radius 10 whose wall acts at e^-20):
+    the closed forms to 1e-3 (the smoothed disk's extra area is 5e-4)."""
+    wall, delta, eps = Wall(10.0, "absorbing"), disk.radius / 40, 1e-3
+
+    def phi(lam: float) -> float:
+        return radial_lab_frame(disk, delta, delta / 32, lam, wall)[2].real
+
+    slope = (phi(eps) - phi(-eps)) / (2 * eps)
+    assert slope == pytest.approx(free_disk_force_coefficient(disk), rel=1e-3)
+    lam = 0.5 * disk.evaporation
+    assert phi(lam) / lam == pytest.approx(free_disk_force_coefficient(disk, lam), rel=1e-3)
+
+
 def test_chebyshev_modes_reproduce_the_closed_forms(disk):
     """The radial Chebyshev panels (the machinery of the nonlinear drive) give c0 and
     K(0) to 1e-10: sharp matching at rho, no smoothing to extrapolate."""
