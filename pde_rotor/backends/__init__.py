@@ -38,7 +38,7 @@ from typing import Any
 import numpy as np
 
 from ..config import RotorConfig
-from ..model.pde import RotorPDE, RotorState, refuse_bodies
+from ..model.pde import RotorPDE, RotorState, check_bodies_numerics
 from ..solver.rotor import MemberStepper, SimulationDivergedError, StepperFactory
 from .base import EnsembleBackend, EnsembleRunner
 from .batch import MemberRun, run_batch
@@ -144,10 +144,18 @@ def backend_for(config: RotorConfig) -> str:
     Raises:
         BackendError: "gpu" requested and no usable GPU, or an integrator the GPU kernel
             does not implement (one line, naming the key).
-        ConfigError: the config has bodies or a moved dish (one line).
+        ConfigError: bodies with numerics their kernel does not implement (one line).
     """
-    refuse_bodies(config)
+    check_bodies_numerics(config)
     requested = config.solver.backend
+    if config.bodies is not None:
+        if requested == "gpu":
+            msg = (
+                "solver.backend = 'gpu' with bodies: the GPU ensemble runs the rotor of "
+                "geometry: only (allowed: solver.backend = cpu or auto)"
+            )
+            raise BackendError(msg)
+        return "cpu"
     integrator = config.numerics.integrator
     if requested != "cpu" and integrator != "euler":
         if requested == "auto":

@@ -105,26 +105,49 @@ class RotorFields(FieldCollection):
 
 
 def refuse_bodies(config: RotorConfig) -> None:
-    """Refuse, in one line, what the compiled kernels cannot run yet: a ``bodies:`` list
-    or a dish off the rotor's axis (``grid.domain_centre``); `pde-rotor check` validates
-    such configs. Asked by :class:`RotorPDE` (every run path builds one) and by
-    :func:`pde_rotor.backends.backend_for` (before the CLI and :func:`pde_rotor.run`
-    write a run directory).
+    """Refuse, in one line, a config the rotor's kernel cannot run: a ``bodies:`` list or a
+    dish off the rotor's axis (``grid.domain_centre``); such configs run as
+    :class:`~pde_rotor.model.surface.SurfacePDE`. Asked by :class:`RotorPDE`.
 
     Raises:
         ConfigError: the config has bodies or a dish centre other than the origin.
     """
     if config.bodies is not None:
         msg = (
-            f"bodies: {len(config.bodies)} bodies cannot run yet: the solver runs the single "
-            "rotor of geometry: until the multi-body kernels land (pde-rotor check "
-            "validates the config)"
+            f"bodies: {len(config.bodies)} bodies run as SurfacePDE, not as the rotor of "
+            "geometry: (Simulation chooses it)"
         )
         raise ConfigError(msg)
     if config.grid.domain_centre != DISH_CENTRE:
         msg = (
-            f"grid.domain_centre = {list(config.grid.domain_centre)}: the solver keeps the "
-            "rotor at the dish centre until the multi-body kernels land (allowed: [0, 0])"
+            f"grid.domain_centre = {list(config.grid.domain_centre)}: the rotor of geometry: "
+            "turns at the dish centre (allowed: [0, 0]; a dish elsewhere holds bodies:)"
+        )
+        raise ConfigError(msg)
+
+
+def check_bodies_numerics(config: RotorConfig) -> None:
+    """Refuse, in one line, numerics the bodies' kernel does not implement (before any
+    compute): it integrates forward Euler on the ``paper`` scheme (point values of F
+    and G, the area form of the torque and force).
+
+    Raises:
+        ConfigError: ``bodies:`` with numerics.scheme other than paper or
+            numerics.integrator other than euler.
+    """
+    if config.bodies is None:
+        return
+    numerics = config.numerics
+    if numerics.scheme != "paper":
+        msg = (
+            f"numerics.scheme = {numerics.scheme}: bodies run on the paper scheme only "
+            "(allowed: paper; the rotation-consistent scheme is the rotor's)"
+        )
+        raise ConfigError(msg)
+    if numerics.integrator != "euler":
+        msg = (
+            f"numerics.integrator = {numerics.integrator}: bodies are integrated by forward "
+            "Euler only (allowed: euler)"
         )
         raise ConfigError(msg)
 

@@ -37,7 +37,7 @@ from ..config import RotorConfig
 from .bodies import Body, Pose, make_bodies, pill_source, plate_indicator
 from .domain import Domain, make_domain
 from .geometry import RotorShape
-from .pde import BOUNDARY, TORQUE_SIGN
+from .pde import BOUNDARY, TORQUE_SIGN, check_bodies_numerics
 from .schemes import Scheme
 
 POSE_COLUMNS = (
@@ -133,16 +133,11 @@ class SurfacePDE(PDEBase):
             config: the run configuration (with or without ``bodies``).
 
         Raises:
-            ValueError: for a scheme or integrator the bodies' loop does not implement.
+            ConfigError: a scheme or integrator the bodies' loop does not implement
+                (:func:`~pde_rotor.model.pde.check_bodies_numerics`).
         """
         super().__init__()
-        numerics = config.numerics
-        if numerics.scheme != "paper" or numerics.integrator != "euler":
-            msg = (
-                f"bodies run with numerics.scheme = paper and numerics.integrator = euler "
-                f"(got {numerics.scheme}, {numerics.integrator}): set both"
-            )
-            raise ValueError(msg)
+        check_bodies_numerics(config)
         self.config = config
         self.bodies: tuple[Body, ...] = make_bodies(config)
         self.scheme = Scheme.from_config(config)
