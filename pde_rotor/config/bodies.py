@@ -177,8 +177,13 @@ _Inertia = Annotated[
     PositiveFloat, Field(ge=PAPER_INERTIA / SCALE_BOUND, le=PAPER_INERTIA * SCALE_BOUND)
 ]
 """A body's I: within SCALE_BOUND of the paper's, as rotor.inertia."""
-_Friction = Annotated[NonNegativeFloat, Field(le=PAPER_FRICTION * SCALE_BOUND)]
-"""A body's mu: at most SCALE_BOUND times the paper's, as rotor.friction."""
+BODY_FRICTION_BOUND = 10 * SCALE_BOUND**2 * PAPER_FRICTION
+"""Largest mu of a body, 1e7 times the paper rotor's (1e-4): a free camphor disk of the
+paper's pills starts to move only below mu_c = 0.18 (docs/bodies.md), so its onset lies
+far above the rotor's bound of SCALE_BOUND times the paper's value."""
+
+_Friction = Annotated[NonNegativeFloat, Field(le=BODY_FRICTION_BOUND)]
+"""A body's mu: at most :data:`BODY_FRICTION_BOUND`."""
 
 
 class FixedMotion(_Section):
