@@ -415,19 +415,24 @@ def test_bad_body_input_is_one_line_naming_its_key(case: str, tmp_path: Path) ->
     assert result.stderr == f"error: {message}\n"
 
 
-def test_running_bodies_is_refused_in_one_line(tmp_path: Path) -> None:
-    """Until the multi-body kernels exist, a run of a config with bodies (or a moved
-    dish) stops before its first step with one line; ``pde-rotor run`` exits 2 before it
-    creates the run directory."""
+def test_bodies_numerics_the_kernel_lacks_are_refused_in_one_line(tmp_path: Path) -> None:
+    """Bodies run on the paper scheme with forward Euler: another scheme or integrator
+    stops before the first step with one line, and ``pde-rotor run`` exits 2 before it
+    creates the run directory; the rotor of geometry: refuses a moved dish."""
     path = ROOT / "configs" / "bodies" / "two_rotors.yaml"
-    with pytest.raises(ConfigError, match=r"^bodies: 2 bodies cannot run yet"):
-        Simulation(load_config(path))
+    consistent = load_config(path, ["numerics.scheme=consistent"])
+    with pytest.raises(ConfigError, match=r"^numerics\.scheme = consistent: bodies run on"):
+        Simulation(consistent)
+    heun = load_config(path, ["numerics.integrator=heun"])
+    with pytest.raises(ConfigError, match=r"^numerics\.integrator = heun: bodies are"):
+        Simulation(heun)
     centred = validate_config({"grid": {"domain_centre": [0.5, 0.0]}})
     with pytest.raises(ConfigError, match=r"^grid\.domain_centre = \[0\.5, 0\.0\]"):
         Simulation(centred)
     out = tmp_path / "run"
-    result = CliRunner().invoke(app, ["run", str(path), "--out", str(out), "-q"])
+    args = ["run", str(path), "--out", str(out), "-q", "--set", "numerics.scheme=consistent"]
+    result = CliRunner().invoke(app, args)
     assert result.exit_code == EXIT_BAD_INPUT
-    assert result.stderr.startswith("error: bodies: 2 bodies cannot run yet")
+    assert result.stderr.startswith("error: numerics.scheme = consistent: bodies run on")
     assert result.stderr.count("\n") == 1
     assert not out.exists()
