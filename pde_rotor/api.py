@@ -403,7 +403,8 @@ def _run_bodies(
     cfg: RotorConfig, out: str | Path | None, *, overwrite: bool, check: bool
 ) -> RunResult:
     """:func:`run` for a config with ``bodies:``: bodies.nc, the events of every body
-    with stops, config.yaml, run.log and summary.png (:mod:`pde_rotor.plotting.bodies`).
+    with stops, config.yaml, run.log, summary.png and (``output.movie``) movie.mp4
+    (:mod:`pde_rotor.plotting.bodies`).
 
     The result's ``timeseries`` is bodies.nc (time, body), its ``events`` the stops of
     every body with a protocol. A body at the dish's edge or at another body ends the
@@ -414,7 +415,7 @@ def _run_bodies(
     from .solver.bodies import BodyContactError
     from .solver.rotor import SimulationDivergedError
     from .solver.simulation import Simulation
-    from .trackers.bodies import BodiesTracker
+    from .trackers.bodies import BodiesMovieTracker, BodiesTracker
 
     run_dir = RunDirectory.create(out, overwrite=overwrite) if out is not None else None
     attrs = {
@@ -437,11 +438,20 @@ def _run_bodies(
             checkpoint_seconds=cfg.output.checkpoint_seconds,
             attrs=attrs,
         )
+        trackers: list[Any] = [tracker]
+        out_cfg = cfg.output
+        if run_dir is not None and out_cfg.movie:
+            trackers.append(
+                BodiesMovieTracker(
+                    cfg, run_dir.movie, out_cfg.movie_interval, fps=out_cfg.movie_fps,
+                    dpi=out_cfg.movie_dpi,
+                )
+            )  # fmt: skip
         start = time.perf_counter()
         error: BaseException | None = None
         status, message = "completed", ""
         try:
-            sim.run(trackers=[tracker])
+            sim.run(trackers=trackers)
         except (BodyContactError, SimulationDivergedError) as err:
             error = err
             status = "stopped" if isinstance(err, BodyContactError) else "diverged"
@@ -449,7 +459,8 @@ def _run_bodies(
             _logger.error("%s", message)
             t_last = tracker.times[-1] if tracker.times else 0.0
             info = {"controller": {"status": status, "stop_reason": message, "t_final": t_last}}
-            tracker.finalize(info=info)
+            for each in trackers:
+                each.finalize(info=info)
         result = RunResult(
             config=cfg,
             timeseries=tracker.to_dataset(tracker.status),
@@ -466,7 +477,7 @@ def _run_bodies(
             fig = bodies_summary(result.timeseries, cfg, make_bodies(cfg))
             with atomic_path(run_dir.summary) as tmp:
                 fig.savefig(tmp, format="png", dpi=110)
-            names = ("config.yaml", "bodies.nc", "events.nc", "summary.png", "run.log")
+            names = ("config.yaml", "bodies.nc", "events.nc", "summary.png", "movie.mp4", "run.log")
             result.files = {n: run_dir / n for n in names if (run_dir / n).exists()}
         if error is not None and check and isinstance(error, SimulationDivergedError):
             raise error

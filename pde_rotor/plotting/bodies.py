@@ -75,3 +75,63 @@ def bodies_summary(ds: xr.Dataset, config: RotorConfig, bodies: tuple[Body, ...]
     omega.legend(fontsize="small")
     speed.set(xlabel="t", ylabel="|U|", title="speed")
     return fig
+
+
+class BodiesFrame:
+    """A movie frame of a run with bodies: c over the dish, the flow v as arrows, every
+    body's outline and pills; updated in place, one call per frame."""
+
+    def __init__(self, bodies: tuple[Body, ...], x: np.ndarray, y: np.ndarray, *, arrows: int = 24):
+        """
+        Args:
+            bodies: the run's bodies.
+            x, y: the cell-centre coordinates of the grid on the surface (axis 0, axis 1).
+            arrows: arrows of v along each axis.
+        """
+        self.bodies = bodies
+        self.fig = Figure(figsize=(5.6, 5.0))  # fixed layout: frames must not jitter
+        self.ax = self.fig.add_subplot()
+        h = 0.5 * (x[1] - x[0])
+        extent = (x[0] - h, x[-1] + h, y[0] - h, y[-1] + h)
+        self.image = self.ax.imshow(
+            np.zeros((y.size, x.size)),
+            origin="lower",
+            extent=extent,
+            cmap="viridis",
+            vmin=0,
+            vmax=1,
+        )
+        self.fig.colorbar(self.image, ax=self.ax, label="camphor concentration c", shrink=0.85)
+        step = max(1, x.size // arrows)
+        self.sel = slice(step // 2, None, step)
+        ax_x, ax_y = np.meshgrid(x[self.sel], y[self.sel], indexing="ij")
+        self.quiver = self.ax.quiver(
+            ax_x, ax_y, np.zeros_like(ax_x), np.zeros_like(ax_y), color="white", angles="xy",
+            scale_units="xy", scale=1.0 / (0.9 * step * (x[1] - x[0])), width=0.004, alpha=0.8,
+        )  # fmt: skip
+        self.c_max = 0.0
+        self.patches: list = []
+        self.ax.set_aspect("equal")
+        self.ax.set(xlabel="x", ylabel="y")
+
+    def update(self, data: np.ndarray, poses: np.ndarray, title: str = "") -> None:
+        """Draw the state `data` (3, n, n) with the bodies at `poses` (K, >= 3: x, y, phi).
+
+        The colour scale of c follows the largest value so far; the arrows are scaled per
+        frame so that the largest |v| spans 0.9 of their spacing.
+        """
+        c = data[0]
+        self.c_max = max(self.c_max, float(c.max()))
+        self.image.set_data(c.T)
+        self.image.set_clim(0.0, self.c_max if self.c_max > 0 else 1.0)
+        vx, vy = data[1][self.sel, self.sel], data[2][self.sel, self.sel]
+        speed = float(np.hypot(vx, vy).max())
+        scale = speed if speed > 0 else 1.0
+        self.quiver.set_UVC(vx / scale, vy / scale)
+        for patch in self.patches:
+            patch.remove()
+        before = len(self.ax.patches)
+        for k, body in enumerate(self.bodies):
+            draw_body(self.ax, body, Pose(*(float(p) for p in poses[k, :3])), "white")
+        self.patches = list(self.ax.patches[before:])
+        self.ax.set_title(title, fontsize=10)

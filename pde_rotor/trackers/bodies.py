@@ -1,4 +1,4 @@
-"""The record of a run with bodies: every body's motion in bodies.nc, its inversions.
+"""The record of a run with bodies: every body's motion in bodies.nc, its inversions, a movie.
 
 :class:`BodiesTracker` samples the state of every body (:class:`BodiesState`: position,
 angle, velocities, the tension force and torque and the friction of the last step,
@@ -7,7 +7,8 @@ body's own protocol, and writes ``bodies.nc`` (dimensions ``time`` and ``body``)
 :meth:`BodiesTracker.events` classifies each stop of each body with a protocol by the
 rule of :mod:`pde_rotor.statistics.inversion`, from the same samples the rotor's
 :class:`~pde_rotor.trackers.events.InversionTracker` reads (omega just before the stop,
-then every sample of the release until the body's next stop).
+then every sample of the release until the body's next stop). :class:`BodiesMovieTracker`
+renders c, v and every body into movie.mp4 as the run goes.
 """
 
 from __future__ import annotations
@@ -18,13 +19,16 @@ from typing import Any
 
 import numpy as np
 import xarray as xr
+from pde.trackers.base import InfoDict
 from pde.trackers.interrupts import FixedInterrupts
 
 from ..config import RotorConfig
+from ..io.mp4 import Mp4Writer, figure_frame
 from ..io.output import write_netcdf_atomic
 from ..model.bodies import make_bodies
 from ..model.protocol import StopSchedule
 from ..model.surface import POSE_COLUMNS, SurfaceFields
+from ..plotting.bodies import BodiesFrame
 from ..statistics.inversion import classify_release
 from ..units import OMEGA_UNITS, TIME_UNITS
 from .base import RotorTracker, sampling_times
@@ -156,3 +160,58 @@ class BodiesTracker(RotorTracker):
 
     def _finish(self, status: dict[str, Any]) -> None:
         self.write(status)
+
+
+class BodiesMovieTracker(RotorTracker):
+    """Renders a frame of c, v and every body every interval into an mp4 (movie.mp4).
+
+    As the rotor's :class:`~pde_rotor.trackers.movie.MovieTracker`: frames are rendered as
+    the run goes and encoded by :class:`~pde_rotor.io.mp4.Mp4Writer` into
+    ``movie.mp4.part``, renamed when complete.
+    """
+
+    def __init__(self, config: RotorConfig, path: str | Path, interval: float, *, fps: int = 20,
+                 dpi: int = 100):  # fmt: skip
+        """
+        Args:
+            config: the run's configuration (with ``bodies``).
+            path: final mp4 file name.
+            interval: simulated time between frames (a multiple of dt).
+            fps: frames per second; dpi: resolution of the frames.
+        """
+        dt = config.grid.dt
+        every = max(1, round(interval / dt))
+        times = np.arange(0, round(config.protocol.t_end / dt) + 1, every, dtype=np.int64) * dt
+        super().__init__(config, FixedInterrupts(times))
+        self.path = Path(path)
+        self.fps = fps
+        self.dpi = dpi
+        self.bodies = make_bodies(config)
+        self._frame: BodiesFrame | None = None
+        self._writer: Mp4Writer | None = None
+        self._last_step = -1
+
+    def initialize(self, field: SurfaceFields, info: InfoDict | None = None) -> float:
+        """Create the figure and the mp4 writer."""
+        x, y = (np.asarray(a) for a in field.grid.axes_coords)
+        self._frame = BodiesFrame(self.bodies, x, y)
+        self._writer = Mp4Writer(self.path, self.fps)
+        return super().initialize(field, info)
+
+    def handle(self, field: SurfaceFields, t: float) -> None:
+        """Render and encode one frame."""
+        step = self.step_of(t)
+        if step == self._last_step or self._frame is None or self._writer is None:
+            return
+        self._last_step = step
+        poses = field.bodies.poses
+        moving = ", ".join(
+            f"{b.name} {poses[k, 5]:+.0f}" for k, b in enumerate(self.bodies) if b.motion != "fixed"
+        )
+        title = f"t = {step * self.schedule.dt:.2f}   omega: {moving}"
+        self._frame.update(field.data, poses, title)
+        self._writer.append(figure_frame(self._frame.fig, self.dpi))
+
+    def _finish(self, status: dict[str, Any]) -> None:
+        if self._writer is not None:
+            self._writer.close()

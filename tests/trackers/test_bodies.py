@@ -14,7 +14,7 @@ TWO_BODIES = {
     "grid": {"domain_radius": 3.0, "dx": 0.05, "dt": 2e-4},
     "numerics": {"scheme": "paper"},
     "protocol": {"t_ini": 0.1, "t_stop": 0.04, "t_release": 0.06, "cycles": 2},
-    "output": {"timeseries_interval": 0.01, "movie": False, "progress": False},
+    "output": {"timeseries_interval": 0.01, "movie_interval": 0.05, "progress": False},
     "bodies": [
         {
             "name": "stopped",
@@ -40,7 +40,9 @@ def test_bodies_run_writes_every_body_and_its_stops(tmp_path: Path) -> None:
     config = RotorConfig.model_validate(TWO_BODIES)
     result = run(config, tmp_path / "run")
     assert result.ok, result.message
-    assert set(result.files) == {"config.yaml", "bodies.nc", "events.nc", "summary.png", "run.log"}
+    names = {"config.yaml", "bodies.nc", "events.nc", "summary.png", "movie.mp4", "run.log"}
+    assert set(result.files) == names
+    assert (tmp_path / "run" / "movie.mp4").stat().st_size > 0
     with xr.open_dataset(tmp_path / "run" / "bodies.nc", engine="h5netcdf") as ds:
         ds = ds.load()
     assert list(ds["body"].values) == ["stopped", "boat"]
