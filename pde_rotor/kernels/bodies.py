@@ -27,7 +27,7 @@ import math
 import numba as nb
 import numpy as np
 
-from .body_core import CPU_BODIES, MOTION_FIXED, MOTION_FREE, PLATE_POLYGON
+from .body_core import CPU_BODIES, MOTION_FIXED, MOTION_FREE, PLATE_NONE, PLATE_POLYGON
 from .core import CPU, FASTMATH
 
 _plate_rates = CPU.plate_rates
@@ -35,7 +35,8 @@ _rate_coefficients = CPU.rate_coefficients
 _stopped_at = CPU.stopped_at
 _plate_velocity = CPU_BODIES.plate_velocity
 _body_plate_cell = CPU_BODIES.body_plate_cell
-_body_pill_cell = CPU_BODIES.body_pill_cell
+_pill_term = CPU.pill_term
+_pill_reach = CPU.pill_reach
 _body_accelerations = CPU_BODIES.body_accelerations
 _euler_rotor = CPU.euler_rotor
 _noise_kick = CPU.noise_kick
@@ -102,7 +103,10 @@ def _orient(k, body, pills, pose, normals, centres):
 def draw_body(F, G, owner, domain, k, body, pills, pose, normals, centres, box, inv_delta):
     """Draw body k at its pose: F_k, G_k and owner k on the cells of its footprint.
 
-    The footprint is the disk of radius ``body[k].reach`` about X_k, beyond which F_k and
+    Two passes: the plate's F on the footprint, then each pill's term on the cells of its
+    own bounding box (a pill's term is below 4.3e-18 beyond rho + X_SATURATION delta), in
+    the pills' order, as the rotor's ``pill_rows`` sums them. The footprint is the disk
+    of radius ``body[k].reach`` about X_k, beyond which F_k and
     G_k are 0 to within 4.3e-18 (:data:`pde_rotor.config.X_SATURATION`). G holds the
     pills' source densities relative to the record's ``source`` (1 for the paper's
     pills, so that G is the paper's indicator sum).
@@ -125,12 +129,12 @@ def draw_body(F, G, owner, domain, k, body, pills, pose, normals, centres, box, 
     j1 = min(n, math.floor((y_k + reach - x0) * inv_dx) + 1)
     box[k, 0], box[k, 1], box[k, 2], box[k, 3] = i0, i1, j0, j1
     tab = normals[:, :, k]
-    for i in range(i0, i1):
+    plate = b.plate != PLATE_NONE
+    for i in range(i0, i1):  # the footprint: owner, F of the plate, G = 0
         x = coords[i]
         for j in range(j0, j1):
-            y = coords[j]
             rx = x - x_k
-            ry = y - y_k
+            ry = coords[j] - y_k
             if rx * rx + ry * ry >= reach * reach:
                 continue
             if j < lo[i] or j >= hi[i]:
@@ -138,14 +142,30 @@ def draw_body(F, G, owner, domain, k, body, pills, pose, normals, centres, box, 
             o = i * n + j
             if owner[o] >= 0 and owner[o] != k:
                 return -1 - owner[o]
-            indicator, source = _body_pill_cell(
-                x, y, centres, pills, b.pill_start, b.pill_count, inv_delta
-            )
-            F[o] = _body_plate_cell(
-                rx, ry, b.plate, tab, b.n_corners, b.size_a, b.size_b, inv_delta, indicator
-            )
-            G[o] = source
             owner[o] = k
+            G[o] = 0.0
+            F[o] = 0.0
+            if plate:
+                F[o] = _body_plate_cell(
+                    rx, ry, b.plate, tab, b.n_corners, b.size_a, b.size_b, inv_delta
+                )
+    for m in range(b.pill_start, b.pill_start + b.pill_count):  # each pill on its own box
+        px, py, rho, weight = centres[0, m], centres[1, m], pills[m, 2], pills[m, 3]
+        pill_reach = _pill_reach(rho, inv_delta)
+        ia = max(i0, math.ceil((px - pill_reach - x0) * inv_dx))
+        ib = min(i1, math.floor((px + pill_reach - x0) * inv_dx) + 1)
+        ja = max(j0, math.ceil((py - pill_reach - x0) * inv_dx))
+        jb = min(j1, math.floor((py + pill_reach - x0) * inv_dx) + 1)
+        for i in range(ia, ib):
+            dx_p = coords[i] - px
+            for j in range(ja, jb):
+                o = i * n + j
+                if owner[o] != k:
+                    continue
+                term = _pill_term(dx_p, coords[j] - py, rho, inv_delta)
+                G[o] += weight * term
+                if not plate:
+                    F[o] += term
     return 0
 
 

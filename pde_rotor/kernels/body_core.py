@@ -48,7 +48,6 @@ class BodyCore(NamedTuple):
     strip_gauge: Callable
     polygon_gauge: Callable
     body_plate_cell: Callable
-    body_pill_cell: Callable
     body_accelerations: Callable
 
 
@@ -92,31 +91,14 @@ def make_body_core(jit: Callable[[Callable], Callable], core: Core) -> BodyCore:
         return along if along > across else across
 
     @jit
-    def body_pill_cell(x, y, centres, pills, start, count, inv_delta):
-        """(sum_j 1/2 [1 + tanh((rho_j - |r - R_j|) / delta)], and the same weighted by
-        the pill's source density s_j / (pi rho_j^2)) of the body's pills at (x, y).
-
-        `centres` (2, P) holds the pills' lab-frame centres, `pills` (P, 4) their body-frame
-        x, y, rho and source density; the body's pills are [start, start + count).
-        """
-        indicator = 0.0
-        source = 0.0
-        for j in range(start, start + count):
-            term = pill_term(x - centres[0, j], y - centres[1, j], pills[j, 2], inv_delta)
-            indicator += term
-            source += pills[j, 3] * term
-        return indicator, source
-
-    @jit
-    def body_plate_cell(
-        rx, ry, plate, normals, n_corners, size_a, size_b, inv_delta, pill_indicator
-    ):
+    def body_plate_cell(rx, ry, plate, normals, n_corners, size_a, size_b, inv_delta):
         """F_k at r = X_k + (rx, ry) for the plate kind `plate` (``paper`` scheme point value).
 
         polygon: 1/2 [1 + tanh((a - h) / delta)], h the polygon gauge, a = `size_a` the
         apothem; disk: the same with h = |r - X| and a the radius; strip:
         1/2 [1 + tanh(-h / delta)], h the strip gauge with `size_a`, `size_b` the half
-        length and half width; none: the pills' own indicator `pill_indicator`.
+        length and half width. A body without a plate has the pills' own indicator for F
+        (the sum of ``pill_term`` over them, :mod:`pde_rotor.kernels.bodies`).
         """
         if plate == PLATE_POLYGON:
             return logistic((size_a - polygon_gauge(rx, ry, normals, n_corners)) * inv_delta)
@@ -125,7 +107,7 @@ def make_body_core(jit: Callable[[Callable], Callable], core: Core) -> BodyCore:
         if plate == PLATE_STRIP:
             h = strip_gauge(rx, ry, normals[0, 0], normals[1, 0], size_a, size_b)
             return logistic(-h * inv_delta)
-        return pill_indicator
+        return 0.0
 
     @jit
     def body_accelerations(integrals, u, v, omega, sign_k, mu, mass, inertia):
@@ -178,7 +160,6 @@ def make_body_core(jit: Callable[[Callable], Callable], core: Core) -> BodyCore:
         strip_gauge=strip_gauge,
         polygon_gauge=polygon_gauge,
         body_plate_cell=body_plate_cell,
-        body_pill_cell=body_pill_cell,
         body_accelerations=body_accelerations,
     )
 
