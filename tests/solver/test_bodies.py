@@ -264,3 +264,36 @@ def test_two_disk_rotor_starts_turning_below_its_critical_friction() -> None:
     assert rates[0] > 0 > rates[1]
     simulated = 0.9 * mu_c - rates[0] * 0.15 * mu_c / (rates[1] - rates[0])
     assert simulated == pytest.approx(mu_c, rel=0.1)
+
+
+def test_free_body_momentum_balances_the_forces_of_the_fields() -> None:
+    """A free strip with pills, moving and turning through its own camphor and flow: over
+    every step m dU = (tension + friction force) dt and I domega = (torque + friction
+    torque) dt with the forces the step recorded, and those forces are the numpy
+    reference's of the state the step started from, at the start and after 150 steps."""
+    strip = {
+        "name": "strip",
+        "plate": {"shape": "strip", "length": 0.8, "width": 0.3},
+        "pills": [{"x": 0.3, "y": 0.05, "radius": 0.06}],
+        "motion": {"kind": "free", "mass": 2e-4, "inertia": 4e-6},
+        "start": {"x": -0.3, "y": 0.2, "angle": 0.3, "omega": 4.0, "velocity": [0.3, -0.2]},
+    }
+    config = surface_config([strip], grid={"domain_radius": 2.5})
+    sim = Simulation(config)
+    dt = config.grid.dt
+    body = sim.pde.bodies[0]
+    for start in (0, 150):
+        sim.run(start * dt)
+        before = sim.state.copy()
+        reference = sim.pde.body_forces(before)[0]
+        sim.run((start + 1) * dt)
+        pose = sim.bodies.poses[0]
+        np.testing.assert_allclose(pose[6:12], reference, rtol=1e-9, atol=1e-14)
+        old = before.bodies.poses[0]
+        f_x, f_y, torque, d_x, d_y, friction = pose[6:12]
+        assert body.mass * (pose[3] - old[3]) == pytest.approx((f_x + d_x) * dt, rel=1e-10)
+        assert body.mass * (pose[4] - old[4]) == pytest.approx((f_y + d_y) * dt, rel=1e-10)
+        assert body.inertia * (pose[5] - old[5]) == pytest.approx(
+            (torque + friction) * dt, rel=1e-10
+        )
+    assert abs(sim.bodies.poses[0, 0] - (-0.3)) > 1e-3  # it moved
