@@ -47,6 +47,7 @@ EXPECTED = (
     "fig9_predicted",
     "master_curve",
     "movie_inversion",
+    "phase_diagram",
 )
 """The gallery scripts: paper Figs. 1 and 3-9, the movie and the convergence page."""
 
