@@ -4,8 +4,9 @@ Reads the report of the sweep ``fig5`` (:func:`pde_rotor.sweep.report`): a store
 from data/ if present, else it runs configs/sweeps/fig5.yaml (full) or fig5_quick.yaml
 (``--quick``) through :mod:`pde_rotor.sweep` (``--tiny``: a shrunken copy). P is drawn
 with its 95 % interval, and faintly the conditional probabilities from CCW and CW
-rotation, and the decay point, where P falls through 0.75, with its 95 % interval
-(:mod:`pde_rotor.statistics.crossing`), and dashed the decision model's prediction where
+rotation, and the decay read both ways with its 95 % interval
+(:mod:`pde_rotor.statistics.crossing`): where it starts (P falls through 0.95) and its
+halfway point (P = 0.75); and dashed the decision model's prediction where
 data/decision/ holds the report's model. The paper: P = 1 for small t_stop, decaying
 near t_stop = 1.4 to 0.5 (marked in grey, :data:`pde_rotor.gallery.sweeps.PAPER_CLAIMS`).
 

@@ -5,8 +5,9 @@
 present, else the sweep configs/sweeps/<name>.yaml (full) or <name>_quick.yaml
 (``--quick``) is run through :mod:`pde_rotor.sweep` (``--tiny``: a shrunken copy). P with
 its 95 % interval; faintly the conditional probabilities from CCW and from CW rotation
-(for Delta > 0 CW is favoured: P(inv | CCW) > P(inv | CW)); in (a) the onset, where P
-falls through 0.5, with its 95 % interval (:mod:`pde_rotor.statistics.crossing`). The paper:
+(for Delta > 0 CW is favoured: P(inv | CCW) > P(inv | CW)); in (a) the fall read both ways,
+with its 95 % interval (:mod:`pde_rotor.statistics.crossing`): where it starts (P falls
+through 0.95; the paper's "started to decay around 1") and the onset (P = 0.5). The paper:
 (a) P = 1 for small t_stop, decaying near t_stop = 1 to 0; (b) a plateau near 0.2, as
 in the experiment; (c) P falls from 0.5 to 0 as Delta grows (marked in grey,
 :data:`pde_rotor.gallery.sweeps.PAPER_CLAIMS`). Panel (c) also draws the t_stop = 3 points of the
@@ -44,7 +45,7 @@ from pde_rotor.gallery.sweeps import (
     probability_footer,
     sweep_data,
 )
-from pde_rotor.statistics.crossing import ONSET_LEVEL
+from pde_rotor.statistics.crossing import DECAY_START_LEVEL, ONSET_LEVEL
 
 NAME = "fig7_probability"
 PANELS = (
@@ -73,6 +74,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
         draw_conditionals(ax, x, ds)
         prefix = f"{NAME} {sweep}: "
         if sweep == "fig7a":
+            draw_crossing(ax, prefix, ds, DECAY_START_LEVEL, "fall starts")
             draw_crossing(ax, prefix, ds, ONSET_LEVEL, "onset")
         span = None
         if sweep == "fig7c":

@@ -29,7 +29,13 @@ import xarray as xr
 
 from .backends import backend_for, device_name, member_stepper
 from .config import ConfigError, RotorConfig, dump_config, load_config, validate_config
-from .io.output import RunDirectory, atomic_path, detach_log, write_text_atomic
+from .io.output import (
+    RunDirectory,
+    atomic_path,
+    detach_log,
+    write_netcdf_atomic,
+    write_text_atomic,
+)
 from .units import LENGTH_UNITS, TIME_UNITS
 
 _logger = logging.getLogger(__name__)
@@ -245,6 +251,8 @@ def run(
         cfg = cfg.model_copy(update={"output": cfg.output.model_copy(update=output_update)})
     cfg = with_seed(cfg)
     backend = backend_for(cfg)
+    if cfg.bodies is not None:
+        return _run_bodies(cfg, out, overwrite=overwrite, check=check)
     device = device_name(backend)
     from . import trackers as tr
 
@@ -385,6 +393,94 @@ def run(
             kept = f"; what was recorded before is in {run_dir.path}" if run_dir else ""
             msg = f"run stopped after t = {t_last:g}: {type(error).__name__}: {error}{kept}"
             raise RunError(msg) from error
+        return result
+    finally:
+        if log_handler is not None:
+            detach_log(log_handler)
+
+
+def _run_bodies(
+    cfg: RotorConfig, out: str | Path | None, *, overwrite: bool, check: bool
+) -> RunResult:
+    """:func:`run` for a config with ``bodies:``: bodies.nc, the events of every body
+    with stops, config.yaml, run.log, summary.png and (``output.movie``) movie.mp4
+    (:mod:`pde_rotor.plotting.bodies`).
+
+    The result's ``timeseries`` is bodies.nc (time, body), its ``events`` the stops of
+    every body with a protocol. A body at the dish's edge or at another body ends the
+    run with status "stopped" and the message naming it; what was recorded is kept.
+    """
+    from .model.bodies import make_bodies
+    from .plotting.bodies import bodies_summary
+    from .solver.bodies import BodyContactError
+    from .solver.rotor import SimulationDivergedError
+    from .solver.simulation import Simulation
+    from .trackers.bodies import BodiesMovieTracker, BodiesTracker
+
+    run_dir = RunDirectory.create(out, overwrite=overwrite) if out is not None else None
+    attrs = {
+        "title": "camphor bodies on one surface",
+        "source": f"pde_rotor {versions()['pde_rotor']}",
+        "references": PAPER,
+        "config_hash": cfg.config_hash(),
+        "config": dump_config(cfg),
+    }
+    log_handler = None
+    if run_dir is not None:
+        write_text_atomic(run_dir.config, dump_config(cfg))
+        log_handler = run_dir.attach_log()
+    try:
+        sim = Simulation(cfg)
+        tracker = BodiesTracker(
+            cfg,
+            cfg.output.timeseries_interval,
+            run_dir / "bodies.nc" if run_dir else None,
+            checkpoint_seconds=cfg.output.checkpoint_seconds,
+            attrs=attrs,
+        )
+        trackers: list[Any] = [tracker]
+        out_cfg = cfg.output
+        if run_dir is not None and out_cfg.movie:
+            trackers.append(
+                BodiesMovieTracker(
+                    cfg, run_dir.movie, out_cfg.movie_interval, fps=out_cfg.movie_fps,
+                    dpi=out_cfg.movie_dpi,
+                )
+            )  # fmt: skip
+        start = time.perf_counter()
+        error: BaseException | None = None
+        status, message = "completed", ""
+        try:
+            sim.run(trackers=trackers)
+        except (BodyContactError, SimulationDivergedError) as err:
+            error = err
+            status = "stopped" if isinstance(err, BodyContactError) else "diverged"
+            message = str(err)
+            _logger.error("%s", message)
+            t_last = tracker.times[-1] if tracker.times else 0.0
+            info = {"controller": {"status": status, "stop_reason": message, "t_final": t_last}}
+            for each in trackers:
+                each.finalize(info=info)
+        result = RunResult(
+            config=cfg,
+            timeseries=tracker.to_dataset(tracker.status),
+            events=tracker.events(cfg.output.commit_fraction),
+            status=status,
+            message=message or (tracker.status or {}).get("message", ""),
+            run_dir=run_dir.path if run_dir else None,
+            wall_time=time.perf_counter() - start,
+            backend="cpu",
+        )
+        _logger.info("bodies run %s after %.1f s: %s", status, result.wall_time, message)
+        if run_dir is not None:
+            write_netcdf_atomic(result.events, run_dir / "events.nc")
+            fig = bodies_summary(result.timeseries, cfg, make_bodies(cfg))
+            with atomic_path(run_dir.summary) as tmp:
+                fig.savefig(tmp, format="png", dpi=110)
+            names = ("config.yaml", "bodies.nc", "events.nc", "summary.png", "movie.mp4", "run.log")
+            result.files = {n: run_dir / n for n in names if (run_dir / n).exists()}
+        if error is not None and check and isinstance(error, SimulationDivergedError):
+            raise error
         return result
     finally:
         if log_handler is not None:

@@ -72,6 +72,8 @@ def _doc_default(cell: str):
         return cell == "true"
     if cell == "null":
         return None
+    if cell.startswith("["):
+        return tuple(float(value) for value in cell.strip("[]").split(","))
     try:
         return float(cell)
     except ValueError:

@@ -38,7 +38,7 @@ from typing import Any
 import numpy as np
 
 from ..config import RotorConfig
-from ..model.pde import RotorPDE, RotorState
+from ..model.pde import RotorPDE, RotorState, check_bodies_numerics
 from ..solver.rotor import MemberStepper, SimulationDivergedError, StepperFactory
 from .base import EnsembleBackend, EnsembleRunner
 from .batch import MemberRun, run_batch
@@ -137,13 +137,25 @@ def backend_for(config: RotorConfig) -> str:
     """The backend that will run `config`: ``solver.backend`` resolved for its numerics.
 
     The GPU kernel integrates with forward Euler only: with another
-    ``numerics.integrator``, ``auto`` runs on the CPU and ``gpu`` is refused.
+    ``numerics.integrator``, ``auto`` runs on the CPU and ``gpu`` is refused. No backend
+    runs bodies yet (:func:`pde_rotor.model.pde.refuse_bodies`): the CLI and
+    :func:`pde_rotor.run` ask here before they write anything.
 
     Raises:
         BackendError: "gpu" requested and no usable GPU, or an integrator the GPU kernel
             does not implement (one line, naming the key).
+        ConfigError: bodies with numerics their kernel does not implement (one line).
     """
+    check_bodies_numerics(config)
     requested = config.solver.backend
+    if config.bodies is not None:
+        if requested == "gpu":
+            msg = (
+                "solver.backend = 'gpu' with bodies: the GPU ensemble runs the rotor of "
+                "geometry: only (allowed: solver.backend = cpu or auto)"
+            )
+            raise BackendError(msg)
+        return "cpu"
     integrator = config.numerics.integrator
     if requested != "cpu" and integrator != "euler":
         if requested == "auto":

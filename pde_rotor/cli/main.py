@@ -145,11 +145,17 @@ def run(
 
 
 def _report(result: RunResult) -> None:
-    n = result.events.sizes.get("cycle", 0)
-    inversions = int(result.events["inverted"].values.sum()) if n else 0
     t_final = float(result.timeseries["time"].values[-1]) if result.timeseries.sizes["time"] else 0
     typer.echo(f"run {result.status} (last sample t = {t_final:g}) after {result.wall_time:.1f} s")
-    typer.echo(f"inversions: {inversions}/{n}" + (f" = {inversions / n:.2f}" if n else ""))
+    events = result.events
+    if "body" in events:  # a run with bodies: the inversions of each body with stops
+        for name in dict.fromkeys(events["body"].values):
+            inverted = events["inverted"].values[events["body"].values == name]
+            typer.echo(f"{name}: inversions {int(inverted.sum())}/{inverted.size}")
+    else:
+        n = events.sizes.get("cycle", 0)
+        inversions = int(events["inverted"].values.sum()) if n else 0
+        typer.echo(f"inversions: {inversions}/{n}" + (f" = {inversions / n:.2f}" if n else ""))
     typer.echo(f"run directory: {result.run_dir}")
     for name in result.files:
         typer.echo(f"  {name}")

@@ -15,6 +15,10 @@ is compiled.
 
 * :mod:`.schema`: the pydantic schema (one model per section) with its bounds and
   cross-field checks, and the constants the paper and the calibration fix;
+* :mod:`.bodies`: the ``bodies:`` list, the camphor objects on the surface (plates,
+  pills, motions), of which the ``geometry:`` rotor is the shorthand for one;
+* :mod:`.protocol`: the stop-and-release section, the run's and each body's;
+* :mod:`.fields`: the number types, the section base and the bounds they all share;
 * :mod:`.yaml_io`: YAML in and out, ``--set`` overrides, the dotted-key setter;
 * :mod:`.messages`: one-line messages naming the key path and the allowed values;
 * :mod:`.errors`: the two errors of configuration input;
@@ -23,13 +27,28 @@ is compiled.
 
 from __future__ import annotations
 
+from .bodies import (
+    BodyConfig,
+    DiskPlate,
+    FixedAxisMotion,
+    FixedMotion,
+    FreeMotion,
+    NoPlate,
+    PillConfig,
+    PolygonPlate,
+    StartConfig,
+    StripPlate,
+)
 from .compare import physics_differences
 from .errors import ConfigError, FieldError
-from .messages import allowed_values, format_validation_error
+from .messages import allowed_values, format_validation_error, key_text
+from .protocol import ProtocolConfig
 from .schema import (
     CALIBRATED_SIGMA,
+    DISH_CENTRE,
     PAPER_SCHEME_SIGMA,
     PAPER_STEADY_OMEGA,
+    SHORTHAND_KEYS,
     TIME_KEYS,
     X_SATURATION,
     CamphorConfig,
@@ -39,7 +58,6 @@ from .schema import (
     NoiseConfig,
     NumericsConfig,
     OutputConfig,
-    ProtocolConfig,
     RotorConfig,
     RotorDynamicsConfig,
     SolverConfig,
@@ -58,28 +76,41 @@ from .yaml_io import (
 
 __all__ = [
     "CALIBRATED_SIGMA",
+    "DISH_CENTRE",
     "PAPER_SCHEME_SIGMA",
     "PAPER_STEADY_OMEGA",
     "PROVENANCE_KEY",
+    "SHORTHAND_KEYS",
     "TIME_KEYS",
     "X_SATURATION",
+    "BodyConfig",
     "CamphorConfig",
     "ConfigError",
+    "DiskPlate",
     "FieldError",
+    "FixedAxisMotion",
+    "FixedMotion",
     "FlowConfig",
+    "FreeMotion",
     "GeometryConfig",
     "GridConfig",
+    "NoPlate",
     "NoiseConfig",
     "NumericsConfig",
     "OutputConfig",
+    "PillConfig",
+    "PolygonPlate",
     "ProtocolConfig",
     "RotorConfig",
     "RotorDynamicsConfig",
     "SolverConfig",
+    "StartConfig",
+    "StripPlate",
     "allowed_values",
     "apply_overrides",
     "dump_config",
     "format_validation_error",
+    "key_text",
     "load_config",
     "parse_override",
     "parse_yaml",

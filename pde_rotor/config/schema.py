@@ -14,60 +14,49 @@ import fractions
 import hashlib
 import json
 import math
-from typing import Annotated, Any, Literal
+from typing import Any, Literal
 
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, model_validator
+import numpy as np
+from pydantic import Field, SerializerFunctionWrapHandler, model_serializer, model_validator
 
+from .bodies import (
+    BodyConfig,
+    FixedAxisMotion,
+    FixedMotion,
+    PillConfig,
+    PolygonPlate,
+    StartConfig,
+)
 from .errors import FieldError
-
-X_SATURATION = 20.0
-"""|x| beyond which float64 1/2 (1 + tanh(x)) is exactly 1 (1 - tanh(20) = 8.5e-18 < 2^-54)
-and below 4.3e-18: the smoothed indicators F and G (the equations after Eq. (rj)) are 0
-or 1 beyond X_SATURATION delta of their edges, and the kernels evaluate them only within."""
-
-
-def _reject_bool(value: Any) -> Any:
-    """YAML ``true`` is not a number: refuse the silent coercion bool -> 1."""
-    if isinstance(value, bool):
-        msg = "expected a number, got a boolean"
-        raise ValueError(msg)
-    return value
-
-
-_NoBool = BeforeValidator(_reject_bool)
-PositiveFloat = Annotated[float, _NoBool, Field(gt=0, allow_inf_nan=False)]
-NonNegativeFloat = Annotated[float, _NoBool, Field(ge=0, allow_inf_nan=False)]
-FiniteFloat = Annotated[float, _NoBool, Field(allow_inf_nan=False)]
-Fraction = Annotated[float, _NoBool, Field(gt=0, le=1, allow_inf_nan=False)]
-Int = Annotated[int, _NoBool]
-
-
-SCALE_BOUND = 1e3
-"""Physical bounds: every rate and coefficient of the model lies within a factor 1e3 of
-the paper's value (the paper's Table of parameters, all of order 1 in its dimensionless
-units, except I and mu). Far beyond that the model leaves the regime the paper scaled it
-for and the explicit step overflows float64 (``camphor.supply: 1e308``), so such a value
-is refused in one line at ``check`` instead of starting a run that cannot work."""
-OMEGA_BOUND = 1e4
-"""Largest |omega0|: about 50 times the rotor's own steady angular velocity (176)."""
-TIME_BOUND = 1e5
-"""Longest t_ini, t_stop or t_release: 1e4 times the paper's 10."""
-CYCLES_BOUND = 100_000
-"""Most stop-and-release cycles in one run: 1000 times the paper's M = 100."""
-
-
-class _Section(BaseModel):
-    """Base of all config sections: unknown keys and silent coercions are errors."""
-
-    model_config = ConfigDict(extra="forbid", strict=False, validate_assignment=True)
+from .fields import (
+    OMEGA_BOUND,
+    PAPER_FRICTION,
+    PAPER_INERTIA,
+    PAPER_N_CORNERS,
+    PAPER_PILL_RADIUS,
+    PAPER_PLATE_RADIUS,
+    SCALE_BOUND,
+    X_SATURATION,
+    FiniteFloat,
+    Fraction,
+    Int,
+    NonNegativeFloat,
+    PositiveFloat,
+    _Section,
+)
+from .protocol import ProtocolConfig
 
 
 class GeometryConfig(_Section):
     """Rotor geometry: regular N-gon plate with N camphor pills (paper Fig. 1, Eqs. (rc), (rj))."""
 
-    n_corners: Int = Field(6, ge=3, le=24, description="N: number of plate corners and pills")
-    radius: PositiveFloat = Field(0.5, description="R: circumradius of the plate")
-    pill_radius: PositiveFloat = Field(0.1, description="rho: radius of one camphor pill")
+    n_corners: Int = Field(
+        PAPER_N_CORNERS, ge=3, le=24, description="N: number of plate corners and pills"
+    )
+    radius: PositiveFloat = Field(PAPER_PLATE_RADIUS, description="R: circumradius of the plate")
+    pill_radius: PositiveFloat = Field(
+        PAPER_PILL_RADIUS, description="rho: radius of one camphor pill"
+    )
     pill_inset: NonNegativeFloat = Field(
         0.05, description="p: extra inward shift of the pills, Eq. (rc)"
     )
@@ -189,10 +178,13 @@ class RotorDynamicsConfig(_Section):
     """Rotor dynamics, Eq. (eq_motion), and its initial condition."""
 
     inertia: PositiveFloat = Field(
-        1e-5, ge=1e-5 / SCALE_BOUND, le=1e-5 * SCALE_BOUND, description="I: moment of inertia"
+        PAPER_INERTIA,
+        ge=PAPER_INERTIA / SCALE_BOUND,
+        le=PAPER_INERTIA * SCALE_BOUND,
+        description="I: moment of inertia",
     )
     friction: NonNegativeFloat = Field(
-        1e-4, le=1e-4 * SCALE_BOUND, description="mu: friction constant"
+        PAPER_FRICTION, le=PAPER_FRICTION * SCALE_BOUND, description="mu: friction constant"
     )
     phi0: FiniteFloat = Field(1.0, description="phi(0): initial angle [rad]")
     omega0: FiniteFloat = Field(
@@ -247,38 +239,8 @@ class NoiseConfig(_Section):
     )
 
 
-class ProtocolConfig(_Section):
-    """Stop-and-release operations (paper section "Model", last part)."""
-
-    t_ini: NonNegativeFloat = Field(
-        10.0, le=TIME_BOUND, description="t_ini: free rotation before the first stop"
-    )
-    t_stop: NonNegativeFloat = Field(
-        0.5, le=TIME_BOUND, description="t_stop: duration of one forced stop"
-    )
-    t_release: PositiveFloat = Field(
-        10.0, le=TIME_BOUND, description="t_release: free rotation after a stop"
-    )
-    cycles: Int = Field(
-        100, ge=0, le=CYCLES_BOUND, description="M: number of stop-and-release cycles"
-    )
-
-    @property
-    def period(self) -> float:
-        """Cycle period T = t_stop + t_release."""
-        return self.t_stop + self.t_release
-
-    @property
-    def t_end(self) -> float:
-        """End of the protocol, t_ini + M T."""
-        return self.t_ini + self.cycles * self.period
-
-    @model_validator(mode="after")
-    def _something_to_run(self) -> ProtocolConfig:
-        if self.t_end <= 0:
-            msg = "nothing to simulate: t_ini + cycles * (t_stop + t_release) = 0 (allowed: > 0)"
-            raise FieldError("t_ini", self.t_ini, msg)
-        return self
+DISH_CENTRE = (0.0, 0.0)
+"""Default centre of the dish: the origin, the paper rotor's axis."""
 
 
 class GridConfig(_Section):
@@ -289,6 +251,19 @@ class GridConfig(_Section):
     )
     dx: PositiveFloat = Field(0.025, description="grid spacing")
     dt: PositiveFloat = Field(1e-4, description="explicit Euler time step")
+    domain_centre: tuple[FiniteFloat, FiniteFloat] = Field(
+        DISH_CENTRE,
+        description="[x, y]: centre of the circular domain (the dish) that holds the bodies",
+    )
+
+    @model_serializer(mode="wrap")
+    def _without_default_centre(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
+        """Leave out a domain_centre at the origin: the dumps, hashes and physics of every
+        config written before the key existed stay as they were (stored sweep runs)."""
+        data = handler(self)
+        if self.domain_centre == DISH_CENTRE:
+            data.pop("domain_centre", None)
+        return data
 
 
 class NumericsConfig(_Section):
@@ -379,7 +354,7 @@ class SolverConfig(_Section):
             "number); null: every core this process may use (os.sched_getaffinity) that no "
             "other process keeps busy when the run starts, at most numba's thread count "
             "(NUMBA_NUM_THREADS; 1 in the worker processes of a sweep, pde-rotor sweep "
-            "--threads)"
+            "--threads); bodies runs step on one thread"
         ),
     )
 
@@ -428,8 +403,28 @@ TIME_KEYS = (
 """Times that must be integer multiples of grid.dt (the schedule counts whole steps)."""
 
 
+SHORTHAND_KEYS = (
+    "geometry.n_corners",
+    "geometry.radius",
+    "geometry.pill_radius",
+    "geometry.pill_inset",
+    "geometry.asymmetry",
+    "rotor.phi0",
+    "rotor.omega0",
+)
+"""Keys of the paper's single rotor (the ``geometry:`` shorthand) that a ``bodies:`` list
+replaces: with bodies they must keep their defaults. geometry.smoothing stays global,
+rotor.inertia, rotor.friction and noise.sigma are the bodies' defaults, rotor.torque the
+torque convention of every body."""
+
+
 class RotorConfig(_Section):
-    """Complete description of one simulation (all sections have the paper's defaults)."""
+    """Complete description of one simulation (all sections have the paper's defaults).
+
+    Without ``bodies`` the surface holds the paper's rotor described by ``geometry`` and
+    ``rotor`` (the shorthand); with ``bodies`` it holds those objects
+    (:mod:`pde_rotor.config.bodies`, :meth:`body_list`).
+    """
 
     geometry: GeometryConfig = Field(default_factory=GeometryConfig)
     camphor: CamphorConfig = Field(default_factory=CamphorConfig)
@@ -441,6 +436,22 @@ class RotorConfig(_Section):
     numerics: NumericsConfig = Field(default_factory=NumericsConfig)
     solver: SolverConfig = Field(default_factory=SolverConfig)
     output: OutputConfig = Field(default_factory=OutputConfig)
+    bodies: list[BodyConfig] | None = Field(
+        None,
+        description=(
+            "the camphor objects on the surface (null: the single rotor of geometry and "
+            "rotor, the paper's)"
+        ),
+    )
+
+    @model_serializer(mode="wrap")
+    def _without_shorthand_bodies(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
+        """Leave out ``bodies: null``: the dumps, hashes and physics of every config of
+        the single rotor stay as they were before the key existed (stored sweep runs)."""
+        data = handler(self)
+        if self.bodies is None:
+            data.pop("bodies", None)
+        return data
 
     @model_validator(mode="after")
     def _numerically_sound(self) -> RotorConfig:
@@ -452,36 +463,29 @@ class RotorConfig(_Section):
                 f"smoothing = {2 * smoothing:g}, to resolve the edges of F and G)"
             )
             raise FieldError("grid.dx", dx, msg)
-        if self.geometry.radius + 2 * dx >= self.grid.domain_radius:
-            msg = (
-                f"leaves no water around the plate (allowed: domain_radius > "
-                f"geometry.radius + 2 dx = {self.geometry.radius + 2 * dx:g})"
-            )
-            raise FieldError("grid.domain_radius", self.grid.domain_radius, msg)
-        support = self.geometry.support_radius
-        if support > self.grid.domain_radius:
-            msg = (
-                f"smaller than the reach of the smoothed plate indicator F, R + "
-                f"{X_SATURATION:g} delta / cos(pi/N) = {support:.4g} (allowed: domain_radius "
-                f">= {support:.4g}, or reduce geometry.smoothing)"
-            )
-            raise FieldError("grid.domain_radius", self.grid.domain_radius, msg)
+        if self.bodies is None:
+            self._rotor_in_dish()
+        else:
+            self._bodies_in_dish()
         limit = self.dt_limit()
         if self.grid.dt > limit:
             msg = f"above the explicit stability limit (allowed: dt <= {limit:.4g} for this dx)"
             raise FieldError("grid.dt", self.grid.dt, msg)
         dt = self.grid.dt
-        kick = self.kick_scale()
-        if kick >= PAPER_STEADY_OMEGA:
-            limit = PAPER_STEADY_OMEGA * self.rotor.inertia / math.sqrt(2 * dt)
-            msg = (
-                f"kicks omega by sqrt(2 dt) sigma / I = {kick:.3g} per step, more than the "
-                f"steady rotation omega = {PAPER_STEADY_OMEGA:g} at the paper's parameters: "
-                f"the rotor would not rotate (allowed: sigma < {limit:.3g} for dt = {dt:g}, "
-                f"I = {self.rotor.inertia:g}; calibrated: {CALIBRATED_SIGMA:g})"
-            )
-            raise FieldError("noise.sigma", self.noise.sigma, msg)
-        for key in TIME_KEYS:
+        if self.bodies is None:
+            kick = self.kick_scale()
+            if kick >= PAPER_STEADY_OMEGA:
+                limit = PAPER_STEADY_OMEGA * self.rotor.inertia / math.sqrt(2 * dt)
+                msg = (
+                    f"kicks omega by sqrt(2 dt) sigma / I = {kick:.3g} per step, more than the "
+                    f"steady rotation omega = {PAPER_STEADY_OMEGA:g} at the paper's parameters: "
+                    f"the rotor would not rotate (allowed: sigma < {limit:.3g} for dt = {dt:g}, "
+                    f"I = {self.rotor.inertia:g}; calibrated: {CALIBRATED_SIGMA:g})"
+                )
+                raise FieldError("noise.sigma", self.noise.sigma, msg)
+        else:
+            self._bodies_noise()
+        for key in self.time_keys():
             value = self.get(key)
             if value is None:
                 continue
@@ -499,8 +503,165 @@ class RotorConfig(_Section):
                 raise FieldError(key, value, msg)
         return self
 
+    def _rotor_in_dish(self) -> None:
+        """The shorthand's rotor, at the origin, lies inside the dish with water around."""
+        dx = self.grid.dx
+        if self.geometry.radius + 2 * dx >= self.grid.domain_radius:
+            msg = (
+                f"leaves no water around the plate (allowed: domain_radius > "
+                f"geometry.radius + 2 dx = {self.geometry.radius + 2 * dx:g})"
+            )
+            raise FieldError("grid.domain_radius", self.grid.domain_radius, msg)
+        support = self.geometry.support_radius
+        if support > self.grid.domain_radius:
+            msg = (
+                f"smaller than the reach of the smoothed plate indicator F, R + "
+                f"{X_SATURATION:g} delta / cos(pi/N) = {support:.4g} (allowed: domain_radius "
+                f">= {support:.4g}, or reduce geometry.smoothing)"
+            )
+            raise FieldError("grid.domain_radius", self.grid.domain_radius, msg)
+        centre = self.grid.domain_centre
+        off = math.hypot(*centre)
+        room = self.grid.domain_radius - dx - support
+        if centre != DISH_CENTRE and off >= room:
+            msg = (
+                f"puts the rotor's axis, the origin, {off:.4g} from the dish centre, where its "
+                f"smoothed plate (reach {support:.4g}) meets the rim (allowed: |domain_centre| "
+                f"< domain_radius - dx - {support:.4g} = {room:.4g})"
+            )
+            raise FieldError("grid.domain_centre", list(centre), msg)
+
+    def _bodies_in_dish(self) -> None:
+        """With bodies: no shorthand key is set, names are unique, every footprint lies
+        inside the dish (one cell from its rim) and no two footprints meet."""
+        paper = RotorConfig()
+        for key in SHORTHAND_KEYS:
+            value, default = self.get(key), paper.get(key)
+            if value != default:
+                msg = (
+                    f"belongs to the single rotor of the geometry: shorthand, which a bodies: "
+                    f"list replaces (allowed: the default {default:g}; each body has its own "
+                    f"plate, pills and start, and only geometry.smoothing acts on all)"
+                )
+                raise FieldError(key, value, msg)
+        if not self.bodies:
+            msg = "no bodies (allowed: at least one body, or no bodies key for geometry's rotor)"
+            raise FieldError("bodies", [], msg)
+        bodies = self.body_list()
+        smoothing = self.geometry.smoothing
+        reach = [body.reach(smoothing) for body in bodies]
+        names: dict[str, int] = {}
+        for k, body in enumerate(bodies):
+            if body.name in names:
+                msg = f"the name of bodies[{names[body.name]}] too (allowed: a name of its own)"
+                raise FieldError(f"bodies[{k}].name", body.name, msg)
+            names[str(body.name)] = k
+        cx, cy = self.grid.domain_centre
+        rim = self.grid.domain_radius - self.grid.dx
+        footprint = f"plate, pills and the smoothing's reach {X_SATURATION:g} delta"
+        for k, body in enumerate(bodies):
+            x, y = body.start.x, body.start.y
+            off = math.hypot(x - cx, y - cy)
+            if off + reach[k] >= rim:
+                allowed = (
+                    f"|start - grid.domain_centre| < {rim - reach[k]:.4g}"
+                    if rim > reach[k]
+                    else f"grid.domain_radius > {reach[k] + self.grid.dx:.4g}"
+                )
+                msg = (
+                    f"body {body.name!r} reaches {off + reach[k]:.4g} from the dish centre (its "
+                    f"footprint of radius {reach[k]:.4g}: {footprint}), not inside "
+                    f"grid.domain_radius - dx = {rim:.4g} (allowed: {allowed})"
+                )
+                raise FieldError(f"bodies[{k}].start", [x, y], msg)
+            for i in range(k):
+                other = bodies[i]
+                apart = math.hypot(x - other.start.x, y - other.start.y)
+                if apart < reach[k] + reach[i]:
+                    msg = (
+                        f"body {body.name!r} overlaps body {other.name!r}: their footprints "
+                        f"(radius {reach[k]:.4g} and {reach[i]:.4g}: {footprint}) meet at "
+                        f"distance {apart:.4g} (allowed: distance >= {reach[k] + reach[i]:.4g})"
+                    )
+                    raise FieldError(f"bodies[{k}].start", [x, y], msg)
+
+    def _bodies_noise(self) -> None:
+        """No body's torque noise kicks its omega by more than the paper's steady rotation
+        per step (the rule of noise.sigma, with each body's own sigma and I)."""
+        dt = self.grid.dt
+        for k, body in enumerate(self.body_list()):
+            if isinstance(body.motion, FixedMotion) or not body.noise_sigma:
+                continue
+            inertia = body.motion.inertia
+            kick = math.sqrt(2.0 * dt) * body.noise_sigma / inertia
+            if kick >= PAPER_STEADY_OMEGA:
+                own = self.bodies is not None and self.bodies[k].noise_sigma is not None
+                key = f"bodies[{k}].noise_sigma" if own else "noise.sigma"
+                limit = PAPER_STEADY_OMEGA * inertia / math.sqrt(2 * dt)
+                msg = (
+                    f"kicks the omega of body {body.name!r} by sqrt(2 dt) sigma / I = "
+                    f"{kick:.3g} per step, more than the paper rotor's steady omega = "
+                    f"{PAPER_STEADY_OMEGA:g} (allowed: sigma < {limit:.3g} for dt = {dt:g}, "
+                    f"I = {inertia:g})"
+                )
+                raise FieldError(key, body.noise_sigma, msg)
+
+    def body_list(self) -> list[BodyConfig]:
+        """The bodies on the surface, every inherited key resolved (:mod:`.bodies`).
+
+        Without ``bodies``: one body, the paper's rotor of the shorthand. Its plate is
+        the polygon (geometry.n_corners, geometry.radius); its pills lie at
+        R_c e(2 pi j / N + Delta), j = 1..N, computed with the expression of
+        :func:`pde_rotor.model.geometry.pill_angles` and ``pill_centres`` (bit for bit
+        their positions at phi = 0), with geometry.pill_radius and camphor.supply; it
+        turns about the origin (fixed_axis with rotor.inertia, rotor.friction), starts
+        at rotor.phi0, rotor.omega0, is stopped by the run's protocol and kicked by the
+        run's noise.sigma.
+        """
+        if self.bodies is not None:
+            return [
+                body.resolved(
+                    k,
+                    supply=self.camphor.supply,
+                    inertia=self.rotor.inertia,
+                    friction=self.rotor.friction,
+                    sigma=self.noise.sigma,
+                )
+                for k, body in enumerate(self.bodies)
+            ]
+        geo = self.geometry
+        n = geo.n_corners
+        angles = 0.0 + 2 * np.pi * np.arange(1, n + 1) / n + geo.asymmetry
+        centres = geo.pill_distance * np.stack([np.cos(angles), np.sin(angles)], axis=1)
+        pills = [
+            PillConfig(x=float(px), y=float(py), radius=geo.pill_radius, supply=self.camphor.supply)
+            for px, py in centres
+        ]
+        rotor = self.rotor
+        body = BodyConfig(
+            name="body0",
+            plate=PolygonPlate(n_corners=n, radius=geo.radius),
+            pills=pills,
+            motion=FixedAxisMotion(inertia=rotor.inertia, friction=rotor.friction),
+            start=StartConfig(angle=rotor.phi0, omega=rotor.omega0),
+            protocol=self.protocol,
+            noise_sigma=self.noise.sigma,
+        )
+        return [body]
+
+    def time_keys(self) -> list[str]:
+        """:data:`TIME_KEYS` and the times of every body's own protocol
+        (``bodies[k].protocol.t_stop``): the times that must be whole steps."""
+        keys = list(TIME_KEYS)
+        for k, body in enumerate(self.bodies or []):
+            if body.protocol is not None:
+                keys += [
+                    f"bodies[{k}].protocol.{name}" for name in ("t_ini", "t_stop", "t_release")
+                ]
+        return keys
+
     def fitting_dt(self) -> float | None:
-        """A round time step <= grid.dt that divides every time of :data:`TIME_KEYS`.
+        """A round time step <= grid.dt that divides every time of :meth:`time_keys`.
 
         The times are read as decimals (at most 6 digits after the point). The step is the
         largest of 1, 2, 2.5, 4 or 5 times a power of ten that divides them all, or else
@@ -526,13 +687,17 @@ class RotorConfig(_Section):
         return float(step) if step >= 1e-3 * dt else None
 
     def _times(self) -> list[float]:
-        return [value for key in TIME_KEYS if (value := self.get(key)) is not None]
+        return [value for key in self.time_keys() if (value := self.get(key)) is not None]
 
     def get(self, key: str) -> Any:
-        """Value at a dotted key path, e.g. ``config.get("protocol.t_stop")``."""
+        """Value at a dotted key path, e.g. ``config.get("protocol.t_stop")`` or
+        ``config.get("bodies[1].start.x")``."""
         node: Any = self
         for part in key.split("."):
-            node = getattr(node, part)
+            name, _, index = part.partition("[")
+            node = getattr(node, name)
+            if index:
+                node = node[int(index.rstrip("]"))]
         return node
 
     def far_from_paper(self, factor: float = 10.0) -> list[str]:
@@ -576,8 +741,9 @@ class RotorConfig(_Section):
 
         For the 5-point Laplacian the forward Euler amplification factor of the stiffest
         mode is 1 - dt (8 D / dx^2 + a); stability needs it >= -1. The same holds for v
-        with D_eta and eta + eta_b, and for omega with the friction rate mu J / I, where J
-        bounds int F r^2 dA by the circumscribed disk, pi R^4 / 2. Advection adds the
+        with D_eta and eta + eta_b, and for each body's omega and velocity with its
+        friction rates (:meth:`BodyConfig.friction_rates`): mu J / I, where J bounds
+        int F r^2 dA by the circumscribed disk, pi R^4 / 2, and mu A / m. Advection adds the
         cell-Peclet condition dt <= 2 D / |v|^2, which depends on the flow reached; a run
         that violates it is caught by the solver's NaN/Inf check.
         """
@@ -586,8 +752,8 @@ class RotorConfig(_Section):
         rates = [8 * cam.diffusion / dx2 + cam.evaporation]
         if flow.enabled:
             rates.append(8 * flow.viscosity / dx2 + flow.drag + flow.bulk_drag)
-        polar_moment = math.pi * self.geometry.radius**4 / 2
-        rates.append(self.rotor.friction * polar_moment / self.rotor.inertia)
+        for body in self.body_list():
+            rates.extend(body.friction_rates())
         return 2.0 / max(rates)
 
     def physics(self) -> dict[str, Any]:

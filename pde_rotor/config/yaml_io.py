@@ -126,17 +126,21 @@ def validate_config(data: Mapping[str, Any]) -> RotorConfig:
         raise ConfigError(format_validation_error(err)) from None
 
 
-_KEY_PATH = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z_][A-Za-z0-9_]*)*$")
+_PART = r"[A-Za-z_][A-Za-z0-9_]*(\[[0-9]+\])?"
+_KEY_PATH = re.compile(rf"^{_PART}(\.{_PART})*$")
 
 
 def parse_override(text: str) -> tuple[list[str], Any]:
-    """Split ``key.path=value`` into the key path and the YAML-parsed value."""
+    """Split ``key.path=value`` into the key path and the YAML-parsed value.
+
+    A part of the path may index a list: ``bodies[1].start.x=2``.
+    """
     key, sep, raw = text.partition("=")
     key = key.strip()
     if not sep or not _KEY_PATH.match(key):
         msg = (
             f"--set {text!r}: expected KEY.PATH=VALUE with a dotted key path, "
-            "e.g. --set protocol.t_stop=1.5"
+            "e.g. --set protocol.t_stop=1.5 or --set bodies[0].start.x=1"
         )
         raise ConfigError(msg)
     if raw.strip() == "":
@@ -146,25 +150,61 @@ def parse_override(text: str) -> tuple[list[str], Any]:
     return key.split("."), value
 
 
+def _child(node: Any, part: str, where: str, last: bool, value: Any) -> Any:
+    """The entry `part` (``t_stop`` or ``bodies[1]``) of a mapping `node`, created as a
+    section where missing; `value` stored there instead where `last`."""
+    name, _, index = part.partition("[")
+    if not index:
+        if last:
+            node[name] = value
+            return value
+        if node.get(name) is None:
+            node[name] = {}
+        return node[name]
+    entries = node.get(name)
+    if entries is None:
+        entries = node[name] = []
+    if not isinstance(entries, list):
+        msg = f"{where.rpartition('[')[0]} is not a list"
+        raise ConfigError(msg)
+    i = int(index.rstrip("]"))
+    if i > len(entries):
+        msg = (
+            f"{where} is not an entry of the {len(entries)} in {name} (allowed: an index "
+            f"below {len(entries)}, or {len(entries)} to add one)"
+        )
+        raise ConfigError(msg)
+    if i == len(entries):
+        entries.append({})
+    if last:
+        entries[i] = value
+    elif entries[i] is None:
+        entries[i] = {}
+    return entries[i]
+
+
 def set_key(data: dict[str, Any], key: str, value: Any) -> None:
     """Set the dotted key `key` (``protocol.t_stop``) of a nested mapping, creating sections.
 
-    The one dotted-key setter of the package: overrides, sweep axes and the gallery use it.
+    A part may index a list (``bodies[1].start.x``): an index one past the end adds an
+    entry. The one dotted-key setter of the package: overrides, sweep axes and the
+    gallery use it.
 
     Raises:
-        ConfigError: a part of the key path holds a value, not a section (one line).
+        ConfigError: a part of the key path holds a value, not a section, or indexes past
+            the end of a list (one line).
     """
     path = key.split(".")
-    node = data
-    for depth, part in enumerate(path[:-1]):
-        child = node.get(part)
-        if child is None:
-            child = node[part] = {}
-        if not isinstance(child, dict):
-            msg = f"{'.'.join(path[: depth + 1])} is a value, not a section"
+    node: Any = data
+    for depth, part in enumerate(path):
+        if isinstance(node, list):
+            where = ".".join(path[:depth])
+            msg = f"{where} is a list, not a section (allowed: an entry, e.g. {where}[0])"
             raise ConfigError(msg)
-        node = child
-    node[path[-1]] = value
+        if not isinstance(node, dict):
+            msg = f"{'.'.join(path[:depth])} is a value, not a section"
+            raise ConfigError(msg)
+        node = _child(node, part, ".".join(path[: depth + 1]), depth == len(path) - 1, value)
 
 
 def apply_overrides(data: Mapping[str, Any], overrides: Iterable[str]) -> dict[str, Any]:

@@ -221,7 +221,7 @@ def master_points(table: DecisionTable, reports: Sequence[xr.Dataset]) -> list[d
             if point["sigma"] <= 0:
                 continue
             scale = math.sqrt(table.growth_rate * diffusion_of(point["sigma"], table.inertia))
-            beta = table.bias(point["t_stop"], point["asymmetry"]).mean(axis=1)
+            beta = table.release_bias(point["t_stop"], point["asymmetry"]).mean(axis=1)
             for d, (column, flip) in enumerate((("P_ccw", True), ("P_cw", False))):
                 if column not in point or not np.isfinite(point[column]):
                     continue

@@ -139,7 +139,7 @@ def _model_inversion(
     """P(inversion) of each (t_stop, Δ, sigma, direction) group as a function of κ."""
     scaled, positive = [], []
     for t_stop, asymmetry, sigma, direction in groups:
-        beta = table.bias(t_stop, asymmetry)[DIRECTIONS.index(direction)]
+        beta = table.release_bias(t_stop, asymmetry)[DIRECTIONS.index(direction)]
         # Φ(β / sqrt(λ κ Dw)): the escape of β / sqrt(Dw) at the diffusion κ
         scaled.append(beta / math.sqrt(diffusion_of(sigma, table.inertia)))
         positive.append(direction > 0)

@@ -135,6 +135,35 @@ class DecisionTable:
                 out[d, k] = values @ weight + tail * values[:, -1]
         return out.reshape(curves.shape[:2] + t_stop.shape)
 
+    @property
+    def amplitude_scale(self) -> float:
+        """r: the release amplitude the check releases measured over the model's C β/λ.
+
+        The least-squares ratio sum m p / sum p^2 over the check releases of both
+        directions (m: lim ω e^{-λt} of a noise-free release after the check's stop, p:
+        C β/λ; :func:`pde_rotor.decision.runs.measure_table`), 1 for a table without
+        checks. The linear model takes the bias of the whole release from the torque the
+        fields would exert on a plate *held* at rest; the released plate moves, and its
+        deterministic amplitude comes out a few per cent smaller (docs/decision.md,
+        "The release amplitude"). r is measured on the table's own noise-free releases;
+        no ensemble enters it.
+        """
+        measured, predicted = [], []
+        for name in ("ccw", "cw"):
+            m = np.asarray(self.attrs.get(f"check_amplitude_{name}", []), dtype=float)
+            p = np.asarray(self.attrs.get(f"check_predicted_{name}", []), dtype=float)
+            keep = np.isfinite(m) & np.isfinite(p)
+            measured.append(m[keep])
+            predicted.append(p[keep])
+        m, p = np.concatenate(measured), np.concatenate(predicted)
+        if m.size == 0 or not np.any(p):
+            return 1.0
+        return float(np.dot(m, p) / np.dot(p, p))
+
+    def release_bias(self, t_stop: np.ndarray | float, asymmetry: float) -> np.ndarray:
+        """r β: the bias the release acts on, :meth:`bias` times :attr:`amplitude_scale`."""
+        return self.amplitude_scale * self.bias(t_stop, asymmetry)
+
     def conditionals(
         self, t_stop: np.ndarray | float, asymmetry: float, diffusion: float
     ) -> tuple[np.ndarray, np.ndarray]:
@@ -148,7 +177,7 @@ class DecisionTable:
         Returns:
             a, b of shape S.
         """
-        beta = self.bias(t_stop, asymmetry)
+        beta = self.release_bias(t_stop, asymmetry)
         positive = escape_probability(beta, self.growth_rate, diffusion)
         return (1.0 - positive[0]).mean(axis=0), positive[1].mean(axis=0)
 
@@ -169,7 +198,7 @@ class DecisionTable:
         (nan if the memory bias never falls that far within the table).
         """
         t = self.time[self.time <= self.t_max]
-        beta = self.bias(t, asymmetry)
+        beta = self.release_bias(t, asymmetry)
         memory = 0.5 * (beta[1] - beta[0]).mean(axis=0)
         asym = np.abs(0.5 * (beta[0] + beta[1]).mean(axis=0))
         scale = np.maximum(asym, np.sqrt(self.growth_rate * diffusion))

@@ -5,6 +5,7 @@ A run directory holds (names in :class:`RunDirectory`):
 * ``config.yaml``: the fully resolved configuration with a provenance block (package
   versions, seed, config hash); ``pde-rotor run RUN_DIR/config.yaml`` repeats the run;
 * ``timeseries.nc``: t, phi, omega, torque, friction, total camphor (xarray / NetCDF);
+* ``bodies.nc``: with ``bodies:``, every body's pose, velocities and forces over (time, body);
 * ``events.csv`` (appended row by row as the run goes) and ``events.nc``: one row per
   stop-and-release cycle;
 * ``snapshots.h5``: fields c and v (py-pde FileStorage);
@@ -221,6 +222,7 @@ class RunDirectory:
     FILES = (
         "config.yaml",
         "timeseries.nc",
+        "bodies.nc",
         "events.csv",
         "events.nc",
         "snapshots.h5",

@@ -9,5 +9,8 @@
   the CPU;
 * :mod:`.cpu`: the fused explicit step of c, v, phi and omega on the CPU, one pass over
   the rows shared among threads;
+* :mod:`.body_core`: the physics of bodies, written once: plate shapes, plate velocity,
+  force and torque of a body (Eq. (eq_motion) about its position);
+* :mod:`.bodies`: the step of K bodies and the fields on the CPU (``paper`` scheme);
 * :mod:`.cuda`: the batched CUDA kernel of an ensemble (:mod:`pde_rotor.backends.gpu`).
 """

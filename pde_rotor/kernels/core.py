@@ -100,6 +100,7 @@ class Core(NamedTuple):
     euler_rotor: Callable
     heun_rotor: Callable
     noise_kick: Callable
+    plate_rates: Callable
     cell_rates: Callable
     cell_integrals: Callable
     spline_causal: Callable
@@ -327,11 +328,13 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         return omega + p.kick * xi
 
     @jit
-    def cell_rates(buf, o, sx, sy, nn, f, g, omega, x, y, coef, flow, plate):
-        """Right-hand sides of Eqs. (eqc) and (eqv) at cell offset `o`.
+    def plate_rates(buf, o, sx, sy, nn, f, g, px, py, coef, flow, plate):
+        """Right-hand sides of Eqs. (eqc) and (eqv) at cell offset `o`, plate velocity (px, py).
 
         dc/dt = D lap c - div(c v) - a (1 - F) c + s0 / (pi rho^2) G,
-        dv/dt = eta F (omega (-y, x) - v) - eta_b v + D_eta lap v,
+        dv/dt = eta F (u - v) - eta_b v + D_eta lap v, u = (px, py) the velocity of the
+        plate over the cell (omega (-y, x) for the rotor, :func:`cell_rates`; U + omega z x
+        (r - X) for a body, :mod:`pde_rotor.kernels.body_core`);
         5-point Laplacian and central divergence, all at the old time level; `coef` is
         :func:`rate_coefficients` of the parameter record. `sx`, `sy`
         are the offsets of the x and y neighbours (n and 1), `nn` that of the next field;
@@ -368,9 +371,15 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         rate_y = d_eta * (lap_y - 4.0 * uy) * inv_dx2 - eta_b * uy
         if plate:
             rate_c += evap * f * cc + src * g
-            rate_x += eta * f * (-omega * y - ux)
-            rate_y += eta * f * (omega * x - uy)
+            rate_x += eta * f * (px - ux)
+            rate_y += eta * f * (py - uy)
         return rate_c, rate_x, rate_y
+
+    @jit
+    def cell_rates(buf, o, sx, sy, nn, f, g, omega, x, y, coef, flow, plate):
+        """:func:`plate_rates` of the rotor turning at omega about the origin: the plate
+        velocity omega (-y, x) at the cell centre (x, y)."""
+        return plate_rates(buf, o, sx, sy, nn, f, g, -omega * y, omega * x, coef, flow, plate)
 
     @jit
     def cell_integrals(buf, o, sx, sy, nn, f, x, y, inv_2dx, flow):
@@ -624,6 +633,7 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         euler_rotor=euler_rotor,
         heun_rotor=heun_rotor,
         noise_kick=noise_kick,
+        plate_rates=plate_rates,
         cell_rates=cell_rates,
         cell_integrals=cell_integrals,
         spline_causal=spline_causal,

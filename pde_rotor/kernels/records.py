@@ -29,10 +29,12 @@ The fields, by the equation that uses them (Koyano et al., Chaos 2020):
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
 
 from ..config import RotorConfig
+from ..model.bodies import Body
 from ..model.filtering import CREASE_WIDTHS
 from ..model.geometry import RotorShape
 from ..model.pde import TORQUE_SIGN
@@ -144,3 +146,81 @@ def make_record(config: RotorConfig, scheme: Scheme, dt: float) -> np.ndarray:
         rec["edge_u0"] = tables.edge_u0
         rec["edge_inv_step"] = 1.0 / tables.edge_step
     return rec
+
+
+BODY = np.dtype(
+    [
+        ("plate", _I8),
+        ("n_corners", _I8),
+        ("size_a", _F8),
+        ("size_b", _F8),
+        ("reach", _F8),
+        ("pill_start", _I8),
+        ("pill_count", _I8),
+        ("motion", _I8),
+        ("mass", _F8),
+        ("inertia", _F8),
+        ("friction", _F8),
+        ("kick", _F8),
+        ("n_ini", _I8),
+        ("n_stop", _I8),
+        ("n_period", _I8),
+        ("cycles", _I8),
+    ],
+    align=True,
+)
+"""One body of :func:`pde_rotor.kernels.bodies.advance_bodies`: plate kind
+(:data:`pde_rotor.kernels.body_core.PLATE_POLYGON`...), its corners and sizes (``size_a``:
+apothem, radius or half length; ``size_b``: half width), the footprint radius ``reach``,
+its pills' range in the pill table, motion kind, m, I, mu, the noise kick
+sqrt(2 dt) sigma / I, and its stop schedule in steps."""
+
+
+_PLATES = {"none": 0, "polygon": 1, "disk": 2, "strip": 3}
+_MOTIONS = {"fixed": 0, "fixed_axis": 1, "free": 2}
+
+
+def make_body_records(
+    bodies: Sequence[Body], config: RotorConfig, dt: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """The bodies of a run as the records of :func:`pde_rotor.kernels.bodies.advance_bodies`.
+
+    Args:
+        bodies: the run's bodies (:func:`pde_rotor.model.bodies.make_bodies`).
+        config: the run configuration (its ``source`` scales the pills' densities).
+        dt: the time step.
+
+    Returns:
+        (body records of dtype :data:`BODY`, pills (P, 7): body-frame x, y, rho, the
+        pill's source density s_j / (pi rho_j^2) relative to the run record's ``source``,
+        the distance from X, its angle in the body frame, and 0).
+    """
+    records = np.zeros(len(bodies), dtype=BODY)
+    rows = []
+    reference = config.camphor.supply / (math.pi * config.geometry.pill_radius**2)
+    for k, body in enumerate(bodies):
+        shape = body.shape
+        rec = records[k]
+        rec["plate"] = _PLATES[shape.plate]
+        rec["n_corners"] = shape.n_corners
+        if shape.plate == "polygon":
+            rec["size_a"] = shape.apothem
+        elif shape.plate == "disk":
+            rec["size_a"] = shape.radius
+        elif shape.plate == "strip":
+            rec["size_a"], rec["size_b"] = shape.length / 2, shape.width / 2
+        rec["reach"] = shape.reach
+        rec["pill_start"], rec["pill_count"] = len(rows), len(shape.pills)
+        for x, y, rho, supply in shape.pills:
+            density = supply / (math.pi * rho**2)
+            rows.append([x, y, rho, density / reference, math.hypot(x, y), math.atan2(y, x), 0])
+        rec["motion"] = _MOTIONS[body.motion]
+        rec["mass"], rec["inertia"], rec["friction"] = body.mass, body.inertia, body.friction
+        rec["kick"] = math.sqrt(2.0 * dt) * body.noise_sigma / body.inertia
+        if body.protocol is not None:
+            schedule = StopSchedule.from_config(body.protocol, dt)
+            rec["n_ini"], rec["n_stop"] = schedule.n_ini, schedule.n_stop
+            rec["n_period"], rec["cycles"] = schedule.n_period, body.protocol.cycles
+        else:
+            rec["n_period"] = 1
+    return records, np.array(rows, dtype=float).reshape(-1, 7)

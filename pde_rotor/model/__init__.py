@@ -5,11 +5,17 @@ scalar functions of :mod:`pde_rotor.kernels.core`, which it shares with the comp
 loops so that every indicator is written once.
 
 * :mod:`.geometry`: the rotor's plate indicator F and pill indicator G (Eqs. (F), (G));
+* :mod:`.bodies`: the same for every body of a ``bodies:`` config (plates of any shape,
+  pills anywhere, poses), with the plate velocity and the footprint;
 * :mod:`.domain`: the circular domain of radius L on a py-pde CartesianGrid;
 * :mod:`.protocol`: the stop-and-release schedule (section "Model");
 * :mod:`.schemes`, :mod:`.filtering`: the ``paper`` and ``consistent`` discretisations
   of F, G and the torque, and the prefilter tables of the latter;
 * :mod:`.pde`: :class:`RotorPDE`, the py-pde PDE whose numpy right-hand side is the
   independent reference of Eqs. (eqc), (eqv) and (eq_motion);
-* :mod:`.analysis`: what needs no time stepping (the stopped plate's steady state).
+* :mod:`.surface`: :class:`SurfacePDE`, the same model with K bodies on one surface
+  (each body's force and torque, Eq. (eq_motion) about its position), and its state;
+* :mod:`.analysis`: what needs no time stepping (the stopped plate's steady state);
+* :mod:`.onsets`: the exact onsets of motion from linear stability (a free camphor disk,
+  a disk in a dish, the two-disk rotor), derived in docs/bodies.md.
 """

@@ -6,6 +6,11 @@ extra ring of cells beyond the disk, so that every cell on the border of the squ
 lies outside the disk: interior cells (centre radius < L) are updated, all others hold
 0 at all times (Dirichlet data on and outside the circle). py-pde's own boundary
 conditions on the square therefore never influence an interior cell.
+
+The dish may sit anywhere (``grid.domain_centre``, for several bodies on one surface):
+the grid covers the square about its centre, and the coordinates the kernels loop over
+(:attr:`Domain.coords`) are measured from that centre, the same along both axes; a body
+at X lies at X - centre in that frame (:meth:`Domain.dish_frame`).
 """
 
 from __future__ import annotations
@@ -25,14 +30,17 @@ class Domain:
     """The grid and the index ranges the compiled kernels loop over.
 
     Attributes:
-        grid: square py-pde CartesianGrid, n x n cells of side dx.
-        coords: cell-centre coordinates along either axis (x for axis 0, y for axis 1).
+        grid: square py-pde CartesianGrid, n x n cells of side dx, about the dish centre.
+        coords: cell-centre coordinates along either axis (x for axis 0, y for axis 1),
+            measured from the dish centre (the frame of the kernels).
         dx: grid spacing.
         radius: L, radius of the circular domain.
         interior_lo, interior_hi: per row i, the column range [lo, hi) of cells with
             centre radius < L.
         support_lo, support_hi: per row i, the column range of cells within
-            :attr:`RotorShape.support_radius`, the only cells where F or G can be nonzero.
+            :attr:`RotorShape.support_radius` of the rotor's axis (the origin), the only
+            cells where F or G can be nonzero.
+        centre: (x, y) of the dish centre (``grid.domain_centre``).
     """
 
     grid: CartesianGrid
@@ -43,11 +51,26 @@ class Domain:
     interior_hi: np.ndarray
     support_lo: np.ndarray
     support_hi: np.ndarray
+    centre: tuple[float, float] = (0.0, 0.0)
 
     def arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """(coords, interior_lo, interior_hi, support_lo, support_hi): the `domain` the
         compiled kernels take (:func:`pde_rotor.kernels.cpu.advance`)."""
         return self.coords, self.interior_lo, self.interior_hi, self.support_lo, self.support_hi
+
+    @property
+    def x_coords(self) -> np.ndarray:
+        """x of the cell centres along axis 0: centre x + :attr:`coords`."""
+        return self.centre[0] + self.coords
+
+    @property
+    def y_coords(self) -> np.ndarray:
+        """y of the cell centres along axis 1: centre y + :attr:`coords`."""
+        return self.centre[1] + self.coords
+
+    def dish_frame(self, x: float, y: float) -> tuple[float, float]:
+        """A point (x, y) in the frame of :attr:`coords`: (x, y) - centre."""
+        return x - self.centre[0], y - self.centre[1]
 
     @property
     def interior_mask(self) -> np.ndarray:
@@ -71,8 +94,9 @@ def make_domain(grid_config: GridConfig, shape: RotorShape) -> Domain:
     """Build the square grid around the disk of radius L and the kernels' loop ranges.
 
     Args:
-        grid_config: the grid section of the run configuration.
-        shape: the rotor shape (fixes the support of F and G).
+        grid_config: the grid section of the run configuration (its domain_centre
+            places the dish).
+        shape: the rotor shape (fixes the support of F and G about the origin).
 
     Returns:
         The :class:`Domain`. With L = 3 and dx = 0.025 the grid has 242 x 242 cells.
@@ -83,18 +107,20 @@ def make_domain(grid_config: GridConfig, shape: RotorShape) -> Domain:
     """
     dx = grid_config.dx
     radius = grid_config.domain_radius
-    if shape.support_radius + dx >= radius:
+    cx, cy = grid_config.domain_centre
+    if math.hypot(cx, cy) + shape.support_radius + dx >= radius:
         msg = (
             f"grid.domain_radius = {radius:g} must exceed the support of F and G plus one "
-            f"cell, {shape.support_radius + dx:.4g}"
+            f"cell, {shape.support_radius + dx:.4g}, beyond the rotor's distance from the "
+            f"dish centre, {math.hypot(cx, cy):.4g}"
         )
         raise ValueError(msg)
     n = 2 * math.ceil(radius / dx - 1e-9) + 2
     half = n * dx / 2
-    grid = CartesianGrid([[-half, half], [-half, half]], [n, n])
-    coords = np.asarray(grid.axes_coords[0], dtype=float)
+    coords = np.asarray(CartesianGrid([[-half, half]], [n]).axes_coords[0], dtype=float)
+    grid = CartesianGrid([[cx - half, cx + half], [cy - half, cy + half]], [n, n])
     interior_lo, interior_hi = support_rows(coords, radius)
-    support_lo, support_hi = support_rows(coords, shape.support_radius)
+    support_lo, support_hi = support_rows(coords, shape.support_radius, centre=(-cx, -cy))
     return Domain(
         grid=grid,
         coords=coords,
@@ -104,4 +130,5 @@ def make_domain(grid_config: GridConfig, shape: RotorShape) -> Domain:
         interior_hi=interior_hi,
         support_lo=support_lo,
         support_hi=support_hi,
+        centre=(cx, cy),
     )

@@ -114,12 +114,16 @@ def pill_indicator(x: np.ndarray, y: np.ndarray, shape: RotorShape, phi: float) 
     return out
 
 
-def support_rows(coords: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray]:
+def support_rows(
+    coords: np.ndarray, radius: float, centre: tuple[float, float] = (0.0, 0.0)
+) -> tuple[np.ndarray, np.ndarray]:
     """Column range [lo, hi) per row of the cells whose centre lies within `radius`.
 
     Args:
         coords: cell-centre coordinates along one axis of the square grid.
-        radius: radius of the disk centred at the origin.
+        radius: radius of the disk.
+        centre: centre (x, y) of the disk, in the frame of `coords` (default: their
+            origin).
 
     Returns:
         Two int64 arrays (lo, hi), one entry per row; lo == hi for rows with no cell.
@@ -127,8 +131,9 @@ def support_rows(coords: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndar
     n = coords.size
     lo = np.zeros(n, dtype=np.int64)
     hi = np.zeros(n, dtype=np.int64)
+    cx, cy = centre
     for i, x in enumerate(coords):
-        inside = np.nonzero(x**2 + coords**2 < radius**2)[0]
+        inside = np.nonzero((x - cx) ** 2 + (coords - cy) ** 2 < radius**2)[0]
         if inside.size:
             lo[i], hi[i] = inside[0], inside[-1] + 1
     return lo, hi

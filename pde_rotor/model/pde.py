@@ -33,7 +33,7 @@ import numpy as np
 from pde import FieldCollection, ScalarField, VectorField
 from pde.pdes.base import PDEBase
 
-from ..config import RotorConfig
+from ..config import DISH_CENTRE, ConfigError, RotorConfig
 from .domain import Domain, make_domain
 from .filtering import filtered_indicators
 from .geometry import (
@@ -104,6 +104,54 @@ class RotorFields(FieldCollection):
         return new
 
 
+def refuse_bodies(config: RotorConfig) -> None:
+    """Refuse, in one line, a config the rotor's kernel cannot run: a ``bodies:`` list or a
+    dish off the rotor's axis (``grid.domain_centre``); such configs run as
+    :class:`~pde_rotor.model.surface.SurfacePDE`. Asked by :class:`RotorPDE`.
+
+    Raises:
+        ConfigError: the config has bodies or a dish centre other than the origin.
+    """
+    if config.bodies is not None:
+        msg = (
+            f"bodies: {len(config.bodies)} bodies run as SurfacePDE, not as the rotor of "
+            "geometry: (Simulation chooses it)"
+        )
+        raise ConfigError(msg)
+    if config.grid.domain_centre != DISH_CENTRE:
+        msg = (
+            f"grid.domain_centre = {list(config.grid.domain_centre)}: the rotor of geometry: "
+            "turns at the dish centre (allowed: [0, 0]; a dish elsewhere holds bodies:)"
+        )
+        raise ConfigError(msg)
+
+
+def check_bodies_numerics(config: RotorConfig) -> None:
+    """Refuse, in one line, numerics the bodies' kernel does not implement (before any
+    compute): it integrates forward Euler on the ``paper`` scheme (point values of F
+    and G, the area form of the torque and force).
+
+    Raises:
+        ConfigError: ``bodies:`` with numerics.scheme other than paper or
+            numerics.integrator other than euler.
+    """
+    if config.bodies is None:
+        return
+    numerics = config.numerics
+    if numerics.scheme != "paper":
+        msg = (
+            f"numerics.scheme = {numerics.scheme}: bodies run on the paper scheme only "
+            "(allowed: paper; the rotation-consistent scheme is the rotor's)"
+        )
+        raise ConfigError(msg)
+    if numerics.integrator != "euler":
+        msg = (
+            f"numerics.integrator = {numerics.integrator}: bodies are integrated by forward "
+            "Euler only (allowed: euler)"
+        )
+        raise ConfigError(msg)
+
+
 class RotorPDE(PDEBase):
     """Camphor rotor of Koyano et al. (Chaos 2020): Eqs. (eqc), (eqv), (eq_motion).
 
@@ -121,8 +169,12 @@ class RotorPDE(PDEBase):
         """
         Args:
             config: the run configuration.
+
+        Raises:
+            ConfigError: the config has bodies (:func:`refuse_bodies`).
         """
         super().__init__()
+        refuse_bodies(config)
         self.config = config
         self.shape = RotorShape.from_config(config.geometry)
         self.domain: Domain = make_domain(config.grid, self.shape)

@@ -24,6 +24,7 @@ from pde.solvers.base import SolverBase
 from ..kernels.cpu import advance
 from ..kernels.records import make_record
 from ..model.pde import RotorFields, RotorPDE, RotorState
+from ..model.surface import SurfaceFields, SurfacePDE
 from .threads import resolve_threads, running_on
 
 
@@ -150,7 +151,7 @@ class RotorSolver(SolverBase):
 
     def __init__(
         self,
-        pde: RotorPDE,
+        pde: RotorPDE | SurfacePDE,
         *,
         backend: str = "auto",
         rng: np.random.Generator | None = None,
@@ -158,7 +159,8 @@ class RotorSolver(SolverBase):
     ):
         """
         Args:
-            pde: the rotor model.
+            pde: the rotor model, or the bodies' (:class:`~pde_rotor.model.surface.SurfacePDE`,
+                with `stepper` :func:`pde_rotor.solver.bodies.make_bodies_stepper`).
             backend: py-pde backend; ``auto`` and ``numpy`` both run the fused kernel
                 through py-pde's generic stepper (the kernel compiles itself with numba).
             rng: Generator for the torque noise; by default seeded from
@@ -182,7 +184,7 @@ class RotorSolver(SolverBase):
         # "numpy": py-pde's generic stepper, which calls the kernel; "auto" would first
         # try to compile py-pde's own operators and log a failure for each backend
         super().__init__(pde, backend="numpy")
-        self.pde: RotorPDE = pde
+        self.pde: RotorPDE | SurfacePDE = pde
         seed = pde.config.noise.seed
         self.rng = rng if rng is not None else np.random.default_rng(seed)
         self.make_member = stepper
@@ -199,10 +201,11 @@ class RotorSolver(SolverBase):
         Raises:
             ValueError: if dt exceeds the explicit stability limit (before any step).
         """
-        if not isinstance(state, RotorFields):
+        if not isinstance(state, RotorFields | SurfaceFields):
             msg = (
                 "RotorSolver advances the rotor with the fields: give it a state of "
-                "RotorPDE.initial_state() (RotorFields), not a plain FieldCollection"
+                "RotorPDE.initial_state() (RotorFields) or SurfacePDE.initial_state() "
+                "(SurfaceFields), not a plain FieldCollection"
             )
             raise TypeError(msg)
         if dt is None:
@@ -213,7 +216,8 @@ class RotorSolver(SolverBase):
             raise ValueError(msg)
         stepper = super().make_stepper(state, dt)
         self.info["stochastic"] = self.pde.config.noise.sigma > 0
-        self.info["kernel"] = f"numba fused rotor kernel, scheme {self.pde.scheme.name}"
+        kind = "rotor" if isinstance(self.pde, RotorPDE) else f"{len(self.pde.bodies)} bodies"
+        self.info["kernel"] = f"numba fused {kind} kernel, scheme {self.pde.scheme.name}"
         return stepper
 
     def _make_inner_stepper(self, state: FieldCollection) -> Callable[[Any, float, float], float]:
@@ -221,7 +225,8 @@ class RotorSolver(SolverBase):
         dt = float(self.info["dt"])
         fused = self.make_member(self.pde, dt, self.rng)
         post_step_hook = self._make_post_step_hook(state)
-        rotor = state.rotor  # the Controller's state: the stepper advances its data too
+        # the Controller's state: the stepper advances its rotor (or bodies) with the data
+        rotor = state.rotor if isinstance(state, RotorFields) else state.bodies
         hooked = self.info["post_step_data"] is not None
 
         def inner_stepper(state_data: np.ndarray, t_start: float, t_end: float) -> float:

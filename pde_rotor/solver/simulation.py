@@ -14,6 +14,8 @@ from pde.trackers.base import TrackerBase
 
 from ..config import RotorConfig
 from ..model.pde import RotorFields, RotorPDE, RotorState
+from ..model.surface import BodiesState, SurfaceFields, SurfacePDE
+from .bodies import make_bodies_stepper
 from .rotor import RotorSolver, StepperFactory, make_fused_stepper
 
 pde.config["backend.numba.multithreading"] = "never"
@@ -38,19 +40,27 @@ class Simulation:
         self,
         config: RotorConfig,
         rng: np.random.Generator | None = None,
-        stepper: StepperFactory = make_fused_stepper,
+        stepper: StepperFactory | None = None,
     ):
         """
         Args:
             config: the run configuration (validated).
             rng: Generator for the noise; default: seeded from ``config.noise.seed``.
             stepper: what advances the run (:class:`RotorSolver`): the fused CPU kernel
-                by default; :func:`pde_rotor.backends.member_stepper` for a GPU run.
+                by default (the rotor's, or with ``bodies:`` the bodies'
+                :func:`~pde_rotor.solver.bodies.make_bodies_stepper`);
+                :func:`pde_rotor.backends.member_stepper` for a GPU run.
         """
         self.config = config
-        self.pde = RotorPDE(config)
-        self.state: RotorFields = self.pde.initial_state()
-        self.solver = RotorSolver(self.pde, rng=rng, stepper=stepper)
+        self.pde: RotorPDE | SurfacePDE
+        if config.bodies is None:
+            self.pde = RotorPDE(config)
+            default: StepperFactory = make_fused_stepper
+        else:
+            self.pde = SurfacePDE(config)
+            default = make_bodies_stepper
+        self.state: RotorFields | SurfaceFields = self.pde.initial_state()
+        self.solver = RotorSolver(self.pde, rng=rng, stepper=stepper or default)
         self.t = 0.0
 
     def branch(
@@ -78,6 +88,11 @@ class Simulation:
     def rotor(self) -> RotorState:
         """The rotor state (phi, omega, torque, friction, stopped) of :attr:`state`."""
         return self.state.rotor
+
+    @property
+    def bodies(self) -> BodiesState:
+        """The bodies' state (poses, velocities, forces) of a run with ``bodies:``."""
+        return self.state.bodies
 
     def run(self, t_end: float | None = None, trackers: Sequence[TrackerBase] = ()) -> None:
         """Advance from the current time to `t_end` (default: end of the protocol).

@@ -22,6 +22,8 @@ on under one name, as py-pde's ``pde.trackers`` does.
 * :mod:`.events`: one row per stop-and-release cycle, inverted or not;
 * :mod:`.snapshots`: the fields c and v in a py-pde HDF5 FileStorage;
 * :mod:`.movie`: the movie of c, v and the rotor, into an mp4;
+* :mod:`.bodies`: every body's pose, velocities and forces in bodies.nc, and the stops of
+  each body with a protocol classified;
 * :mod:`.budget`: the memory and disk the records need, checked before a run.
 """
 

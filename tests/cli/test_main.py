@@ -64,7 +64,8 @@ def test_run_succeeds_and_lists_files(tiny_run):
     assert "run completed" in result.stdout
     assert "inversions: " in result.stdout
     for name in RunDirectory.FILES:
-        assert (out / name).exists(), name
+        if name != "bodies.nc":  # a run with bodies: writes it instead of the rotor's records
+            assert (out / name).exists(), name
     assert not list(out.glob(f"*{PART_SUFFIX}"))
 
 

@@ -20,11 +20,13 @@ from pde_rotor.config import (
     PAPER_SCHEME_SIGMA,
     PAPER_STEADY_OMEGA,
     TIME_KEYS,
+    BodyConfig,
     ConfigError,
     FieldError,
     NumericsConfig,
     RotorConfig,
     apply_overrides,
+    bodies,
     dump_config,
     load_config,
     parse_yaml,
@@ -312,10 +314,28 @@ def test_hash_follows_physics_not_recording():
     assert other.config_hash() != base.config_hash()
 
 
+def sections() -> dict[str, type[BaseModel]]:
+    """The sections of the schema (every top-level key but the bodies list)."""
+    return {
+        name: field.annotation
+        for name, field in RotorConfig.model_fields.items()
+        if isinstance(field.annotation, type) and issubclass(field.annotation, BaseModel)
+    }
+
+
 def test_dump_holds_every_key():
+    """Every key of every section, but the dish centre at its default and no bodies, which
+    the dump leaves out (configs from before they existed dump and hash as before:
+    tests/config/test_bodies.py); set, they are dumped."""
     data = yaml.safe_load(dump_config(RotorConfig()))
-    for section, model in RotorConfig.model_fields.items():
-        assert set(data[section]) == set(model.annotation.model_fields)
+    assert set(data) == set(sections())
+    for section, model in sections().items():
+        expected = set(model.model_fields) - ({"domain_centre"} if section == "grid" else set())
+        assert set(data[section]) == expected
+    moved = validate_config({"grid": {"domain_centre": [0.5, 0.0]}, "bodies": [{"pills": [{}]}]})
+    data = yaml.safe_load(dump_config(moved))
+    assert data["grid"]["domain_centre"] == [0.5, 0.0]
+    assert set(data["bodies"][0]) == set(BodyConfig.model_fields)
 
 
 def test_shipped_paper_configs_follow_the_paper():
@@ -477,12 +497,33 @@ def test_asymmetry_limit_is_half_a_period_for_any_corner_count():
         validate_config({"geometry": {**small, "asymmetry": -math.pi / 3}})
 
 
+def body_keys() -> list[str]:
+    """Every key of a body as docs/usage.md writes it (``bodies[k].plate.radius``)."""
+    keys = []
+    for name in bodies.BodyConfig.model_fields:
+        parts = {
+            "plate": [bodies.PolygonPlate, bodies.DiskPlate, bodies.StripPlate, bodies.NoPlate],
+            "motion": [bodies.FixedMotion, bodies.FixedAxisMotion, bodies.FreeMotion],
+            "pills": [bodies.PillConfig],
+            "start": [bodies.StartConfig],
+            "protocol": [],
+        }.get(name)
+        if not parts:
+            keys.append(f"bodies[k].{name}")
+        prefix = "pills[j]" if name == "pills" else name
+        keys += [f"bodies[k].{prefix}.{key}" for model in parts or [] for key in model.model_fields]
+    return keys
+
+
 def test_usage_doc_lists_every_key():
-    """docs/usage.md's reference table names every key of the schema."""
+    """docs/usage.md's reference table names every key of the schema, and its section on
+    bodies every key of a body."""
     doc = (Path(__file__).parents[2] / "docs" / "usage.md").read_text()
-    for section, field in RotorConfig.model_fields.items():
-        for key in field.annotation.model_fields:
+    for section, model in sections().items():
+        for key in model.model_fields:
             assert f"`{section}.{key}`" in doc
+    for key in body_keys():
+        assert f"`{key}`" in doc, key
 
 
 def test_field_error_survives_pickling():

@@ -130,3 +130,42 @@ def test_table_roundtrip_and_range(tmp_path) -> None:
 def test_sigma_and_diffusion_are_inverse() -> None:
     assert diffusion_of(2e-8, 1e-5) == pytest.approx(4e-6)
     assert sigma_of(diffusion_of(1.5e-7, 1e-5), 1e-5) == pytest.approx(1.5e-7)
+
+
+def test_release_amplitude_scales_the_bias_the_release_acts_on() -> None:
+    """r is the least-squares ratio of the measured to the predicted check amplitudes,
+    and the escape probabilities use r beta: a table whose checks came out 0.9 of C beta/lambda
+    predicts exactly what a table with 0.9 times the torque would."""
+    plain = synthetic()
+    assert plain.amplitude_scale == 1.0  # no checks: nothing measured
+    predicted = np.array([0.05, -0.02, np.nan])
+    checked = DecisionTable(
+        plain.time,
+        plain.torque,
+        plain.asymmetry,
+        plain.growth_rate,
+        plain.response,
+        plain.inertia,
+        {
+            **plain.attrs,
+            "check_predicted_ccw": predicted,
+            "check_amplitude_ccw": 0.9 * predicted,
+            "check_predicted_cw": np.array([0.01]),
+            "check_amplitude_cw": np.array([0.009]),
+        },
+    )
+    assert checked.amplitude_scale == pytest.approx(0.9, rel=1e-12)
+    weaker = DecisionTable(
+        plain.time, 0.9 * plain.torque, plain.asymmetry, LAM, 0.9, INERTIA, plain.attrs
+    )
+    dw = 3e-4
+    for t, asymmetry in ((0.5, 0.0), (2.0, 2e-5), (3.0, D_REF)):
+        np.testing.assert_allclose(
+            checked.conditionals(t, asymmetry, dw),
+            weaker.conditionals(t, asymmetry, dw),
+            rtol=1e-12,
+        )
+        np.testing.assert_allclose(checked.bias(t, asymmetry), plain.bias(t, asymmetry), rtol=0)
+    assert checked.critical_stop(2e-5, dw) == pytest.approx(
+        weaker.critical_stop(2e-5, dw), rel=1e-9
+    )

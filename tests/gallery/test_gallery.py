@@ -34,6 +34,9 @@ from pde_rotor.gallery.runner import (
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 EXPECTED = (
+    "bodies_movies",
+    "bodies_onsets",
+    "bodies_rotor_source",
     "calibration_check",
     "convergence",
     "fig1_geometry",
@@ -46,6 +49,7 @@ EXPECTED = (
     "fig9_predicted",
     "master_curve",
     "movie_inversion",
+    "phase_diagram",
 )
 """The gallery scripts: paper Figs. 1 and 3-9, the movie and the convergence page."""
 
@@ -130,6 +134,16 @@ def test_script_writes_png_and_pdf(tiny_gallery, name, script):
     assert pdf.read_bytes()[:5] == b"%PDF-"
     assert png.stat().st_size > 10_000  # a drawn figure, not an empty canvas
     assert not list(tiny_gallery.out.glob(".*.part"))  # atomic writes finished
+
+
+def test_bodies_movies_write_mp4_and_gif(tiny_gallery):
+    from PIL import Image
+
+    for name in ("bodies_two_rotors", "bodies_free_disk"):
+        assert (tiny_gallery.out / f"{name}.mp4").read_bytes()[4:8] == b"ftyp"
+        with Image.open(tiny_gallery.out / f"{name}.gif") as gif:
+            assert gif.format == "GIF"
+            assert gif.n_frames > 5
 
 
 def test_movie_writes_mp4_and_gif(tiny_gallery):

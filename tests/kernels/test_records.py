@@ -45,6 +45,7 @@ NOT_IN_KERNELS: dict[str, str] = {
     "rotor.omega0": "initial condition, the rotor array",
     "noise.seed": "seeds the host's Generator of the normals",
     "grid.domain_radius": "the domain's loop ranges",
+    "grid.domain_centre": "the domain's frame (the kernels loop over coords about it)",
 }
 """Config keys of the physical sections that are not kernel parameters (key -> why)."""
 

@@ -14,9 +14,13 @@ from collections.abc import Callable
 import numpy as np
 import pytest
 from matplotlib.path import Path as MplPath
+from pde import CartesianGrid
 
-from pde_rotor.config import RotorConfig
+from pde_rotor.config import ConfigError, RotorConfig, validate_config
+from pde_rotor.model.domain import make_domain
+from pde_rotor.model.geometry import RotorShape
 from pde_rotor.model.pde import RotorPDE
+from tests.conftest import COARSE
 
 
 def configs(coarse_config: Callable[..., RotorConfig]) -> list[RotorConfig]:
@@ -131,3 +135,48 @@ def test_support_ranges_cover_the_support_inside_the_interior(
         stencil[:, 1:] |= support[:, :-1]
         stencil[:, :-1] |= support[:, 1:]
         assert np.all(dom.interior_mask[stencil])
+
+
+def test_dish_centre_moves_the_grid_not_the_kernels_frame(
+    coarse_config: Callable[..., RotorConfig],
+) -> None:
+    """grid.domain_centre moves the dish: the py-pde grid covers the square about it and
+    x_coords, y_coords are the centre plus coords, while coords, the interior and the
+    kernels' frame stay those of the dish at the origin, bit for bit; the rotor's support
+    rows lie about the origin, at minus the centre in that frame. At the default centre
+    the grid is the square about the origin."""
+    base = coarse_config()
+    shape = RotorShape.from_config(base.geometry)
+    plain = make_domain(base.grid, shape)
+    n = plain.coords.size
+    half = n * base.grid.dx / 2
+    assert plain.grid == CartesianGrid([[-half, half], [-half, half]], [n, n])
+    assert np.array_equal(plain.coords, plain.grid.axes_coords[0])
+    centre = (0.35, -0.2)
+    moved = make_domain(base.grid.model_copy(update={"domain_centre": centre}), shape)
+    assert np.array_equal(moved.coords, plain.coords)
+    assert np.array_equal(moved.interior_lo, plain.interior_lo)
+    assert np.array_equal(moved.interior_hi, plain.interior_hi)
+    np.testing.assert_allclose(moved.grid.axes_coords[0], moved.x_coords, atol=1e-12)
+    np.testing.assert_allclose(moved.grid.axes_coords[1], moved.y_coords, atol=1e-12)
+    assert np.array_equal(moved.x_coords, centre[0] + plain.coords)
+    assert moved.dish_frame(0.0, 0.0) == (-0.35, 0.2)
+    x, y = np.meshgrid(moved.x_coords, moved.y_coords, indexing="ij")
+    expected = x**2 + y**2 < shape.support_radius**2
+    np.testing.assert_array_equal(moved.support_mask, expected)
+    assert not np.array_equal(moved.support_mask, plain.support_mask)
+
+
+def test_dish_centre_that_cuts_the_rotor_is_refused(
+    coarse_config: Callable[..., RotorConfig],
+) -> None:
+    """The rotor's support plus one cell must lie inside the moved dish (a ValueError
+    from the domain, a ConfigError naming grid.domain_centre from the config)."""
+    base = coarse_config()
+    shape = RotorShape.from_config(base.geometry)
+    far = base.grid.domain_radius - shape.support_radius
+    with pytest.raises(ValueError, match="dish centre"):
+        make_domain(base.grid.model_copy(update={"domain_centre": (far, 0.0)}), shape)
+    with pytest.raises(ConfigError, match=r"^grid\.domain_centre = \["):
+        validate_config({**COARSE, "grid": {**COARSE["grid"], "domain_centre": [far, 0.0]}})
+    validate_config({**COARSE, "grid": {**COARSE["grid"], "domain_centre": [far / 2, 0.0]}})

@@ -1,0 +1,353 @@
+"""Bodies: the camphor objects on the surface, each with its plate, pills and motion.
+
+A config's optional ``bodies:`` list generalises the paper's single rotor (the
+``geometry:`` shorthand, :meth:`pde_rotor.config.RotorConfig.body_list`) to several
+objects on one surface. Body k has
+
+* a plate, whose smoothed indicator F_k enters Eqs. (eqc) and (eqv) as the paper's F
+  does: a regular polygon (``n_corners``, circumradius ``radius``; the paper's plate),
+  a disk (``radius``), a strip (a ``length`` x ``width`` rectangle centred on the body's
+  origin, its long axis along the body's x axis), or ``none``: then the floating pills
+  are the object and F_k is their own indicator;
+* pills at positions of the body frame, each with its radius rho and supply s0 (the
+  source s0 / (pi rho^2) inside it, Eq. (eqc));
+* a pose (position X_k, angle phi_k) and a motion: ``fixed`` (never moves: a source or
+  an obstacle), ``fixed_axis`` (turns about X_k with inertia I and friction mu,
+  Eq. (eq_motion); the paper's rotor is this at the origin) or ``free`` (translates
+  with mass m and turns with inertia I; friction is the paper's coupling
+  -mu int F_k (u_k - v) dA with the plate velocity u_k = U_k + omega_k z x (r - X_k));
+* optionally its own stop-and-release protocol and torque noise.
+
+Inheritance: a key left null takes the run's value when the bodies are resolved
+(:meth:`BodyConfig.resolved`): a pill's ``supply`` the run's ``camphor.supply``; a
+motion's ``inertia`` and ``friction`` the run's ``rotor.inertia`` and ``rotor.friction``;
+``noise_sigma`` the run's ``noise.sigma`` for a ``fixed_axis`` body and 0 otherwise;
+``name`` is ``body{k}``. The positions and footprints here are what the config's checks
+need (bodies inside the dish and apart, pills inside their plate); the numpy indicators
+are in :mod:`pde_rotor.model.bodies`.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Annotated, Literal
+
+from pydantic import Field, model_validator
+
+from .errors import FieldError
+from .fields import (
+    OMEGA_BOUND,
+    PAPER_FRICTION,
+    PAPER_INERTIA,
+    PAPER_N_CORNERS,
+    PAPER_PILL_RADIUS,
+    PAPER_PLATE_RADIUS,
+    SCALE_BOUND,
+    X_SATURATION,
+    FiniteFloat,
+    Int,
+    NonNegativeFloat,
+    PositiveFloat,
+    _Section,
+)
+from .protocol import ProtocolConfig
+
+INSIDE_TOLERANCE = 1e-12
+"""A pill may touch its plate's edge to within this (the paper's pills touch both edges
+of their corner at pill_inset = 0)."""
+
+
+class PolygonPlate(_Section):
+    """Regular N-gon plate, a corner on the body's x axis (the paper's plate, Fig. 1)."""
+
+    shape: Literal["polygon"] = Field("polygon", description="a regular polygon")
+    n_corners: Int = Field(PAPER_N_CORNERS, ge=3, le=24, description="N: number of corners")
+    radius: PositiveFloat = Field(PAPER_PLATE_RADIUS, description="R: circumradius")
+
+    @property
+    def apothem(self) -> float:
+        """R cos(pi/N): distance of the edges from the body's origin."""
+        return self.radius * math.cos(math.pi / self.n_corners)
+
+    def extent(self) -> float:
+        """Radius of the smallest disk about the body's origin holding the plate: R."""
+        return self.radius
+
+    def reach(self, smoothing: float) -> float:
+        """Radius beyond which F = 0 to 4.3e-18: R + X_SATURATION delta / cos(pi/N).
+
+        F is 1/2 [1 + tanh((R cos(pi/N) - h) / delta)] with the gauge h >= |r| cos(pi/N);
+        the same expression as :attr:`pde_rotor.config.GeometryConfig.support_radius`.
+        """
+        return self.radius + X_SATURATION * smoothing / math.cos(math.pi / self.n_corners)
+
+    def margin(self, x: float, y: float) -> float:
+        """Distance from (x, y) inside the plate to its nearest edge (negative outside)."""
+        n = self.n_corners
+        return self.apothem - max(
+            x * math.cos(2 * math.pi * (j - 0.5) / n) + y * math.sin(2 * math.pi * (j - 0.5) / n)
+            for j in range(1, n + 1)
+        )
+
+
+class DiskPlate(_Section):
+    """Disk plate about the body's origin."""
+
+    shape: Literal["disk"] = Field("disk", description="a disk")
+    radius: PositiveFloat = Field(PAPER_PLATE_RADIUS, description="R: radius")
+
+    def extent(self) -> float:
+        """Radius of the smallest disk about the body's origin holding the plate: R."""
+        return self.radius
+
+    def reach(self, smoothing: float) -> float:
+        """Radius beyond which F = 0 to 4.3e-18: R + X_SATURATION delta."""
+        return self.radius + X_SATURATION * smoothing
+
+    def margin(self, x: float, y: float) -> float:
+        """Distance from (x, y) inside the plate to its edge (negative outside)."""
+        return self.radius - math.hypot(x, y)
+
+
+class StripPlate(_Section):
+    """Rectangular strip centred on the body's origin, its long axis along the body's x."""
+
+    shape: Literal["strip"] = Field("strip", description="a rectangle")
+    length: PositiveFloat = Field(description="L: side along the body's x axis")
+    width: PositiveFloat = Field(description="W: side along the body's y axis")
+
+    def extent(self) -> float:
+        """Radius of the smallest disk about the body's origin holding the plate."""
+        return math.hypot(self.length / 2, self.width / 2)
+
+    def reach(self, smoothing: float) -> float:
+        """Radius beyond which F = 0 to 4.3e-18: the corner of the rectangle grown by
+        X_SATURATION delta (F is a function of the gauge max(|x'| - L/2, |y'| - W/2))."""
+        grow = X_SATURATION * smoothing
+        return math.hypot(self.length / 2 + grow, self.width / 2 + grow)
+
+    def margin(self, x: float, y: float) -> float:
+        """Distance from (x, y) inside the plate to its nearest edge (negative outside)."""
+        return min(self.length / 2 - abs(x), self.width / 2 - abs(y))
+
+
+class NoPlate(_Section):
+    """No plate: the pills float by themselves and are the object (F_k = their indicator)."""
+
+    shape: Literal["none"] = Field("none", description="no plate")
+
+    def extent(self) -> float:
+        """No plate: 0 (the pills give the body's extent)."""
+        return 0.0
+
+    def reach(self, smoothing: float) -> float:
+        """No plate: 0 (the pills give the body's reach)."""
+        return 0.0
+
+
+PlateConfig = Annotated[
+    PolygonPlate | DiskPlate | StripPlate | NoPlate, Field(discriminator="shape")
+]
+"""The plate of a body, by its ``shape``; each shape allows only its own keys."""
+
+
+class PillConfig(_Section):
+    """One camphor pill, a disk of radius rho in the body frame with the source s0/(pi rho^2)."""
+
+    x: FiniteFloat = Field(0.0, description="x of the centre in the body frame")
+    y: FiniteFloat = Field(0.0, description="y of the centre in the body frame")
+    radius: PositiveFloat = Field(PAPER_PILL_RADIUS, description="rho: radius of the pill")
+    supply: NonNegativeFloat | None = Field(
+        None,
+        le=SCALE_BOUND,
+        description="s0: supply rate of the pill (null: the run's camphor.supply)",
+    )
+
+    @property
+    def distance(self) -> float:
+        """|p|: distance of the centre from the body's origin."""
+        return math.hypot(self.x, self.y)
+
+    def reach(self, smoothing: float) -> float:
+        """Radius about the body's origin beyond which the pill's G is 0 to 4.3e-18."""
+        return self.distance + self.radius + X_SATURATION * smoothing
+
+
+_Inertia = Annotated[
+    PositiveFloat, Field(ge=PAPER_INERTIA / SCALE_BOUND, le=PAPER_INERTIA * SCALE_BOUND)
+]
+"""A body's I: within SCALE_BOUND of the paper's, as rotor.inertia."""
+BODY_FRICTION_BOUND = 10 * SCALE_BOUND**2 * PAPER_FRICTION
+"""Largest mu of a body, 1e7 times the paper rotor's (1e-4): a free camphor disk of the
+paper's pills starts to move only below mu_c = 0.18 (docs/bodies.md), so its onset lies
+far above the rotor's bound of SCALE_BOUND times the paper's value."""
+
+_Friction = Annotated[NonNegativeFloat, Field(le=BODY_FRICTION_BOUND)]
+"""A body's mu: at most :data:`BODY_FRICTION_BOUND`."""
+
+
+class FixedMotion(_Section):
+    """A body that never moves: a stationary camphor source or an obstacle (u_k = 0)."""
+
+    kind: Literal["fixed"] = Field("fixed", description="never moves")
+
+
+class FixedAxisMotion(_Section):
+    """Rotation about the body's position X_k, Eq. (eq_motion) (the paper's rotor)."""
+
+    kind: Literal["fixed_axis"] = Field("fixed_axis", description="turns about its position")
+    inertia: _Inertia | None = Field(
+        None, description="I: moment of inertia (null: the run's rotor.inertia)"
+    )
+    friction: _Friction | None = Field(
+        None, description="mu: friction constant (null: the run's rotor.friction)"
+    )
+
+
+class FreeMotion(_Section):
+    """Translation and rotation: m dU/dt = force, I domega/dt = torque about X_k."""
+
+    kind: Literal["free"] = Field("free", description="translates and turns")
+    mass: PositiveFloat = Field(description="m: mass (required)")
+    inertia: _Inertia | None = Field(
+        None, description="I: moment of inertia about X_k (null: the run's rotor.inertia)"
+    )
+    friction: _Friction | None = Field(
+        None, description="mu: friction constant (null: the run's rotor.friction)"
+    )
+
+
+MotionConfig = Annotated[FixedMotion | FixedAxisMotion | FreeMotion, Field(discriminator="kind")]
+"""How a body moves, by its ``kind``; each kind allows only its own keys."""
+
+
+class StartConfig(_Section):
+    """The body's pose and velocities at t = 0."""
+
+    x: FiniteFloat = Field(0.0, description="X: x of the body's origin (its axis)")
+    y: FiniteFloat = Field(0.0, description="Y: y of the body's origin (its axis)")
+    angle: FiniteFloat = Field(0.0, description="phi(0): angle of the body frame [rad]")
+    omega: FiniteFloat = Field(
+        0.0, ge=-OMEGA_BOUND, le=OMEGA_BOUND, description="dphi/dt(0): angular velocity"
+    )
+    velocity: tuple[FiniteFloat, FiniteFloat] = Field(
+        (0.0, 0.0), description="U(0) = [u_x, u_y]: velocity of a free body"
+    )
+
+
+class BodyConfig(_Section):
+    """One camphor object on the surface: plate, pills, motion, start, protocol, noise."""
+
+    name: str | None = Field(
+        None,
+        pattern=r"^[A-Za-z0-9_-]+$",
+        description="label of the body in records (null: body{k}, k its index)",
+    )
+    plate: PlateConfig = Field(default_factory=NoPlate, description="the plate (shape: ...)")
+    pills: list[PillConfig] = Field(
+        default_factory=list, description="camphor pills [{x, y, radius, supply}, ...]"
+    )
+    motion: MotionConfig = Field(
+        default_factory=FixedAxisMotion, description="how the body moves (kind: ...)"
+    )
+    start: StartConfig = Field(default_factory=StartConfig, description="pose at t = 0")
+    protocol: ProtocolConfig | None = Field(
+        None, description="the body's own stops (null: never stopped)"
+    )
+    noise_sigma: NonNegativeFloat | None = Field(
+        None,
+        description=(
+            "sigma of the torque noise on the body's rotation, Eq. (noiseav) (null: the "
+            "run's noise.sigma for a fixed_axis body, 0 otherwise)"
+        ),
+    )
+
+    def extent(self) -> float:
+        """Radius of the smallest disk about the body's origin holding plate and pills."""
+        return max([self.plate.extent(), *(pill.distance + pill.radius for pill in self.pills)])
+
+    def reach(self, smoothing: float) -> float:
+        """Footprint: radius about the body's origin beyond which F_k and G_k are 0 to
+        4.3e-18, the plate's and pills' extent plus X_SATURATION delta."""
+        return max([self.plate.reach(smoothing), *(p.reach(smoothing) for p in self.pills)])
+
+    def friction_rates(self) -> list[float]:
+        """Upper bounds of the body's friction relaxation rates (a resolved body).
+
+        Turning: mu J / I with J bounded by the circumscribed disk's pi e^4 / 2 (e the
+        :meth:`extent`); translating (free): mu A / m with A <= pi e^2. A fixed body has
+        none. They bound the explicit step (:meth:`RotorConfig.dt_limit`).
+        """
+        motion = self.motion
+        if isinstance(motion, FixedMotion):
+            return []
+        extent = self.extent()
+        rates = [motion.friction * (math.pi * extent**4 / 2) / motion.inertia]
+        if isinstance(motion, FreeMotion):
+            rates.append(motion.friction * math.pi * extent**2 / motion.mass)
+        return rates
+
+    @model_validator(mode="after")
+    def _consistent(self) -> BodyConfig:
+        if isinstance(self.plate, NoPlate) and not self.pills:
+            msg = (
+                "a body without a plate is its pills, and it has none (allowed: at least "
+                "one pill, or a plate: {shape: polygon|disk|strip, ...})"
+            )
+            raise FieldError("pills", [], msg)
+        if not isinstance(self.plate, NoPlate):
+            for j, pill in enumerate(self.pills):
+                if self.plate.margin(pill.x, pill.y) < pill.radius - INSIDE_TOLERANCE:
+                    msg = (
+                        f"the pill of radius {pill.radius:g} sticks out of the "
+                        f"{self.plate.shape} plate (edge clearance "
+                        f"{self.plate.margin(pill.x, pill.y):.4g} < radius; allowed: pills "
+                        "inside their plate)"
+                    )
+                    raise FieldError(f"pills[{j}]", [pill.x, pill.y], msg)
+        start, kind = self.start, self.motion.kind
+        if kind != "free" and start.velocity != (0.0, 0.0):
+            msg = f"a {kind} body does not translate (allowed: [0, 0], or motion kind free)"
+            raise FieldError("start.velocity", list(start.velocity), msg)
+        if kind == "fixed":
+            if start.omega != 0:
+                msg = "a fixed body does not turn (allowed: 0, or motion kind fixed_axis)"
+                raise FieldError("start.omega", start.omega, msg)
+            if self.protocol is not None:
+                msg = "a fixed body never moves, so it is never stopped (allowed: null)"
+                raise FieldError("protocol", self.protocol.model_dump(), msg)
+            if self.noise_sigma:
+                msg = "a fixed body does not turn, so no torque noise acts (allowed: 0 or null)"
+                raise FieldError("noise_sigma", self.noise_sigma, msg)
+        return self
+
+    def resolved(
+        self,
+        index: int,
+        supply: float,
+        inertia: float,
+        friction: float,
+        sigma: float,
+    ) -> BodyConfig:
+        """This body with every null key given the run's value (see the module docstring).
+
+        Args:
+            index: k, the body's index in ``bodies`` (its default name body{k}).
+            supply: the run's camphor.supply.
+            inertia: the run's rotor.inertia.
+            friction: the run's rotor.friction.
+            sigma: the run's noise.sigma (the default of a fixed_axis body).
+        """
+        data = self.model_dump()
+        data["name"] = self.name if self.name is not None else f"body{index}"
+        for pill in data["pills"]:
+            if pill["supply"] is None:
+                pill["supply"] = supply
+        motion = data["motion"]
+        if motion["kind"] != "fixed":
+            for key, value in (("inertia", inertia), ("friction", friction)):
+                if motion[key] is None:
+                    motion[key] = value
+        if data["noise_sigma"] is None:
+            data["noise_sigma"] = sigma if motion["kind"] == "fixed_axis" else 0.0
+        return BodyConfig.model_validate(data)

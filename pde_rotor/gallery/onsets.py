@@ -1,0 +1,99 @@
+"""Onsets of motion of camphor bodies, simulated: the runs behind the bodies' gallery pages.
+
+* :func:`free_disk_config`: one free camphor disk (no plate, the pill is the object) at
+  the dish centre, no flow, held while c relaxes to the rest state;
+* :func:`kick_growth_rate`: the growth rate of its velocity after a small kick, the
+  quantity the linear stability of docs/bodies.md predicts
+  (:func:`pde_rotor.model.onsets.free_disk_growth_rate`).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..config import RotorConfig
+from ..solver.simulation import Simulation
+
+
+def free_disk_config(dx: float, dt: float, radius: float, mass: float, mu: float, t_end: float,
+                relax: float) -> RotorConfig:  # fmt: skip
+    """One free disk at the dish centre, held for `relax`, no flow, paper scheme."""
+    return RotorConfig.model_validate(
+        {
+            "grid": {"domain_radius": radius, "dx": dx, "dt": dt},
+            "numerics": {"scheme": "paper"},
+            "flow": {"enabled": False},
+            "protocol": {"t_ini": t_end, "cycles": 0},
+            "bodies": [
+                {
+                    "name": "disk",
+                    "pills": [{"x": 0.0, "y": 0.0}],
+                    "motion": {"kind": "free", "mass": mass, "friction": mu},
+                    "protocol": {"t_ini": 0.0, "t_stop": relax, "t_release": t_end, "cycles": 1},
+                }
+            ],
+        }
+    )
+
+
+def kick_growth_rate(
+    config: RotorConfig, relax: float, u0: float, fit: tuple[float, float]
+) -> float:
+    """lambda fitted to log |U| of the released disk over `fit` (times after the release)."""
+    sim = Simulation(config)
+    sim.run(relax)
+    sim.bodies.poses[0, 3] = u0
+    times, speeds = [], []
+    for t in np.arange(fit[0], fit[1] + 1e-9, (fit[1] - fit[0]) / 20):
+        sim.run(relax + round(t / config.grid.dt) * config.grid.dt)
+        times.append(t)
+        speeds.append(math.hypot(*sim.bodies.poses[0, 3:5]))
+    return float(np.polyfit(times, np.log(speeds), 1)[0])
+
+
+def two_disk_rotor_config(
+    dx: float,
+    dt: float,
+    radius: float,
+    half_length: float,
+    inertia: float,
+    mu: float,
+    t_end: float,
+    relax: float,
+) -> RotorConfig:
+    """The two-disk rotor of Koyano et al. (PRE 2017): two camphor disks at (+-l, 0) on
+    a strip that does not touch the water (plate none), turning about the dish centre;
+    held for `relax`, no flow, paper scheme."""
+    return RotorConfig.model_validate(
+        {
+            "grid": {"domain_radius": radius, "dx": dx, "dt": dt},
+            "numerics": {"scheme": "paper"},
+            "flow": {"enabled": False},
+            "protocol": {"t_ini": t_end, "cycles": 0},
+            "bodies": [
+                {
+                    "name": "rotor",
+                    "pills": [{"x": half_length, "y": 0.0}, {"x": -half_length, "y": 0.0}],
+                    "motion": {"kind": "fixed_axis", "inertia": inertia, "friction": mu},
+                    "protocol": {"t_ini": 0.0, "t_stop": relax, "t_release": t_end, "cycles": 1},
+                }
+            ],
+        }
+    )
+
+
+def kick_rotation_rate(
+    config: RotorConfig, relax: float, omega0: float, fit: tuple[float, float]
+) -> float:
+    """lambda fitted to log |omega| of the released rotor over `fit` (after the release)."""
+    sim = Simulation(config)
+    sim.run(relax)
+    sim.bodies.poses[0, 5] = omega0
+    times, rates = [], []
+    for t in np.arange(fit[0], fit[1] + 1e-9, (fit[1] - fit[0]) / 20):
+        sim.run(relax + round(t / config.grid.dt) * config.grid.dt)
+        times.append(t)
+        rates.append(abs(sim.bodies.poses[0, 5]))
+    return float(np.polyfit(times, np.log(rates), 1)[0])

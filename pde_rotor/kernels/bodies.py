@@ -1,0 +1,375 @@
+"""Compiled CPU step of K bodies on one surface: c, v and every body advanced together.
+
+:func:`advance_bodies` is the loop of :func:`pde_rotor.kernels.cpu.advance` for the
+generalised model (docs/bodies.md): every step it
+
+1. freezes the bodies that are fixed or in a stop of their own schedule (``stopped_at``);
+2. redraws F, G and the owner map of each body whose pose changed since it was last
+   drawn (:func:`draw_body`; bodies may not overlap, so each cell belongs to one body at
+   most, and the plate velocity of a cell is its owner's, :func:`plate_velocity`);
+3. takes each moving body's integrals over its plate (:func:`body_integrals`, area
+   form with central differences, the ``paper`` scheme);
+4. advances c and v by one Euler step of Eqs. (eqc), (eqv) (the core's ``plate_rates``
+   with the owner's plate velocity);
+5. advances the bodies, Eq. (eq_motion) about X_k (the body core's
+   ``body_accelerations``), forward Euler, the noise kick of Eq. (noiseav) on omega.
+
+A body that reaches the dish's edge or another body ends the run: the step, the body
+and the reason are returned (see :func:`advance_bodies`), and the solver raises with
+them. The physics is :mod:`pde_rotor.kernels.core` and :mod:`pde_rotor.kernels.body_core`;
+these loops only walk the grid.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba as nb
+import numpy as np
+
+from .body_core import CPU_BODIES, MOTION_FIXED, MOTION_FREE, PLATE_NONE, PLATE_POLYGON
+from .core import CPU, FASTMATH
+
+_plate_rates = CPU.plate_rates
+_rate_coefficients = CPU.rate_coefficients
+_stopped_at = CPU.stopped_at
+_plate_velocity = CPU_BODIES.plate_velocity
+_body_plate_cell = CPU_BODIES.body_plate_cell
+_pill_term = CPU.pill_term
+_pill_reach = CPU.pill_reach
+_body_accelerations = CPU_BODIES.body_accelerations
+_euler_rotor = CPU.euler_rotor
+_noise_kick = CPU.noise_kick
+
+POSE_FIELDS = (
+    "x",
+    "y",
+    "phi",
+    "u",
+    "v",
+    "omega",
+    "force_x",
+    "force_y",
+    "torque",
+    "drag_x",
+    "drag_y",
+    "friction",
+    "stopped",
+)
+"""Columns of the (K, 13) pose array: position, angle, velocities, then the last step's
+tension force and torque, friction force and torque, and whether it was held."""
+
+N_INTEGRALS = 10
+"""Integrals of a body per step (:func:`body_integrals`)."""
+
+STATUS_FINITE, STATUS_EDGE, STATUS_OVERLAP = 1, 2, 3
+"""Why a run ended early (``status[0]``): non-finite state, a body at the dish's edge,
+two bodies overlapping."""
+
+
+@nb.njit(cache=True, nogil=True)
+def _clear_body(F, G, owner, n, k, box):
+    """Zero F and G on the cells body k owns in its last drawn box, and free them."""
+    for i in range(box[k, 0], box[k, 1]):
+        for j in range(box[k, 2], box[k, 3]):
+            o = i * n + j
+            if owner[o] == k:
+                F[o] = 0.0
+                G[o] = 0.0
+                owner[o] = -1
+
+
+@nb.njit(cache=True, nogil=True)
+def _orient(k, body, pills, pose, normals, centres):
+    """Edge normals (polygon, lab frame, Eq. (ejt0) turned by phi) or the body's x axis
+    (strip) into normals[:, :, k]; the pills' lab-frame centres into `centres`."""
+    b = body[k]
+    phi = pose[k, 2]
+    if b.plate == PLATE_POLYGON:
+        for j in range(b.n_corners):
+            angle = phi + 2.0 * math.pi * (j + 0.5) / b.n_corners
+            normals[0, j, k] = math.cos(angle)
+            normals[1, j, k] = math.sin(angle)
+    else:
+        normals[0, 0, k] = math.cos(phi)
+        normals[1, 0, k] = math.sin(phi)
+    for j in range(b.pill_start, b.pill_start + b.pill_count):
+        angle = phi + pills[j, 5] + pills[j, 6]
+        centres[0, j] = pose[k, 0] + pills[j, 4] * math.cos(angle)
+        centres[1, j] = pose[k, 1] + pills[j, 4] * math.sin(angle)
+
+
+@nb.njit(cache=True, nogil=True, fastmath=FASTMATH, error_model="numpy")
+def draw_body(F, G, owner, domain, k, body, pills, pose, normals, centres, box, inv_delta):
+    """Draw body k at its pose: F_k, G_k and owner k on the cells of its footprint.
+
+    Two passes: the plate's F on the footprint, then each pill's term on the cells of its
+    own bounding box (a pill's term is below 4.3e-18 beyond rho + X_SATURATION delta), in
+    the pills' order, as the rotor's ``pill_rows`` sums them. The footprint is the disk
+    of radius ``body[k].reach`` about X_k, beyond which F_k and
+    G_k are 0 to within 4.3e-18 (:data:`pde_rotor.config.X_SATURATION`). G holds the
+    pills' source densities relative to the record's ``source`` (1 for the paper's
+    pills, so that G is the paper's indicator sum).
+
+    Returns:
+        0, or ``STATUS_EDGE`` (a footprint cell outside the dish), or ``-1 - j`` when
+        the footprint meets body j's.
+    """
+    coords, lo, hi, _, _ = domain
+    n = coords.size
+    _clear_body(F, G, owner, n, k, box)
+    _orient(k, body, pills, pose, normals, centres)
+    b = body[k]
+    x_k, y_k, reach = pose[k, 0], pose[k, 1], b.reach
+    x0 = coords[0]
+    inv_dx = 1.0 / (coords[1] - x0)
+    i0 = max(0, math.ceil((x_k - reach - x0) * inv_dx))
+    i1 = min(n, math.floor((x_k + reach - x0) * inv_dx) + 1)
+    j0 = max(0, math.ceil((y_k - reach - x0) * inv_dx))
+    j1 = min(n, math.floor((y_k + reach - x0) * inv_dx) + 1)
+    box[k, 0], box[k, 1], box[k, 2], box[k, 3] = i0, i1, j0, j1
+    tab = normals[:, :, k]
+    plate = b.plate != PLATE_NONE
+    for i in range(i0, i1):  # the footprint: owner, F of the plate, G = 0
+        x = coords[i]
+        for j in range(j0, j1):
+            rx = x - x_k
+            ry = coords[j] - y_k
+            if rx * rx + ry * ry >= reach * reach:
+                continue
+            if j < lo[i] or j >= hi[i]:
+                return STATUS_EDGE
+            o = i * n + j
+            if owner[o] >= 0 and owner[o] != k:
+                return -1 - owner[o]
+            owner[o] = k
+            G[o] = 0.0
+            F[o] = 0.0
+            if plate:
+                F[o] = _body_plate_cell(
+                    rx, ry, b.plate, tab, b.n_corners, b.size_a, b.size_b, inv_delta
+                )
+    for m in range(b.pill_start, b.pill_start + b.pill_count):  # each pill on its own box
+        px, py, rho, weight = centres[0, m], centres[1, m], pills[m, 2], pills[m, 3]
+        pill_reach = _pill_reach(rho, inv_delta)
+        ia = max(i0, math.ceil((px - pill_reach - x0) * inv_dx))
+        ib = min(i1, math.floor((px + pill_reach - x0) * inv_dx) + 1)
+        ja = max(j0, math.ceil((py - pill_reach - x0) * inv_dx))
+        jb = min(j1, math.floor((py + pill_reach - x0) * inv_dx) + 1)
+        for i in range(ia, ib):
+            dx_p = coords[i] - px
+            for j in range(ja, jb):
+                o = i * n + j
+                if owner[o] != k:
+                    continue
+                term = _pill_term(dx_p, coords[j] - py, rho, inv_delta)
+                G[o] += weight * term
+                if not plate:
+                    F[o] += term
+    return 0
+
+
+@nb.njit(cache=True, nogil=True, fastmath=FASTMATH)
+def body_integrals(cur, F, owner, coords, k, x_k, y_k, box, flow, out):
+    """The integrals of body k over its plate, area form (central differences) (compiled).
+
+    out[:] = (int F grad c (x, y), int F (r - X) x grad c, int F, int F (r - X) (x, y),
+    int F |r - X|^2, int F (r - X) x v, int F v (x, y)), each times dA, summed over the
+    cells body k owns in row-major order (the rotor's order: with X = 0 the torque's
+    integrals are those of :func:`pde_rotor.kernels.cpu.rotor_integrals`).
+    """
+    n = coords.size
+    nn = n * n
+    dx = coords[1] - coords[0]
+    inv_2dx = 0.5 / dx
+    for m in range(N_INTEGRALS):
+        out[m] = 0.0
+    for i in range(box[k, 0], box[k, 1]):
+        rx = coords[i] - x_k
+        for j in range(box[k, 2], box[k, 3]):
+            o = i * n + j
+            if owner[o] != k:
+                continue
+            f = F[o]
+            if f == 0.0:
+                continue
+            ry = coords[j] - y_k
+            dcdx = (cur[o + n] - cur[o - n]) * inv_2dx
+            dcdy = (cur[o + 1] - cur[o - 1]) * inv_2dx
+            out[0] += f * dcdx
+            out[1] += f * dcdy
+            out[2] += f * (rx * dcdy - ry * dcdx)
+            out[3] += f
+            out[4] += f * rx
+            out[5] += f * ry
+            out[6] += f * (rx * rx + ry * ry)
+            if flow:
+                vx = cur[o + nn]
+                vy = cur[o + nn + nn]
+                out[7] += f * (rx * vy - ry * vx)
+                out[8] += f * vx
+                out[9] += f * vy
+    area = dx * dx
+    for m in range(N_INTEGRALS):
+        out[m] *= area
+
+
+@nb.njit(cache=True, nogil=True)
+def support_rows(box, n, slo, shi):
+    """slo, shi: per row, the columns [slo, shi) covered by any body's box (the cells
+    where F or G may be nonzero; empty rows get slo = shi = 0)."""
+    for i in range(n):
+        slo[i] = 0
+        shi[i] = 0
+    for k in range(box.shape[0]):
+        for i in range(box[k, 0], box[k, 1]):
+            if shi[i] == slo[i]:
+                slo[i], shi[i] = box[k, 2], box[k, 3]
+            else:
+                slo[i] = min(slo[i], box[k, 2])
+                shi[i] = max(shi[i], box[k, 3])
+
+
+@nb.njit(cache=True, nogil=True, fastmath=FASTMATH)
+def euler_body_fields(cur, nxt, F, G, owner, domain, coef, dt, pose, flow):
+    """One Euler step of Eqs. (eqc), (eqv) on the interior cells, the plate velocity of
+    each cell its owner's (:func:`plate_velocity`; none off the bodies) (compiled)."""
+    coords, lo, hi, slo, shi = domain
+    n = coords.size
+    sx = np.uint64(n)
+    sy = np.uint64(1)
+    nn = np.uint64(n * n)
+    for i in range(n):
+        x = coords[i]
+        for j in range(lo[i], hi[i]):
+            o = np.uint64(i * n + j)
+            plate = slo[i] <= j < shi[i]
+            f = 0.0
+            g = 0.0
+            px = 0.0
+            py = 0.0
+            if plate:
+                f = F[o]
+                g = G[o]
+                k = owner[o]
+                if k >= 0:
+                    px, py = _plate_velocity(
+                        pose[k, 3], pose[k, 4], pose[k, 5], x - pose[k, 0], coords[j] - pose[k, 1]
+                    )
+            cc = cur[o]
+            ux = cur[o + nn] if flow else 0.0
+            uy = cur[o + nn + nn] if flow else 0.0
+            rate_c, rate_x, rate_y = _plate_rates(
+                cur, o, sx, sy, nn, f, g, px, py, coef, flow, plate
+            )
+            nxt[o] = cc + dt * rate_c
+            if flow:
+                nxt[o + nn] = ux + dt * rate_x
+                nxt[o + nn + nn] = uy + dt * rate_y
+
+
+@nb.njit(cache=True, nogil=True)
+def advance_bodies(
+    data, spare, F, G, owner, domain, params, body, pills, pose, drawn, box, normals,
+    centres, xi, status, step0, n_steps,
+):  # fmt: skip
+    """Advance c, v and every body by `n_steps` forward Euler steps (compiled).
+
+    Args:
+        data: flat state (c, v_x, v_y), 3 n^2 values, updated in place.
+        spare: scratch of the same shape.
+        F, G, owner: flat indicator arrays and the owner map (-1: no body), updated.
+        domain: (coords, lo, hi, slo, shi); slo, shi are rewritten from the bodies' boxes.
+        params: the run's parameter record (:func:`pde_rotor.kernels.records.make_record`).
+        body: the bodies' records (``BODY``), `pills` their pills (P, 7): body-frame x,
+            y, radius, relative source density, and polar form: distance from X and the
+            angle as two terms (the paper's corner angle 2 pi j / N and the shift Delta,
+            added in the rotor's order).
+        pose: (K, 13) poses (:data:`POSE_FIELDS`), updated in place.
+        drawn: (K, 3) x, y, phi at which each body was last drawn (nan: never).
+        box: (K, 4) int rows and columns of each body's last drawn footprint.
+        normals, centres: scratch (2, max N, K) and (2, P).
+        xi: K standard normals per step for the noise (read where a body's kick != 0).
+        status: (3,) ints: on an early end, the reason (``STATUS_*``) and the bodies.
+        step0: global index of the first step; n_steps: number of steps.
+
+    Returns:
+        -1 on success, else the index of the step at which the run ended (state left at
+        the start of that step; the reason in `status`).
+    """
+    p = params[0]
+    dt = p.dt
+    n_bodies = body.shape[0]
+    coords = domain[0]
+    n = coords.size
+    nn = n * n
+    coef = _rate_coefficients(p)
+    sign_k = p.torque_sign * p.tension_slope
+    inv_delta = 1.0 / p.smoothing
+    cur = data
+    nxt = spare
+    integrals = np.zeros(N_INTEGRALS)
+    accel = np.zeros((n_bodies, 3))
+    if not p.flow:
+        data[nn:] = 0.0
+        spare[nn:] = 0.0
+    for s in range(n_steps):
+        redrawn = False
+        for k in range(n_bodies):
+            b = body[k]
+            held = b.motion == MOTION_FIXED or _stopped_at(
+                step0 + s, b.n_ini, b.n_stop, b.n_period, b.cycles
+            )
+            pose[k, 12] = 1.0 if held else 0.0
+            if held:
+                pose[k, 3] = 0.0
+                pose[k, 4] = 0.0
+                pose[k, 5] = 0.0
+            if pose[k, 0] != drawn[k, 0] or pose[k, 1] != drawn[k, 1] or pose[k, 2] != drawn[k, 2]:
+                code = draw_body(
+                    F, G, owner, domain, k, body, pills, pose, normals, centres, box, inv_delta
+                )
+                if code != 0:
+                    status[0] = STATUS_EDGE if code > 0 else STATUS_OVERLAP
+                    status[1] = k
+                    status[2] = -1 - code if code < 0 else -1
+                    if s % 2 == 1:
+                        data[:] = spare
+                    return s
+                drawn[k, 0], drawn[k, 1], drawn[k, 2] = pose[k, 0], pose[k, 1], pose[k, 2]
+                redrawn = True
+        if redrawn or s == 0:  # the support rows are scratch of each call
+            support_rows(box, n, domain[3], domain[4])
+        for k in range(n_bodies):
+            b = body[k]
+            if b.motion == MOTION_FIXED:
+                continue
+            body_integrals(cur, F, owner, coords, k, pose[k, 0], pose[k, 1], box, p.flow, integrals)
+            out = _body_accelerations(
+                integrals, pose[k, 3], pose[k, 4], pose[k, 5], sign_k, b.friction, b.mass,
+                b.inertia,
+            )  # fmt: skip
+            for m in range(6):
+                pose[k, 6 + m] = out[m]
+            accel[k, 0], accel[k, 1], accel[k, 2] = out[6], out[7], out[8]
+            if not (math.isfinite(out[6]) and math.isfinite(out[7]) and math.isfinite(out[8])):
+                status[0] = STATUS_FINITE
+                status[1] = k
+                if s % 2 == 1:
+                    data[:] = spare
+                return s
+        euler_body_fields(cur, nxt, F, G, owner, domain, coef, dt, pose, p.flow)
+        for k in range(n_bodies):
+            b = body[k]
+            if pose[k, 12] != 0.0:
+                continue
+            pose[k, 2], pose[k, 5] = _euler_rotor(pose[k, 2], pose[k, 5], accel[k, 2], dt)
+            if b.motion == MOTION_FREE:
+                pose[k, 0], pose[k, 3] = _euler_rotor(pose[k, 0], pose[k, 3], accel[k, 0], dt)
+                pose[k, 1], pose[k, 4] = _euler_rotor(pose[k, 1], pose[k, 4], accel[k, 1], dt)
+            if b.kick != 0.0:
+                pose[k, 5] = _noise_kick(pose[k, 5], xi[s * n_bodies + k], b)
+        cur, nxt = nxt, cur
+    if n_steps % 2 == 1:
+        data[:] = spare
+    return -1

@@ -1,0 +1,168 @@
+"""The physics of bodies, written once: indicators, plate velocity and motion of body k.
+
+The model of Koyano et al. (Chaos 2020) generalised from one rotor to K bodies
+(docs/bodies.md). Body k has a plate indicator F_k (a regular polygon, a disk, a strip,
+or none: then its floating pills are the object), pills G_k (camphor sources), a
+position X_k, an angle phi_k and a motion (``fixed``, ``fixed_axis``, ``free``). The
+plate moves with the velocity field u_k(r) = U_k + omega_k z x (r - X_k), and
+
+* Eq. (eqc) keeps its form with F = sum_k F_k and the source sum_k s_j/(pi rho_j^2)
+  G_j over all pills (each pill its own supply);
+* Eq. (eqv) is driven by eta sum_k F_k (u_k - v) (:func:`plate_velocity`);
+* the force and torque on body k, Eqs. (torque) and (eq_motion) about X_k:
+
+      f_k = s k int F_k grad c dA - mu_k int F_k (u_k - v) dA,
+      T_k = s k int F_k (r - X_k) x grad c dA - mu_k int F_k (r - X_k) x (u_k - v) dA,
+
+  with s = ``rotor.torque``'s sign (:data:`pde_rotor.model.pde.TORQUE_SIGN`), written
+  with the body's integrals (area A, first moment M, polar moment J, and the flow's
+  int F_k v and int F_k (r - X_k) x v) by :func:`body_accelerations`.
+
+With one ``fixed_axis`` body at the origin these are the functions of
+:mod:`pde_rotor.kernels.core` that the rotor's loops call: :func:`body_accelerations`
+reduces to ``rotor_torques`` and ``angular_acceleration``, :func:`plate_velocity` to
+omega (-y, x). The functions are built by :func:`make_body_core` for a compiler, as the
+core's are, and call the core's primitives (``logistic``, ``pill_term``, ``projection``).
+
+The loops that call them are :mod:`pde_rotor.kernels.bodies` (CPU).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import NamedTuple
+
+from .core import CPU, Core, _cpu_jit
+
+PLATE_NONE, PLATE_POLYGON, PLATE_DISK, PLATE_STRIP = 0, 1, 2, 3
+"""Plate shapes in the body record (:mod:`pde_rotor.kernels.records`, ``BODY``)."""
+
+MOTION_FIXED, MOTION_FIXED_AXIS, MOTION_FREE = 0, 1, 2
+"""Motions in the body record."""
+
+
+class BodyCore(NamedTuple):
+    """The compiled body functions for one target (see the module docstring)."""
+
+    plate_velocity: Callable
+    strip_gauge: Callable
+    polygon_gauge: Callable
+    body_plate_cell: Callable
+    body_accelerations: Callable
+
+
+def make_body_core(jit: Callable[[Callable], Callable], core: Core) -> BodyCore:
+    """Compile the body functions with `jit` on top of the physics core `core`.
+
+    Args:
+        jit: as for :func:`pde_rotor.kernels.core.make_core`.
+        core: the core compiled with the same `jit`.
+
+    Returns:
+        The compiled functions.
+    """
+    logistic = core.logistic
+    pill_term = core.pill_term
+    projection = core.projection
+    gauge_step = core.gauge_step
+
+    @jit
+    def plate_velocity(u, v, omega, rx, ry):
+        """u_k at r = X_k + (rx, ry): U_k + omega_k z x (r - X_k) = (u - omega ry, v + omega rx)."""
+        return u - omega * ry, v + omega * rx
+
+    @jit
+    def polygon_gauge(rx, ry, normals, n_corners):
+        """h = max_j (r - X) . e_j over the edge normals `normals` (2, >= N), lab frame."""
+        h = projection(rx, ry, normals[0, 0], normals[1, 0])
+        for j in range(1, n_corners):
+            h = gauge_step(h, rx, ry, normals[0, j], normals[1, j])
+        return h
+
+    @jit
+    def strip_gauge(rx, ry, ex, ey, half_length, half_width):
+        """max(|r . e| - L/2, |r . tau| - W/2): a rectangle's gauge, e the body's x axis.
+
+        Its level set 0 is the strip's outline and it grows by the distance from the
+        nearer edge, like the polygon's max over edges h - R cos(pi/N).
+        """
+        along = abs(projection(rx, ry, ex, ey)) - half_length
+        across = abs(ey * rx - ex * ry) - half_width
+        return along if along > across else across
+
+    @jit
+    def body_plate_cell(rx, ry, plate, normals, n_corners, size_a, size_b, inv_delta):
+        """F_k at r = X_k + (rx, ry) for the plate kind `plate` (``paper`` scheme point value).
+
+        polygon: 1/2 [1 + tanh((a - h) / delta)], h the polygon gauge, a = `size_a` the
+        apothem; disk: the same with h = |r - X| and a the radius; strip:
+        1/2 [1 + tanh(-h / delta)], h the strip gauge with `size_a`, `size_b` the half
+        length and half width. A body without a plate has the pills' own indicator for F
+        (the sum of ``pill_term`` over them, :mod:`pde_rotor.kernels.bodies`).
+        """
+        if plate == PLATE_POLYGON:
+            return logistic((size_a - polygon_gauge(rx, ry, normals, n_corners)) * inv_delta)
+        if plate == PLATE_DISK:
+            return pill_term(rx, ry, size_a, inv_delta)
+        if plate == PLATE_STRIP:
+            h = strip_gauge(rx, ry, normals[0, 0], normals[1, 0], size_a, size_b)
+            return logistic(-h * inv_delta)
+        return 0.0
+
+    @jit
+    def body_accelerations(integrals, u, v, omega, sign_k, mu, mass, inertia):
+        """Force, torque and accelerations of a body from its integrals (see the module).
+
+        Args:
+            integrals: (8,) int F grad c (x, y), int F (r - X) x grad c, int F, int F (r - X)
+                (x, y), int F |r - X|^2, int F (r - X) x v, over the body's plate (times
+                dA), then int F v (x, y) in [8], [9] (length 10).
+            u, v, omega: the body's velocity U and angular velocity.
+            sign_k: s k, the sign of ``rotor.torque`` times the tension slope.
+            mu: the body's friction coefficient.
+            mass, inertia: m and I (mass unused for a body that does not translate).
+
+        Returns:
+            (f_x, f_y, T, friction f_x, friction f_y, friction torque, dU/dt, dV/dt,
+            domega/dt): tension force and torque, friction force and torque, and the
+            accelerations (f + friction) / m, (T + friction torque) / I.
+        """
+        grad_x, grad_y, cross_grad = integrals[0], integrals[1], integrals[2]
+        area, m_x, m_y, polar, cross_v = (
+            integrals[3],
+            integrals[4],
+            integrals[5],
+            integrals[6],
+            integrals[7],
+        )
+        flow_x, flow_y = integrals[8], integrals[9]
+        torque = sign_k * cross_grad
+        friction = -mu * (polar * omega - cross_v + (m_x * v - m_y * u))
+        force_x = sign_k * grad_x
+        force_y = sign_k * grad_y
+        drag_x = -mu * (area * u - omega * m_y - flow_x)
+        drag_y = -mu * (area * v + omega * m_x - flow_y)
+        inv_m = 1.0 / mass
+        return (
+            force_x,
+            force_y,
+            torque,
+            drag_x,
+            drag_y,
+            friction,
+            (force_x + drag_x) * inv_m,
+            (force_y + drag_y) * inv_m,
+            (friction + torque) * (1.0 / inertia),
+        )
+
+    return BodyCore(
+        plate_velocity=plate_velocity,
+        strip_gauge=strip_gauge,
+        polygon_gauge=polygon_gauge,
+        body_plate_cell=body_plate_cell,
+        body_accelerations=body_accelerations,
+    )
+
+
+CPU_BODIES: BodyCore = make_body_core(_cpu_jit, CPU)
+"""The body functions compiled for the CPU."""

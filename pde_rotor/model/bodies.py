@@ -1,0 +1,256 @@
+"""Bodies in numpy: each body's plate indicator F_k, pill indicator G_k and plate velocity.
+
+The numpy reference of the camphor objects of a ``bodies:`` config
+(:mod:`pde_rotor.config.bodies`); the paper's rotor is the one body of the ``geometry:``
+shorthand (:meth:`pde_rotor.config.RotorConfig.body_list`), for which F_k and G_k are
+:func:`pde_rotor.model.geometry.plate_indicator` and ``pill_indicator`` bit for bit at
+phi = 0 (F at every angle).
+
+Every indicator is 1/2 (1 + tanh(x / delta)) of a signed distance x (scheme ``paper``,
+point values; the equations after Eq. (rj)), evaluated in the body frame: a point r is
+measured from the body's position X first, r - X, so that a body moved by whole cells
+gives the same values moved by whole cells. Per plate shape:
+
+* polygon: x = R cos(pi/N) - max_j (r - X) . e_j with the edge normals
+  e_j = e(phi + 2 pi (j - 1/2) / N), as the paper's plate;
+* disk: x = R - |r - X|;
+* strip: x = -max(|x'| - L/2, |y'| - W/2) with (x', y') = R(-phi) (r - X): the gauge's
+  level sets are rectangles, and F is the minimum of the two slabs' profiles (as the
+  polygon's is the minimum over its edges);
+* none: F_k is the pills' own indicator G_k.
+
+Each pill adds 1/2 (1 + tanh((rho_j - |r - X - R(phi) p_j|) / delta)) to G_k and
+s_j / (pi rho_j^2) times that to the source of Eq. (eqc). The plate moves with
+u_k = U_k + omega_k z x (r - X_k), which Eq. (eqv) relaxes v towards under F_k.
+
+The footprint of a body (:attr:`BodyShape.reach`) is the radius about X beyond which
+F_k and G_k are 0 to 4.3e-18 (X_SATURATION delta beyond plate and pills): the support
+box of its compiled loops (:func:`body_support`) and the disk the config keeps inside
+the dish and apart from the other bodies'.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+
+from ..config import BodyConfig, FreeMotion, PolygonPlate, ProtocolConfig, RotorConfig
+from .domain import Domain
+from .geometry import edge_normal_angles, support_rows
+
+
+class Pose(NamedTuple):
+    """A body's pose: its position X = (x, y) (the axis it turns about) and angle phi."""
+
+    x: float
+    y: float
+    phi: float
+
+
+@dataclass(frozen=True, eq=False)
+class BodyShape:
+    """What a body's indicators need, derived once from its config.
+
+    Attributes:
+        plate: the plate's shape, one of ``polygon``, ``disk``, ``strip``, ``none``.
+        n_corners: N of a polygon (0 otherwise).
+        radius: R, circumradius of a polygon or radius of a disk (0 otherwise).
+        apothem: R cos(pi/N) of a polygon (0 otherwise).
+        length: L of a strip (0 otherwise).
+        width: W of a strip (0 otherwise).
+        pills: (P, 4) read-only array, one row (x, y, rho, s0) per pill, x and y in the
+            body frame.
+        smoothing: delta, the width of every tanh edge (geometry.smoothing).
+        extent: radius about X of the smallest disk holding plate and pills.
+        reach: the footprint, radius about X beyond which F_k = G_k = 0 to 4.3e-18.
+    """
+
+    plate: str
+    n_corners: int
+    radius: float
+    apothem: float
+    length: float
+    width: float
+    pills: np.ndarray
+    smoothing: float
+    extent: float
+    reach: float
+
+    @classmethod
+    def from_config(cls, body: BodyConfig, smoothing: float) -> BodyShape:
+        """The shape of a resolved body (:meth:`RotorConfig.body_list`)."""
+        plate = body.plate
+        pills = np.array([[p.x, p.y, p.radius, p.supply] for p in body.pills], dtype=float).reshape(
+            -1, 4
+        )
+        if np.isnan(pills).any():
+            msg = "the body is not resolved: a pill's supply is null (use RotorConfig.body_list)"
+            raise ValueError(msg)
+        pills.setflags(write=False)
+        return cls(
+            plate=plate.shape,
+            n_corners=getattr(plate, "n_corners", 0),
+            radius=getattr(plate, "radius", 0.0),
+            apothem=plate.apothem if isinstance(plate, PolygonPlate) else 0.0,
+            length=getattr(plate, "length", 0.0),
+            width=getattr(plate, "width", 0.0),
+            pills=pills,
+            smoothing=smoothing,
+            extent=body.extent(),
+            reach=body.reach(smoothing),
+        )
+
+
+MOTIONLESS = math.inf
+"""The mass of a body that does not translate and the inertia of one that does not turn:
+force / m and torque / I vanish."""
+
+
+@dataclass(frozen=True, eq=False)
+class Body:
+    """One camphor object: its shape, motion, start and protocol.
+
+    Attributes:
+        name: the body's label (``body{k}`` by default).
+        shape: the plate and pills (:class:`BodyShape`).
+        motion: ``fixed``, ``fixed_axis`` or ``free``.
+        mass: m of a free body; :data:`MOTIONLESS` otherwise.
+        inertia: I of a turning body; :data:`MOTIONLESS` for a fixed one.
+        friction: mu of the coupling -mu int F_k (u_k - v) dA; 0 for a fixed body.
+        noise_sigma: sigma of the torque noise on its rotation, Eq. (noiseav).
+        start: the pose at t = 0.
+        omega0: the angular velocity at t = 0.
+        velocity0: the velocity U at t = 0.
+        protocol: its stop-and-release schedule (None: never stopped).
+    """
+
+    name: str
+    shape: BodyShape
+    motion: str
+    mass: float
+    inertia: float
+    friction: float
+    noise_sigma: float
+    start: Pose
+    omega0: float
+    velocity0: tuple[float, float]
+    protocol: ProtocolConfig | None
+
+    @classmethod
+    def from_config(cls, body: BodyConfig, smoothing: float) -> Body:
+        """The body of a resolved body config (:meth:`RotorConfig.body_list`)."""
+        motion = body.motion
+        turns = motion.kind != "fixed"
+        if turns and (motion.inertia is None or motion.friction is None):
+            msg = "the body is not resolved: inertia or friction is null (use body_list)"
+            raise ValueError(msg)
+        start = body.start
+        return cls(
+            name=str(body.name),
+            shape=BodyShape.from_config(body, smoothing),
+            motion=motion.kind,
+            mass=motion.mass if isinstance(motion, FreeMotion) else MOTIONLESS,
+            inertia=float(motion.inertia) if turns else MOTIONLESS,
+            friction=float(motion.friction) if turns else 0.0,
+            noise_sigma=float(body.noise_sigma or 0.0),
+            start=Pose(start.x, start.y, start.angle),
+            omega0=start.omega,
+            velocity0=start.velocity,
+            protocol=body.protocol,
+        )
+
+
+def make_bodies(config: RotorConfig) -> tuple[Body, ...]:
+    """The bodies of a run configuration (the shorthand's one rotor without ``bodies``)."""
+    smoothing = config.geometry.smoothing
+    return tuple(Body.from_config(body, smoothing) for body in config.body_list())
+
+
+def pill_offsets(shape: BodyShape, phi: float) -> np.ndarray:
+    """R(phi) p_j: the pill centres relative to the body's position, (P, 2)."""
+    c, s = math.cos(phi), math.sin(phi)
+    px, py = shape.pills[:, 0], shape.pills[:, 1]
+    return np.stack([c * px - s * py, s * px + c * py], axis=1)
+
+
+def pill_centres(shape: BodyShape, pose: Pose) -> np.ndarray:
+    """X + R(phi) p_j: the pill centres on the surface, (P, 2)."""
+    return np.array([pose.x, pose.y]) + pill_offsets(shape, pose.phi)
+
+
+def _pill_terms(x: np.ndarray, y: np.ndarray, shape: BodyShape, pose: Pose) -> list[np.ndarray]:
+    """Each pill's 1/2 [1 + tanh((rho_j - |r - X - R(phi) p_j|) / delta)]."""
+    rx, ry = x - pose.x, y - pose.y
+    terms = []
+    for (qx, qy), rho in zip(pill_offsets(shape, pose.phi), shape.pills[:, 2], strict=True):
+        dist = np.hypot(rx - qx, ry - qy)
+        terms.append(0.5 * (1.0 + np.tanh((rho - dist) / shape.smoothing)))
+    return terms
+
+
+def pill_indicator(x: np.ndarray, y: np.ndarray, shape: BodyShape, pose: Pose) -> np.ndarray:
+    """G_k = sum_j 1/2 [1 + tanh((rho_j - |r - X - R(phi) p_j|) / delta)] (numpy reference)."""
+    out = np.zeros(np.broadcast(x, y).shape)
+    for term in _pill_terms(x, y, shape, pose):
+        out += term
+    return out
+
+
+def pill_source(x: np.ndarray, y: np.ndarray, shape: BodyShape, pose: Pose) -> np.ndarray:
+    """The body's camphor source of Eq. (eqc): sum_j s_j / (pi rho_j^2) times pill j's term."""
+    out = np.zeros(np.broadcast(x, y).shape)
+    terms = _pill_terms(x, y, shape, pose)
+    for term, (_, _, rho, supply) in zip(terms, shape.pills, strict=True):
+        out += supply / (math.pi * rho**2) * term
+    return out
+
+
+def plate_indicator(x: np.ndarray, y: np.ndarray, shape: BodyShape, pose: Pose) -> np.ndarray:
+    """F_k at the points (x, y) for the body at `pose` (numpy reference, scheme ``paper``).
+
+    See the module docstring for each shape's signed distance; a body without a plate
+    gives its pills' indicator.
+    """
+    if shape.plate == "none":
+        return pill_indicator(x, y, shape, pose)
+    rx, ry = x - pose.x, y - pose.y
+    if shape.plate == "polygon":
+        ang = edge_normal_angles(shape.n_corners, pose.phi)
+        proj = np.max([rx * math.cos(a) + ry * math.sin(a) for a in ang], axis=0)
+        return 0.5 * (1.0 + np.tanh((shape.apothem - proj) / shape.smoothing))
+    if shape.plate == "disk":
+        return 0.5 * (1.0 + np.tanh((shape.radius - np.hypot(rx, ry)) / shape.smoothing))
+    c, s = math.cos(pose.phi), math.sin(pose.phi)
+    along, across = c * rx + s * ry, -s * rx + c * ry
+    gauge = np.maximum(np.abs(along) - shape.length / 2, np.abs(across) - shape.width / 2)
+    return 0.5 * (1.0 + np.tanh(-gauge / shape.smoothing))
+
+
+def plate_velocity(
+    x: np.ndarray,
+    y: np.ndarray,
+    shape: BodyShape,
+    pose: Pose,
+    velocity: tuple[float, float],
+    omega: float,
+) -> np.ndarray:
+    """F_k u_k, the plate velocity u_k = U + omega z x (r - X) weighted by F_k, (2, ...).
+
+    The term Eq. (eqv) relaxes v towards, eta F_k (u_k - v), and the friction of
+    Eq. (eq_motion) integrates.
+    """
+    f = plate_indicator(x, y, shape, pose)
+    ux, uy = velocity
+    return np.stack([f * (ux - omega * (y - pose.y)), f * (uy + omega * (x - pose.x))])
+
+
+def body_support(domain: Domain, shape: BodyShape, pose: Pose) -> tuple[np.ndarray, np.ndarray]:
+    """Column range [lo, hi) per row of the domain's cells within the body's footprint.
+
+    The only cells where F_k or G_k can be nonzero (to 4.3e-18); the body's pose is on
+    the surface, the domain's coordinates are measured from the dish centre.
+    """
+    return support_rows(domain.coords, shape.reach, centre=domain.dish_frame(pose.x, pose.y))

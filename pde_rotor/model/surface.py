@@ -1,0 +1,262 @@
+"""K bodies on one surface as a py-pde PDE: the numpy reference of the generalised model.
+
+The paper's model (Koyano et al., Chaos 2020) with its rotor replaced by the bodies of a
+``bodies:`` config (:mod:`pde_rotor.config.bodies`, :mod:`pde_rotor.model.bodies`):
+
+* Eq. (eqc): dc/dt = D lap c - div(c v) - a (1 - sum_k F_k) c + sum_k sources of G_k;
+* Eq. (eqv): dv/dt = eta sum_k F_k (u_k - v) - eta_b v + D_eta lap v with the plate
+  velocity u_k = U_k + omega_k z x (r - X_k);
+* Eq. (eq_motion) per body about X_k: m dU/dt = f_k, I domega/dt = T_k with
+
+      f_k = s k int F_k grad c dA - mu int F_k (u_k - v) dA,
+      T_k = s k int F_k (r - X_k) x grad c dA - mu int F_k (r - X_k) x (u_k - v) dA,
+
+  s the sign of ``rotor.torque`` (:data:`pde_rotor.model.pde.TORQUE_SIGN`), the area
+  form of Eq. (torque) with central differences (the ``paper`` scheme); a ``fixed``
+  body does not move, a ``fixed_axis`` body only turns, and a body in a stop of its own
+  protocol is held (U = 0, omega = 0).
+
+:class:`SurfacePDE` holds the equations written plainly with numpy
+(:meth:`SurfacePDE.evolution_rate`, :meth:`SurfacePDE.body_forces`); the compiled loop
+:func:`pde_rotor.kernels.bodies.advance_bodies` computes the same from the physics core
+and is tested against them. :class:`SurfaceFields` carries the bodies' state with c and
+v, as :class:`pde_rotor.model.pde.RotorFields` carries the rotor.
+"""
+
+from __future__ import annotations
+
+import copy
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from pde import FieldCollection, ScalarField, VectorField
+from pde.pdes.base import PDEBase
+
+from ..config import RotorConfig
+from .bodies import Body, Pose, make_bodies, pill_source, plate_indicator
+from .domain import Domain, make_domain
+from .geometry import RotorShape
+from .pde import BOUNDARY, TORQUE_SIGN, check_bodies_numerics
+from .schemes import Scheme
+
+POSE_COLUMNS = (
+    "x",
+    "y",
+    "phi",
+    "u",
+    "v",
+    "omega",
+    "force_x",
+    "force_y",
+    "torque",
+    "drag_x",
+    "drag_y",
+    "friction",
+    "stopped",
+)
+"""The columns of :attr:`BodiesState.poses`: position, angle, velocity U, angular
+velocity, then the last step's tension force and torque, the friction force and torque,
+and whether the body was held (1) or free to move (0)."""
+
+
+@dataclass
+class BodiesState:
+    """The bodies' degrees of freedom and their diagnostics of the last step.
+
+    Attributes:
+        names: the bodies' names.
+        poses: (K, 13) float array, columns :data:`POSE_COLUMNS`, positions on the surface.
+    """
+
+    names: tuple[str, ...]
+    poses: np.ndarray
+
+    def __copy__(self) -> BodiesState:
+        return BodiesState(self.names, self.poses.copy())
+
+    def column(self, name: str) -> np.ndarray:
+        """One column of :attr:`poses` by name (a view)."""
+        return self.poses[:, POSE_COLUMNS.index(name)]
+
+    def pose(self, k: int) -> Pose:
+        """Body k's pose (X, Y, phi)."""
+        return Pose(*(float(v) for v in self.poses[k, :3]))
+
+
+class SurfaceFields(FieldCollection):
+    """The state of the generalised model: c, v and the bodies.
+
+    Attributes:
+        bodies: the bodies' state at the fields' time.
+    """
+
+    def __init__(self, fields: Any, *args: Any, bodies: BodiesState | None = None, **kwargs: Any):
+        """
+        Args:
+            fields: the fields [c, v], as for :class:`~pde.FieldCollection`.
+            *args: passed to :class:`~pde.FieldCollection`.
+            bodies: the bodies' state (py-pde's own copies pass none: :meth:`copy` sets it).
+            **kwargs: passed to :class:`~pde.FieldCollection`.
+        """
+        super().__init__(fields, *args, **kwargs)
+        self.bodies = bodies if bodies is not None else BodiesState((), np.zeros((0, 13)))
+
+    def copy(self, *, label: str | None = None, dtype: Any = None) -> SurfaceFields:
+        """A copy of the fields' data and of the bodies (not of the grid)."""
+        new = super().copy(label=label, dtype=dtype)
+        new.bodies = copy.copy(self.bodies)
+        return new
+
+
+class SurfacePDE(PDEBase):
+    """The camphor model with K bodies on one surface (see the module docstring).
+
+    Attributes:
+        config: the run configuration.
+        bodies: the bodies (:func:`pde_rotor.model.bodies.make_bodies`).
+        scheme: the discretisation (``paper``: point values, area-form integrals).
+        domain: grid and loop ranges (the dish of ``grid``).
+        F, G: plate and pill indicators on the grid, maintained by the solver (G as the
+            kernels hold it: source densities relative to the run's s0 / (pi rho^2)).
+        owner: per cell, the index of the body whose footprint holds it (-1: none).
+        drawn: (K, 3) the pose (x, y, phi in the dish frame) at which each body's F, G
+            and owner were last drawn (nan: never), maintained by the solver.
+        box: (K, 4) the rows and columns [i0, i1) x [j0, j1) of that drawing.
+    """
+
+    check_implementation = False
+
+    def __init__(self, config: RotorConfig):
+        """
+        Args:
+            config: the run configuration (with or without ``bodies``).
+
+        Raises:
+            ConfigError: a scheme or integrator the bodies' loop does not implement
+                (:func:`~pde_rotor.model.pde.check_bodies_numerics`).
+        """
+        super().__init__()
+        check_bodies_numerics(config)
+        self.config = config
+        self.bodies: tuple[Body, ...] = make_bodies(config)
+        self.scheme = Scheme.from_config(config)
+        # the dish's loop ranges; the bodies' supports are their own footprints
+        self.domain: Domain = make_domain(config.grid, _NO_SUPPORT)
+        shape = self.domain.grid.shape
+        self.F = np.zeros(shape)
+        self.G = np.zeros(shape)
+        self.owner = np.full(shape, -1, dtype=np.int64)
+        self.drawn = np.full((len(self.bodies), 3), np.nan)
+        self.box = np.zeros((len(self.bodies), 4), dtype=np.int64)
+
+    def initial_state(self) -> SurfaceFields:
+        """c = 0, v = 0 and every body at its start pose and velocities."""
+        grid = self.domain.grid
+        poses = np.zeros((len(self.bodies), len(POSE_COLUMNS)))
+        for k, body in enumerate(self.bodies):
+            poses[k, :3] = body.start
+            poses[k, 3:5] = body.velocity0
+            poses[k, 5] = body.omega0
+        return SurfaceFields(
+            [ScalarField(grid, label="c"), VectorField(grid, label="v")],
+            label="surface state",
+            bodies=BodiesState(tuple(b.name for b in self.bodies), poses),
+        )
+
+    def cell_coordinates(self) -> tuple[np.ndarray, np.ndarray]:
+        """(x, y) of every cell centre on the surface, each of shape (n, n)."""
+        return np.meshgrid(self.domain.x_coords, self.domain.y_coords, indexing="ij")
+
+    def body_fields(self, state: BodiesState) -> list[tuple[np.ndarray, np.ndarray]]:
+        """(F_k, source_k) of every body at its pose (numpy, point values)."""
+        x, y = self.cell_coordinates()
+        return [
+            (
+                plate_indicator(x, y, body.shape, state.pose(k)),
+                pill_source(x, y, body.shape, state.pose(k)),
+            )
+            for k, body in enumerate(self.bodies)
+        ]
+
+    def evolution_rate(self, state: SurfaceFields, t: float = 0) -> FieldCollection:
+        """Right-hand sides of Eqs. (eqc) and (eqv) with every body at its pose (numpy).
+
+        Each body moves with its velocities in ``state.bodies`` (0 while it is held).
+        Cells on and outside the circle of radius L keep c = v = 0.
+        """
+        cfg = self.config
+        c, v = state
+        x, y = self.cell_coordinates()
+        poses = state.bodies.poses
+        total_f = np.zeros_like(c.data)
+        source = np.zeros_like(c.data)
+        plate_flow = np.zeros_like(v.data)
+        for k, (f_k, s_k) in enumerate(self.body_fields(state.bodies)):
+            total_f += f_k
+            source += s_k
+            u, w, omega = poses[k, 3], poses[k, 4], poses[k, 5]
+            plate_flow += f_k * np.stack(
+                [u - omega * (y - poses[k, 1]), w + omega * (x - poses[k, 0])]
+            )
+        mask = self.domain.interior_mask
+        c_rate = (
+            cfg.camphor.diffusion * c.laplace(BOUNDARY).data
+            - cfg.camphor.evaporation * (1 - total_f) * c.data
+            + source
+        )
+        v_rate = np.zeros_like(v.data)
+        if cfg.flow.enabled:
+            c_rate -= (c * v).divergence(BOUNDARY).data
+            v_rate = (
+                cfg.flow.drag * (plate_flow - total_f * v.data)
+                - cfg.flow.bulk_drag * v.data
+                + cfg.flow.viscosity * v.laplace(BOUNDARY).data
+            )
+        grid = self.domain.grid
+        return FieldCollection([ScalarField(grid, c_rate * mask), VectorField(grid, v_rate * mask)])
+
+    def body_forces(self, state: SurfaceFields) -> np.ndarray:
+        """Tension force and torque, friction force and torque of every body (numpy).
+
+        Returns:
+            (K, 6): f_x, f_y, T (Eq. (torque) about X_k, area form), and the friction
+            -mu int F_k (u_k - v) dA (x, y) and its torque, Eq. (eq_motion).
+        """
+        cfg = self.config
+        c, v = state
+        x, y = self.cell_coordinates()
+        area = self.domain.cell_area
+        grad = c.gradient(BOUNDARY).data
+        flow = v.data if cfg.flow.enabled else np.zeros_like(v.data)
+        sign_k = TORQUE_SIGN[cfg.rotor.torque] * cfg.camphor.tension_slope
+        out = np.zeros((len(self.bodies), 6))
+        poses = state.bodies.poses
+        for k, (f_k, _) in enumerate(self.body_fields(state.bodies)):
+            rx, ry = x - poses[k, 0], y - poses[k, 1]
+            u, w, omega = poses[k, 3], poses[k, 4], poses[k, 5]
+            slip_x = u - omega * ry - flow[0]
+            slip_y = w + omega * rx - flow[1]
+            mu = self.bodies[k].friction
+            out[k] = (
+                sign_k * np.sum(f_k * grad[0]) * area,
+                sign_k * np.sum(f_k * grad[1]) * area,
+                sign_k * np.sum(f_k * (rx * grad[1] - ry * grad[0])) * area,
+                -mu * np.sum(f_k * slip_x) * area,
+                -mu * np.sum(f_k * slip_y) * area,
+                -mu * np.sum(f_k * (rx * slip_y - ry * slip_x)) * area,
+            )
+        return out
+
+
+_NO_SUPPORT = RotorShape(
+    n_corners=3,
+    radius=0.0,
+    apothem=0.0,
+    pill_radius=0.0,
+    pill_distance=0.0,
+    asymmetry=0.0,
+    smoothing=0.0,
+    support_radius=0.0,
+)
+"""A shape without support: :func:`make_domain` then gives the dish's interior only."""

@@ -1,0 +1,299 @@
+"""The compiled step of K bodies against the numpy reference and the model's symmetries."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+import pytest
+
+from pde_rotor import RotorConfig
+from pde_rotor.gallery.onsets import (
+    free_disk_config,
+    kick_growth_rate,
+    kick_rotation_rate,
+    two_disk_rotor_config,
+)
+from pde_rotor.model.surface import POSE_COLUMNS, SurfacePDE
+from pde_rotor.solver.bodies import BodyContactError
+from pde_rotor.solver.simulation import Simulation
+
+HEXAGON = {"shape": "polygon", "n_corners": 6, "radius": 0.5}
+COARSE = {"dx": 0.05, "dt": 2e-4}
+PAPER_NUMERICS = {"scheme": "paper"}
+
+
+def surface_config(bodies: list[dict[str, Any]], **sections: Any) -> RotorConfig:
+    """A coarse-grid config with `bodies` (paper scheme, no stops unless given)."""
+    data: dict[str, Any] = {
+        "grid": {**COARSE, **sections.pop("grid", {})},
+        "numerics": PAPER_NUMERICS,
+        "protocol": sections.pop("protocol", {"t_ini": 1.0, "cycles": 0}),
+        "bodies": bodies,
+        **sections,
+    }
+    return RotorConfig.model_validate(data)
+
+
+def smooth_fields(sim: Simulation, seed: int = 0) -> None:
+    """Fill c and v with smooth, nonzero, non-symmetric fields on the dish's interior."""
+    x, y = sim.pde.cell_coordinates()
+    rng = np.random.default_rng(seed)
+    a = rng.uniform(0.5, 1.5, size=6)
+    mask = sim.pde.domain.interior_mask
+    sim.state.data[0] = mask * (1 + a[0] * np.sin(1.3 * x + a[1]) * np.cos(0.7 * y + a[2]))
+    sim.state.data[1] = mask * 0.3 * np.sin(0.9 * y + a[3]) * np.cos(0.4 * x)
+    sim.state.data[2] = mask * 0.2 * np.cos(1.1 * x + a[4]) * np.sin(0.5 * y + a[5])
+
+
+FOUR_BODIES = [
+    {
+        "name": "hexagon",
+        "plate": HEXAGON,
+        "pills": [{"x": 0.3, "y": 0.05}, {"x": -0.2, "y": -0.2, "radius": 0.08, "supply": 2.0}],
+        "motion": {"kind": "fixed_axis"},
+        "start": {"x": -2.0, "y": 1.0, "angle": 0.4, "omega": 3.0},
+    },
+    {
+        "name": "disk",
+        "plate": {"shape": "none"},
+        "pills": [{"x": 0.0, "y": 0.0}],
+        "motion": {"kind": "free", "mass": 1e-5, "inertia": 5e-8},
+        "start": {"x": 1.5, "y": 1.8, "angle": 0.2, "omega": -1.0, "velocity": [0.4, -0.3]},
+    },
+    {
+        "name": "strip",
+        "plate": {"shape": "strip", "length": 0.8, "width": 0.3},
+        "pills": [{"x": 0.3, "y": 0.0, "radius": 0.06}, {"x": -0.3, "y": 0.0, "radius": 0.06}],
+        "motion": {"kind": "free", "mass": 3e-5},
+        "start": {"x": 1.5, "y": -1.5, "angle": 0.7, "omega": 2.0, "velocity": [-0.2, 0.1]},
+    },
+    {
+        "name": "source",
+        "plate": {"shape": "disk", "radius": 0.2},
+        "pills": [{"x": 0.05, "y": 0.0, "radius": 0.1}],
+        "motion": {"kind": "fixed"},
+        "start": {"x": -1.5, "y": -2.0},
+    },
+]
+
+
+@pytest.mark.parametrize("flow", [True, False])
+def test_step_equals_numpy_reference(flow: bool) -> None:
+    """One compiled step of four bodies of every plate shape and motion gives the numpy
+    rates of Eqs. (eqc), (eqv) and the forces and torques of Eq. (eq_motion)."""
+    config = surface_config(FOUR_BODIES, flow={"enabled": flow}, grid={"domain_radius": 4.0})
+    sim = Simulation(config)
+    smooth_fields(sim)
+    if not flow:
+        sim.state.data[1:] = 0.0
+    pde: SurfacePDE = sim.pde
+    before = sim.state.copy()
+    rate = pde.evolution_rate(before).data
+    forces = pde.body_forces(before)
+    dt = config.grid.dt
+    sim.run(dt)
+    mask = pde.domain.interior_mask
+    computed = (sim.state.data - before.data) / dt
+    scale = np.abs(rate).max()
+    assert np.abs((computed - rate)[:, mask]).max() <= 1e-9 * scale
+    moving = [k for k, b in enumerate(pde.bodies) if b.motion != "fixed"]
+    columns = [POSE_COLUMNS.index(c) for c in ("force_x", "force_y", "torque")]
+    columns += [POSE_COLUMNS.index(c) for c in ("drag_x", "drag_y", "friction")]
+    recorded = sim.bodies.poses[np.ix_(moving, columns)]
+    np.testing.assert_allclose(
+        recorded, forces[moving], rtol=1e-9, atol=1e-12 * np.abs(forces).max()
+    )
+    # the bodies moved by one Euler step of Eq. (eq_motion) with those forces
+    for k in moving:
+        body = pde.bodies[k]
+        old, new = before.bodies.poses[k], sim.bodies.poses[k]
+        f_x, f_y, torque, d_x, d_y, friction = forces[k]
+        assert new[2] == pytest.approx(old[2] + dt * old[5], rel=1e-14)
+        assert new[5] == pytest.approx(old[5] + dt * (torque + friction) / body.inertia, rel=1e-9)
+        if body.motion == "free":
+            assert new[0] == pytest.approx(old[0] + dt * old[3], rel=1e-14)
+            assert new[3] == pytest.approx(old[3] + dt * (f_x + d_x) / body.mass, rel=1e-9)
+            assert new[4] == pytest.approx(old[4] + dt * (f_y + d_y) / body.mass, rel=1e-9)
+        else:
+            assert (new[0], new[1], new[3], new[4]) == (old[0], old[1], 0.0, 0.0)
+    fixed = [k for k, b in enumerate(pde.bodies) if b.motion == "fixed"]
+    np.testing.assert_array_equal(sim.bodies.poses[fixed, :6], before.bodies.poses[fixed, :6])
+
+
+def test_one_body_is_the_rotor() -> None:
+    """The paper's rotor written as one fixed_axis body runs as the rotor's own kernel
+    does (stops, noise and flow included) to 1e-12."""
+    rotor = RotorConfig.model_validate(
+        {
+            "numerics": PAPER_NUMERICS,
+            "grid": COARSE,
+            "rotor": {"omega0": 100.0},
+            "noise": {"sigma": 1e-6, "seed": 3},
+            "protocol": {"t_ini": 0.05, "t_stop": 0.02, "t_release": 0.03, "cycles": 3},
+        }
+    )
+    data = rotor.model_dump()
+    data["bodies"] = [body.model_dump() for body in rotor.body_list()]
+    data["rotor"] = {k: v for k, v in data["rotor"].items() if k not in ("omega0", "phi0")}
+    bodies = RotorConfig.model_validate(data)
+    a, b = Simulation(rotor), Simulation(bodies)
+    for t in (0.06, 0.14):  # in the second stop, then after the third release
+        a.run(t)
+        b.run(t)
+        pose = b.bodies.poses[0]
+        assert pose[2] == pytest.approx(a.rotor.phi, rel=1e-12, abs=1e-12)
+        assert pose[5] == pytest.approx(a.rotor.omega, rel=1e-12, abs=1e-10)
+        assert pose[8] == pytest.approx(a.rotor.torque, rel=1e-9, abs=1e-15)
+        assert np.abs(a.state.data - b.state.data).max() <= 1e-12 * np.abs(a.state.data).max()
+    assert a.rotor.omega != 0.0  # released at the end: the comparison saw rotation
+
+
+def test_mirror_pair_stays_mirror_symmetric() -> None:
+    """Two rotors mirrored in the y axis (axes at -+d, opposite spins) stay mirror
+    images: omega_1 = -omega_2, c(x, y) = c(-x, y), v_x odd and v_y even in x."""
+    left = {"plate": HEXAGON, "pills": [{"x": 0.3, "y": 0.1}], "motion": {"kind": "fixed_axis"}}
+    right = {
+        "plate": HEXAGON,
+        "pills": [{"x": -0.3, "y": 0.1}],
+        "motion": {"kind": "fixed_axis"},
+    }
+    config = surface_config(
+        [
+            {**left, "start": {"x": -1.2, "y": 0.0, "omega": 20.0}},
+            {**right, "start": {"x": 1.2, "y": 0.0, "omega": -20.0}},
+        ],
+        grid={"domain_radius": 2.5},
+    )
+    sim = Simulation(config)
+    sim.run(0.2)
+    poses = sim.bodies.poses
+    assert poses[0, 5] == pytest.approx(-poses[1, 5], rel=1e-10)
+    assert poses[0, 2] == pytest.approx(-poses[1, 2], rel=1e-10)
+    c, vx, vy = sim.state.data
+    scale = np.abs(sim.state.data).max(axis=(1, 2))
+    assert np.abs(c - c[::-1]).max() <= 1e-10 * scale[0]
+    assert np.abs(vx + vx[::-1]).max() <= 1e-10 * scale[1]
+    assert np.abs(vy - vy[::-1]).max() <= 1e-10 * scale[2]
+    assert abs(poses[0, 5]) > 1.0  # it turned
+
+
+def test_body_reaching_the_edge_ends_the_run_naming_it() -> None:
+    """A free body driven at the rim stops the run with its name, time and place."""
+    config = surface_config(
+        [
+            {
+                "name": "boat",
+                "plate": {"shape": "none"},
+                "pills": [{"x": 0.0, "y": 0.0}],
+                "motion": {"kind": "free", "mass": 1e-5},
+                "start": {"x": 1.3, "y": 0.0, "velocity": [5.0, 0.0]},
+            }
+        ],
+        grid={"domain_radius": 2.0},
+    )
+    sim = Simulation(config)
+    with pytest.raises(BodyContactError, match=r"body boat reached the dish's edge at t = ") as err:
+        sim.run(1.0)
+    t_end = float(str(err.value).split("at t = ")[1].split(" ")[0])
+    assert 0 < t_end < 1.0
+    # the footprint (rho + 20 delta = 0.6) met the rim (L - dx) within the last step
+    x_end = 1.3 + 5.0 * t_end
+    assert x_end + 0.6 == pytest.approx(2.0, abs=0.1)
+
+
+def test_far_apart_rotors_turn_like_single_rotors() -> None:
+    """Two rotors many diffusion lengths apart (sqrt(D/a) = 1) turn as each would alone
+    in the same dish, to 1e-3 in omega."""
+    one = {"plate": HEXAGON, "pills": [{"x": 0.3, "y": 0.05}], "motion": {"kind": "fixed_axis"}}
+    starts = [{"x": -4.0, "y": 0.0, "omega": 30.0}, {"x": 4.0, "y": 0.0, "omega": -10.0}]
+    grid = {"domain_radius": 5.5, "dx": 0.05, "dt": 2e-4}
+    pair = Simulation(surface_config([{**one, "start": s} for s in starts], grid=grid))
+    pair.run(0.6)
+    for k, start in enumerate(starts):
+        alone = Simulation(surface_config([{**one, "start": start}], grid=grid))
+        alone.run(0.6)
+        assert pair.bodies.poses[k, 5] == pytest.approx(alone.bodies.poses[0, 5], rel=1e-3)
+        assert math.isfinite(alone.bodies.poses[0, 5])
+
+
+def free_disk_growth(dx: float, dt: float, mu: float) -> float:
+    """The simulated growth rate of a free camphor disk's velocity after a kick, no flow
+    (:mod:`pde_rotor.gallery.onsets`, as benchmarks/free_disk_onset.py)."""
+    relax, fit = 6.0, (0.5, 1.5)
+    config = free_disk_config(dx, dt, 4.0, 2e-3, mu, relax + fit[1] + 0.1, relax)
+    return kick_growth_rate(config, relax, 1e-4, fit)
+
+
+@pytest.mark.parametrize(
+    ("dx", "dt", "tolerance"),
+    [(0.05, 4e-4, 0.1), pytest.param(0.025, 1e-4, 0.02, marks=pytest.mark.slow)],
+)
+def test_free_disk_starts_moving_below_the_critical_friction(
+    dx: float, dt: float, tolerance: float
+) -> None:
+    """A free camphor disk (no plate, no flow) at rest: a kick grows below mu_c and decays
+    above it, and the friction where the simulated growth rate changes sign is the
+    linear stability's closed form (docs/bodies.md) to 10 % on the coarse grid, 2 % on
+    the paper's (measured: -7 % and -0.9 %)."""
+    from pde_rotor.model.onsets import CamphorDisk, free_disk_critical_friction
+
+    mu_c = free_disk_critical_friction(CamphorDisk.from_config(RotorConfig()))
+    below, above = 0.9 * mu_c, 1.05 * mu_c
+    lam_below = free_disk_growth(dx, dt, below)
+    lam_above = free_disk_growth(dx, dt, above)
+    assert lam_below > 0 > lam_above
+    simulated = below - lam_below * (above - below) / (lam_above - lam_below)
+    assert simulated == pytest.approx(mu_c, rel=tolerance)
+
+
+def test_two_disk_rotor_starts_turning_below_its_critical_friction() -> None:
+    """The two-disk rotor of Koyano et al. (PRE 2017), l = 0.5, no flow: a kick to omega
+    grows at 0.9 mu_c(l) and decays at 1.05 mu_c(l) of the linear stability
+    (docs/bodies.md), and the sign change lies within 10 % of mu_c on the coarse grid
+    (measured: -6 %; -0.2 % on the paper grid)."""
+    from pde_rotor.model.onsets import CamphorDisk, rotor_critical_friction
+
+    half_length, inertia, relax, fit = 0.5, 1e-4, 6.0, (0.5, 1.5)
+    mu_c = rotor_critical_friction(CamphorDisk.from_config(RotorConfig()), half_length, 0.025)
+    rates = []
+    for mu in (0.9 * mu_c, 1.05 * mu_c):
+        config = two_disk_rotor_config(0.05, 4e-4, 3.0, half_length, inertia, mu, 8.0, relax)
+        rates.append(kick_rotation_rate(config, relax, 1e-3, fit))
+    assert rates[0] > 0 > rates[1]
+    simulated = 0.9 * mu_c - rates[0] * 0.15 * mu_c / (rates[1] - rates[0])
+    assert simulated == pytest.approx(mu_c, rel=0.1)
+
+
+def test_free_body_momentum_balances_the_forces_of_the_fields() -> None:
+    """A free strip with pills, moving and turning through its own camphor and flow: over
+    every step m dU = (tension + friction force) dt and I domega = (torque + friction
+    torque) dt with the forces the step recorded, and those forces are the numpy
+    reference's of the state the step started from, at the start and after 150 steps."""
+    strip = {
+        "name": "strip",
+        "plate": {"shape": "strip", "length": 0.8, "width": 0.3},
+        "pills": [{"x": 0.3, "y": 0.05, "radius": 0.06}],
+        "motion": {"kind": "free", "mass": 2e-4, "inertia": 4e-6},
+        "start": {"x": -0.3, "y": 0.2, "angle": 0.3, "omega": 4.0, "velocity": [0.3, -0.2]},
+    }
+    config = surface_config([strip], grid={"domain_radius": 2.5})
+    sim = Simulation(config)
+    dt = config.grid.dt
+    body = sim.pde.bodies[0]
+    for start in (0, 150):
+        sim.run(start * dt)
+        before = sim.state.copy()
+        reference = sim.pde.body_forces(before)[0]
+        sim.run((start + 1) * dt)
+        pose = sim.bodies.poses[0]
+        np.testing.assert_allclose(pose[6:12], reference, rtol=1e-9, atol=1e-14)
+        old = before.bodies.poses[0]
+        f_x, f_y, torque, d_x, d_y, friction = pose[6:12]
+        assert body.mass * (pose[3] - old[3]) == pytest.approx((f_x + d_x) * dt, rel=1e-10)
+        assert body.mass * (pose[4] - old[4]) == pytest.approx((f_y + d_y) * dt, rel=1e-10)
+        assert body.inertia * (pose[5] - old[5]) == pytest.approx(
+            (torque + friction) * dt, rel=1e-10
+        )
+    assert abs(sim.bodies.poses[0, 0] - (-0.3)) > 1e-3  # it moved
