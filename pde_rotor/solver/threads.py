@@ -3,7 +3,7 @@
 The fused CPU step (:func:`pde_rotor.kernels.cpu.advance`) shares its rows, spline
 columns and contour nodes among numba's threads and adds every sum over fixed parts in a
 fixed order, so a run has the same bits on any number of threads. The threads meet
-three times a step; where another process keeps one of their cores busy, each meeting
+once or twice a step; where another process keeps one of their cores busy, each meeting
 waits for a thread the system has not scheduled, and two threads step 3 to 50 times
 slower than one (docs/numerics.md, "Threads"). So ``solver.threads: null`` takes every
 core the process may use that no other process is running on when the run starts
