@@ -15,6 +15,7 @@ default is the cores the process may use (``os.sched_getaffinity``, capped by
 
 from __future__ import annotations
 
+import math
 import os
 import time
 from collections.abc import Iterator
@@ -75,9 +76,26 @@ def other_load(samples: int = 50, pause: float = 0.01) -> float:
     return sum(others) / len(others)
 
 
+FRESH_SECONDS = 2.0
+"""How long a reading of the free cores serves the runs that start after it: code that
+runs many short runs one after the other (the estimators' commitment checks) reads
+:data:`LOADAVG` once every two seconds, not once a run."""
+_last_reading = [-math.inf, 1]
+"""When :func:`free_cores` was last read for :func:`resolve_threads`, and what it gave."""
+
+
+def recent_free_cores() -> int:
+    """:func:`free_cores`, read again only when the last reading is older than
+    :data:`FRESH_SECONDS`."""
+    now = time.monotonic()
+    if now - _last_reading[0] > FRESH_SECONDS:
+        _last_reading[:] = [now, free_cores()]
+    return int(_last_reading[1])
+
+
 def resolve_threads(requested: int | None) -> int:
     """The threads a run uses: `requested` (``solver.threads``), or for None the free
-    cores (:func:`free_cores`), at most numba's thread count of the calling thread.
+    cores (:func:`recent_free_cores`), at most numba's thread count of the calling thread.
 
     Raises:
         ConfigError: `requested` exceeds the threads numba may start in this process (one
@@ -85,7 +103,7 @@ def resolve_threads(requested: int | None) -> int:
     """
     if requested is None:
         allowed = numba.get_num_threads()
-        return 1 if allowed == 1 else min(allowed, free_cores())
+        return 1 if allowed == 1 else min(allowed, recent_free_cores())
     limit = numba.config.NUMBA_NUM_THREADS
     if requested > limit:
         msg = (
