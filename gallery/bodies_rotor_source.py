@@ -117,8 +117,9 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     for label, (flow, source) in cases.items():
         config = case_config(fid, flow, source, spin_up, record)
         theta, omega, mean = omega_by_angle(config, spin_up, record)
-        mirror = omega[::-1]
-        asymmetry = float(np.nanmax(np.abs(omega - mirror)))
+        both = np.isfinite(omega) & np.isfinite(omega[::-1])  # bins a short run left empty
+        differences = np.abs(omega - omega[::-1])[both]
+        asymmetry = float(differences.max()) if differences.size else float("nan")
         spread = float(np.nanmax(omega) - np.nanmin(omega))
         print(
             f"{NAME}: {label}: mean omega {mean:.3f}, range over a turn {spread:.3f}, "
