@@ -10,6 +10,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 
@@ -17,40 +18,61 @@ from ..config import RotorConfig
 from ..solver.simulation import Simulation
 
 
-def free_disk_config(dx: float, dt: float, radius: float, mass: float, mu: float, t_end: float,
-                relax: float) -> RotorConfig:  # fmt: skip
-    """One free disk at the dish centre, held for `relax`, no flow, paper scheme."""
+def _held_config(
+    dx: float, dt: float, radius: float, body: dict, t_end: float, relax: float
+) -> RotorConfig:
+    """`body` at the dish centre, held for `relax` by a stop of its own, no flow, paper
+    scheme, the run ending at `t_end`."""
+    held = {"t_ini": 0.0, "t_stop": relax, "t_release": t_end, "cycles": 1}
     return RotorConfig.model_validate(
         {
             "grid": {"domain_radius": radius, "dx": dx, "dt": dt},
             "numerics": {"scheme": "paper"},
             "flow": {"enabled": False},
             "protocol": {"t_ini": t_end, "cycles": 0},
-            "bodies": [
-                {
-                    "name": "disk",
-                    "pills": [{"x": 0.0, "y": 0.0}],
-                    "motion": {"kind": "free", "mass": mass, "friction": mu},
-                    "protocol": {"t_ini": 0.0, "t_stop": relax, "t_release": t_end, "cycles": 1},
-                }
-            ],
+            "bodies": [{**body, "protocol": held}],
         }
     )
+
+
+def _growth_after_kick(
+    config: RotorConfig,
+    relax: float,
+    column: int,
+    kick: float,
+    fit: tuple[float, float],
+    measure: Callable[[np.ndarray], float],
+) -> float:
+    """lambda fitted to log `measure`(pose) over `fit` after the release, where the pose's
+    `column` was set to `kick` at the end of the hold."""
+    sim = Simulation(config)
+    sim.run(relax)
+    sim.bodies.poses[0, column] = kick
+    times, values = [], []
+    for t in np.arange(fit[0], fit[1] + 1e-9, (fit[1] - fit[0]) / 20):
+        sim.run(relax + round(t / config.grid.dt) * config.grid.dt)
+        times.append(t)
+        values.append(measure(sim.bodies.poses[0]))
+    return float(np.polyfit(times, np.log(values), 1)[0])
+
+
+def free_disk_config(dx: float, dt: float, radius: float, mass: float, mu: float, t_end: float,
+                     relax: float) -> RotorConfig:  # fmt: skip
+    """One free disk at the dish centre, held for `relax`, no flow, paper scheme."""
+    disk = {
+        "name": "disk",
+        "pills": [{"x": 0.0, "y": 0.0}],
+        "motion": {"kind": "free", "mass": mass, "friction": mu},
+    }
+    return _held_config(dx, dt, radius, disk, t_end, relax)
 
 
 def kick_growth_rate(
     config: RotorConfig, relax: float, u0: float, fit: tuple[float, float]
 ) -> float:
-    """lambda fitted to log |U| of the released disk over `fit` (times after the release)."""
-    sim = Simulation(config)
-    sim.run(relax)
-    sim.bodies.poses[0, 3] = u0
-    times, speeds = [], []
-    for t in np.arange(fit[0], fit[1] + 1e-9, (fit[1] - fit[0]) / 20):
-        sim.run(relax + round(t / config.grid.dt) * config.grid.dt)
-        times.append(t)
-        speeds.append(math.hypot(*sim.bodies.poses[0, 3:5]))
-    return float(np.polyfit(times, np.log(speeds), 1)[0])
+    """lambda fitted to log |U| of the released disk over `fit` (times after the release),
+    kicked to U = (u0, 0)."""
+    return _growth_after_kick(config, relax, 3, u0, fit, lambda pose: math.hypot(*pose[3:5]))
 
 
 def two_disk_rotor_config(
@@ -66,34 +88,17 @@ def two_disk_rotor_config(
     """The two-disk rotor of Koyano et al. (PRE 2017): two camphor disks at (+-l, 0) on
     a strip that does not touch the water (plate none), turning about the dish centre;
     held for `relax`, no flow, paper scheme."""
-    return RotorConfig.model_validate(
-        {
-            "grid": {"domain_radius": radius, "dx": dx, "dt": dt},
-            "numerics": {"scheme": "paper"},
-            "flow": {"enabled": False},
-            "protocol": {"t_ini": t_end, "cycles": 0},
-            "bodies": [
-                {
-                    "name": "rotor",
-                    "pills": [{"x": half_length, "y": 0.0}, {"x": -half_length, "y": 0.0}],
-                    "motion": {"kind": "fixed_axis", "inertia": inertia, "friction": mu},
-                    "protocol": {"t_ini": 0.0, "t_stop": relax, "t_release": t_end, "cycles": 1},
-                }
-            ],
-        }
-    )
+    rotor = {
+        "name": "rotor",
+        "pills": [{"x": half_length, "y": 0.0}, {"x": -half_length, "y": 0.0}],
+        "motion": {"kind": "fixed_axis", "inertia": inertia, "friction": mu},
+    }
+    return _held_config(dx, dt, radius, rotor, t_end, relax)
 
 
 def kick_rotation_rate(
     config: RotorConfig, relax: float, omega0: float, fit: tuple[float, float]
 ) -> float:
-    """lambda fitted to log |omega| of the released rotor over `fit` (after the release)."""
-    sim = Simulation(config)
-    sim.run(relax)
-    sim.bodies.poses[0, 5] = omega0
-    times, rates = [], []
-    for t in np.arange(fit[0], fit[1] + 1e-9, (fit[1] - fit[0]) / 20):
-        sim.run(relax + round(t / config.grid.dt) * config.grid.dt)
-        times.append(t)
-        rates.append(abs(sim.bodies.poses[0, 5]))
-    return float(np.polyfit(times, np.log(rates), 1)[0])
+    """lambda fitted to log |omega| of the released rotor over `fit` (after the release),
+    kicked to omega0."""
+    return _growth_after_kick(config, relax, 5, omega0, fit, lambda pose: abs(pose[5]))

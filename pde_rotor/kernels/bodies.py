@@ -41,24 +41,6 @@ _body_accelerations = CPU_BODIES.body_accelerations
 _euler_rotor = CPU.euler_rotor
 _noise_kick = CPU.noise_kick
 
-POSE_FIELDS = (
-    "x",
-    "y",
-    "phi",
-    "u",
-    "v",
-    "omega",
-    "force_x",
-    "force_y",
-    "torque",
-    "drag_x",
-    "drag_y",
-    "friction",
-    "stopped",
-)
-"""Columns of the (K, 13) pose array: position, angle, velocities, then the last step's
-tension force and torque, friction force and torque, and whether it was held."""
-
 N_INTEGRALS = 10
 """Integrals of a body per step (:func:`body_integrals`)."""
 
@@ -285,7 +267,7 @@ def advance_bodies(
             y, radius, relative source density, and polar form: distance from X and the
             angle as two terms (the paper's corner angle 2 pi j / N and the shift Delta,
             added in the rotor's order).
-        pose: (K, 13) poses (:data:`POSE_FIELDS`), updated in place.
+        pose: (K, 13) poses (:data:`pde_rotor.model.surface.POSE_COLUMNS`), updated in place.
         drawn: (K, 3) x, y, phi at which each body was last drawn (nan: never).
         box: (K, 4) int rows and columns of each body's last drawn footprint.
         normals, centres: scratch (2, max N, K) and (2, P).
