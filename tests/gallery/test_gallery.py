@@ -37,6 +37,7 @@ EXPECTED = (
     "bodies_movies",
     "bodies_onsets",
     "bodies_rotor_source",
+    "bodies_rotor_size",
     "calibration_check",
     "convergence",
     "fig1_geometry",
