@@ -1,6 +1,7 @@
 """Onsets of motion of camphor bodies: simulated growth rates against the linear stability.
 
-Two bodies of docs/bodies.md, no flow (the limit the derivation takes), each held while its
+Two bodies of docs/bodies.md, without flow (the limit the derivation takes) and with it (what
+the flow changes), each held while its
 camphor relaxes to the rest state, then released with a small kick; the growth rate lambda of
 its speed is fitted over [0.5, 1.5] after the release (:mod:`pde_rotor.gallery.onsets`) and
 drawn against the friction mu, beside the growth rate of the linear stability
@@ -59,6 +60,16 @@ def defined(theory: Callable[[float], float], mu: float) -> float:
         return float("nan")
 
 
+def sign_change(mus: np.ndarray, rates: np.ndarray) -> float:
+    """The friction where the simulated growth rate first changes sign, by linear
+    interpolation between the two frictions around it (nan where it keeps its sign)."""
+    crossing = np.nonzero(np.diff(np.sign(rates)))[0]
+    if not crossing.size:
+        return float("nan")
+    i = crossing[0]
+    return float(mus[i] - rates[i] * (mus[i + 1] - mus[i]) / (rates[i + 1] - rates[i]))
+
+
 def main(argv: Sequence[str] | None = None) -> list[Path]:
     """Simulate both bodies at frictions around their onsets and draw lambda(mu)."""
     args = parse_args(__doc__.splitlines()[0], argv)
@@ -74,16 +85,16 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
         (
             "(a) free camphor disk",
             free_disk_critical_friction(disk),
-            lambda mu: kick_growth_rate(
-                free_disk_config(dx, dt, 4.0, MASS, mu, end, RELAX), RELAX, 1e-4, FIT
+            lambda mu, flow: kick_growth_rate(
+                free_disk_config(dx, dt, 4.0, MASS, mu, end, RELAX, flow), RELAX, 1e-4, FIT
             ),
             lambda mu: free_disk_growth_rate(disk, mu, MASS),
         ),
         (
             f"(b) two-disk rotor, l = {HALF_LENGTH:g}",
             rotor_critical_friction(disk, HALF_LENGTH, smoothing),
-            lambda mu: kick_rotation_rate(
-                two_disk_rotor_config(dx, dt, 3.0, HALF_LENGTH, INERTIA, mu, end, RELAX),
+            lambda mu, flow: kick_rotation_rate(
+                two_disk_rotor_config(dx, dt, 3.0, HALF_LENGTH, INERTIA, mu, end, RELAX, flow),
                 RELAX,
                 1e-3,
                 FIT,
@@ -93,34 +104,30 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     )
     for ax, (title, mu_c, simulate, theory) in zip(axes, panels, strict=True):
         mus = mu_c * np.array(factors)
-        simulated = np.array([simulate(mu) for mu in mus])
         line = np.linspace(mus[0], mus[-1], 40)
         ax.plot(
             line, [defined(theory, mu) for mu in line], color="tab:blue", label="linear stability"
         )
-        ax.plot(mus, simulated, "ko", label=f"simulated, dx = {dx:g}")
-        crossing = np.nonzero(np.diff(np.sign(simulated)))[0]
-        found = ""
-        if crossing.size:
-            i = crossing[0]
-            found_mu = mus[i] - simulated[i] * (mus[i + 1] - mus[i]) / (
-                simulated[i + 1] - simulated[i]
-            )
-            found = f", simulated {found_mu:.4f} ({found_mu / mu_c - 1:+.1%})"
-        print(f"{NAME}: {title}: mu_c = {mu_c:.5f}{found}")
-        for mu, lam in zip(mus, simulated, strict=True):
-            expected = defined(theory, mu)
-            print(f"{NAME}: {title}: mu = {mu:.5f}: lambda {lam:+.4f}, theory {expected:+.4f}")
+        for flow, style, label in ((False, "ko", "no flow"), (True, "rs", "with flow")):
+            simulated = np.array([simulate(mu, flow) for mu in mus])
+            found_mu = sign_change(mus, simulated)
+            found = f", mu_c = {found_mu:.4f} ({found_mu / mu_c - 1:+.1%})"
+            ax.plot(mus, simulated, style, mfc="none", label=f"simulated, {label}{found}")
+            print(f"{NAME}: {title}: {label}: theory mu_c = {mu_c:.5f}, simulated{found}")
+            for mu, lam in zip(mus, simulated, strict=True):
+                expected = defined(theory, mu)
+                rates = f"lambda {lam:+.4f}, theory {expected:+.4f}"
+                print(f"{NAME}: {title}: {label}: mu = {mu:.5f}: {rates}")
         ax.axhline(0, color="0.5", lw=0.7)
-        ax.axvline(mu_c, color="tab:blue", ls="--", lw=1, label=f"mu_c = {mu_c:.4f}{found}")
+        ax.axvline(mu_c, color="tab:blue", ls="--", lw=1, label=f"mu_c = {mu_c:.4f}")
         ax.set(xlabel="friction mu", ylabel="growth rate lambda of the kick", title=title)
         ax.legend(fontsize=8)
         ax.grid(alpha=0.3)
     add_footer(
         fig,
         f"pde_rotor, {fid.name} run of the gallery; dx = {dx:g}, dt = {dt:g}, delta = "
-        f"{smoothing:g}, no flow, paper scheme; held {RELAX:g}, kicked, lambda fitted over "
-        f"{FIT[0]:g} to {FIT[1]:g} after the release",
+        f"{smoothing:g}, paper scheme, without and with the flow; held {RELAX:g}, kicked, "
+        f"lambda fitted over {FIT[0]:g} to {FIT[1]:g} after the release",
     )
     return save(fig, args.out, NAME)
 
