@@ -23,7 +23,8 @@ from ..solver.simulation import Simulation
 def _held_config(
     dx: float, dt: float, radius: float, body: dict, t_end: float, relax: float, flow: bool
 ) -> RotorConfig:
-    """`body` at the dish centre, held for `relax` by a stop of its own, paper scheme,
+    """`body` (at its own start, the dish centre by default) held for `relax` by a stop of
+    its own, paper scheme,
     the run ending at `t_end`; the surface flow only if `flow`."""
     held = {"t_ini": 0.0, "t_stop": relax, "t_release": t_end, "cycles": 1}
     return RotorConfig.model_validate(
@@ -58,16 +59,40 @@ def _growth_after_kick(
     return float(np.polyfit(times, np.log(values), 1)[0])
 
 
-def free_disk_config(dx: float, dt: float, radius: float, mass: float, mu: float, t_end: float,
-                     relax: float, flow: bool = False) -> RotorConfig:  # fmt: skip
-    """One free disk at the dish centre, held for `relax`, paper scheme; no flow (the
-    limit of the linear stability) unless `flow`."""
+def free_disk_config(
+    dx: float,
+    dt: float,
+    radius: float,
+    mass: float,
+    mu: float,
+    t_end: float,
+    relax: float,
+    flow: bool = False,
+    x: float = 0.0,
+) -> RotorConfig:
+    """One free disk at (x, 0) of the dish (its centre by default), held for `relax`,
+    paper scheme; no flow (the limit of the linear stability) unless `flow`."""
     disk = {
         "name": "disk",
         "pills": [{"x": 0.0, "y": 0.0}],
         "motion": {"kind": "free", "mass": mass, "friction": mu},
+        "start": {"x": x, "y": 0.0},
     }
     return _held_config(dx, dt, radius, disk, t_end, relax, flow)
+
+
+def released_speeds(config: RotorConfig, relax: float, u0: float, times: np.ndarray) -> np.ndarray:
+    """The free disk's speed |U| at `times` after its release from the hold, at U = (u0, 0)
+    (its steady speed approached from nearby: a dish of finite size holds the run for a
+    few time units only)."""
+    sim = Simulation(config)
+    sim.run(relax)
+    sim.bodies.poses[0, 3] = u0
+    speeds = []
+    for t in times:
+        sim.run(relax + round(t / config.grid.dt) * config.grid.dt)
+        speeds.append(math.hypot(*sim.bodies.poses[0, 3:5]))
+    return np.array(speeds)
 
 
 def kick_growth_rate(
