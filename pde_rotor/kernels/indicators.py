@@ -135,7 +135,9 @@ def pill_row(G, i, coords, j0, j1, tab, n_corners, reach, rho, inv_delta, profil
     The terms of ``pill_cell`` / ``filtered_pills`` summed in the same order, the loop
     over the pills outside the loop over the row's cells (SIMD, as :func:`plate_row`). A
     pill adds to the cells of its bounding square of half-width `reach` only: beyond,
-    its term is 0 (``consistent``) or below 4.3e-18 (``paper``).
+    its term is below 4.3e-18 (``paper``); for ``consistent``, whose terms are 0 from
+    `reach` on, to the cells of the row's chord of the disk of radius `reach` (and one
+    cell more each side, against rounding): a fifth fewer terms, the same sums.
     """
     n = coords.size
     x0 = coords[0]
@@ -149,8 +151,9 @@ def pill_row(G, i, coords, j0, j1, tab, n_corners, reach, rho, inv_delta, profil
         px, py = x - tab[2, k], tab[3, k]
         if abs(px) >= reach:
             continue
-        ja = max(j0, math.ceil((py - reach - x0) * inv_dx))
-        jb = max(ja, min(j1, math.floor((py + reach - x0) * inv_dx) + 1))
+        half = math.sqrt(reach * reach - px * px) + 1.0 / inv_dx if filtered else reach
+        ja = max(j0, math.ceil((py - half - x0) * inv_dx))
+        jb = max(ja, min(j1, math.floor((py + half - x0) * inv_dx) + 1))
         box_y = coords[ja:jb]
         box_g = g[ja:jb]
         if filtered:
