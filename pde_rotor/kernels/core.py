@@ -89,6 +89,8 @@ class Core(NamedTuple):
     plate_cell: Callable
     pill_cell: Callable
     filtered_edge: Callable
+    corner_taps: Callable
+    corner_sum: Callable
     filtered_corner: Callable
     filtered_plate: Callable
     filtered_pill_term: Callable
@@ -108,6 +110,8 @@ class Core(NamedTuple):
     spline_anticausal: Callable
     spline_gain: Callable
     spline_line: Callable
+    spline_node: Callable
+    spline_sum: Callable
     interpolate: Callable
     contour_point: Callable
     contour_node: Callable
@@ -460,38 +464,58 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         )
 
     @jit
+    def spline_node(x0, inv_dx, x):
+        """(k, t): the node k = floor((x - x0) inv_dx) at or before the coordinate x on
+        the nodes x0 + k / inv_dx, and the fraction t in [0, 1) of the way to the next;
+        the cubic spline's taps along that axis are the nodes k - 1 .. k + 2, with the
+        weights :func:`bspline_weights` of t."""
+        f = (x - x0) * inv_dx
+        # int(): numba-cuda types math.floor as float64, numba's CPU target as int64
+        k = int(math.floor(f))  # noqa: RUF046
+        return k, f - k
+
+    @jit
+    def spline_sum(coef, row, sx, sy, wx0, wx1, wx2, wx3, wy0, wy1, wy2, wy3):
+        """sum_(a, b) wx_a wy_b coef[row + a sx + b sy], a, b = 0 .. 3: the 4 x 4 taps
+        of a cubic spline from its first, `row`, the offsets `sx`, `sy` of the next node
+        along x and y all of the caller's integer type (unsigned on the CPU: no index
+        needs a negative-wraparound check), summed along y first."""
+        r1 = row + sy
+        r2 = r1 + sy
+        r3 = r2 + sy
+        acc = wx0 * (wy0 * coef[row] + wy1 * coef[r1] + wy2 * coef[r2] + wy3 * coef[r3])
+        row += sx
+        r1 += sx
+        r2 += sx
+        r3 += sx
+        acc += wx1 * (wy0 * coef[row] + wy1 * coef[r1] + wy2 * coef[r2] + wy3 * coef[r3])
+        row += sx
+        r1 += sx
+        r2 += sx
+        r3 += sx
+        acc += wx2 * (wy0 * coef[row] + wy1 * coef[r1] + wy2 * coef[r2] + wy3 * coef[r3])
+        row += sx
+        r1 += sx
+        r2 += sx
+        r3 += sx
+        acc += wx3 * (wy0 * coef[row] + wy1 * coef[r1] + wy2 * coef[r2] + wy3 * coef[r3])
+        return acc
+
+    @jit
     def interpolate(coef, o0, n, x0, inv_dx, x, y):
         """Cubic spline at (x, y) from the n x n B-spline coefficients at offset o0.
 
-        x0 is the coordinate of cell 0's centre; the 4 x 4 taps must lie in the
-        prefiltered window (:func:`spline_line` along both axes). Written out because it
-        runs inside the compiled kernels, where ``scipy.ndimage.map_coordinates`` cannot
-        be called.
+        x0 is the coordinate of cell 0's centre; the 4 x 4 taps (:func:`spline_node`,
+        :func:`spline_sum`) must lie in the prefiltered window (:func:`spline_line`
+        along both axes). Written out because it runs inside the compiled kernels, where
+        ``scipy.ndimage.map_coordinates`` cannot be called.
         """
-        fx = (x - x0) * inv_dx
-        fy = (y - x0) * inv_dx
-        # int(): numba-cuda types math.floor as float64, numba's CPU target as int64
-        i = int(math.floor(fx))  # noqa: RUF046
-        j = int(math.floor(fy))  # noqa: RUF046
-        wx0, wx1, wx2, wx3 = bspline_weights(fx - i)
-        wy0, wy1, wy2, wy3 = bspline_weights(fy - j)
+        i, tx = spline_node(x0, inv_dx, x)
+        j, ty = spline_node(x0, inv_dx, y)
+        wx0, wx1, wx2, wx3 = bspline_weights(tx)
+        wy0, wy1, wy2, wy3 = bspline_weights(ty)
         row = o0 + (i - 1) * n + j - 1
-        acc = wx0 * (
-            wy0 * coef[row] + wy1 * coef[row + 1] + wy2 * coef[row + 2] + wy3 * coef[row + 3]
-        )
-        row += n
-        acc += wx1 * (
-            wy0 * coef[row] + wy1 * coef[row + 1] + wy2 * coef[row + 2] + wy3 * coef[row + 3]
-        )
-        row += n
-        acc += wx2 * (
-            wy0 * coef[row] + wy1 * coef[row + 1] + wy2 * coef[row + 2] + wy3 * coef[row + 3]
-        )
-        row += n
-        acc += wx3 * (
-            wy0 * coef[row] + wy1 * coef[row + 1] + wy2 * coef[row + 2] + wy3 * coef[row + 3]
-        )
-        return acc
+        return spline_sum(coef, row, n, 1, wx0, wx1, wx2, wx3, wy0, wy1, wy2, wy3)
 
     @jit
     def filtered_edge(h, apothem, edge, e_u0, e_inv):
@@ -506,15 +530,40 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         return value if u < last else 1.0
 
     @jit
+    def corner_taps(h, q, t_n, t_x0, t_inv):
+        """Where the cubic spline of the 2-D plate table (see :func:`filtered_corner`)
+        takes its taps at (h, q): (inside, row, tx, ty), `inside` whether its 4 x 4 taps
+        lie in the table, `row` the offset of the first (:func:`spline_sum`), tx, ty the
+        fractions of :func:`spline_node` along h and q. Where the taps leave the table,
+        those of a node inside instead (branch-free: the point is selected, so that the
+        CPU computes many cells at once)."""
+        fx = (h - t_x0) * t_inv
+        fy = (q - t_x0) * t_inv
+        inside = (fx >= 1.0) & (fy >= 1.0) & (fx < t_n - 2.0) & (fy < t_n - 2.0)
+        node = t_x0 + 2.0 / t_inv
+        i, tx = spline_node(t_x0, t_inv, h if inside else node)
+        j, ty = spline_node(t_x0, t_inv, q if inside else node)
+        return inside, (i - 1) * t_n + j - 1, tx, ty
+
+    @jit
+    def corner_sum(plate, row, sx, sy, tx, ty):
+        """The cubic spline of the 2-D `plate` table from its taps (:func:`corner_taps`;
+        `row`, `sx` = t_n and `sy` = 1 of the caller's integer type, as for
+        :func:`spline_sum`)."""
+        wx0, wx1, wx2, wx3 = bspline_weights(tx)
+        wy0, wy1, wy2, wy3 = bspline_weights(ty)
+        return spline_sum(plate, row, sx, sy, wx0, wx1, wx2, wx3, wy0, wy1, wy2, wy3)
+
+    @jit
     def filtered_corner(h, q, plate, t_n, t_x0, t_inv):
         """F_eps near the corner bisectors, at (h, q) in the frame of the nearest edge:
         the cubic spline of the 2-D `plate` table (t_n x t_n coefficients on the nodes
-        t_x0 + k / t_inv, edge 0's normal along +x), 0 where its taps leave the table."""
-        fx = (h - t_x0) * t_inv
-        fy = (q - t_x0) * t_inv
-        if fx < 1.0 or fy < 1.0 or fx >= t_n - 2.0 or fy >= t_n - 2.0:
+        t_x0 + k / t_inv, edge 0's normal along +x), 0 where its taps leave the table
+        (:func:`corner_taps`, :func:`corner_sum`)."""
+        inside, row, tx, ty = corner_taps(h, q, t_n, t_x0, t_inv)
+        if not inside:
             return 0.0
-        return interpolate(plate, 0, t_n, t_x0, t_inv, h, q)
+        return corner_sum(plate, row, t_n, 1, tx, ty)
 
     @jit
     def filtered_plate(
@@ -622,6 +671,8 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         plate_cell=plate_cell,
         pill_cell=pill_cell,
         filtered_edge=filtered_edge,
+        corner_taps=corner_taps,
+        corner_sum=corner_sum,
         filtered_corner=filtered_corner,
         filtered_plate=filtered_plate,
         filtered_pill_term=filtered_pill_term,
@@ -641,6 +692,8 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         spline_anticausal=spline_anticausal,
         spline_gain=spline_gain,
         spline_line=spline_line,
+        spline_node=spline_node,
+        spline_sum=spline_sum,
         interpolate=interpolate,
         contour_point=contour_point,
         contour_node=contour_node,

@@ -27,7 +27,7 @@ import numba as nb
 import numpy as np
 
 from .core import CPU, FASTMATH
-from .indicators import indicator_row
+from .indicators import SCRATCH_ROWS, indicator_row
 from .spline import ROW_GROUP, spline_columns, spline_rows, spline_window
 
 _cell_rates = CPU.cell_rates
@@ -131,9 +131,10 @@ def _euler_rows(cur, nxt, F, G, i0, i1, domain, coef, dt, omega, flow):
 @nb.njit(_nrt=False, **_LOOP)
 def _sweep_block(cur, nxt, F, G, domain, params, tab, tables, turned, omega, work, b, blocks):
     """The rows of block b of `blocks` (groups of :data:`.spline.ROW_GROUP` rows, every
-    `blocks`-th group): see :func:`sweep_rows`; `work` is (coef, sums, scratch (4, n))."""
+    `blocks`-th group): see :func:`sweep_rows`; `work` is (coef, sums, scratch
+    (:data:`.indicators.SCRATCH_ROWS`, n), taps (n, unsigned))."""
     p = params[0]  # read here: numba cannot pass a record into a prange loop's body
-    coef, sums, scratch = work
+    coef, sums, scratch, taps = work
     coords, _, _, slo, shi = domain
     n = coords.size
     rates = _rate_coefficients(p)
@@ -146,7 +147,7 @@ def _sweep_block(cur, nxt, F, G, domain, params, tab, tables, turned, omega, wor
         for i in range(i0, i1):
             j0, j1 = slo[i], shi[i]
             if turned and j1 > j0:
-                indicator_row(F, G, i, coords, j0, j1, p, tab, tables, scratch)
+                indicator_row(F, G, i, coords, j0, j1, p, tab, tables, scratch, taps)
             _row_integrals(cur, F, i, coords, j0, j1, inv_2dx, p.flow, sums)
         if p.flow:  # two loops, so that `flow` is a compile-time constant of each
             _euler_rows(cur, nxt, F, G, i0, i1, domain, rates, dt, omega, True)
@@ -175,11 +176,11 @@ def sweep_rows(cur, nxt, F, G, domain, params, tab, tables, turned, omega, coef,
     blocks = min(threads, n // ROW_GROUP)
     if blocks <= 1:  # no parallel region to start
         for b in range(blocks):
-            work = (coef, sums, np.empty((4, n)))
+            work = (coef, sums, np.empty((SCRATCH_ROWS, n)), np.empty(n, np.uint64))
             _sweep_block(cur, nxt, F, G, domain, params, tab, tables, turned, omega, work, b, 1)
     else:
         for b in nb.prange(blocks):
-            work = (coef, sums, np.empty((4, n)))
+            work = (coef, sums, np.empty((SCRATCH_ROWS, n)), np.empty(n, np.uint64))
             _sweep_block(
                 cur,
                 nxt,

@@ -1,4 +1,5 @@
-"""The physics core's building blocks: the polynomial expm1 and the logistic profile.
+"""The physics core's building blocks: the polynomial expm1, the logistic profile and the
+cubic spline of a table.
 
 The row loops of F and G against the core's cell functions: tests/test_indicators.py.
 """
@@ -7,12 +8,14 @@ from __future__ import annotations
 
 import numba as nb
 import numpy as np
+from scipy.ndimage import map_coordinates, spline_filter
 from scipy.special import expit
 
 from pde_rotor.kernels.core import CPU, X_SATURATION
 
 _expm1 = CPU.vector_expm1
 _logistic = CPU.logistic
+_filtered_corner = CPU.filtered_corner
 
 
 @nb.njit
@@ -48,3 +51,33 @@ def test_logistic_is_the_tanh_profile_and_saturates() -> None:
     assert np.all(got[x >= X_SATURATION] == 1.0)
     assert np.all(got[x <= -X_SATURATION] < 4.3e-18)
     assert np.all(np.diff(got) >= 0)
+
+
+@nb.njit
+def corner_values(h, q, coef, t_n, t_x0, t_inv):
+    out = np.empty_like(h)
+    for k in range(h.size):
+        out[k] = _filtered_corner(h[k], q[k], coef, t_n, t_x0, t_inv)
+    return out
+
+
+def test_the_corner_table_is_its_cubic_spline_and_0_where_its_taps_leave_it() -> None:
+    """corner_taps and corner_sum (split so that the CPU computes the taps of many cells
+    at once) against scipy's spline of the same table (a bump that vanishes towards the
+    table's border, like the plate's), on random points, and 0 where the 4 x 4
+    taps leave the table."""
+    rng = np.random.default_rng(3)
+    t_n, t_x0, step = 60, -0.3, 0.02
+    node = np.arange(t_n) - 31.5
+    x, y = node[:, None], node[None, :]
+    values = np.exp(-(x**2 + y**2) / 32.0) * (1.0 + 0.01 * y)
+    coef = spline_filter(values, order=3, mode="grid-constant").reshape(-1)
+    fx, fy = rng.uniform(1.0, t_n - 2.0, (2, 2000))
+    h, q = t_x0 + fx * step, t_x0 + fy * step
+    exact = map_coordinates(values, [fx, fy], order=3, mode="grid-constant")
+    got = corner_values(h, q, coef, t_n, t_x0, 1.0 / step)
+    np.testing.assert_allclose(got, exact, rtol=0, atol=1e-10)  # scipy pads the border
+    outside = np.array([0.999, t_n - 1.999, 5.0, 5.0]), np.array([5.0, 5.0, 0.5, t_n - 1.5])
+    h, q = t_x0 + outside[0] * step, t_x0 + outside[1] * step
+    got = corner_values(h, q, coef, t_n, t_x0, 1.0 / step)
+    assert np.all(got == 0.0)
