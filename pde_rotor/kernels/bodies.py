@@ -300,6 +300,7 @@ def body_contour(cur, coords, k, body, pills, pose, normals, centres, tables, de
     for :func:`advance_bodies`.
     """
     quad_s, quad_t, _, _, _, _, coef, carry = tables
+    _orient(k, body, pills, pose, normals, centres)  # scratch: a new stepper starts with 0
     b = body[k]
     n = coords.size
     x0 = coords[0]

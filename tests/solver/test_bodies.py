@@ -25,10 +25,11 @@ PAPER_NUMERICS = {"scheme": "paper"}
 
 
 def surface_config(bodies: list[dict[str, Any]], **sections: Any) -> RotorConfig:
-    """A coarse-grid config with `bodies` (paper scheme, no stops unless given)."""
+    """A coarse-grid config with `bodies` (paper scheme unless given, no stops unless
+    given)."""
     data: dict[str, Any] = {
         "grid": {**COARSE, **sections.pop("grid", {})},
-        "numerics": PAPER_NUMERICS,
+        "numerics": sections.pop("numerics", PAPER_NUMERICS),
         "protocol": sections.pop("protocol", {"t_ini": 1.0, "cycles": 0}),
         "bodies": bodies,
         **sections,
@@ -79,11 +80,39 @@ FOUR_BODIES = [
 ]
 
 
-@pytest.mark.parametrize("flow", [True, False])
-def test_step_equals_numpy_reference(flow: bool) -> None:
+CONSISTENT_BODIES = [
+    *FOUR_BODIES[:2],
+    {
+        "name": "pair",
+        "plate": {"shape": "none"},
+        "pills": [{"x": 0.3, "y": 0.0, "radius": 0.06}, {"x": -0.3, "y": 0.05, "radius": 0.08}],
+        "motion": {"kind": "free", "mass": 3e-5, "inertia": 1e-6},
+        "start": {"x": 1.5, "y": -1.5, "angle": 0.7, "omega": 2.0, "velocity": [-0.2, 0.1]},
+    },
+    {
+        **FOUR_BODIES[3],
+        "motion": {"kind": "free", "mass": 1e-4},
+        "start": {"x": -1.5, "y": -2.0, "velocity": [0.1, 0.2]},
+    },
+]
+"""The four bodies on the consistent scheme: the strip, whose plate it does not
+implement, becomes a free body floating on two pills, and the disk plate moves."""
+
+
+@pytest.mark.parametrize(
+    ("scheme", "flow"), [("paper", True), ("paper", False), ("consistent", True)]
+)
+def test_step_equals_numpy_reference(scheme: str, flow: bool) -> None:
     """One compiled step of four bodies of every plate shape and motion gives the numpy
-    rates of Eqs. (eqc), (eqv) and the forces and torques of Eq. (eq_motion)."""
-    config = surface_config(FOUR_BODIES, flow={"enabled": flow}, grid={"domain_radius": 4.0})
+    rates of Eqs. (eqc), (eqv) and the forces and torques of Eq. (eq_motion), on both
+    schemes (consistent: filtered F_k, G_k and the contour forms, each written twice)."""
+    bodies = FOUR_BODIES if scheme == "paper" else CONSISTENT_BODIES
+    config = surface_config(
+        bodies,
+        flow={"enabled": flow},
+        grid={"domain_radius": 4.0},
+        numerics={"scheme": scheme},
+    )
     sim = Simulation(config)
     smooth_fields(sim)
     if not flow:
@@ -122,12 +151,14 @@ def test_step_equals_numpy_reference(flow: bool) -> None:
     np.testing.assert_array_equal(sim.bodies.poses[fixed, :6], before.bodies.poses[fixed, :6])
 
 
-def test_one_body_is_the_rotor() -> None:
+@pytest.mark.parametrize("scheme", ["paper", "consistent"])
+def test_one_body_is_the_rotor(scheme: str) -> None:
     """The paper's rotor written as one fixed_axis body runs as the rotor's own kernel
-    does (stops, noise and flow included) to 1e-12."""
+    does (stops, noise and flow included) to 1e-12, on both schemes: on the consistent
+    one the body's filtered F, G and contour torque are the rotor's."""
     rotor = RotorConfig.model_validate(
         {
-            "numerics": PAPER_NUMERICS,
+            "numerics": {"scheme": scheme},
             "grid": COARSE,
             "rotor": {"omega0": 100.0},
             "noise": {"sigma": 1e-6, "seed": 3},
