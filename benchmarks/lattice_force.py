@@ -2,9 +2,10 @@
 
 A symmetric body at rest at the dish centre feels no force in the continuum; on the grid,
 its sampled F and G and the force integral depend on where its centre sits within a
-cell, and a spurious force remains. The ``paper`` scheme samples F and G at the cell centres and takes the
-area-form force with central differences; ``consistent`` prefilters them and takes the
-force in contour form (docs/bodies.md, "The rotation-consistent scheme"). The body is
+cell, and a spurious force remains. The ``paper`` scheme samples F and G at the cell
+centres and takes the area-form force with central differences; ``consistent``
+prefilters them and takes the force in contour form (docs/bodies.md, "The
+rotation-consistent scheme"). The body is
 held (a stop of its own protocol) at `--offsets` x `--offsets` positions spread over one
 cell, c and v relax for `--relax` time units, and the tension force is read.
 

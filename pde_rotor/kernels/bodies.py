@@ -224,7 +224,7 @@ def draw_filtered(F, G, owner, coords, k, body, pills, pose, normals, centres, b
     in the pills' order, as the rotor's rows sum them. `tables` as for
     :func:`advance_bodies`, `p` the parameter record.
     """
-    _, _, profiles, pill_tab, corner, edges, _, _ = tables
+    _, _, profiles, pill_tab, corner, edges, _, _, _ = tables
     b = body[k]
     n = coords.size
     x0 = coords[0]
@@ -299,7 +299,7 @@ def body_contour(cur, coords, k, body, pills, pose, normals, centres, tables, de
     (``arc_node``, the angles phi + 2 pi l / L). `delta` is the edge width; `tables` as
     for :func:`advance_bodies`.
     """
-    quad_s, quad_t, _, _, _, _, coef, carry = tables
+    quad_s, quad_t, _, pill_tab, _, _, rings, coef, carry = tables
     _orient(k, body, pills, pose, normals, centres)  # scratch: a new stepper starts with 0
     b = body[k]
     n = coords.size
@@ -343,14 +343,15 @@ def body_contour(cur, coords, k, body, pills, pose, normals, centres, tables, de
         if b.plate == PLATE_DISK:
             first, last = 0, 1
         for q in range(first, last):
-            cx, cy, rho = x_k, y_k, b.size_a
+            cx, cy, r0, r1 = x_k, y_k, b.ring_start, b.ring_start + b.ring_count
             if b.plate != PLATE_DISK:
-                cx, cy, rho = centres[0, q], centres[1, q], pills[q, 2]
+                cx, cy = centres[0, q], centres[1, q]
+                r0, r1 = pill_tab[q, 4], pill_tab[q, 4] + pill_tab[q, 5]
             q_x = 0.0
             q_y = 0.0
-            for m in range(n_s):
-                h = rho - delta * quad_s[0, m]
-                weight = quad_s[1, m] * h * step
+            for m in range(r0, r1):
+                h = rings[0, m]
+                weight = rings[1, m] * h * step
                 for a_l in range(n_arc):
                     angle = phi + step * a_l
                     a, c = _arc_node(

@@ -177,6 +177,8 @@ BODY = np.dtype(
         ("edge_start", _I8),
         ("edge_count", _I8),
         ("edge_u0", _F8),
+        ("ring_start", _I8),
+        ("ring_count", _I8),
         ("window_half", _I8),
     ],
     align=True,
@@ -188,7 +190,8 @@ its pills' range in the pill table, motion kind, m, I, mu, the noise kick
 sqrt(2 dt) sigma / I, and its stop schedule in steps. For the ``consistent`` scheme
 (:func:`make_body_tables`): tan(pi/N) and the crease width of a polygon, where its
 filtered tables lie in the flat arrays (a disk's F profile ``f_*``, a polygon's corner
-table ``table_*`` and edge profile ``edge_*``), and the half side of its spline window.
+table ``table_*`` and edge profile ``edge_*``, a disk's radial rule ``ring_*``), and the
+half side of its spline window.
 """
 
 
@@ -249,10 +252,12 @@ def make_body_tables(
 
     Fills the scheme's fields of `records` (:data:`BODY`) and returns the arrays of
     :func:`pde_rotor.kernels.bodies.advance_bodies`: (quad_s, quad_t, the radial
-    profiles one after the other, per pill (P, 4) the start and length of its G profile
-    and of its F profile, the polygons' corner tables (spline coefficients) one after
-    the other, their edge profiles, and scratch: the spline coefficients (n^2) and a
-    line's carry (n)). For the ``paper`` scheme, one-element arrays of the same types.
+    profiles one after the other, per pill (P, 6) the start and length of its G profile,
+    of its F profile and of its radial rule, the polygons' corner tables (spline
+    coefficients) one after the other, their edge profiles, the circles' radial rules
+    (2, I) one after the other (:func:`~pde_rotor.model.body_schemes.ring_rule`), and
+    scratch: the spline coefficients (n^2) and a line's carry (n)). For the ``paper``
+    scheme, one-element arrays of the same types.
 
     Args:
         bodies: the run's bodies.
@@ -261,18 +266,20 @@ def make_body_tables(
         n: cells along a side of the grid.
     """
     pill_count = sum(len(b.shape.pills) for b in bodies)
-    pill_profiles = np.zeros((max(1, pill_count), 4), dtype=np.int64)
+    pill_profiles = np.zeros((max(1, pill_count), 6), dtype=np.int64)
     if not scheme.consistent:
         one = np.zeros(1)
-        return (scheme.quad_s, scheme.quad_t, one, pill_profiles, one, one, one, one)
+        rings = np.zeros((2, 1))
+        return (scheme.quad_s, scheme.quad_t, one, pill_profiles, one, one, rings, one, one)
     profiles: list[np.ndarray] = []
     corners: list[np.ndarray] = []
     edges: list[np.ndarray] = []
+    rings: list[np.ndarray] = []
 
     def append(parts: list[np.ndarray], array: np.ndarray) -> tuple[int, int]:
-        start = sum(p.size for p in parts)
+        start = sum(p.shape[-1] for p in parts)
         parts.append(array)
-        return start, array.size
+        return start, array.shape[-1]
 
     m = 0
     for k, (body, filt) in enumerate(zip(bodies, scheme.filters, strict=True)):
@@ -281,10 +288,12 @@ def make_body_tables(
         for j in range(len(shape.pills)):
             pill_profiles[m, :2] = append(profiles, filt.pill_g[j])
             if filt.pill_f:
-                pill_profiles[m, 2:] = append(profiles, filt.pill_f[j])
+                pill_profiles[m, 2:4] = append(profiles, filt.pill_f[j])
+                pill_profiles[m, 4:] = append(rings, filt.rings[j])
             m += 1
         if filt.disk is not None:
             rec["f_start"], rec["f_count"] = append(profiles, filt.disk)
+            rec["ring_start"], rec["ring_count"] = append(rings, filt.rings[0])
         tables = filt.polygon
         if tables is not None:
             tan_half = math.tan(math.pi / shape.n_corners)
@@ -294,7 +303,7 @@ def make_body_tables(
             rec["table_n"], rec["table_x0"] = tables.plate_n, tables.plate_x0
             rec["edge_start"], rec["edge_count"] = append(edges, tables.edge)
             rec["edge_u0"] = tables.edge_u0
-        rec["window_half"] = scheme.window_half(shape)
+        rec["window_half"] = scheme.window_half(shape, filt)
     flat = [np.concatenate(parts) if parts else np.zeros(1) for parts in (profiles, corners, edges)]
     return (
         scheme.quad_s,
@@ -303,6 +312,7 @@ def make_body_tables(
         pill_profiles,
         flat[1],
         flat[2],
+        np.ascontiguousarray(np.concatenate(rings, axis=1)) if rings else np.zeros((2, 1)),
         np.zeros(n * n),
         np.zeros(n),
     )

@@ -101,12 +101,43 @@ class BodyFilter:
             no plate and floats on its pills; empty otherwise.
         disk: a disk plate's F_eps profile, or None.
         polygon: a polygon plate's filter tables (the rotor's), or None.
+        rings: per circle of the contour (each pill of a body without a plate, or the
+            disk plate), its radial rule (2, I): radii h_i and weights
+            (:func:`ring_rule`).
     """
 
     pill_g: tuple[np.ndarray, ...]
     pill_f: tuple[np.ndarray, ...]
     disk: np.ndarray | None
     polygon: FilterTables | None
+    rings: tuple[np.ndarray, ...]
+
+
+RING_NODES = 2
+"""Radial nodes per cell of a circle's rule (:func:`ring_rule`)."""
+
+RING_CUTOFF = 1e-12
+"""A circle's rule ends where the weight falls below this part of its largest value."""
+
+
+def ring_rule(profile: np.ndarray, step: float, dx: float) -> np.ndarray:
+    """The radial rule of a circle's contour form: int w(h) g(h) dh = sum_i W_i g(h_i).
+
+    w = -f_eps', the radial derivative of a disk's filtered profile f_eps (spacing
+    `step`, by central differences), the weight of its parallels h = |r - P| in
+    int F_eps grad c dA = int w(h) oint_h c n ds dh. The midpoint rule with
+    :data:`RING_NODES` nodes per cell, h_i = (i + 1/2) dx / RING_NODES, out to where w
+    falls below :data:`RING_CUTOFF` of its largest value; W_i = w(h_i) dx / RING_NODES.
+
+    Returns:
+        (2, I): the radii h_i and the weights W_i.
+    """
+    d = np.arange(profile.size) * step
+    weight = -np.gradient(profile, step)
+    end = d[np.nonzero(np.abs(weight) > RING_CUTOFF * np.abs(weight).max())[0][-1]]
+    spacing = dx / RING_NODES
+    radii = spacing * (np.arange(math.ceil(end / spacing)) + 0.5)
+    return np.ascontiguousarray(np.stack([radii, np.interp(radii, d, weight) * spacing]))
 
 
 def polygon_shape(shape: BodyShape) -> RotorShape:
@@ -139,18 +170,22 @@ def make_body_filter(
         pill: the prefilter of G (kernel, kappa).
     """
     delta = shape.smoothing
+    step = dx / PROFILE_REFINEMENT
     radii = [float(r) for r in shape.pills[:, 2]]
     pill_g = tuple(disk_profile(r, delta, dx, pill) for r in radii)
     pill_f = tuple(disk_profile(r, delta, dx, plate) for r in radii)
+    disk = disk_profile(shape.radius, delta, dx, plate) if shape.plate == "disk" else None
+    circles = pill_f if shape.plate == "none" else (disk,) if disk is not None else ()
     return BodyFilter(
         pill_g=pill_g,
         pill_f=pill_f if shape.plate == "none" else (),
-        disk=disk_profile(shape.radius, delta, dx, plate) if shape.plate == "disk" else None,
+        disk=disk,
         polygon=(
             make_tables(polygon_shape(shape), dx, refinement, plate, pill)
             if shape.plate == "polygon"
             else None
         ),
+        rings=tuple(ring_rule(profile, step, dx) for profile in circles),
     )
 
 
@@ -212,22 +247,25 @@ class BodyScheme:
             dx=dx,
         )
 
-    def contour_reach(self, shape: BodyShape) -> float:
-        """The largest distance from X of a contour node of the body (the spline's taps
-        lie within two cells more)."""
-        band = shape.smoothing * float(np.abs(self.quad_s[0]).max())
+    def contour_reach(self, shape: BodyShape, filt: BodyFilter) -> float:
+        """The largest distance from X of a contour node of the body with the filtered
+        indicators `filt` (the spline's taps lie within two cells more)."""
         if shape.plate == "polygon":
+            band = shape.smoothing * float(np.abs(self.quad_s[0]).max())
             return (shape.apothem + band) / math.cos(math.pi / shape.n_corners)
         if shape.plate == "disk":
-            return shape.radius + band
-        return max(math.hypot(x, y) + abs(rho) + band for x, y, rho in shape.pills[:, :3])
+            return float(filt.rings[0][0, -1])
+        return max(
+            math.hypot(x, y) + float(ring[0, -1])
+            for (x, y), ring in zip(shape.pills[:, :2], filt.rings, strict=True)
+        )
 
-    def window_half(self, shape: BodyShape) -> int:
+    def window_half(self, shape: BodyShape, filt: BodyFilter) -> int:
         """Half the side, in cells, of the square window about X whose c is turned into
         spline coefficients: the contour's taps plus
         :data:`~pde_rotor.kernels.core.SPLINE_MARGIN` cells (the rotor's window for a
         polygon at the origin)."""
-        return math.ceil(self.contour_reach(shape) / self.dx) + 2 + SPLINE_MARGIN
+        return math.ceil(self.contour_reach(shape, filt) / self.dx) + 2 + SPLINE_MARGIN
 
 
 def _radial(profile: np.ndarray, step: float, distance: np.ndarray) -> np.ndarray:
@@ -277,7 +315,7 @@ def _spline(c: np.ndarray, x0: float, y0: float, dx: float, x: np.ndarray, y: np
 
 def contour_integrals(
     c: np.ndarray, origin: tuple[float, float], dx: float, shape: BodyShape, pose: Pose,
-    scheme: BodyScheme,
+    scheme: BodyScheme, index: int,
 ) -> np.ndarray:  # fmt: skip
     """int F grad c dA (x, y) and int F (r - X) x grad c dA of one body in contour form
     (numpy reference, ``consistent``; see the module docstring).
@@ -289,6 +327,7 @@ def contour_integrals(
         shape: the body's shape.
         pose: its pose.
         scheme: a consistent scheme (its quadrature rules).
+        index: the body's index in the scheme (its circles' radial rules).
 
     Returns:
         (3,) the two force integrals and the torque integral (without s k).
@@ -317,16 +356,14 @@ def contour_integrals(
     theta = pose.phi + 2.0 * math.pi * np.arange(n_arc) / n_arc
     ex, ey = np.cos(theta)[None, :], np.sin(theta)[None, :]
     if shape.plate == "disk":
-        circles = [(0.0, 0.0, shape.radius)]
+        centres = [(0.0, 0.0)]
     else:
-        circles = [
-            (qx, qy, rho)
-            for (qx, qy), rho in zip(pill_offsets(shape, pose.phi), shape.pills[:, 2], strict=True)
-        ]
-    for qx, qy, rho in circles:
-        h = (rho - delta * s_nodes)[:, None]
+        centres = [(qx, qy) for qx, qy in pill_offsets(shape, pose.phi)]
+    rings = scheme.filters[index].rings
+    for (qx, qy), (radii, ring_weights) in zip(centres, rings, strict=True):
+        h = radii[:, None]
         values = _spline(c, *origin, dx, pose.x + qx + h * ex, pose.y + qy + h * ey)
-        weights = (s_weights[:, None] * h * (2.0 * math.pi / n_arc)) * values
+        weights = (ring_weights[:, None] * h * (2.0 * math.pi / n_arc)) * values
         f_x, f_y = np.sum(weights * ex), np.sum(weights * ey)
         out += (f_x, f_y, qx * f_y - qy * f_x)
     return out

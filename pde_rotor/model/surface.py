@@ -272,6 +272,7 @@ class SurfacePDE(PDEBase):
                     self.bodies[k].shape,
                     state.bodies.pose(k),
                     self.body_scheme,
+                    k,
                 )
             out[k] = (
                 *(sign_k * tension),
