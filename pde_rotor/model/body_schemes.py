@@ -14,27 +14,29 @@ lattice torque (docs/model.md). The remedy is the rotor's (:mod:`pde_rotor.model
   pills, and its F_eps is the sum of the pills' profiles filtered with the plate's
   kernel; a polygon plate's F_eps comes from the rotor's edge profile and corner table
   (:func:`~pde_rotor.model.filtering.make_tables`).
-* **Force and torque in contour form.** F = f(a - h(r)), f(u) = 1/2 (1 + tanh(u / delta)),
-  with a gauge h whose level sets are the smoothed contour's parallels and |grad h| = 1:
-  the distance |r - P| from a disk's centre P (a pill, or a disk plate about X), or the
-  polygon's max_j (r - X) . e_j. Integrating by parts and by level sets (coarea formula),
+* **Force and torque in contour form.** F = f(a - h(r)) with a gauge h whose level sets
+  are the smoothed contour's parallels and |grad h| = 1: the distance |r - P| from a
+  disk's centre P (a pill, or a disk plate about X), or the polygon's
+  max_j (r - X) . e_j. Integrating by parts and by level sets (coarea formula),
 
       int F grad c dA = int w(h) oint_{h} c n ds dh,
       int F (r - X) x grad c dA = int w(h) oint_{h} c (r - X) x n ds dh,
 
-  w(h) dh = 1/2 sech^2(s) ds, s = (a - h) / delta: the tension -k oint c n ds on every
-  parallel of the contour, weighted across the smoothed edge, as the rotor's torque. The
-  weight is the Gauss rule of ``numerics.band_nodes`` nodes
-  (:func:`~pde_rotor.model.schemes.sech2_gauss`); along a polygon's edges
-  ``numerics.contour_nodes`` Gauss-Legendre nodes, the rotor's nodes; around a circle
-  :data:`ARC_EDGES` times as many equally spaced angles (the trapezoidal rule, spectrally
-  accurate for a periodic integrand). c is its interpolating cubic spline. Every node
-  moves and turns with the body, so a body moved by a fraction of a cell sees the same
-  nodes moved by that fraction. On a circle about its own centre (r - X) x n = 0: a disk
-  plate feels no torque, a pill only through its lever P - X. The outermost band nodes of
-  a small pill (s > rho / delta, weight 1.8e-4 of 6 nodes at rho = 4 delta) lie at
-  h < 0, on the opposite side of the centre: the rule then integrates the even
-  continuation of the integrand h oint c e_r d theta in h, its analytic extension.
+  w = -dF/dh: the tension -k oint c n ds on every parallel of the contour, weighted
+  across the smoothed edge, as the rotor's torque. c is its interpolating cubic spline.
+  A polygon takes the rotor's rule: the model's F, w(h) dh = 1/2 sech^2(s) ds,
+  s = (a - h) / delta, by the Gauss rule of ``numerics.band_nodes`` nodes
+  (:func:`~pde_rotor.model.schemes.sech2_gauss`) and ``numerics.contour_nodes``
+  Gauss-Legendre nodes along each edge. A circle takes the filtered F_eps that the
+  field equations see, w = -f_eps' (:func:`ring_rule`: the midpoint rule, two radii per
+  cell), and :data:`ARC_EDGES` times ``numerics.contour_nodes`` equally spaced angles
+  (the trapezoidal rule, spectrally accurate for a periodic integrand). The sharp
+  weight would put every node within a few delta of a pill's rim, where the source
+  switches on and the spline of c errs by an amount that moves with the body's
+  sub-cell position (a lattice force larger than the paper scheme's, docs/bodies.md);
+  the smooth, wider weight of F_eps averages that error out. Every node moves and turns
+  with the body. On a circle about its own centre (r - X) x n = 0: a disk plate feels
+  no torque, a pill only through its lever P - X.
 
 With one ``fixed_axis`` polygon body at the origin these are the rotor's F_eps, G_eps
 and contour torque. :class:`BodyScheme` holds each body's tables and the quadrature
