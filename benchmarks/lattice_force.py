@@ -1,15 +1,30 @@
-"""The lattice force on a held, symmetric body: rms over sub-cell positions (paper scheme).
+"""The lattice force on a held, symmetric body: rms over sub-cell positions, per scheme.
 
-A symmetric body at rest feels no force in the continuum; on the grid, its point-sampled
-F and G and the area-form force integral (the ``paper`` scheme, the only one bodies run on)
-depend on where its centre sits within a cell, and a spurious force remains. The body is
+A symmetric body at rest at the dish centre feels no force in the continuum; on the grid,
+its sampled F and G and the force integral depend on where its centre sits within a
+cell, and a spurious force remains. The ``paper`` scheme samples F and G at the cell
+centres and takes the area-form force with central differences; ``consistent``
+prefilters them and takes the force in contour form (docs/bodies.md, "The
+rotation-consistent scheme"). The body is
 held (a stop of its own protocol) at `--offsets` x `--offsets` positions spread over one
-cell, c and v relax for `--relax` time units, and the tension force s k int F grad c dA is
-read. Printed: the rms and the largest |force| over the positions, beside the force on a
-camphor boat (the same pill 0.05 off the centre of a strip plate, held at the cell's
-corner): the smallest asymmetry force this page compares with.
+cell, c and v relax for `--relax` time units, and the tension force is read.
 
-Run:  python benchmarks/lattice_force.py [--dx 0.025] [--offsets 4] [--relax 4]
+A body off the dish centre also feels the dish's absorbing edge, which pulls it
+outwards (docs/bodies.md, "A disk in a circular dish": Phi(0) = 3.5e-4 per unit
+displacement at L = 2), a force as large as the lattice force over a cell. It is smooth
+in the displacement X and, for small X, f_wall = (Phi + Phi3 |X|^2) X; the lattice
+force is periodic in X with period dx and vanishes by symmetry where X lies on a cell
+corner (the dish centre is one). So two more runs, held at (dx, 0) and (2 dx, 0), give
+Phi and Phi3 of each scheme, and the lattice force is f - f_wall. Printed per scheme:
+Phi, the rms and largest |f| as measured, and the rms and largest lattice force
+|f - f_wall| over the positions. Beside them, two reference
+forces: the force on the kicked disk of gallery/bodies_onsets.py, K(0) U at its kick
+U = 1e-4 (the linear response of docs/bodies.md, the smallest asymmetry of a body the
+gallery resolves), and the force on a camphor boat (the same pill 0.05 off the centre of
+a strip plate, held at the cell's corner, ``paper`` scheme).
+
+Run:  python benchmarks/lattice_force.py [--scheme paper consistent] [--dx 0.025]
+      [--offsets 4] [--relax 4]
 """
 
 from __future__ import annotations
@@ -20,15 +35,26 @@ import math
 import numpy as np
 
 from pde_rotor import RotorConfig
+from pde_rotor.model.onsets import (
+    CamphorDisk,
+    Wall,
+    free_disk_displacement_force,
+    free_disk_force_coefficient,
+)
 from pde_rotor.solver.simulation import Simulation
 
+GALLERY_KICK = 1e-4
+"""The velocity gallery/bodies_onsets.py kicks the free disk to."""
 
-def held_force(dx: float, dt: float, body: dict, x: float, y: float, relax: float) -> np.ndarray:
+
+def held_force(
+    dx: float, dt: float, scheme: str, body: dict, x: float, y: float, relax: float
+) -> np.ndarray:
     """Tension force (x, y) on `body` held at (x, y) after `relax` time units."""
     config = RotorConfig.model_validate(
         {
             "grid": {"domain_radius": 2.0, "dx": dx, "dt": dt},
-            "numerics": {"scheme": "paper"},
+            "numerics": {"scheme": scheme},
             "protocol": {"t_ini": relax, "cycles": 0},
             "bodies": [
                 {
@@ -47,32 +73,55 @@ def held_force(dx: float, dt: float, body: dict, x: float, y: float, relax: floa
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--scheme", nargs="+", default=["paper", "consistent"])
     parser.add_argument("--dx", type=float, default=0.025)
     parser.add_argument("--dt", type=float, default=1e-4)
     parser.add_argument("--offsets", type=int, default=4)
     parser.add_argument("--relax", type=float, default=4.0)
     args = parser.parse_args()
     disk = {"name": "disk", "pills": [{"x": 0.0, "y": 0.0}]}
-    forces = []
-    for i in range(args.offsets):
-        for j in range(args.offsets):
-            x, y = (i / args.offsets) * args.dx, (j / args.offsets) * args.dx
-            forces.append(held_force(args.dx, args.dt, disk, x, y, args.relax))
-    magnitude = np.hypot(*np.array(forces).T)
+    dx = args.dx
+    for scheme in args.scheme:
+        one, two = (
+            held_force(dx, args.dt, scheme, disk, m * dx, 0.0, args.relax)[0] for m in (1, 2)
+        )
+        phi = (8.0 * one - two) / (6.0 * dx)
+        phi3 = (two - 2.0 * one) / (6.0 * dx**3)
+        positions, forces = [], []
+        for i in range(args.offsets):
+            for j in range(args.offsets):
+                x, y = (i / args.offsets) * dx, (j / args.offsets) * dx
+                positions.append((x, y))
+                forces.append(held_force(dx, args.dt, scheme, disk, x, y, args.relax))
+        at = np.array(positions)
+        wall = (phi + phi3 * np.sum(at**2, axis=1))[:, None] * at
+        measured = np.hypot(*np.array(forces).T)
+        lattice = np.hypot(*(np.array(forces) - wall).T)
+        print(
+            f"free camphor disk (rho = 0.1) held at {len(forces)} positions over a cell, dx = "
+            f"{dx:g}, {scheme} scheme, flow on, after {args.relax:g}: the dish's pull Phi = "
+            f"{phi:.4g} (Phi3 = {phi3:.3g}); force as measured rms "
+            f"{math.sqrt(np.mean(measured**2)):.3g}, largest {measured.max():.3g}; lattice "
+            f"force (less the dish's pull) rms {math.sqrt(np.mean(lattice**2)):.3g}, largest "
+            f"{lattice.max():.3g}"
+        )
+    camphor = CamphorDisk.from_config(RotorConfig())
+    pull = free_disk_displacement_force(camphor, 0.0, Wall(2.0, "absorbing"))
+    print(f"the dish's pull of linear stability (sharp disk, L = 2): Phi(0) = {pull:.4g}")
+    coefficient = free_disk_force_coefficient(camphor)
+    print(
+        f"kicked free disk of gallery/bodies_onsets.py: K(0) U = {coefficient:.4g} x "
+        f"{GALLERY_KICK:g} = {coefficient * GALLERY_KICK:.3g}"
+    )
     boat = {
         "name": "boat",
         "plate": {"shape": "strip", "length": 0.6, "width": 0.3},
         "pills": [{"x": 0.05, "y": 0.0}],
     }
-    boat_force = held_force(args.dx, args.dt, boat, 0.0, 0.0, args.relax)
+    boat_force = held_force(args.dx, args.dt, "paper", boat, 0.0, 0.0, args.relax)
     print(
-        f"free camphor disk (rho = 0.1) held at {len(forces)} positions over a cell, dx = "
-        f"{args.dx:g}, paper scheme, flow on, after {args.relax:g}: lattice force rms "
-        f"{math.sqrt(np.mean(magnitude**2)):.3g}, largest {magnitude.max():.3g}"
-    )
-    print(
-        f"camphor boat (pill 0.05 off the centre of a 0.6 x 0.3 strip) held: force "
-        f"({boat_force[0]:.3g}, {boat_force[1]:.3g}), |f| = {math.hypot(*boat_force):.3g}"
+        f"camphor boat (pill 0.05 off the centre of a 0.6 x 0.3 strip, paper scheme) held: "
+        f"force ({boat_force[0]:.3g}, {boat_force[1]:.3g}), |f| = {math.hypot(*boat_force):.3g}"
     )
 
 

@@ -8,7 +8,9 @@ generalised model (docs/bodies.md): every step it
    drawn (:func:`draw_body`; bodies may not overlap, so each cell belongs to one body at
    most, and the plate velocity of a cell is its owner's, :func:`plate_velocity`);
 3. takes each moving body's integrals over its plate (:func:`body_integrals`, area
-   form with central differences, the ``paper`` scheme);
+   form with central differences, the ``paper`` scheme; for ``consistent`` the filtered
+   F_k and G_k of :func:`draw_filtered` and the force and torque in contour form,
+   :func:`body_contour`);
 4. advances c and v by one Euler step of Eqs. (eqc), (eqv) (the core's ``plate_rates``
    with the owner's plate velocity);
 5. advances the bodies, Eq. (eq_motion) about X_k (the body core's
@@ -27,8 +29,17 @@ import math
 import numba as nb
 import numpy as np
 
-from .body_core import CPU_BODIES, MOTION_FIXED, MOTION_FREE, PLATE_NONE, PLATE_POLYGON
+from ..model.body_schemes import ARC_EDGES
+from .body_core import (
+    CPU_BODIES,
+    MOTION_FIXED,
+    MOTION_FREE,
+    PLATE_DISK,
+    PLATE_NONE,
+    PLATE_POLYGON,
+)
 from .core import CPU, FASTMATH
+from .spline import ROW_GROUP, spline_columns, spline_rows
 
 _plate_rates = CPU.plate_rates
 _rate_coefficients = CPU.rate_coefficients
@@ -40,6 +51,11 @@ _pill_reach = CPU.pill_reach
 _body_accelerations = CPU_BODIES.body_accelerations
 _euler_rotor = CPU.euler_rotor
 _noise_kick = CPU.noise_kick
+_filtered_plate = CPU.filtered_plate
+_filtered_pill_term = CPU.filtered_pill_term
+_filtered_pill_reach = CPU.filtered_pill_reach
+_edge_node = CPU_BODIES.edge_node
+_arc_node = CPU_BODIES.arc_node
 
 N_INTEGRALS = 10
 """Integrals of a body per step (:func:`body_integrals`)."""
@@ -196,6 +212,159 @@ def body_integrals(cur, F, owner, coords, k, x_k, y_k, box, flow, out):
         out[m] *= area
 
 
+@nb.njit(cache=True, nogil=True, fastmath=FASTMATH, error_model="numpy")
+def draw_filtered(F, G, owner, coords, k, body, pills, pose, normals, centres, box, tables, p):
+    """F_k and G_k of the ``consistent`` scheme on the cells body k owns (compiled),
+    after :func:`draw_body` has drawn its footprint at the same pose.
+
+    The plate's F_eps: a polygon's from the rotor's edge profile and corner table (the
+    core's ``filtered_plate``, in the frame of the nearest edge), a disk's from its
+    radial profile (``filtered_pill_term``); then each pill's G_eps (and, for a body
+    without a plate, its F_eps) from its radial profiles on the cells of its own box,
+    in the pills' order, as the rotor's rows sum them. `tables` as for
+    :func:`advance_bodies`, `p` the parameter record.
+    """
+    _, _, profiles, pill_tab, corner, edges, _, _, _ = tables
+    b = body[k]
+    n = coords.size
+    x0 = coords[0]
+    inv_dx = 1.0 / (coords[1] - x0)
+    inv_step = p.profile_inv_step
+    x_k, y_k = pose[k, 0], pose[k, 1]
+    tab = normals[:, :, k]
+    disk = profiles[b.f_start : b.f_start + b.f_count]
+    plate = corner[b.table_start : b.table_start + b.table_n * b.table_n]
+    edge = edges[b.edge_start : b.edge_start + b.edge_count]
+    i0, i1, j0, j1 = box[k, 0], box[k, 1], box[k, 2], box[k, 3]
+    for i in range(i0, i1):
+        rx = coords[i] - x_k
+        for j in range(j0, j1):
+            o = i * n + j
+            if owner[o] != k:
+                continue
+            ry = coords[j] - y_k
+            f = 0.0
+            if b.plate == PLATE_POLYGON:
+                f = _filtered_plate(
+                    rx, ry, tab, b.n_corners, b.size_a, b.tan_half, b.crease, edge, b.edge_u0,
+                    p.edge_inv_step, plate, b.table_n, b.table_x0, p.table_inv_step,
+                )  # fmt: skip
+            elif b.plate == PLATE_DISK:
+                f = _filtered_pill_term(rx, ry, disk, inv_step)
+            F[o] = f
+            G[o] = 0.0
+    for m in range(b.pill_start, b.pill_start + b.pill_count):
+        px, py, weight = centres[0, m], centres[1, m], pills[m, 3]
+        g_prof = profiles[pill_tab[m, 0] : pill_tab[m, 0] + pill_tab[m, 1]]
+        f_prof = profiles[pill_tab[m, 2] : pill_tab[m, 2] + pill_tab[m, 3]]
+        reach = _filtered_pill_reach(g_prof, inv_step)
+        if b.plate == PLATE_NONE:
+            reach = max(reach, _filtered_pill_reach(f_prof, inv_step))
+        ia = max(i0, math.ceil((px - reach - x0) * inv_dx))
+        ib = min(i1, math.floor((px + reach - x0) * inv_dx) + 1)
+        ja = max(j0, math.ceil((py - reach - x0) * inv_dx))
+        jb = min(j1, math.floor((py + reach - x0) * inv_dx) + 1)
+        for i in range(ia, ib):
+            dx_p = coords[i] - px
+            for j in range(ja, jb):
+                o = i * n + j
+                if owner[o] != k:
+                    continue
+                dy_p = coords[j] - py
+                G[o] += weight * _filtered_pill_term(dx_p, dy_p, g_prof, inv_step)
+                if b.plate == PLATE_NONE:
+                    F[o] += _filtered_pill_term(dx_p, dy_p, f_prof, inv_step)
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def spline_box(cur, coef, n, i0, i1, j0, j1, carry):
+    """coef = cubic B-spline coefficients of c (cur[:n^2]) on the rows [i0, i1) and
+    columns [j0, j1) (compiled): the rows prefiltered in groups of ``ROW_GROUP``, then
+    the columns, as the rotor's window (:mod:`pde_rotor.kernels.spline`); `carry` >= n."""
+    for r0 in range(i0, i1, ROW_GROUP):
+        spline_rows(cur, coef, n, r0, min(i1, r0 + ROW_GROUP), j0, j1, carry)
+    spline_columns(coef, n, i0, i1, j0, j1, carry)
+
+
+@nb.njit(cache=True, nogil=True, fastmath=FASTMATH, error_model="numpy")
+def body_contour(cur, coords, k, body, pills, pose, normals, centres, tables, delta, out):
+    """int F_k grad c dA (x, y) and int F_k (r - X_k) x grad c dA in contour form
+    (``consistent``; :mod:`pde_rotor.model.body_schemes`) into out[0:3] (compiled).
+
+    The spline of c on the square window of half side ``window_half`` cells about the
+    cell of X_k (:func:`spline_box`), then the contour nodes of the body core: a
+    polygon's edges (``edge_node``; per (edge, band node) the sum along the edge, the
+    pairs added in order, as the rotor's contour torque), a disk plate's circle about
+    X_k, or each pill's circle about its centre, its torque (P - X) x its force
+    (``arc_node``, the angles phi + 2 pi l / L). `delta` is the edge width; `tables` as
+    for :func:`advance_bodies`.
+    """
+    quad_s, quad_t, _, pill_tab, _, _, rings, coef, carry = tables
+    _orient(k, body, pills, pose, normals, centres)  # scratch: a new stepper starts with 0
+    b = body[k]
+    n = coords.size
+    x0 = coords[0]
+    inv_dx = 1.0 / (coords[1] - x0)
+    x_k, y_k, phi = pose[k, 0], pose[k, 1], pose[k, 2]
+    half = b.window_half
+    ic = math.floor((x_k - x0) * inv_dx) + 1
+    jc = math.floor((y_k - x0) * inv_dx) + 1
+    i0, i1 = max(1, ic - half), min(n - 1, ic + half)
+    j0, j1 = max(1, jc - half), min(n - 1, jc + half)
+    spline_box(cur, coef, n, i0, i1, j0, j1, carry)
+    n_s, n_t = quad_s.shape[1], quad_t.shape[1]
+    f_x = 0.0
+    f_y = 0.0
+    torque = 0.0
+    if b.plate == PLATE_POLYGON:
+        for j in range(b.n_corners):
+            ex, ey = normals[0, j, k], normals[1, j, k]
+            for m in range(n_s):
+                h = b.size_a - delta * quad_s[0, m]
+                half_t = h * b.tan_half
+                pair_x = 0.0
+                pair_y = 0.0
+                pair_t = 0.0
+                for k_t in range(n_t):
+                    a, c, e = _edge_node(
+                        coef, n, x0, inv_dx, x_k, y_k, ex, ey, h, half_t, quad_s, quad_t, m, k_t
+                    )
+                    pair_x += a
+                    pair_y += c
+                    pair_t += e
+                f_x += pair_x
+                f_y += pair_y
+                torque += pair_t
+    else:
+        n_arc = ARC_EDGES * n_t
+        step = 2.0 * math.pi / n_arc
+        first = b.pill_start
+        last = b.pill_start + b.pill_count
+        if b.plate == PLATE_DISK:
+            first, last = 0, 1
+        for q in range(first, last):
+            cx, cy, r0, r1 = x_k, y_k, b.ring_start, b.ring_start + b.ring_count
+            if b.plate != PLATE_DISK:
+                cx, cy = centres[0, q], centres[1, q]
+                r0, r1 = pill_tab[q, 4], pill_tab[q, 4] + pill_tab[q, 5]
+            q_x = 0.0
+            q_y = 0.0
+            for m in range(r0, r1):
+                h = rings[0, m]
+                weight = rings[1, m] * h * step
+                for a_l in range(n_arc):
+                    angle = phi + step * a_l
+                    a, c = _arc_node(
+                        coef, n, x0, inv_dx, cx, cy, h, math.cos(angle), math.sin(angle), weight
+                    )
+                    q_x += a
+                    q_y += c
+            f_x += q_x
+            f_y += q_y
+            torque += (cx - x_k) * q_y - (cy - y_k) * q_x
+    out[0], out[1], out[2] = f_x, f_y, torque
+
+
 @nb.njit(cache=True, nogil=True)
 def support_rows(box, n, slo, shi):
     """slo, shi: per row, the columns [slo, shi) covered by any body's box (the cells
@@ -253,7 +422,7 @@ def euler_body_fields(cur, nxt, F, G, owner, domain, coef, dt, pose, flow):
 @nb.njit(cache=True, nogil=True)
 def advance_bodies(
     data, spare, F, G, owner, domain, params, body, pills, pose, drawn, box, normals,
-    centres, xi, status, step0, n_steps,
+    centres, tables, xi, status, step0, n_steps,
 ):  # fmt: skip
     """Advance c, v and every body by `n_steps` forward Euler steps (compiled).
 
@@ -271,6 +440,10 @@ def advance_bodies(
         drawn: (K, 3) x, y, phi at which each body was last drawn (nan: never).
         box: (K, 4) int rows and columns of each body's last drawn footprint.
         normals, centres: scratch (2, max N, K) and (2, P).
+        tables: the ``consistent`` scheme's arrays
+            (:func:`pde_rotor.kernels.records.make_body_tables`): quadrature rules,
+            filter tables, spline scratch; read where the record's ``filtered`` and
+            ``contour`` are set (the scheme switch).
         xi: K standard normals per step for the noise (read where a body's kick != 0).
         status: (3,) ints: on an early end, the reason (``STATUS_*``) and the bodies.
         step0: global index of the first step; n_steps: number of steps.
@@ -318,6 +491,10 @@ def advance_bodies(
                     if s % 2 == 1:
                         data[:] = spare
                     return s
+                if p.filtered:
+                    draw_filtered(
+                        F, G, owner, coords, k, body, pills, pose, normals, centres, box, tables, p
+                    )
                 drawn[k, 0], drawn[k, 1], drawn[k, 2] = pose[k, 0], pose[k, 1], pose[k, 2]
                 redrawn = True
         if redrawn or s == 0:  # the support rows are scratch of each call
@@ -327,6 +504,11 @@ def advance_bodies(
             if b.motion == MOTION_FIXED:
                 continue
             body_integrals(cur, F, owner, coords, k, pose[k, 0], pose[k, 1], box, p.flow, integrals)
+            if p.contour:
+                body_contour(
+                    cur, coords, k, body, pills, pose, normals, centres, tables, p.smoothing,
+                    integrals,
+                )  # fmt: skip
             out = _body_accelerations(
                 integrals, pose[k, 3], pose[k, 4], pose[k, 5], sign_k, b.friction, b.mass,
                 b.inertia,

@@ -49,6 +49,8 @@ class BodyCore(NamedTuple):
     polygon_gauge: Callable
     body_plate_cell: Callable
     body_accelerations: Callable
+    edge_node: Callable
+    arc_node: Callable
 
 
 def make_body_core(jit: Callable[[Callable], Callable], core: Core) -> BodyCore:
@@ -62,6 +64,7 @@ def make_body_core(jit: Callable[[Callable], Callable], core: Core) -> BodyCore:
         The compiled functions.
     """
     logistic = core.logistic
+    interpolate = core.interpolate
     pill_term = core.pill_term
     projection = core.projection
     gauge_step = core.gauge_step
@@ -155,12 +158,48 @@ def make_body_core(jit: Callable[[Callable], Callable], core: Core) -> BodyCore:
             (friction + torque) * (1.0 / inertia),
         )
 
+    @jit
+    def edge_node(coef, n, x0, inv_dx, cx, cy, ex, ey, h, half, quad_s, quad_t, m, k_t):
+        """Node (m, k_t) of a straight edge of the contour form (``consistent``).
+
+        The edge of the level set h of a polygon's gauge about (cx, cy): normal
+        e = (ex, ey), the points (cx, cy) + h e + t tau, tau = e turned by +pi/2,
+        t = half quad_t[0, k_t]; band node m of the weight 1/2 sech^2 (`quad_s`) and
+        Gauss-Legendre node k_t along the edge (`quad_t`). c from its cubic spline
+        (``interpolate`` of the B-spline coefficients `coef`, n x n, x0 and 1/dx).
+
+        Returns:
+            the node's shares of int F grad c dA (x, y), w c e, and of
+            int F (r - X) x grad c dA, -w t c (the rotor's ``contour_point``), with
+            w = quad_s[1, m] quad_t[1, k_t] half.
+        """
+        t = half * quad_t[0, k_t]
+        c = interpolate(coef, 0, n, x0, inv_dx, cx + (h * ex - t * ey), cy + (h * ey + t * ex))
+        w = quad_s[1, m] * quad_t[1, k_t] * half * c
+        return w * ex, w * ey, -quad_s[1, m] * quad_t[1, k_t] * half * t * c
+
+    @jit
+    def arc_node(coef, n, x0, inv_dx, cx, cy, h, ca, sa, weight):
+        """A node of a circle of the contour form (``consistent``): the point
+        (cx, cy) + h (ca, sa) on the level set h of a disk's gauge |r - P|, P = (cx, cy),
+        with the quadrature weight `weight` (band weight times h times the angle step).
+
+        Returns:
+            the node's share of int F grad c dA (x, y), weight c (ca, sa); its torque
+            about P is 0 ((r - P) x n = 0 on the circle).
+        """
+        c = interpolate(coef, 0, n, x0, inv_dx, cx + h * ca, cy + h * sa)
+        w = weight * c
+        return w * ca, w * sa
+
     return BodyCore(
         plate_velocity=plate_velocity,
         strip_gauge=strip_gauge,
         polygon_gauge=polygon_gauge,
         body_plate_cell=body_plate_cell,
         body_accelerations=body_accelerations,
+        edge_node=edge_node,
+        arc_node=arc_node,
     )
 
 

@@ -35,6 +35,7 @@ import numpy as np
 
 from ..config import RotorConfig
 from ..model.bodies import Body
+from ..model.body_schemes import BodyScheme
 from ..model.filtering import CREASE_WIDTHS
 from ..model.geometry import RotorShape
 from ..model.pde import TORQUE_SIGN
@@ -166,6 +167,19 @@ BODY = np.dtype(
         ("n_stop", _I8),
         ("n_period", _I8),
         ("cycles", _I8),
+        ("tan_half", _F8),
+        ("crease", _F8),
+        ("f_start", _I8),
+        ("f_count", _I8),
+        ("table_start", _I8),
+        ("table_n", _I8),
+        ("table_x0", _F8),
+        ("edge_start", _I8),
+        ("edge_count", _I8),
+        ("edge_u0", _F8),
+        ("ring_start", _I8),
+        ("ring_count", _I8),
+        ("window_half", _I8),
     ],
     align=True,
 )
@@ -173,7 +187,12 @@ BODY = np.dtype(
 (:data:`pde_rotor.kernels.body_core.PLATE_POLYGON`...), its corners and sizes (``size_a``:
 apothem, radius or half length; ``size_b``: half width), the footprint radius ``reach``,
 its pills' range in the pill table, motion kind, m, I, mu, the noise kick
-sqrt(2 dt) sigma / I, and its stop schedule in steps."""
+sqrt(2 dt) sigma / I, and its stop schedule in steps. For the ``consistent`` scheme
+(:func:`make_body_tables`): tan(pi/N) and the crease width of a polygon, where its
+filtered tables lie in the flat arrays (a disk's F profile ``f_*``, a polygon's corner
+table ``table_*`` and edge profile ``edge_*``, a disk's radial rule ``ring_*``), and the
+half side of its spline window.
+"""
 
 
 _PLATES = {"none": 0, "polygon": 1, "disk": 2, "strip": 3}
@@ -224,3 +243,76 @@ def make_body_records(
         else:
             rec["n_period"] = 1
     return records, np.array(rows, dtype=float).reshape(-1, 7)
+
+
+def make_body_tables(
+    bodies: Sequence[Body], scheme: BodyScheme, records: np.ndarray, n: int
+) -> tuple[np.ndarray, ...]:
+    """The tables of the bodies' ``consistent`` scheme as the kernels read them.
+
+    Fills the scheme's fields of `records` (:data:`BODY`) and returns the arrays of
+    :func:`pde_rotor.kernels.bodies.advance_bodies`: (quad_s, quad_t, the radial
+    profiles one after the other, per pill (P, 6) the start and length of its G profile,
+    of its F profile and of its radial rule, the polygons' corner tables (spline
+    coefficients) one after the other, their edge profiles, the circles' radial rules
+    (2, I) one after the other (:func:`~pde_rotor.model.body_schemes.ring_rule`), and
+    scratch: the spline coefficients (n^2) and a line's carry (n)). For the ``paper``
+    scheme, one-element arrays of the same types.
+
+    Args:
+        bodies: the run's bodies.
+        scheme: their scheme (:class:`~pde_rotor.model.body_schemes.BodyScheme`).
+        records: the body records of :func:`make_body_records`, updated.
+        n: cells along a side of the grid.
+    """
+    pill_count = sum(len(b.shape.pills) for b in bodies)
+    pill_profiles = np.zeros((max(1, pill_count), 6), dtype=np.int64)
+    if not scheme.consistent:
+        one = np.zeros(1)
+        rings = np.zeros((2, 1))
+        return (scheme.quad_s, scheme.quad_t, one, pill_profiles, one, one, rings, one, one)
+    profiles: list[np.ndarray] = []
+    corners: list[np.ndarray] = []
+    edges: list[np.ndarray] = []
+    rings: list[np.ndarray] = []
+
+    def append(parts: list[np.ndarray], array: np.ndarray) -> tuple[int, int]:
+        start = sum(p.shape[-1] for p in parts)
+        parts.append(array)
+        return start, array.shape[-1]
+
+    m = 0
+    for k, (body, filt) in enumerate(zip(bodies, scheme.filters, strict=True)):
+        rec = records[k]
+        shape = body.shape
+        for j in range(len(shape.pills)):
+            pill_profiles[m, :2] = append(profiles, filt.pill_g[j])
+            if filt.pill_f:
+                pill_profiles[m, 2:4] = append(profiles, filt.pill_f[j])
+                pill_profiles[m, 4:] = append(rings, filt.rings[j])
+            m += 1
+        if filt.disk is not None:
+            rec["f_start"], rec["f_count"] = append(profiles, filt.disk)
+            rec["ring_start"], rec["ring_count"] = append(rings, filt.rings[0])
+        tables = filt.polygon
+        if tables is not None:
+            tan_half = math.tan(math.pi / shape.n_corners)
+            rec["tan_half"] = tan_half
+            rec["crease"] = CREASE_WIDTHS * tables.plate_reach / math.cos(math.atan(tan_half))
+            rec["table_start"], _ = append(corners, tables.plate)
+            rec["table_n"], rec["table_x0"] = tables.plate_n, tables.plate_x0
+            rec["edge_start"], rec["edge_count"] = append(edges, tables.edge)
+            rec["edge_u0"] = tables.edge_u0
+        rec["window_half"] = scheme.window_half(shape, filt)
+    flat = [np.concatenate(parts) if parts else np.zeros(1) for parts in (profiles, corners, edges)]
+    return (
+        scheme.quad_s,
+        scheme.quad_t,
+        flat[0],
+        pill_profiles,
+        flat[1],
+        flat[2],
+        np.ascontiguousarray(np.concatenate(rings, axis=1)) if rings else np.zeros((2, 1)),
+        np.zeros(n * n),
+        np.zeros(n),
+    )

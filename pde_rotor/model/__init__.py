@@ -11,6 +11,8 @@ loops so that every indicator is written once.
 * :mod:`.protocol`: the stop-and-release schedule (section "Model");
 * :mod:`.schemes`, :mod:`.filtering`: the ``paper`` and ``consistent`` discretisations
   of F, G and the torque, and the prefilter tables of the latter;
+* :mod:`.body_schemes`: the ``consistent`` scheme for bodies (their filtered F_k and G_k,
+  the contour forms of their force and torque);
 * :mod:`.pde`: :class:`RotorPDE`, the py-pde PDE whose numpy right-hand side is the
   independent reference of Eqs. (eqc), (eqv) and (eq_motion);
 * :mod:`.surface`: :class:`SurfacePDE`, the same model with K bodies on one surface

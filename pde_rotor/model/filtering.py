@@ -199,8 +199,17 @@ def filtered_edge_profile(
 def filtered_pill_profile(
     shape: RotorShape, width: float, step: float, kernel: str = "gaussian"
 ) -> np.ndarray:
-    """g_eps(k step), k = 0, 1, ...: one pill's profile convolved with K_eps (module doc),
-    the sum of the radial convolutions with the kernel's Gaussians.
+    """g_eps(k step), k = 0, 1, ...: one pill's profile convolved with K_eps (module doc);
+    :func:`filtered_disk_profile` of the pill's radius rho and edge width delta."""
+    return filtered_disk_profile(shape.pill_radius, shape.smoothing, width, step, kernel)
+
+
+def filtered_disk_profile(
+    radius: float, smoothing: float, width: float, step: float, kernel: str = "gaussian"
+) -> np.ndarray:
+    """g_eps(k step), k = 0, 1, ...: the profile 1/2 (1 + tanh((rho - |r|) / delta)) of a
+    disk convolved with K_eps (module doc), the sum of the radial convolutions with the
+    kernel's Gaussians. A pill's G and a disk plate's F (:mod:`pde_rotor.model.body_schemes`).
 
     The radial integral uses the trapezoidal rule with spacing h = min(delta, eps) / 64 up
     to rho + X_SATURATION delta, where g = 1/2 (1 + tanh((rho - s) / delta)) vanishes, with
@@ -208,7 +217,8 @@ def filtered_pill_profile(
     slope g(0) exp(-d^2 / (2 eps^2)) / eps^2, which alone would cost O(h^2) = 2e-5.
 
     Args:
-        shape: the rotor (pill radius rho and edge width delta).
+        radius: rho, the disk's radius.
+        smoothing: delta, the width of its tanh edge.
         width: eps.
         step: spacing of the table in d.
         kernel: name in :data:`KERNELS`.
@@ -216,7 +226,7 @@ def filtered_pill_profile(
     Returns:
         The profile, ending where its magnitude falls below PILL_CUTOFF.
     """
-    rho, delta = shape.pill_radius, shape.smoothing
+    rho, delta = radius, smoothing
     parts = components(kernel, width)
     s_end = rho + X_SATURATION * delta
     ds = min(delta, width) / 64.0
@@ -278,30 +288,56 @@ def make_tables(
     )
 
 
+@lru_cache(maxsize=64)
+def disk_profile(radius: float, smoothing: float, dx: float, filt: Filter) -> np.ndarray:
+    """The filtered profile of a disk (:func:`filtered_disk_profile`) on a grid of
+    spacing dx, tabulated with spacing dx / PROFILE_REFINEMENT as :func:`make_tables`
+    tabulates a pill's (cached: the pills and disks of a run share them).
+
+    Args:
+        radius: rho.
+        smoothing: delta.
+        dx: grid spacing.
+        filt: the prefilter (kernel name, width kappa in units of dx).
+    """
+    return filtered_disk_profile(radius, smoothing, filt[1] * dx, dx / PROFILE_REFINEMENT, filt[0])
+
+
+def filtered_polygon(
+    tables: FilterTables, n_corners: int, apothem: float, x: np.ndarray, y: np.ndarray, phi: float
+) -> np.ndarray:
+    """F_eps of a regular N-gon plate centred at the origin, at angle phi, at the points
+    (x, y) (numpy reference).
+
+    numpy's linear interpolation of the edge profile away from the corner bisectors and
+    scipy's cubic spline of the table values (its own prefilter), in the frame of the
+    nearest edge, near them: independent of the kernels' code.
+    """
+    normals = edge_normal_angles(n_corners, phi)
+    proj = np.stack([x * math.cos(a) + y * math.sin(a) for a in normals])
+    nearest = normals[np.argmax(proj, axis=0)]
+    h = np.max(proj, axis=0)
+    q = y * np.cos(nearest) - x * np.sin(nearest)
+    half = math.pi / n_corners
+    crease_distance = (h * math.tan(half) - np.abs(q)) * math.cos(half)
+    near_crease = crease_distance <= CREASE_WIDTHS * tables.plate_reach
+    u = tables.edge_u0 + tables.edge_step * np.arange(tables.edge.size)
+    F = np.interp(apothem - h, u, tables.edge, left=0.0, right=1.0)
+    inv = 1.0 / tables.plate_step
+    points = np.stack([(h - tables.plate_x0) * inv, (q - tables.plate_x0) * inv])
+    table = map_coordinates(tables.plate_values, points, order=3, mode="grid-constant", cval=0.0)
+    return np.where(near_crease, table, F)
+
+
 def filtered_indicators(
     tables: FilterTables, shape: RotorShape, x: np.ndarray, y: np.ndarray, phi: float
 ) -> tuple[np.ndarray, np.ndarray]:
     """F_eps and G_eps at the points (x, y) for the plate at angle phi (numpy reference).
 
-    F_eps by numpy's linear interpolation of the edge profile away from the corner
-    bisectors and by scipy's cubic spline of the table values (its own prefilter), in
-    the frame of the nearest edge, near them; G_eps by numpy's linear interpolation of
-    the pill profile: independent of the kernels' code.
+    F_eps from :func:`filtered_polygon`; G_eps by numpy's linear interpolation of the
+    pill profile: independent of the kernels' code.
     """
-    normals = edge_normal_angles(shape.n_corners, phi)
-    proj = np.stack([x * math.cos(a) + y * math.sin(a) for a in normals])
-    nearest = normals[np.argmax(proj, axis=0)]
-    h = np.max(proj, axis=0)
-    q = y * np.cos(nearest) - x * np.sin(nearest)
-    half = math.pi / shape.n_corners
-    crease_distance = (h * math.tan(half) - np.abs(q)) * math.cos(half)
-    near_crease = crease_distance <= CREASE_WIDTHS * tables.plate_reach
-    u = tables.edge_u0 + tables.edge_step * np.arange(tables.edge.size)
-    F = np.interp(shape.apothem - h, u, tables.edge, left=0.0, right=1.0)
-    inv = 1.0 / tables.plate_step
-    points = np.stack([(h - tables.plate_x0) * inv, (q - tables.plate_x0) * inv])
-    table = map_coordinates(tables.plate_values, points, order=3, mode="grid-constant", cval=0.0)
-    F = np.where(near_crease, table, F)
+    F = filtered_polygon(tables, shape.n_corners, shape.apothem, x, y, phi)
     d = np.arange(tables.pill.size) * tables.pill_step
     G = np.zeros(np.broadcast(x, y).shape)
     for px, py in pill_centres(shape, phi):

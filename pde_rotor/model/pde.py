@@ -34,6 +34,7 @@ from pde import FieldCollection, ScalarField, VectorField
 from pde.pdes.base import PDEBase
 
 from ..config import DISH_CENTRE, ConfigError, RotorConfig
+from .body_schemes import check_consistent_plates
 from .domain import Domain, make_domain
 from .filtering import filtered_indicators
 from .geometry import (
@@ -128,28 +129,24 @@ def refuse_bodies(config: RotorConfig) -> None:
 
 def check_bodies_numerics(config: RotorConfig) -> None:
     """Refuse, in one line, numerics the bodies' kernel does not implement (before any
-    compute): it integrates forward Euler on the ``paper`` scheme (point values of F
-    and G, the area form of the torque and force).
+    compute): it integrates forward Euler, on the ``paper`` scheme or on the
+    ``consistent`` scheme for the plates of
+    :data:`~pde_rotor.model.body_schemes.CONSISTENT_PLATES`.
 
     Raises:
-        ConfigError: ``bodies:`` with numerics.scheme other than paper or
-            numerics.integrator other than euler.
+        ConfigError: ``bodies:`` with numerics.integrator other than euler, or the
+            consistent scheme with a plate it does not implement.
     """
     if config.bodies is None:
         return
     numerics = config.numerics
-    if numerics.scheme != "paper":
-        msg = (
-            f"numerics.scheme = {numerics.scheme}: bodies run on the paper scheme only "
-            "(allowed: paper; the rotation-consistent scheme is the rotor's)"
-        )
-        raise ConfigError(msg)
     if numerics.integrator != "euler":
         msg = (
             f"numerics.integrator = {numerics.integrator}: bodies are integrated by forward "
             "Euler only (allowed: euler)"
         )
         raise ConfigError(msg)
+    check_consistent_plates(config)
 
 
 class RotorPDE(PDEBase):

@@ -11,10 +11,16 @@ The paper's model (Koyano et al., Chaos 2020) with its rotor replaced by the bod
       f_k = s k int F_k grad c dA - mu int F_k (u_k - v) dA,
       T_k = s k int F_k (r - X_k) x grad c dA - mu int F_k (r - X_k) x (u_k - v) dA,
 
-  s the sign of ``rotor.torque`` (:data:`pde_rotor.model.pde.TORQUE_SIGN`), the area
-  form of Eq. (torque) with central differences (the ``paper`` scheme); a ``fixed``
+  s the sign of ``rotor.torque`` (:data:`pde_rotor.model.pde.TORQUE_SIGN`); a ``fixed``
   body does not move, a ``fixed_axis`` body only turns, and a body in a stop of its own
   protocol is held (U = 0, omega = 0).
+
+The scheme (``numerics.scheme``): ``paper`` samples F_k and G_k at the cell centres and
+takes the tension force and torque in the area form above with central differences;
+``consistent`` filters F_k and G_k and takes them in contour form,
+-k oint c n ds and -k oint (r - X_k) x n c ds over the smoothed contour
+(:mod:`pde_rotor.model.body_schemes`); the friction integrals are area integrals of
+F_k in both.
 
 :class:`SurfacePDE` holds the equations written plainly with numpy
 (:meth:`SurfacePDE.evolution_rate`, :meth:`SurfacePDE.body_forces`); the compiled loop
@@ -35,6 +41,7 @@ from pde.pdes.base import PDEBase
 
 from ..config import RotorConfig
 from .bodies import Body, Pose, make_bodies, pill_source, plate_indicator
+from .body_schemes import BodyScheme, contour_integrals, filtered_body_fields
 from .domain import Domain, make_domain
 from .geometry import RotorShape
 from .pde import BOUNDARY, TORQUE_SIGN, check_bodies_numerics
@@ -115,7 +122,9 @@ class SurfacePDE(PDEBase):
     Attributes:
         config: the run configuration.
         bodies: the bodies (:func:`pde_rotor.model.bodies.make_bodies`).
-        scheme: the discretisation (``paper``: point values, area-form integrals).
+        scheme: the discretisation of the parameter record (``numerics``).
+        body_scheme: the bodies' discretisation (``paper``: point values, area-form
+            integrals; ``consistent``: filtered indicators, contour forms).
         domain: grid and loop ranges (the dish of ``grid``).
         F, G: plate and pill indicators on the grid, maintained by the solver (G as the
             kernels hold it: source densities relative to the run's s0 / (pi rho^2)).
@@ -141,6 +150,7 @@ class SurfacePDE(PDEBase):
         self.config = config
         self.bodies: tuple[Body, ...] = make_bodies(config)
         self.scheme = Scheme.from_config(config)
+        self.body_scheme = BodyScheme.from_config(config, self.bodies)
         # the dish's loop ranges; the bodies' supports are their own footprints
         self.domain: Domain = make_domain(config.grid, _NO_SUPPORT)
         shape = self.domain.grid.shape
@@ -169,8 +179,17 @@ class SurfacePDE(PDEBase):
         return np.meshgrid(self.domain.x_coords, self.domain.y_coords, indexing="ij")
 
     def body_fields(self, state: BodiesState) -> list[tuple[np.ndarray, np.ndarray]]:
-        """(F_k, source_k) of every body at its pose (numpy, point values)."""
+        """(F_k, source_k) of every body at its pose (numpy): point values (``paper``) or
+        the filtered fields (``consistent``)."""
         x, y = self.cell_coordinates()
+        scheme = self.body_scheme
+        if scheme.consistent:
+            return [
+                filtered_body_fields(
+                    x, y, body.shape, state.pose(k), scheme.filters[k], scheme.profile_step
+                )
+                for k, body in enumerate(self.bodies)
+            ]
         return [
             (
                 plate_indicator(x, y, body.shape, state.pose(k)),
@@ -220,7 +239,7 @@ class SurfacePDE(PDEBase):
         """Tension force and torque, friction force and torque of every body (numpy).
 
         Returns:
-            (K, 6): f_x, f_y, T (Eq. (torque) about X_k, area form), and the friction
+            (K, 6): f_x, f_y, T (Eq. (torque) about X_k, in the scheme's form), and the friction
             -mu int F_k (u_k - v) dA (x, y) and its torque, Eq. (eq_motion).
         """
         cfg = self.config
@@ -238,10 +257,25 @@ class SurfacePDE(PDEBase):
             slip_x = u - omega * ry - flow[0]
             slip_y = w + omega * rx - flow[1]
             mu = self.bodies[k].friction
+            tension = np.array(
+                [
+                    np.sum(f_k * grad[0]) * area,
+                    np.sum(f_k * grad[1]) * area,
+                    np.sum(f_k * (rx * grad[1] - ry * grad[0])) * area,
+                ]
+            )
+            if self.body_scheme.consistent:
+                tension = contour_integrals(
+                    c.data,
+                    (float(x[0, 0]), float(y[0, 0])),
+                    self.domain.dx,
+                    self.bodies[k].shape,
+                    state.bodies.pose(k),
+                    self.body_scheme,
+                    k,
+                )
             out[k] = (
-                sign_k * np.sum(f_k * grad[0]) * area,
-                sign_k * np.sum(f_k * grad[1]) * area,
-                sign_k * np.sum(f_k * (rx * grad[1] - ry * grad[0])) * area,
+                *(sign_k * tension),
                 -mu * np.sum(f_k * slip_x) * area,
                 -mu * np.sum(f_k * slip_y) * area,
                 -mu * np.sum(f_k * (rx * slip_y - ry * slip_x)) * area,

@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..kernels.bodies import STATUS_EDGE, STATUS_OVERLAP, advance_bodies
-from ..kernels.records import make_body_records, make_record
+from ..kernels.records import make_body_records, make_body_tables, make_record
 from ..model.surface import BodiesState, SurfacePDE
 from .rotor import SimulationDivergedError
 
@@ -45,6 +45,7 @@ class BodiesStepper:
     _normals: np.ndarray = field(init=False, repr=False)
     _centres: np.ndarray = field(init=False, repr=False)
     _rows: tuple[np.ndarray, np.ndarray] = field(init=False, repr=False)
+    _tables: tuple[np.ndarray, ...] = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         pde = self.pde
@@ -57,6 +58,7 @@ class BodiesStepper:
         self._centres = np.zeros((2, max(1, len(self._pills))))
         n = pde.domain.coords.size
         self._rows = (np.zeros(n, dtype=np.int64), np.zeros(n, dtype=np.int64))
+        self._tables = make_body_tables(pde.bodies, pde.body_scheme, self._bodies, n)
 
     def normals(self, n_steps: int) -> np.ndarray:
         """K standard normals per step (none without noise), in step order."""
@@ -95,6 +97,7 @@ class BodiesStepper:
             pde.box,
             self._normals,
             self._centres,
+            self._tables,
             self.normals(n_steps),
             status,
             step0,

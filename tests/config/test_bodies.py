@@ -6,6 +6,7 @@ from __future__ import annotations
 import hashlib
 import json
 import math
+import re
 from pathlib import Path
 from typing import Any
 
@@ -416,23 +417,31 @@ def test_bad_body_input_is_one_line_naming_its_key(case: str, tmp_path: Path) ->
 
 
 def test_bodies_numerics_the_kernel_lacks_are_refused_in_one_line(tmp_path: Path) -> None:
-    """Bodies run on the paper scheme with forward Euler: another scheme or integrator
-    stops before the first step with one line, and ``pde-rotor run`` exits 2 before it
-    creates the run directory; the rotor of geometry: refuses a moved dish."""
+    """Bodies run with forward Euler, and on the consistent scheme only with the plates it
+    implements: another integrator, or a strip on the consistent scheme, stops before the
+    first step with one line, and ``pde-rotor run`` exits 2 before it creates the run
+    directory; the rotor of geometry: refuses a moved dish."""
     path = ROOT / "configs" / "bodies" / "two_rotors.yaml"
     consistent = load_config(path, ["numerics.scheme=consistent"])
-    with pytest.raises(ConfigError, match=r"^numerics\.scheme = consistent: bodies run on"):
-        Simulation(consistent)
+    assert Simulation(consistent).pde.body_scheme.consistent  # polygons: implemented
     heun = load_config(path, ["numerics.integrator=heun"])
     with pytest.raises(ConfigError, match=r"^numerics\.integrator = heun: bodies are"):
         Simulation(heun)
     centred = validate_config({"grid": {"domain_centre": [0.5, 0.0]}})
     with pytest.raises(ConfigError, match=r"^grid\.domain_centre = \[0\.5, 0\.0\]"):
         Simulation(centred)
+    data = yaml.safe_load(path.read_text())
+    data["numerics"]["scheme"] = "consistent"
+    data["bodies"][1]["plate"] = {"shape": "strip", "length": 1.0, "width": 0.8}
+    strip = validate_config(data)
+    start = "bodies[1].plate.shape = strip: the consistent scheme of bodies implements"
+    with pytest.raises(ConfigError, match=rf"^{re.escape(start)}"):
+        Simulation(strip)
+    bad = tmp_path / "strip.yaml"
+    bad.write_text(yaml.safe_dump(data))
     out = tmp_path / "run"
-    args = ["run", str(path), "--out", str(out), "-q", "--set", "numerics.scheme=consistent"]
-    result = CliRunner().invoke(app, args)
+    result = CliRunner().invoke(app, ["run", str(bad), "--out", str(out), "-q"])
     assert result.exit_code == EXIT_BAD_INPUT
-    assert result.stderr.startswith("error: numerics.scheme = consistent: bodies run on")
+    assert result.stderr.startswith(f"error: {start}")
     assert result.stderr.count("\n") == 1
     assert not out.exists()
