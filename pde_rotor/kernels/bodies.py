@@ -10,7 +10,8 @@ generalised model (docs/bodies.md): every step it
 3. takes each moving body's integrals over its plate (:func:`body_integrals`, area
    form with central differences, the ``paper`` scheme);
 4. advances c and v by one Euler step of Eqs. (eqc), (eqv) (the core's ``plate_rates``
-   with the owner's plate velocity);
+   with the owner's plate velocity; behind a no-flux dish wall c on the cut cells of the
+   circle, :func:`pde_rotor.kernels.wall.euler_walled_fields`);
 5. advances the bodies, Eq. (eq_motion) about X_k (the body core's
    ``body_accelerations``), forward Euler, the noise kick of Eq. (noiseav) on omega.
 
@@ -29,6 +30,7 @@ import numpy as np
 
 from .body_core import CPU_BODIES, MOTION_FIXED, MOTION_FREE, PLATE_NONE, PLATE_POLYGON
 from .core import CPU, FASTMATH
+from .wall import euler_walled_fields
 
 _plate_rates = CPU.plate_rates
 _rate_coefficients = CPU.rate_coefficients
@@ -252,7 +254,7 @@ def euler_body_fields(cur, nxt, F, G, owner, domain, coef, dt, pose, flow):
 
 @nb.njit(cache=True, nogil=True)
 def advance_bodies(
-    data, spare, F, G, owner, domain, params, body, pills, pose, drawn, box, normals,
+    data, spare, F, G, owner, domain, wall, params, body, pills, pose, drawn, box, normals,
     centres, xi, status, step0, n_steps,
 ):  # fmt: skip
     """Advance c, v and every body by `n_steps` forward Euler steps (compiled).
@@ -262,6 +264,8 @@ def advance_bodies(
         spare: scratch of the same shape.
         F, G, owner: flat indicator arrays and the owner map (-1: no body), updated.
         domain: (coords, lo, hi, slo, shi); slo, shi are rewritten from the bodies' boxes.
+        wall: the cut cells of a no-flux dish wall (:meth:`pde_rotor.model.wall.CutCells.arrays`;
+            empty, :data:`pde_rotor.kernels.wall.NO_WALL`, for the absorbing wall).
         params: the run's parameter record (:func:`pde_rotor.kernels.records.make_record`).
         body: the bodies' records (``BODY``), `pills` their pills (P, 7): body-frame x,
             y, radius, relative source density, and polar form: distance from X and the
@@ -292,6 +296,8 @@ def advance_bodies(
     nxt = spare
     integrals = np.zeros(N_INTEGRALS)
     accel = np.zeros((n_bodies, 3))
+    no_flux = wall[0].size > 0
+    inflow = np.zeros(nn if no_flux else 0)
     if not p.flow:
         data[nn:] = 0.0
         spare[nn:] = 0.0
@@ -340,7 +346,10 @@ def advance_bodies(
                 if s % 2 == 1:
                     data[:] = spare
                 return s
-        euler_body_fields(cur, nxt, F, G, owner, domain, coef, dt, pose, p.flow)
+        if no_flux:
+            euler_walled_fields(cur, nxt, F, G, owner, domain, wall, coef, dt, pose, p.flow, inflow)
+        else:
+            euler_body_fields(cur, nxt, F, G, owner, domain, coef, dt, pose, p.flow)
         for k in range(n_bodies):
             b = body[k]
             if pose[k, 12] != 0.0:

@@ -39,6 +39,7 @@ from .domain import Domain, make_domain
 from .geometry import RotorShape
 from .pde import BOUNDARY, TORQUE_SIGN, check_bodies_numerics
 from .schemes import Scheme
+from .wall import redistributed_rate, wall_fluxes
 
 POSE_COLUMNS = (
     "x",
@@ -183,7 +184,9 @@ class SurfacePDE(PDEBase):
         """Right-hand sides of Eqs. (eqc) and (eqv) with every body at its pose (numpy).
 
         Each body moves with its velocities in ``state.bodies`` (0 while it is held).
-        Cells on and outside the circle of radius L keep c = v = 0.
+        Cells on and outside the circle of radius L keep v = 0, and c = 0 with the
+        absorbing wall; with the no-flux wall c lives on the cut cells
+        (:meth:`camphor_transport`).
         """
         cfg = self.config
         c, v = state
@@ -201,20 +204,41 @@ class SurfacePDE(PDEBase):
             )
         mask = self.domain.interior_mask
         c_rate = (
-            cfg.camphor.diffusion * c.laplace(BOUNDARY).data
+            self.camphor_transport(state)
             - cfg.camphor.evaporation * (1 - total_f) * c.data
             + source
         )
         v_rate = np.zeros_like(v.data)
         if cfg.flow.enabled:
-            c_rate -= (c * v).divergence(BOUNDARY).data
             v_rate = (
                 cfg.flow.drag * (plate_flow - total_f * v.data)
                 - cfg.flow.bulk_drag * v.data
                 + cfg.flow.viscosity * v.laplace(BOUNDARY).data
             )
         grid = self.domain.grid
-        return FieldCollection([ScalarField(grid, c_rate * mask), VectorField(grid, v_rate * mask)])
+        c_rate = c_rate * self.domain.camphor_mask
+        return FieldCollection([ScalarField(grid, c_rate), VectorField(grid, v_rate * mask)])
+
+    def camphor_transport(self, state: SurfaceFields) -> np.ndarray:
+        """D lap c - div(c v) of Eq. (eqc) (without flow: D lap c), at the dish's wall.
+
+        Absorbing wall: the 5-point Laplacian and central divergence with c = v = 0 on
+        and outside the circle. No-flux wall: the conservative cut-cell fluxes through
+        the open part of each face with flux redistribution on the cut cells
+        (:func:`~pde_rotor.model.wall.wall_fluxes`,
+        :func:`~pde_rotor.model.wall.redistributed_rate`).
+        """
+        cfg = self.config
+        c, v = state
+        cells = self.domain.cut_cells
+        if cells is not None:
+            flow = v.data if cfg.flow.enabled else None
+            inflow = wall_fluxes(c.data, flow, cells, cfg.camphor.diffusion)
+            return redistributed_rate(inflow, cells)
+        rate = cfg.camphor.diffusion * c.laplace(BOUNDARY).data
+        if cfg.flow.enabled:
+            rate -= (c * v).divergence(BOUNDARY).data
+        return rate
 
     def body_forces(self, state: SurfaceFields) -> np.ndarray:
         """Tension force and torque, friction force and torque of every body (numpy).

@@ -17,6 +17,7 @@ import numpy as np
 
 from ..kernels.bodies import STATUS_EDGE, STATUS_OVERLAP, advance_bodies
 from ..kernels.records import make_body_records, make_record
+from ..kernels.wall import NO_WALL
 from ..model.surface import BodiesState, SurfacePDE
 from .rotor import SimulationDivergedError
 
@@ -45,6 +46,7 @@ class BodiesStepper:
     _normals: np.ndarray = field(init=False, repr=False)
     _centres: np.ndarray = field(init=False, repr=False)
     _rows: tuple[np.ndarray, np.ndarray] = field(init=False, repr=False)
+    _wall: tuple[np.ndarray, ...] = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         pde = self.pde
@@ -57,6 +59,8 @@ class BodiesStepper:
         self._centres = np.zeros((2, max(1, len(self._pills))))
         n = pde.domain.coords.size
         self._rows = (np.zeros(n, dtype=np.int64), np.zeros(n, dtype=np.int64))
+        cells = pde.domain.cut_cells
+        self._wall = NO_WALL if cells is None else cells.arrays()
 
     def normals(self, n_steps: int) -> np.ndarray:
         """K standard normals per step (none without noise), in step order."""
@@ -87,6 +91,7 @@ class BodiesStepper:
             pde.G.reshape(-1),
             pde.owner.reshape(-1),
             (coords, lo, hi, *self._rows),
+            self._wall,
             self._record,
             self._bodies,
             self._pills,
