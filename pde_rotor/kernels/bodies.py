@@ -297,7 +297,7 @@ def advance_bodies(
     integrals = np.zeros(N_INTEGRALS)
     accel = np.zeros((n_bodies, 3))
     no_flux = wall[0].size > 0
-    inflow = np.zeros(nn if no_flux else 0)
+    rhs = np.zeros(nn if no_flux else 0)
     if not p.flow:
         data[nn:] = 0.0
         spare[nn:] = 0.0
@@ -347,7 +347,7 @@ def advance_bodies(
                     data[:] = spare
                 return s
         if no_flux:
-            euler_walled_fields(cur, nxt, F, G, owner, domain, wall, coef, dt, pose, p.flow, inflow)
+            euler_walled_fields(cur, nxt, F, G, owner, domain, wall, coef, dt, pose, p.flow, rhs)
         else:
             euler_body_fields(cur, nxt, F, G, owner, domain, coef, dt, pose, p.flow)
         for k in range(n_bodies):

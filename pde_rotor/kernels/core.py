@@ -378,26 +378,28 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         return rate_c, rate_x, rate_y
 
     @jit
-    def cut_cell_inflow(buf, o, sx, sy, nn, a_xp, a_xm, a_yp, a_ym, coef, flow):
+    def cut_cell_inflow(buf, o, sx, sy, nn, open_x, open_y, pass_x, pass_y, coef, flow):
         """Net inflow Q of camphor into the cell at offset `o` behind a no-flux dish wall.
 
         The transport terms of Eq. (eqc), D lap c - div(c v), as fluxes through the open
         part of each face (:mod:`pde_rotor.model.wall`):
 
-            Q = D / dx^2 sum_f alpha_f (c_N - c_P) - 1 / (2 dx) sum_f alpha_f n_f . (c v_P + c v_N),
+            Q = D / dx^2 sum_f beta_f (c_N - c_P) - 1 / (2 dx) sum_f alpha_f n_f . (c v_P + c v_N),
 
-        `a_xp`, `a_xm`, `a_yp`, `a_ym` the apertures alpha of the faces towards +x, -x, +y,
-        -y. A full cell (every alpha = 1) gets the 5-point Laplacian and the central
+        alpha_f the apertures `pass_x`, `pass_y` (flat arrays: the face towards +x of cell
+        o at [o], towards -x at [o - sx], likewise along y), beta_f those of `open_x`,
+        `open_y` (the apertures of the explicit faces: 0 where the diffusion is implicit).
+        A full cell (every alpha = beta = 1) gets the 5-point Laplacian and the central
         divergence of :func:`plate_rates`; a cut cell Q per dx^2 of its own area. Offsets
         and `coef` as for :func:`plate_rates`.
         """
         inv_dx2, inv_2dx, diff, _, _, _, _, _ = coef
         cc = buf[o]
         q = (
-            a_xp * (buf[o + sx] - cc)
-            + a_xm * (buf[o - sx] - cc)
-            + a_yp * (buf[o + sy] - cc)
-            + a_ym * (buf[o - sy] - cc)
+            open_x[o] * (buf[o + sx] - cc)
+            + open_x[o - sx] * (buf[o - sx] - cc)
+            + open_y[o] * (buf[o + sy] - cc)
+            + open_y[o - sy] * (buf[o - sy] - cc)
         ) * (diff * inv_dx2)
         if flow:
             ox = o + nn
@@ -405,10 +407,10 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
             cvx = cc * buf[ox]
             cvy = cc * buf[oy]
             out = (
-                a_xp * (cvx + buf[o + sx] * buf[ox + sx])
-                - a_xm * (cvx + buf[o - sx] * buf[ox - sx])
-                + a_yp * (cvy + buf[o + sy] * buf[oy + sy])
-                - a_ym * (cvy + buf[o - sy] * buf[oy - sy])
+                pass_x[o] * (cvx + buf[o + sx] * buf[ox + sx])
+                - pass_x[o - sx] * (cvx + buf[o - sx] * buf[ox - sx])
+                + pass_y[o] * (cvy + buf[o + sy] * buf[oy + sy])
+                - pass_y[o - sy] * (cvy + buf[o - sy] * buf[oy - sy])
             )
             q -= out * inv_2dx
         return q

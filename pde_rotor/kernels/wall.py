@@ -2,16 +2,17 @@
 
 :func:`euler_walled_fields` advances c on the cut cells of the circle and v on the cells
 whose centre lies inside it, as :func:`pde_rotor.kernels.bodies.euler_body_fields` does
-with the absorbing wall: the transport of c through the open part of each face
-(the core's ``cut_cell_inflow``), its local terms (``local_rate``), then flux
-redistribution on the cut cells, so that no rate has the small volume of a cut cell as a
-divisor and nothing is lost (:mod:`pde_rotor.model.wall`, which computes the same with
-numpy and the geometry these loops take). v and the plate terms are the core's
-``plate_rates``.
+with the absorbing wall: the transport of c through the open part of each face (the
+core's ``cut_cell_inflow``) and its local terms (``local_rate``) by forward Euler, then
+the diffusion through the faces of the stiff cut cells by backward Euler, cluster by
+cluster with the inverses computed once per run (:mod:`pde_rotor.model.wall`, which takes
+the same step with numpy and computes the geometry these loops read). v and the plate
+terms are the core's ``plate_rates``.
 
 The `wall` argument is :meth:`pde_rotor.model.wall.CutCells.arrays`: (volume, aperture_x,
-aperture_y, cut, near, lo, hi), the 2-D arrays flattened; :data:`NO_WALL` is the same
-tuple, empty, for the absorbing wall.
+aperture_y, explicit apertures along x and y, lo, hi, cluster members, cluster offsets,
+inverse blocks, block offsets); :data:`NO_WALL` is the same tuple, empty, for the
+absorbing wall.
 """
 
 from __future__ import annotations
@@ -27,21 +28,16 @@ _cut_cell_inflow = CPU.cut_cell_inflow
 _local_rate = CPU.local_rate
 _plate_velocity = CPU_BODIES.plate_velocity
 
-NO_WALL = (
-    np.zeros(0),
-    np.zeros(0),
-    np.zeros(0),
-    np.zeros(0, dtype=np.int64),
-    np.zeros(0),
-    np.zeros(0, dtype=np.int64),
-    np.zeros(0, dtype=np.int64),
-)
+_NONE = np.zeros(0)
+_NO_INDEX = np.zeros(0, dtype=np.int64)
+NO_WALL = (_NONE, _NONE, _NONE, _NONE, _NONE, _NO_INDEX, _NO_INDEX, _NO_INDEX, _NO_INDEX,
+           _NONE, _NO_INDEX)  # fmt: skip
 """The `wall` of the absorbing wall: no cut cells (the compiled step takes the same types)."""
 
 
 @nb.njit(cache=True, nogil=True, fastmath=FASTMATH)
-def euler_walled_fields(cur, nxt, F, G, owner, domain, wall, coef, dt, pose, flow, inflow):
-    """One Euler step of Eqs. (eqc), (eqv) with the no-flux wall (compiled).
+def euler_walled_fields(cur, nxt, F, G, owner, domain, wall, coef, dt, pose, flow, rhs):
+    """One step of Eqs. (eqc), (eqv) with the no-flux wall (compiled).
 
     Args:
         cur, nxt: flat states (c, v_x, v_y) now and after the step.
@@ -53,11 +49,10 @@ def euler_walled_fields(cur, nxt, F, G, owner, domain, wall, coef, dt, pose, flo
         dt: time step.
         pose: (K, 13) the bodies' poses (plate velocity of each cell's owner).
         flow: whether v evolves (else v = 0).
-        inflow: scratch of n^2 values, 0 outside the circle on entry; holds each cell's
-            inflow Q on return.
+        rhs: scratch of n^2 values: kappa c' of the explicit part, per cell.
     """
     coords, lo, hi, slo, shi = domain
-    volume, ax, ay, cut, near, wlo, whi = wall
+    volume, pass_x, pass_y, open_x, open_y, wlo, whi, members, offsets, blocks, starts = wall
     n = coords.size
     sx = np.uint64(n)
     sy = np.uint64(1)
@@ -80,40 +75,31 @@ def euler_walled_fields(cur, nxt, F, G, owner, domain, wall, coef, dt, pose, flo
                         pose[k, 3], pose[k, 4], pose[k, 5], x - pose[k, 0], coords[j] - pose[k, 1]
                     )
             cc = cur[o]
-            q = _cut_cell_inflow(
-                cur, o, sx, sy, nn, ax[o], ax[o - sx], ay[o], ay[o - sy], coef, flow
-            )
-            inflow[o] = q
-            nxt[o] = cc + dt * (q + _local_rate(cc, f, g, coef, plate))
+            kappa = volume[o]
+            q = _cut_cell_inflow(cur, o, sx, sy, nn, open_x, open_y, pass_x, pass_y, coef, flow)
+            r = kappa * cc + dt * (q + kappa * _local_rate(cc, f, g, coef, plate))
+            rhs[o] = r
+            nxt[o] = r / kappa
             if flow and lo[i] <= j < hi[i]:
                 _, rate_x, rate_y = _plate_rates(
                     cur, o, sx, sy, nn, f, g, px, py, coef, flow, plate
                 )
                 nxt[o + nn] = cur[o + nn] + dt * rate_x
                 nxt[o + nn + nn] = cur[o + nn + nn] + dt * rate_y
-    redistribute(nxt, inflow, volume, cut, near, n, dt)
+    implicit_clusters(nxt, rhs, members, offsets, blocks, starts)
 
 
 @nb.njit(cache=True, nogil=True, fastmath=FASTMATH)
-def redistribute(nxt, inflow, volume, cut, near, n, dt):
-    """Flux redistribution on the cut cells (:func:`pde_rotor.model.wall.redistributed_rate`).
-
-    Each cut cell P (volume fraction kappa) gains dt (1 - kappa) D_nc, D_nc = sum Q / sum
-    kappa over its 3 x 3 neighbourhood, and each neighbour with kappa > 0 gains
-    dt (1 - kappa) (Q_P - kappa D_nc) / (sum kappa over the neighbours).
-    """
-    for m in range(cut.size):
-        p = cut[m]
-        total = 0.0
-        for di in range(-n, n + 1, n):
-            for dj in range(-1, 2):
-                total += inflow[p + di + dj]
-        kappa = volume[p]
-        mean = total / near[p]
-        nxt[p] += dt * (1.0 - kappa) * mean
-        share = dt * (1.0 - kappa) * (inflow[p] - kappa * mean) / (near[p] - kappa)
-        for di in range(-n, n + 1, n):
-            for dj in range(-1, 2):
-                o = p + di + dj
-                if o != p and volume[o] > 0.0:
-                    nxt[o] += share
+def implicit_clusters(nxt, rhs, members, offsets, blocks, starts):
+    """c' = inverse (kappa c' of the explicit part) on each cluster of implicit faces
+    (:func:`pde_rotor.model.wall.implicit_blocks`)."""
+    for b in range(offsets.size - 1):
+        first = offsets[b]
+        size = offsets[b + 1] - first
+        block = starts[b]
+        for u in range(size):
+            total = 0.0
+            row = block + u * size
+            for w in range(size):
+                total += blocks[row + w] * rhs[members[first + w]]
+            nxt[members[first + u]] = total

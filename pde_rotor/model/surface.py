@@ -39,7 +39,7 @@ from .domain import Domain, make_domain
 from .geometry import RotorShape
 from .pde import BOUNDARY, TORQUE_SIGN, check_bodies_numerics
 from .schemes import Scheme
-from .wall import redistributed_rate, wall_fluxes
+from .wall import make_wall_step, wall_fluxes, wall_rate
 
 POSE_COLUMNS = (
     "x",
@@ -203,11 +203,7 @@ class SurfacePDE(PDEBase):
                 [u - omega * (y - poses[k, 1]), w + omega * (x - poses[k, 0])]
             )
         mask = self.domain.interior_mask
-        c_rate = (
-            self.camphor_transport(state)
-            - cfg.camphor.evaporation * (1 - total_f) * c.data
-            + source
-        )
+        c_rate = self.camphor_transport(state) + self._local_rate(c.data, total_f, source)
         v_rate = np.zeros_like(v.data)
         if cfg.flow.enabled:
             v_rate = (
@@ -224,21 +220,47 @@ class SurfacePDE(PDEBase):
 
         Absorbing wall: the 5-point Laplacian and central divergence with c = v = 0 on
         and outside the circle. No-flux wall: the conservative cut-cell fluxes through
-        the open part of each face with flux redistribution on the cut cells
-        (:func:`~pde_rotor.model.wall.wall_fluxes`,
-        :func:`~pde_rotor.model.wall.redistributed_rate`).
+        the open part of each face over each cell's volume fraction
+        (:func:`~pde_rotor.model.wall.wall_fluxes`); the step the compiled loop takes
+        with them is :meth:`camphor_step`.
         """
         cfg = self.config
         c, v = state
         cells = self.domain.cut_cells
         if cells is not None:
             flow = v.data if cfg.flow.enabled else None
-            inflow = wall_fluxes(c.data, flow, cells, cfg.camphor.diffusion)
-            return redistributed_rate(inflow, cells)
+            return wall_rate(wall_fluxes(c.data, flow, cells, cfg.camphor.diffusion), cells)
         rate = cfg.camphor.diffusion * c.laplace(BOUNDARY).data
         if cfg.flow.enabled:
             rate -= (c * v).divergence(BOUNDARY).data
         return rate
+
+    def _local_rate(self, c: np.ndarray, total_f: np.ndarray, source: np.ndarray) -> np.ndarray:
+        """-a (1 - F) c + the sources: the terms of Eq. (eqc) local to a cell."""
+        return -self.config.camphor.evaporation * (1 - total_f) * c + source
+
+    def camphor_step(self, state: SurfaceFields, dt: float) -> np.ndarray:
+        """c after one step of Eq. (eqc) behind the no-flux wall, the bodies at their poses:
+        the step of :func:`pde_rotor.model.wall.make_wall_step` (the implicit diffusion
+        through the faces of the stiff cut cells), which the compiled loop takes.
+
+        Raises:
+            ValueError: with the absorbing wall (its step is forward Euler of
+                :meth:`evolution_rate`).
+        """
+        cells = self.domain.cut_cells
+        if cells is None:
+            msg = "camphor_step is the step of the no-flux wall (grid.wall: no_flux)"
+            raise ValueError(msg)
+        c, v = state
+        total_f = np.zeros_like(c.data)
+        source = np.zeros_like(c.data)
+        for f_k, s_k in self.body_fields(state.bodies):
+            total_f += f_k
+            source += s_k
+        step = make_wall_step(cells, self.config.camphor.diffusion, dt)
+        flow = v.data if self.config.flow.enabled else None
+        return step(c.data, flow, self._local_rate(c.data, total_f, source))
 
     def body_forces(self, state: SurfaceFields) -> np.ndarray:
         """Tension force and torque, friction force and torque of every body (numpy).

@@ -18,15 +18,23 @@ circle itself. Each face's flux leaves one cell and enters the other, so the tot
 sum_P kappa_P c_P dx^2 changes only by the sublimation and the sources: with both off it
 is conserved to round-off.
 
-A cut cell can be arbitrarily small (kappa -> 0), and the conservative rate Q / kappa of an
-explicit step would then need dt -> 0. The rate of every cut cell is therefore the hybrid of
-flux redistribution (Chern & Colella 1987; Pember et al., J. Comput. Phys. 120, 278
-(1995)): the cell keeps kappa Q / kappa + (1 - kappa) D_nc, D_nc the volume-weighted mean
-of the conservative rates over its 3 x 3 neighbourhood (sum Q / sum kappa), and the camphor
-this leaves over, (1 - kappa) (Q - kappa D_nc), goes to its neighbours in proportion to
-their volume. Nothing is lost, no rate has a small divisor, and the stiffest rate stays that
-of a full cell (the 5-point Laplacian's dt limit holds; ``tests/model/test_wall.py``). On
-the circle the discrete Neumann eigenvalues converge at second order in dx.
+The cut-cell operator is symmetric (each face couples its two cells with the same weight
+D alpha / dx^2) and negative semi-definite in the volume-weighted inner product, and its
+discrete Neumann eigenvalues converge at second order in dx. But a cut cell can be
+arbitrarily small (kappa -> 0): where the open apertures of a cell exceed 4 kappa (a
+*stiff* cell, :attr:`CutCells.stiff`), a forward Euler step would need a smaller dt than
+the 5-point Laplacian's. The diffusion through every face of a stiff cell is therefore
+taken implicitly (backward Euler), the rest explicitly:
+
+    kappa (c' - c) = dt [Q_E(c) + kappa r(c)] + dt D / dx^2 sum_{implicit f} alpha_f (c'_N - c'_P),
+
+Q_E the explicit faces' diffusion and every face's advection, r the local terms of Eq.
+(eqc). The implicit faces join a stiff cell to its neighbours in small clusters along the
+rim (tens of cells), each solved exactly with its matrix inverted once per run
+(:func:`implicit_blocks`). Both parts are sums of face fluxes, so nothing is lost; the
+explicit part obeys the 5-point Laplacian's dt limit cell by cell (Gershgorin), the
+implicit part is unconditionally stable, and the symmetric splitting is then stable as a
+whole (:func:`make_wall_step`; the compiled step is :mod:`pde_rotor.kernels.wall`).
 
 The flow v keeps the solid wall's no-slip v = 0 on the cells whose centre lies outside
 the circle (:mod:`pde_rotor.model.domain`); advection therefore carries no camphor through
@@ -35,9 +43,12 @@ the wall, and none through a closed face.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from collections.abc import Callable
+from dataclasses import dataclass, replace
 
 import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components
 
 
 @dataclass(frozen=True)
@@ -48,9 +59,9 @@ class CutCells:
         volume: (n, n) volume fraction kappa of each cell (1 inside, 0 outside).
         aperture_x: (n, n) open fraction of the face between cells (i, j) and (i + 1, j).
         aperture_y: (n, n) open fraction of the face between cells (i, j) and (i, j + 1).
-        cut: flat indices (i n + j) of the cut cells, 0 < kappa < 1.
-        near: (n, n) sum of kappa over the 3 x 3 neighbourhood of each cell (itself
-            included).
+        stiff: (n, n) True on the cells whose open apertures add up to more than 4 kappa.
+        implicit_x, implicit_y: (n, n) True on the open faces (as ``aperture_x``,
+            ``aperture_y``) of a stiff cell, where the diffusion is implicit.
         lo, hi: per row i, the column range [lo, hi) of cells with kappa > 0.
         dx: grid spacing.
     """
@@ -58,23 +69,34 @@ class CutCells:
     volume: np.ndarray
     aperture_x: np.ndarray
     aperture_y: np.ndarray
-    cut: np.ndarray
-    near: np.ndarray
+    stiff: np.ndarray
+    implicit_x: np.ndarray
+    implicit_y: np.ndarray
     lo: np.ndarray
     hi: np.ndarray
     dx: float
 
-    def arrays(self) -> tuple[np.ndarray, ...]:
-        """(volume, aperture_x, aperture_y, cut, near, lo, hi), the 2-D arrays flattened:
-        the `wall` the compiled step takes (:mod:`pde_rotor.kernels.wall`)."""
+    def arrays(self, coefficient: float) -> tuple[np.ndarray, ...]:
+        """The `wall` the compiled step takes (:mod:`pde_rotor.kernels.wall`), 2-D arrays
+        flattened: (volume, aperture_x, aperture_y, explicit diffusion apertures along x
+        and y, lo, hi, cluster members, cluster offsets, inverse blocks, block offsets).
+
+        Args:
+            coefficient: dt D / dx^2 of the run (:func:`implicit_blocks`).
+        """
+        members, offsets, blocks, starts = implicit_blocks(self, coefficient)
         return (
             self.volume.reshape(-1),
             self.aperture_x.reshape(-1),
             self.aperture_y.reshape(-1),
-            self.cut,
-            self.near.reshape(-1),
+            np.where(self.implicit_x, 0.0, self.aperture_x).reshape(-1),
+            np.where(self.implicit_y, 0.0, self.aperture_y).reshape(-1),
             self.lo,
             self.hi,
+            members,
+            offsets,
+            blocks,
+            starts,
         )
 
     @property
@@ -149,12 +171,18 @@ def make_cut_cells(coords: np.ndarray, radius: float) -> CutCells:
     # the face at x = faces[i + 1] between cells i and i + 1, open where y^2 < L^2 - x^2
     half = np.sqrt(np.clip((radius - faces[1:]) * (radius + faces[1:]), 0.0, None))
     aperture_x = np.where(
-        held & np.roll(held, -1, axis=0), _open_length(y0, y1, half[:, None]) / dx, 0.0
+        held & np.roll(held, -1, axis=0),
+        np.minimum(_open_length(y0, y1, half[:, None]) / dx, 1.0),
+        0.0,
     )
     aperture_y = np.where(
-        held & np.roll(held, -1, axis=1), _open_length(x0, x1, half[None, :]) / dx, 0.0
+        held & np.roll(held, -1, axis=1),
+        np.minimum(_open_length(x0, x1, half[None, :]) / dx, 1.0),
+        0.0,
     )
-    near = sum(np.roll(volume, (di, dj), axis=(0, 1)) for di in (-1, 0, 1) for dj in (-1, 0, 1))
+    open_sum = aperture_x + np.roll(aperture_x, 1, axis=0) + aperture_y
+    open_sum = open_sum + np.roll(aperture_y, 1, axis=1)
+    stiff = held & (open_sum > 4.0 * volume * (1.0 + 1e-9))
     cols = np.arange(n)
     lo = np.where(held.any(axis=1), np.argmax(held, axis=1), 0).astype(np.int64)
     hi = np.where(held.any(axis=1), n - np.argmax(held[:, ::-1], axis=1), 0).astype(np.int64)
@@ -165,8 +193,9 @@ def make_cut_cells(coords: np.ndarray, radius: float) -> CutCells:
         volume=volume,
         aperture_x=aperture_x,
         aperture_y=aperture_y,
-        cut=np.flatnonzero(held & (volume < 1.0)).astype(np.int64),
-        near=np.where(held, near, 0.0),
+        stiff=stiff,
+        implicit_x=(aperture_x > 0) & (stiff | np.roll(stiff, -1, axis=0)),
+        implicit_y=(aperture_y > 0) & (stiff | np.roll(stiff, -1, axis=1)),
         lo=lo,
         hi=hi,
         dx=dx,
@@ -204,27 +233,111 @@ def wall_fluxes(
     return np.where(cells.mask, q, 0.0)
 
 
-def redistributed_rate(inflow: np.ndarray, cells: CutCells) -> np.ndarray:
-    """The rate of c of every cell from its inflow Q, with flux redistribution (the module).
+def _implicit_faces(cells: CutCells) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(cell P, cell N, alpha) of every implicit face, flat indices."""
+    n = cells.volume.shape[0]
+    i, j = np.nonzero(cells.implicit_x)
+    k, m = np.nonzero(cells.implicit_y)
+    near = np.concatenate([i * n + j, k * n + m])
+    far = np.concatenate([(i + 1) * n + j, k * n + m + 1])
+    alpha = np.concatenate([cells.aperture_x[i, j], cells.aperture_y[k, m]])
+    return near, far, alpha
 
-    A full cell gets Q; a cut cell P the hybrid Q_P + (1 - kappa_P) D_nc, D_nc = sum Q /
-    sum kappa over its 3 x 3 neighbourhood, and each of its neighbours N the share
-    (1 - kappa_P) (Q_P - kappa_P D_nc) / (sum kappa over the neighbours), so that
-    sum_P kappa_P rate_P = sum_P Q_P.
+
+def implicit_blocks(
+    cells: CutCells, coefficient: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The clusters of cells joined by implicit faces and the inverses of their matrices.
+
+    A cluster is a connected set of cells joined by implicit faces; its matrix is
+    kappa_P on the diagonal plus, per implicit face, coefficient alpha (on both cells'
+    diagonal, negated between them): backward Euler of the implicit diffusion,
+    coefficient = dt D / dx^2.
 
     Args:
-        inflow: (n, n) Q of :func:`wall_fluxes`.
         cells: the cut cells.
+        coefficient: dt D / dx^2.
 
     Returns:
-        (n, n) the rate of c by diffusion and advection, 0 outside the circle.
+        (members, offsets, blocks, starts): the flat indices of the cells of cluster b are
+        members[offsets[b]:offsets[b + 1]], and its inverse matrix, row-major, is
+        blocks[starts[b]:starts[b + 1]].
     """
-    kappa = cells.volume
-    cut = cells.mask & (kappa < 1.0)
-    offsets = [(di, dj) for di in (-1, 0, 1) for dj in (-1, 0, 1)]
-    mean = sum(np.roll(inflow, o, axis=(0, 1)) for o in offsets) / np.where(cut, cells.near, 1.0)
-    mean = np.where(cut, mean, 0.0)
-    left = (1.0 - kappa) * (inflow - kappa * mean)
-    spread = np.where(cut, left / np.where(cut, cells.near - kappa, 1.0), 0.0)
-    shares = sum(np.roll(spread, o, axis=(0, 1)) for o in offsets if o != (0, 0))
-    return np.where(cells.mask, inflow + (1.0 - kappa) * mean + shares, 0.0)
+    near, far, alpha = _implicit_faces(cells)
+    size = cells.volume.size
+    graph = sp.coo_matrix((np.ones(near.size), (near, far)), shape=(size, size))
+    _, label = connected_components(graph, directed=False)
+    nodes = np.unique(np.concatenate([near, far]))
+    kappa = cells.volume.reshape(-1)
+    members, offsets, blocks, starts = [], [0], [], [0]
+    for group in np.unique(label[nodes]):
+        cluster = nodes[label[nodes] == group]
+        local = np.full(size, -1)
+        local[cluster] = np.arange(cluster.size)
+        inside = local[near] >= 0
+        u, w, a = local[near[inside]], local[far[inside]], coefficient * alpha[inside]
+        matrix = np.diag(kappa[cluster])
+        np.add.at(matrix, (u, u), a)
+        np.add.at(matrix, (w, w), a)
+        np.add.at(matrix, (u, w), -a)
+        np.add.at(matrix, (w, u), -a)
+        members.append(cluster)
+        offsets.append(offsets[-1] + cluster.size)
+        blocks.append(np.linalg.inv(matrix).reshape(-1))
+        starts.append(starts[-1] + cluster.size**2)
+    return (
+        np.concatenate(members).astype(np.int64) if members else np.zeros(0, dtype=np.int64),
+        np.asarray(offsets, dtype=np.int64),
+        np.concatenate(blocks) if blocks else np.zeros(0),
+        np.asarray(starts, dtype=np.int64),
+    )
+
+
+def wall_rate(inflow: np.ndarray, cells: CutCells) -> np.ndarray:
+    """The semi-discrete rate of c by transport behind the wall: Q / kappa (0 outside)."""
+    return np.where(cells.mask, inflow / np.where(cells.mask, cells.volume, 1.0), 0.0)
+
+
+def make_wall_step(
+    cells: CutCells, diffusion: float, dt: float
+) -> Callable[[np.ndarray, np.ndarray | None, np.ndarray], np.ndarray]:
+    """One step of Eq. (eqc) behind the no-flux wall (see the module), as a function.
+
+    Args:
+        cells: the cut cells.
+        diffusion: D.
+        dt: time step.
+
+    Returns:
+        step(c, v, local): c (n, n) after the step from c, the flow v (2, n, n; None
+        without flow) and the local rate r of Eq. (eqc) (n, n; -a (1 - F) c + sources):
+        forward Euler of the explicit faces' diffusion, of the advection and of r,
+        backward Euler of the diffusion through the implicit faces.
+    """
+    explicit = replace(
+        cells,
+        aperture_x=np.where(cells.implicit_x, 0.0, cells.aperture_x),
+        aperture_y=np.where(cells.implicit_y, 0.0, cells.aperture_y),
+    )
+    members, offsets, blocks, starts = implicit_blocks(cells, dt * diffusion / cells.dx**2)
+    kappa = cells.volume.reshape(-1)
+    divisor = np.where(kappa > 0, kappa, 1.0)
+    clusters = [
+        (
+            members[offsets[b] : offsets[b + 1]],
+            blocks[starts[b] : starts[b + 1]].reshape(offsets[b + 1] - offsets[b], -1),
+        )
+        for b in range(offsets.size - 1)
+    ]
+
+    def step(c: np.ndarray, v: np.ndarray | None, local: np.ndarray) -> np.ndarray:
+        inflow = wall_fluxes(c, None, explicit, diffusion)
+        if v is not None:
+            inflow = inflow + wall_fluxes(c, v, cells, 0.0)
+        rhs = (cells.volume * c + dt * (inflow + cells.volume * local)).reshape(-1)
+        out = np.where(kappa > 0, rhs / divisor, 0.0)
+        for cluster, inverse in clusters:
+            out[cluster] = inverse @ rhs[cluster]
+        return out.reshape(c.shape)
+
+    return step

@@ -60,7 +60,8 @@ class BodiesStepper:
         n = pde.domain.coords.size
         self._rows = (np.zeros(n, dtype=np.int64), np.zeros(n, dtype=np.int64))
         cells = pde.domain.cut_cells
-        self._wall = NO_WALL if cells is None else cells.arrays()
+        coefficient = self.dt * pde.config.camphor.diffusion / pde.domain.dx**2
+        self._wall = NO_WALL if cells is None else cells.arrays(coefficient)
 
     def normals(self, n_steps: int) -> np.ndarray:
         """K standard normals per step (none without noise), in step order."""
