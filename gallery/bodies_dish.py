@@ -102,8 +102,8 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     orbit = kick_orbit(config, RELAX, (ORBIT_KICK, 0.0), times)
     r = np.hypot(orbit[:, 0], orbit[:, 1])
     angle = np.unwrap(np.arctan2(orbit[:, 1], orbit[:, 0]))
-    late = times >= times[-1] / 2
-    speed = np.polyfit(times[late], angle[late], 1)[0]
+    late = (times >= times[-1] / 2) & np.isfinite(r)
+    speed = np.polyfit(times[late], angle[late], 1)[0] if late.sum() > 1 else np.nan
     print(
         f"{NAME}: mu = {mu_orbit:.5f}: orbit radius over the second half "
         f"{np.nanmin(r[late]):.4f} to {np.nanmax(r[late]):.4f}, angular speed {speed:+.4f}"
