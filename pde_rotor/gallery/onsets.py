@@ -95,10 +95,17 @@ def disk_in_dish_config(dx: float, dt: float, radius: float, mass: float, mu: fl
 
 
 def kick_orbit(
-    config: RotorConfig, relax: float, velocity: tuple[float, float], times: np.ndarray
+    config: RotorConfig,
+    relax: float,
+    velocity: tuple[float, float],
+    times: np.ndarray,
+    offset: tuple[float, float] = (0.0, 0.0),
 ) -> np.ndarray:
     """The released disk's position (x, y) at `times` after the release, kicked to U =
-    `velocity` at the end of the hold (the run ends early if it reaches the wall).
+    `velocity` and moved by `offset` at the end of the hold (the run ends early if it
+    reaches the wall). A kick with the offset 0 or parallel to U keeps the disk on the
+    line through the centre along U (the mirror symmetry about that line); an offset
+    across U gives it angular momentum about the centre.
 
     Returns:
         (len(times), 2) positions; rows after an early end are nan.
@@ -106,6 +113,7 @@ def kick_orbit(
     sim = Simulation(config)
     sim.run(relax)
     sim.bodies.poses[0, 3:5] = velocity
+    sim.bodies.poses[0, 0:2] += offset
     out = np.full((len(times), 2), np.nan)
     for m, t in enumerate(times):
         try:
