@@ -51,13 +51,14 @@ THEIRS = (
 
 
 def theory_line(disk: CamphorDisk, wall: Wall, mus: np.ndarray) -> np.ndarray:
-    """The Hopf pair's lambda at `mus` (nan where it cannot be followed)."""
-    out = np.full(mus.size, np.nan, dtype=complex)
+    """The Hopf pair's lambda at `mus` (nan + nan i where it cannot be followed, next to
+    where the pair meets the real axis)."""
+    out = np.full(mus.size, complex(np.nan, np.nan))
     for m, mu in enumerate(mus):
         try:
             out[m] = dish_hopf_rate(disk, wall, mu, MASS)
         except ValueError:
-            break
+            continue
     return out
 
 
