@@ -241,10 +241,13 @@ class NoiseConfig(_Section):
 
 DISH_CENTRE = (0.0, 0.0)
 """Default centre of the dish: the origin, the paper rotor's axis."""
+DISH_WALL = "absorbing"
+"""Default wall of the dish: c = 0 on and outside the circle, the paper's."""
 
 
 class GridConfig(_Section):
-    """Cartesian grid covering the circular domain of radius L (Dirichlet c = v = 0 outside)."""
+    """Cartesian grid covering the circular domain of radius L (v = 0 outside; c = 0 outside
+    with the absorbing wall, dc/dr = 0 at L with the no-flux wall)."""
 
     domain_radius: PositiveFloat = Field(
         3.0, le=100.0, description="L: radius of the circular domain"
@@ -255,14 +258,25 @@ class GridConfig(_Section):
         DISH_CENTRE,
         description="[x, y]: centre of the circular domain (the dish) that holds the bodies",
     )
+    wall: Literal["absorbing", "no_flux"] = Field(
+        DISH_WALL,
+        description=(
+            "the dish wall for the camphor: absorbing (c = 0 on and outside the circle, the "
+            "paper's) or no_flux (dc/dr = 0 at r = L on cut cells of the circle, the wall of "
+            "Koyano, Suematsu & Kitahata 2019; bodies only); v = 0 at the wall either way"
+        ),
+    )
 
     @model_serializer(mode="wrap")
     def _without_default_centre(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
-        """Leave out a domain_centre at the origin: the dumps, hashes and physics of every
-        config written before the key existed stay as they were (stored sweep runs)."""
+        """Leave out a domain_centre at the origin and the absorbing wall: the dumps, hashes
+        and physics of every config written before these keys existed stay as they were
+        (stored sweep runs)."""
         data = handler(self)
         if self.domain_centre == DISH_CENTRE:
             data.pop("domain_centre", None)
+        if self.wall == DISH_WALL:
+            data.pop("wall", None)
         return data
 
 
@@ -465,6 +479,13 @@ class RotorConfig(_Section):
             raise FieldError("grid.dx", dx, msg)
         if self.bodies is None:
             self._rotor_in_dish()
+            if self.grid.wall != DISH_WALL:
+                msg = (
+                    "implemented for runs with a bodies: list only (allowed: absorbing for the "
+                    "single rotor of geometry:, or that rotor written as one fixed_axis body "
+                    "under bodies:)"
+                )
+                raise FieldError("grid.wall", self.grid.wall, msg)
         else:
             self._bodies_in_dish()
         limit = self.dt_limit()

@@ -17,19 +17,27 @@ from collections.abc import Callable
 import numpy as np
 
 from ..config import RotorConfig
+from ..solver.bodies import BodyContactError
 from ..solver.simulation import Simulation
 
 
 def _held_config(
-    dx: float, dt: float, radius: float, body: dict, t_end: float, relax: float, flow: bool
+    dx: float,
+    dt: float,
+    radius: float,
+    body: dict,
+    t_end: float,
+    relax: float,
+    flow: bool = False,
+    wall: str = "absorbing",
 ) -> RotorConfig:
     """`body` (at its own start, the dish centre by default) held for `relax` by a stop of
-    its own, paper scheme,
-    the run ending at `t_end`; the surface flow only if `flow`."""
+    its own, paper scheme, the run ending at `t_end`; the surface flow only if `flow`, the
+    dish's `wall` (``grid.wall``)."""
     held = {"t_ini": 0.0, "t_stop": relax, "t_release": t_end, "cycles": 1}
     return RotorConfig.model_validate(
         {
-            "grid": {"domain_radius": radius, "dx": dx, "dt": dt},
+            "grid": {"domain_radius": radius, "dx": dx, "dt": dt, "wall": wall},
             "numerics": {"scheme": "paper"},
             "flow": {"enabled": flow},
             "protocol": {"t_ini": t_end, "cycles": 0},
@@ -101,6 +109,74 @@ def kick_growth_rate(
     """lambda fitted to log |U| of the released disk over `fit` (times after the release),
     kicked to U = (u0, 0)."""
     return _growth_after_kick(config, relax, 3, u0, fit, lambda pose: math.hypot(*pose[3:5]))
+
+
+def disk_in_dish_config(dx: float, dt: float, radius: float, mass: float, mu: float,
+                        t_end: float, relax: float) -> RotorConfig:  # fmt: skip
+    """One free disk at the centre of a dish with a no-flux wall (``grid.wall: no_flux``,
+    Koyano, Suematsu & Kitahata 2019), held for `relax`, no flow, paper scheme."""
+    disk = {
+        "name": "disk",
+        "pills": [{"x": 0.0, "y": 0.0}],
+        "motion": {"kind": "free", "mass": mass, "friction": mu},
+    }
+    return _held_config(dx, dt, radius, disk, t_end, relax, wall="no_flux")
+
+
+def kick_orbit(
+    config: RotorConfig,
+    relax: float,
+    velocity: tuple[float, float],
+    times: np.ndarray,
+    offset: tuple[float, float] = (0.0, 0.0),
+) -> np.ndarray:
+    """The released disk's position (x, y) at `times` after the release, kicked to U =
+    `velocity` and moved by `offset` at the end of the hold (the run ends early if it
+    reaches the wall). A kick with the offset 0 or parallel to U keeps the disk on the
+    line through the centre along U (the mirror symmetry about that line); an offset
+    across U gives it angular momentum about the centre.
+
+    Returns:
+        (len(times), 2) positions; rows after an early end are nan.
+    """
+    sim = Simulation(config)
+    sim.run(relax)
+    sim.bodies.poses[0, 3:5] = velocity
+    sim.bodies.poses[0, 0:2] += offset
+    out = np.full((len(times), 2), np.nan)
+    for m, t in enumerate(times):
+        try:
+            sim.run(relax + round(t / config.grid.dt) * config.grid.dt)
+        except BodyContactError:
+            break
+        out[m] = sim.bodies.poses[0, :2]
+    return out
+
+
+def hopf_rate(times: np.ndarray, xy: np.ndarray) -> complex:
+    """lambda = sigma + i omega of a pair of modes e^{lambda t}, e^{conj(lambda) t} fitted to
+    the positions `xy` at the uniform `times` (Prony's method of order 2).
+
+    Both coordinates obey x_{k+2} = p x_{k+1} + q x_k with the same real p, q; their least
+    squares fit gives the roots r of r^2 = p r + q, r = e^{lambda (t_1 - t_0)}. A pair of
+    real rates (no oscillation) returns the larger as sigma, omega = 0.
+    """
+    rows = np.concatenate([np.stack([xy[1:-1, a], xy[:-2, a]], axis=1) for a in (0, 1)])
+    rhs = np.concatenate([xy[2:, a] for a in (0, 1)])
+    (p, q), *_ = np.linalg.lstsq(rows, rhs, rcond=None)
+    roots = np.roots([1.0, -p, -q]).astype(complex)
+    lam = np.log(roots) / (times[1] - times[0])
+    return complex(lam[np.argmax(lam.imag)] if np.any(lam.imag > 0) else lam[np.argmax(lam.real)])
+
+
+def kick_hopf_rate(
+    config: RotorConfig, relax: float, u0: float, fit: tuple[float, float], samples: int = 61
+) -> complex:
+    """lambda = sigma + i omega of the disk's orbit about the dish centre after a kick to
+    U = (u0, 0), fitted (:func:`hopf_rate`) to `samples` positions over `fit` after the
+    release."""
+    times = np.linspace(fit[0], fit[1], samples)
+    return hopf_rate(times, kick_orbit(config, relax, (u0, 0.0), times))
 
 
 def two_disk_rotor_config(

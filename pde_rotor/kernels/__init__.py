@@ -12,5 +12,6 @@
 * :mod:`.body_core`: the physics of bodies, written once: plate shapes, plate velocity,
   force and torque of a body (Eq. (eq_motion) about its position);
 * :mod:`.bodies`: the step of K bodies and the fields on the CPU (``paper`` scheme);
+* :mod:`.wall`: the step of the fields behind a no-flux dish wall (cut cells of the circle);
 * :mod:`.cuda`: the batched CUDA kernel of an ensemble (:mod:`pde_rotor.backends.gpu`).
 """

@@ -12,7 +12,8 @@ generalised model (docs/bodies.md): every step it
    F_k and G_k of :func:`draw_filtered` and the force and torque in contour form,
    :func:`body_contour`);
 4. advances c and v by one Euler step of Eqs. (eqc), (eqv) (the core's ``plate_rates``
-   with the owner's plate velocity);
+   with the owner's plate velocity; behind a no-flux dish wall c on the cut cells of the
+   circle, :func:`pde_rotor.kernels.wall.euler_walled_fields`);
 5. advances the bodies, Eq. (eq_motion) about X_k (the body core's
    ``body_accelerations``), forward Euler, the noise kick of Eq. (noiseav) on omega.
 
@@ -40,6 +41,7 @@ from .body_core import (
 )
 from .core import CPU, FASTMATH
 from .spline import ROW_GROUP, spline_columns, spline_rows
+from .wall import euler_walled_fields
 
 _plate_rates = CPU.plate_rates
 _rate_coefficients = CPU.rate_coefficients
@@ -421,7 +423,7 @@ def euler_body_fields(cur, nxt, F, G, owner, domain, coef, dt, pose, flow):
 
 @nb.njit(cache=True, nogil=True)
 def advance_bodies(
-    data, spare, F, G, owner, domain, params, body, pills, pose, drawn, box, normals,
+    data, spare, F, G, owner, domain, wall, params, body, pills, pose, drawn, box, normals,
     centres, tables, xi, status, step0, n_steps,
 ):  # fmt: skip
     """Advance c, v and every body by `n_steps` forward Euler steps (compiled).
@@ -431,6 +433,8 @@ def advance_bodies(
         spare: scratch of the same shape.
         F, G, owner: flat indicator arrays and the owner map (-1: no body), updated.
         domain: (coords, lo, hi, slo, shi); slo, shi are rewritten from the bodies' boxes.
+        wall: the cut cells of a no-flux dish wall (:meth:`pde_rotor.model.wall.CutCells.arrays`;
+            empty, :data:`pde_rotor.kernels.wall.NO_WALL`, for the absorbing wall).
         params: the run's parameter record (:func:`pde_rotor.kernels.records.make_record`).
         body: the bodies' records (``BODY``), `pills` their pills (P, 7): body-frame x,
             y, radius, relative source density, and polar form: distance from X and the
@@ -465,6 +469,8 @@ def advance_bodies(
     nxt = spare
     integrals = np.zeros(N_INTEGRALS)
     accel = np.zeros((n_bodies, 3))
+    no_flux = wall[0].size > 0
+    rhs = np.zeros(nn if no_flux else 0)
     if not p.flow:
         data[nn:] = 0.0
         spare[nn:] = 0.0
@@ -522,7 +528,10 @@ def advance_bodies(
                 if s % 2 == 1:
                     data[:] = spare
                 return s
-        euler_body_fields(cur, nxt, F, G, owner, domain, coef, dt, pose, p.flow)
+        if no_flux:
+            euler_walled_fields(cur, nxt, F, G, owner, domain, wall, coef, dt, pose, p.flow, rhs)
+        else:
+            euler_body_fields(cur, nxt, F, G, owner, domain, coef, dt, pose, p.flow)
         for k in range(n_bodies):
             b = body[k]
             if pose[k, 12] != 0.0:

@@ -103,6 +103,8 @@ class Core(NamedTuple):
     heun_rotor: Callable
     noise_kick: Callable
     plate_rates: Callable
+    cut_cell_inflow: Callable
+    local_rate: Callable
     cell_rates: Callable
     cell_integrals: Callable
     spline_causal: Callable
@@ -378,6 +380,54 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
             rate_x += eta * f * (px - ux)
             rate_y += eta * f * (py - uy)
         return rate_c, rate_x, rate_y
+
+    @jit
+    def cut_cell_inflow(buf, o, sx, sy, nn, open_x, open_y, pass_x, pass_y, coef, flow):
+        """Net inflow Q of camphor into the cell at offset `o` behind a no-flux dish wall.
+
+        The transport terms of Eq. (eqc), D lap c - div(c v), as fluxes through the open
+        part of each face (:mod:`pde_rotor.model.wall`):
+
+            Q = D / dx^2 sum_f beta_f (c_N - c_P) - 1 / (2 dx) sum_f alpha_f n_f . (c v_P + c v_N),
+
+        alpha_f the apertures `pass_x`, `pass_y` (flat arrays: the face towards +x of cell
+        o at [o], towards -x at [o - sx], likewise along y), beta_f those of `open_x`,
+        `open_y` (the apertures of the explicit faces: 0 where the diffusion is implicit).
+        A full cell (every alpha = beta = 1) gets the 5-point Laplacian and the central
+        divergence of :func:`plate_rates`; a cut cell Q per dx^2 of its own area. Offsets
+        and `coef` as for :func:`plate_rates`.
+        """
+        inv_dx2, inv_2dx, diff, _, _, _, _, _ = coef
+        cc = buf[o]
+        q = (
+            open_x[o] * (buf[o + sx] - cc)
+            + open_x[o - sx] * (buf[o - sx] - cc)
+            + open_y[o] * (buf[o + sy] - cc)
+            + open_y[o - sy] * (buf[o - sy] - cc)
+        ) * (diff * inv_dx2)
+        if flow:
+            ox = o + nn
+            oy = ox + nn
+            cvx = cc * buf[ox]
+            cvy = cc * buf[oy]
+            out = (
+                pass_x[o] * (cvx + buf[o + sx] * buf[ox + sx])
+                - pass_x[o - sx] * (cvx + buf[o - sx] * buf[ox - sx])
+                + pass_y[o] * (cvy + buf[o + sy] * buf[oy + sy])
+                - pass_y[o - sy] * (cvy + buf[o - sy] * buf[oy - sy])
+            )
+            q -= out * inv_2dx
+        return q
+
+    @jit
+    def local_rate(cc, f, g, coef, plate):
+        """The terms of Eq. (eqc) local to a cell, -a (1 - F) c + s0 / (pi rho^2) G, as
+        :func:`plate_rates` adds them (`plate` False: F = G = 0)."""
+        _, _, _, evap, src, _, _, _ = coef
+        rate = -evap * cc
+        if plate:
+            rate += evap * f * cc + src * g
+        return rate
 
     @jit
     def cell_rates(buf, o, sx, sy, nn, f, g, omega, x, y, coef, flow, plate):
@@ -685,6 +735,8 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         heun_rotor=heun_rotor,
         noise_kick=noise_kick,
         plate_rates=plate_rates,
+        cut_cell_inflow=cut_cell_inflow,
+        local_rate=local_rate,
         cell_rates=cell_rates,
         cell_integrals=cell_integrals,
         spline_causal=spline_causal,

@@ -8,6 +8,7 @@ loops so that every indicator is written once.
 * :mod:`.bodies`: the same for every body of a ``bodies:`` config (plates of any shape,
   pills anywhere, poses), with the plate velocity and the footprint;
 * :mod:`.domain`: the circular domain of radius L on a py-pde CartesianGrid;
+* :mod:`.wall`: the no-flux dish wall: cut cells of the circle, their fluxes and step;
 * :mod:`.protocol`: the stop-and-release schedule (section "Model");
 * :mod:`.schemes`, :mod:`.filtering`: the ``paper`` and ``consistent`` discretisations
   of F, G and the torque, and the prefilter tables of the latter;

@@ -11,6 +11,11 @@ The dish may sit anywhere (``grid.domain_centre``, for several bodies on one sur
 the grid covers the square about its centre, and the coordinates the kernels loop over
 (:attr:`Domain.coords`) are measured from that centre, the same along both axes; a body
 at X lies at X - centre in that frame (:meth:`Domain.dish_frame`).
+
+With ``grid.wall: no_flux`` the camphor field c lives on the cut cells of the circle
+instead (:mod:`pde_rotor.model.wall`, :attr:`Domain.cut_cells`): every cell the circle
+covers in part holds c, with its volume fraction and its faces' apertures, while v keeps
+v = 0 on the cells whose centre lies outside (the solid wall's no-slip).
 """
 
 from __future__ import annotations
@@ -23,6 +28,7 @@ from pde import CartesianGrid
 
 from ..config import GridConfig
 from .geometry import RotorShape, support_rows
+from .wall import CutCells, make_cut_cells
 
 
 @dataclass(frozen=True)
@@ -41,6 +47,8 @@ class Domain:
             :attr:`RotorShape.support_radius` of the rotor's axis (the origin), the only
             cells where F or G can be nonzero.
         centre: (x, y) of the dish centre (``grid.domain_centre``).
+        cut_cells: the cut cells of the circle that hold c behind a no-flux wall
+            (``grid.wall: no_flux``); None with the absorbing wall.
     """
 
     grid: CartesianGrid
@@ -52,6 +60,7 @@ class Domain:
     support_lo: np.ndarray
     support_hi: np.ndarray
     centre: tuple[float, float] = (0.0, 0.0)
+    cut_cells: CutCells | None = None
 
     def arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """(coords, interior_lo, interior_hi, support_lo, support_hi): the `domain` the
@@ -77,6 +86,20 @@ class Domain:
         """Boolean (n, n) array, True on cells with centre radius < L."""
         x, y = np.meshgrid(self.coords, self.coords, indexing="ij")
         return x**2 + y**2 < self.radius**2
+
+    @property
+    def camphor_mask(self) -> np.ndarray:
+        """Boolean (n, n) array, True on the cells that hold c: :attr:`interior_mask`
+        with the absorbing wall, every cell the circle covers in part with the no-flux
+        wall."""
+        return self.interior_mask if self.cut_cells is None else self.cut_cells.mask
+
+    def camphor_total(self, c: np.ndarray) -> float:
+        """The camphor in the dish: sum of c dA over the cells that hold it (each cut
+        cell's part inside the circle with the no-flux wall)."""
+        if self.cut_cells is None:
+            return float(np.sum(c * self.interior_mask)) * self.cell_area
+        return self.cut_cells.total(c)
 
     @property
     def support_mask(self) -> np.ndarray:
@@ -131,4 +154,5 @@ def make_domain(grid_config: GridConfig, shape: RotorShape) -> Domain:
         support_lo=support_lo,
         support_hi=support_hi,
         centre=(cx, cy),
+        cut_cells=make_cut_cells(coords, radius) if grid_config.wall == "no_flux" else None,
     )

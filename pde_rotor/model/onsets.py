@@ -17,8 +17,9 @@ part F of a body: f = -k int F grad c dA, T = -k int F (r - X) x grad c dA (the 
   exact drive :func:`free_disk_drive` of a disk translating at any speed (a radial
   Chebyshev solve of the Fourier modes in theta).
 * The same disk at the centre of a dish with a no-flux or absorbing wall: the force per
-  unit displacement :func:`free_disk_displacement_force` and the Hopf onset
-  :func:`dish_hopf_onset` (Koyano, Suematsu & Kitahata, PRE 99, 022211 (2019)).
+  unit displacement :func:`free_disk_displacement_force`, the Hopf onset
+  :func:`dish_hopf_onset` and the Hopf pair's growth rate :func:`dish_hopf_rate`
+  (Koyano, Suematsu & Kitahata, PRE 99, 022211 (2019)).
 * The two-disk rotor of Koyano et al., PRE 96, 012609 (2017): the torque response
   :func:`rotor_torque_coefficient` from a sparse finite-difference solve of the
   co-rotating linear problem with smoothed indicators, the critical friction
@@ -382,6 +383,56 @@ def dish_hopf_onset(disk: CamphorDisk, wall: Wall, mass: float = 0.0) -> tuple[f
     omega = brentq(real_part, omegas[first - 1], omegas[first], xtol=1e-15, rtol=1e-13)
     force = free_disk_displacement_force(disk, 1j * omega, wall)
     return float(np.imag(force)) / (omega * disk.area), float(omega)
+
+
+def dish_hopf_rate(disk: CamphorDisk, wall: Wall, friction: float, mass: float = 0.0) -> complex:
+    """The complex growth rate lambda = sigma + i omega of the Hopf pair at friction mu.
+
+    The root of m lambda^2 + mu A lambda - Phi(lambda) = 0 that passes through i omega_c
+    at mu_c (:func:`dish_hopf_onset`), followed from there in steps of mu_c / 400 by
+    Newton's method (Phi is analytic; its derivative by a central difference): sigma > 0
+    below mu_c, < 0 above, and omega the frequency of the linear orbit about the centre.
+    Away from mu_c the pair can meet on the real axis and split into two real rates;
+    the root followed is then one of them (omega = 0).
+
+    Args:
+        disk: the disk.
+        wall: the dish (no-flux).
+        friction: mu.
+        mass: m of the disk.
+
+    Returns:
+        lambda.
+
+    Raises:
+        ValueError: as :func:`dish_hopf_onset`, or if Newton's method does not converge.
+    """
+    mu_c, omega_c = dish_hopf_onset(disk, wall, mass)
+
+    def phi(lam: complex) -> complex:
+        return complex(free_disk_displacement_force(disk, lam, wall))
+
+    lam = 1j * omega_c
+    steps = max(1, math.ceil(abs(friction - mu_c) / mu_c * 400))
+    for mu in np.linspace(mu_c, friction, steps + 1)[1:]:
+        lam = _newton(lambda z, mu=mu: mass * z**2 + mu * disk.area * z - phi(z), lam)
+        if lam is None:
+            msg = f"no Hopf root found at friction {mu:g} (mu_c = {mu_c:g})"
+            raise ValueError(msg)
+    return complex(lam)
+
+
+def _newton(func: Callable[[complex], complex], start: complex) -> complex | None:
+    """A root of the analytic `func` by Newton's method from `start` (None: no convergence)."""
+    lam = start
+    for _ in range(60):
+        step = 1e-6 * max(abs(lam), 1.0)
+        slope = (func(lam + step) - func(lam - step)) / (2 * step)
+        delta = func(lam) / slope
+        lam -= delta
+        if abs(delta) < 1e-13 * max(abs(lam), 1.0):
+            return lam
+    return None
 
 
 def dish_drift_rate(disk: CamphorDisk, wall: Wall, friction: float, mass: float = 0.0) -> float:

@@ -46,6 +46,7 @@ from .domain import Domain, make_domain
 from .geometry import RotorShape
 from .pde import BOUNDARY, TORQUE_SIGN, check_bodies_numerics
 from .schemes import Scheme
+from .wall import make_wall_step, wall_fluxes, wall_rate
 
 POSE_COLUMNS = (
     "x",
@@ -202,7 +203,9 @@ class SurfacePDE(PDEBase):
         """Right-hand sides of Eqs. (eqc) and (eqv) with every body at its pose (numpy).
 
         Each body moves with its velocities in ``state.bodies`` (0 while it is held).
-        Cells on and outside the circle of radius L keep c = v = 0.
+        Cells on and outside the circle of radius L keep v = 0, and c = 0 with the
+        absorbing wall; with the no-flux wall c lives on the cut cells
+        (:meth:`camphor_transport`).
         """
         cfg = self.config
         c, v = state
@@ -219,21 +222,64 @@ class SurfacePDE(PDEBase):
                 [u - omega * (y - poses[k, 1]), w + omega * (x - poses[k, 0])]
             )
         mask = self.domain.interior_mask
-        c_rate = (
-            cfg.camphor.diffusion * c.laplace(BOUNDARY).data
-            - cfg.camphor.evaporation * (1 - total_f) * c.data
-            + source
-        )
+        c_rate = self.camphor_transport(state) + self._local_rate(c.data, total_f, source)
         v_rate = np.zeros_like(v.data)
         if cfg.flow.enabled:
-            c_rate -= (c * v).divergence(BOUNDARY).data
             v_rate = (
                 cfg.flow.drag * (plate_flow - total_f * v.data)
                 - cfg.flow.bulk_drag * v.data
                 + cfg.flow.viscosity * v.laplace(BOUNDARY).data
             )
         grid = self.domain.grid
-        return FieldCollection([ScalarField(grid, c_rate * mask), VectorField(grid, v_rate * mask)])
+        c_rate = c_rate * self.domain.camphor_mask
+        return FieldCollection([ScalarField(grid, c_rate), VectorField(grid, v_rate * mask)])
+
+    def camphor_transport(self, state: SurfaceFields) -> np.ndarray:
+        """D lap c - div(c v) of Eq. (eqc) (without flow: D lap c), at the dish's wall.
+
+        Absorbing wall: the 5-point Laplacian and central divergence with c = v = 0 on
+        and outside the circle. No-flux wall: the conservative cut-cell fluxes through
+        the open part of each face over each cell's volume fraction
+        (:func:`~pde_rotor.model.wall.wall_fluxes`); the step the compiled loop takes
+        with them is :meth:`camphor_step`.
+        """
+        cfg = self.config
+        c, v = state
+        cells = self.domain.cut_cells
+        if cells is not None:
+            flow = v.data if cfg.flow.enabled else None
+            return wall_rate(wall_fluxes(c.data, flow, cells, cfg.camphor.diffusion), cells)
+        rate = cfg.camphor.diffusion * c.laplace(BOUNDARY).data
+        if cfg.flow.enabled:
+            rate -= (c * v).divergence(BOUNDARY).data
+        return rate
+
+    def _local_rate(self, c: np.ndarray, total_f: np.ndarray, source: np.ndarray) -> np.ndarray:
+        """-a (1 - F) c + the sources: the terms of Eq. (eqc) local to a cell."""
+        return -self.config.camphor.evaporation * (1 - total_f) * c + source
+
+    def camphor_step(self, state: SurfaceFields, dt: float) -> np.ndarray:
+        """c after one step of Eq. (eqc) behind the no-flux wall, the bodies at their poses:
+        the step of :func:`pde_rotor.model.wall.make_wall_step` (the implicit diffusion
+        through the faces of the stiff cut cells), which the compiled loop takes.
+
+        Raises:
+            ValueError: with the absorbing wall (its step is forward Euler of
+                :meth:`evolution_rate`).
+        """
+        cells = self.domain.cut_cells
+        if cells is None:
+            msg = "camphor_step is the step of the no-flux wall (grid.wall: no_flux)"
+            raise ValueError(msg)
+        c, v = state
+        total_f = np.zeros_like(c.data)
+        source = np.zeros_like(c.data)
+        for f_k, s_k in self.body_fields(state.bodies):
+            total_f += f_k
+            source += s_k
+        step = make_wall_step(cells, self.config.camphor.diffusion, dt)
+        flow = v.data if self.config.flow.enabled else None
+        return step(c.data, flow, self._local_rate(c.data, total_f, source))
 
     def body_forces(self, state: SurfaceFields) -> np.ndarray:
         """Tension force and torque, friction force and torque of every body (numpy).

@@ -17,6 +17,7 @@ import numpy as np
 
 from ..kernels.bodies import STATUS_EDGE, STATUS_OVERLAP, advance_bodies
 from ..kernels.records import make_body_records, make_body_tables, make_record
+from ..kernels.wall import NO_WALL
 from ..model.surface import BodiesState, SurfacePDE
 from .rotor import SimulationDivergedError
 
@@ -46,6 +47,7 @@ class BodiesStepper:
     _centres: np.ndarray = field(init=False, repr=False)
     _rows: tuple[np.ndarray, np.ndarray] = field(init=False, repr=False)
     _tables: tuple[np.ndarray, ...] = field(init=False, repr=False)
+    _wall: tuple[np.ndarray, ...] = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         pde = self.pde
@@ -59,6 +61,9 @@ class BodiesStepper:
         n = pde.domain.coords.size
         self._rows = (np.zeros(n, dtype=np.int64), np.zeros(n, dtype=np.int64))
         self._tables = make_body_tables(pde.bodies, pde.body_scheme, self._bodies, n)
+        cells = pde.domain.cut_cells
+        coefficient = self.dt * pde.config.camphor.diffusion / pde.domain.dx**2
+        self._wall = NO_WALL if cells is None else cells.arrays(coefficient)
 
     def normals(self, n_steps: int) -> np.ndarray:
         """K standard normals per step (none without noise), in step order."""
@@ -89,6 +94,7 @@ class BodiesStepper:
             pde.G.reshape(-1),
             pde.owner.reshape(-1),
             (coords, lo, hi, *self._rows),
+            self._wall,
             self._record,
             self._bodies,
             self._pills,

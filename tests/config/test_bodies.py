@@ -64,13 +64,18 @@ def test_configs_without_bodies_keep_their_hash_and_physics(path: Path | None) -
 
 
 def test_bodies_and_dish_centre_enter_hash_and_physics() -> None:
-    """A config with bodies, a moved body or a moved dish is another run."""
+    """A config with bodies, a moved body, a moved dish or a no-flux wall is another run;
+    the absorbing wall written out is the default's run."""
     base = RotorConfig()
     one = validate_config({"bodies": [PILL]})
     moved = validate_config({"bodies": [{**PILL, "start": {"x": 0.5}}]})
     centred = validate_config({"grid": {"domain_centre": [0.25, 0.0]}})
-    hashes = {c.config_hash() for c in (base, one, moved, centred)}
-    assert len(hashes) == 4
+    walled = validate_config({"grid": {"wall": "no_flux"}, "bodies": [PILL]})
+    hashes = {c.config_hash() for c in (base, one, moved, centred, walled)}
+    assert len(hashes) == 5
+    assert walled.physics()["grid"]["wall"] == "no_flux"
+    absorbing = validate_config({"grid": {"wall": "absorbing"}, "bodies": [PILL]})
+    assert absorbing.config_hash() == one.config_hash()
     assert one.physics()["bodies"][0]["pills"] == [
         {"x": 0.0, "y": 0.0, "radius": 0.1, "supply": None}
     ]
@@ -380,6 +385,16 @@ BAD_BODIES: dict[str, tuple[dict[str, Any], str, str]] = {
         {"grid": {"domain_centre": [1, 2, 3]}},
         "grid.domain_centre = [1, 2, 3]",
         "[number, number]",
+    ),
+    "no-flux wall for the single rotor": (
+        {"grid": {"wall": "no_flux"}},
+        "grid.wall = 'no_flux'",
+        "bodies: list only",
+    ),
+    "unknown wall": (
+        {"grid": {"wall": "reflecting"}, "bodies": [PILL]},
+        "grid.wall = 'reflecting'",
+        "no_flux",
     ),
     "dish centre off the rotor": (
         {"grid": {"domain_centre": [2.5, 0.0]}},

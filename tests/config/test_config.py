@@ -324,17 +324,20 @@ def sections() -> dict[str, type[BaseModel]]:
 
 
 def test_dump_holds_every_key():
-    """Every key of every section, but the dish centre at its default and no bodies, which
-    the dump leaves out (configs from before they existed dump and hash as before:
-    tests/config/test_bodies.py); set, they are dumped."""
+    """Every key of every section, but the dish centre and wall at their defaults and no
+    bodies, which the dump leaves out (configs from before they existed dump and hash as
+    before: tests/config/test_bodies.py); set, they are dumped."""
     data = yaml.safe_load(dump_config(RotorConfig()))
     assert set(data) == set(sections())
     for section, model in sections().items():
-        expected = set(model.model_fields) - ({"domain_centre"} if section == "grid" else set())
-        assert set(data[section]) == expected
-    moved = validate_config({"grid": {"domain_centre": [0.5, 0.0]}, "bodies": [{"pills": [{}]}]})
+        later = {"domain_centre", "wall"} if section == "grid" else set()
+        assert set(data[section]) == set(model.model_fields) - later
+    moved = validate_config(
+        {"grid": {"domain_centre": [0.5, 0.0], "wall": "no_flux"}, "bodies": [{"pills": [{}]}]}
+    )
     data = yaml.safe_load(dump_config(moved))
     assert data["grid"]["domain_centre"] == [0.5, 0.0]
+    assert data["grid"]["wall"] == "no_flux"
     assert set(data["bodies"][0]) == set(BodyConfig.model_fields)
 
 

@@ -26,6 +26,7 @@ from pde_rotor.model.onsets import (
     Wall,
     dish_drift_rate,
     dish_hopf_onset,
+    dish_hopf_rate,
     free_disk_critical_friction,
     free_disk_cubic_coefficient,
     free_disk_displacement_force,
@@ -297,6 +298,21 @@ def test_hopf_onset_is_a_pair_of_imaginary_roots(disk):
         root = fsolve(parts, [0.0, omega], xtol=1e-13)
         assert abs(chi(complex(*root), factor * mu_c)) < 1e-12
         assert np.sign(root[0]) == sign
+
+
+def test_hopf_rate_follows_the_pair_from_the_onset(disk):
+    """dish_hopf_rate solves the characteristic equation, is i omega_c at mu_c, and its
+    real part falls through 0 there (the same root fsolve finds from i omega_c)."""
+    wall = Wall(3.0, "no_flux")
+    mass = 1e-4
+    mu_c, omega = dish_hopf_onset(disk, wall, mass)
+    assert dish_hopf_rate(disk, wall, mu_c, mass) == pytest.approx(1j * omega, abs=1e-10)
+    rates = [dish_hopf_rate(disk, wall, f * mu_c, mass) for f in (0.97, 0.99, 1.01, 1.03)]
+    assert rates[0].real > rates[1].real > 0 > rates[2].real > rates[3].real
+    for factor, lam in zip((0.97, 0.99, 1.01, 1.03), rates, strict=True):
+        force = free_disk_displacement_force(disk, lam, wall)
+        assert abs(mass * lam**2 + factor * mu_c * disk.area * lam - force) < 1e-12
+        assert lam.imag > 0
 
 
 def test_dish_onset_tends_to_the_free_disk(disk):

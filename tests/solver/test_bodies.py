@@ -279,6 +279,55 @@ def test_free_disk_starts_moving_below_the_critical_friction(
     assert simulated == pytest.approx(mu_c, rel=tolerance)
 
 
+@pytest.mark.parametrize(
+    ("dx", "dt", "radius", "factors", "fit", "tolerance"),
+    [
+        (0.05, 4e-4, 2.0, (0.92, 1.0), (3.0, 11.0), (0.08, 0.05)),
+        pytest.param(
+            1 / 30, 2e-4, 3.0, (0.96, 1.0), (4.0, 24.0), (0.02, 0.05), marks=pytest.mark.slow
+        ),
+    ],
+)
+def test_disk_in_a_no_flux_dish_leaves_rest_through_a_hopf_onset(
+    dx: float,
+    dt: float,
+    radius: float,
+    factors: tuple[float, float],
+    fit: tuple[float, float],
+    tolerance: tuple[float, float],
+) -> None:
+    """A free camphor disk at the centre of a no-flux dish (Koyano, Suematsu & Kitahata
+    2019; no flow): a kick grows below and decays above the linear stability's Hopf onset
+    (docs/bodies.md), turning about the centre, and the friction where the fitted growth
+    rate changes sign, and the frequency there, are mu_c and omega_c to within
+    `tolerance`: on the coarse grid in a dish of radius 2 (measured: -5.2 % and +0.5 %), on a
+    grid of dx = 1/30 in the dish of radius 3 (measured: -0.3 % and +2.2 %)."""
+    from pde_rotor.gallery.onsets import disk_in_dish_config, kick_hopf_rate
+    from pde_rotor.model.onsets import CamphorDisk, Wall, dish_hopf_onset
+
+    mass, relax = 1e-4, 6.0
+    mu_c, omega_c = dish_hopf_onset(
+        CamphorDisk.from_config(RotorConfig()), Wall(radius, "no_flux"), mass
+    )
+    mus = [factor * mu_c for factor in factors]
+    rates = [
+        kick_hopf_rate(
+            disk_in_dish_config(dx, dt, radius, mass, mu, relax + fit[1] + 0.1, relax),
+            relax,
+            1e-4,
+            fit,
+        )
+        for mu in mus
+    ]
+    assert rates[0].real > 0 > rates[1].real
+    assert rates[0].imag > 0 and rates[1].imag > 0
+    weight = rates[0].real / (rates[0].real - rates[1].real)
+    simulated = mus[0] + weight * (mus[1] - mus[0])
+    omega = rates[0].imag + weight * (rates[1].imag - rates[0].imag)
+    assert simulated == pytest.approx(mu_c, rel=tolerance[0])
+    assert omega == pytest.approx(omega_c, rel=tolerance[1])
+
+
 def test_two_disk_rotor_starts_turning_below_its_critical_friction() -> None:
     """The two-disk rotor of Koyano et al. (PRE 2017), l = 0.5, no flow: a kick to omega
     grows at 0.9 mu_c(l) and decays at 1.05 mu_c(l) of the linear stability

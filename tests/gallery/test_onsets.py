@@ -1,0 +1,26 @@
+"""The fit of the disk's orbit about the dish centre (pde_rotor.gallery.onsets.hopf_rate)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from pde_rotor.gallery.onsets import hopf_rate
+
+
+@pytest.mark.parametrize("lam", [0.05 + 0.3j, -0.2 + 0.8j])
+@pytest.mark.parametrize("ratio", [0.0, 0.4, 1.0])
+def test_hopf_rate_recovers_the_pair_from_any_mixture(lam: complex, ratio: float) -> None:
+    """X + iY = A e^{lambda t} + B e^{conj(lambda) t}: a rotation (B = 0), an ellipse, or
+    motion along a line (|B| = |A|) all give back lambda."""
+    t = np.linspace(4.0, 24.0, 61)
+    z = 1e-3 * np.exp(lam * t) + ratio * 1e-3 * np.exp(0.7j) * np.exp(np.conj(lam) * t)
+    fitted = hopf_rate(t, np.stack([z.real, z.imag], axis=1))
+    assert fitted == pytest.approx(lam, abs=1e-9)
+
+
+def test_hopf_rate_of_two_real_rates_is_the_larger() -> None:
+    t = np.linspace(0.0, 5.0, 41)
+    x = np.exp(0.3 * t) + 0.5 * np.exp(-0.4 * t)
+    fitted = hopf_rate(t, np.stack([x, 0.2 * x], axis=1))
+    assert fitted == pytest.approx(0.3, abs=1e-9)
