@@ -8,7 +8,7 @@ stepping thread (on a shared machine the wall-clock time also counts other proce
 printed: ms/step, its ratio to one body's step and the goal 1 + 0.3 K for K bodies.
 With `--profile`, also the phases of the step (:func:`pde_rotor.kernels.bodies.advance_bodies`)
 timed one by one on the four-body run, in ms per body: clear and redraw of F, G and the
-owner map, the filtered redraw (``consistent``), the spline window and the contour nodes
+owner map (filtered for ``consistent``), the spline window and the contour nodes
 (``consistent``), the area integrals, and the field update's cost per body over the
 body-free update.
 
@@ -86,8 +86,9 @@ def profile(sim: Simulation, steps: int) -> dict[str, float]:
     count = len(body)
     x0, inv_dx = coords[0], 1.0 / (coords[1] - coords[0])
     out = np.zeros(kb.N_INTEGRALS)
+    scratch, taps = np.empty((kb.SCRATCH_ROWS, n)), np.empty(n, np.uint64)
     times = dict.fromkeys(
-        ["draw (clear, F, G, owner)", "filtered draw", "area integrals", "spline window",
+        ["draw (clear, F, G, owner)", "area integrals", "spline window",
          "contour nodes", "field update over the support"], 0.0
     )  # fmt: skip
 
@@ -101,10 +102,7 @@ def profile(sim: Simulation, steps: int) -> dict[str, float]:
         pose[:, 2] += pose[:, 5] * sim.config.grid.dt
         for k in range(count):
             timed("draw (clear, F, G, owner)", kb.draw_body, F, G, owner, domain, k, body,
-                  pills, pose, normals, centres, box, 1.0 / p.smoothing)  # fmt: skip
-            if p.filtered:
-                timed("filtered draw", kb.draw_filtered, F, G, owner, coords, k, body, pills,
-                      pose, normals, centres, box, tables, p)  # fmt: skip
+                  pills, pose, normals, centres, box, tables, p, scratch, taps)  # fmt: skip
         kb.support_rows(box, n, domain[3], domain[4])
         for k in range(count):
             timed("area integrals", kb.body_integrals, cur, F, owner, coords, k, pose[k, 0],
