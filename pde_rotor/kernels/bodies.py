@@ -267,8 +267,8 @@ def body_integrals(cur, F, owner, coords, k, x_k, y_k, box, flow, out):
     nn = n * n
     dx = coords[1] - coords[0]
     inv_2dx = 0.5 / dx
-    for m in range(N_INTEGRALS):
-        out[m] = 0.0
+    # the sums in locals, which stay in registers (out might alias cur or F)
+    s0 = s1 = s2 = s3 = s4 = s5 = s6 = s7 = s8 = s9 = 0.0
     for i in range(box[k, 0], box[k, 1]):
         rx = coords[i] - x_k
         for j in range(box[k, 2], box[k, 3]):
@@ -281,22 +281,22 @@ def body_integrals(cur, F, owner, coords, k, x_k, y_k, box, flow, out):
             ry = coords[j] - y_k
             dcdx = (cur[o + n] - cur[o - n]) * inv_2dx
             dcdy = (cur[o + 1] - cur[o - 1]) * inv_2dx
-            out[0] += f * dcdx
-            out[1] += f * dcdy
-            out[2] += f * (rx * dcdy - ry * dcdx)
-            out[3] += f
-            out[4] += f * rx
-            out[5] += f * ry
-            out[6] += f * (rx * rx + ry * ry)
+            s0 += f * dcdx
+            s1 += f * dcdy
+            s2 += f * (rx * dcdy - ry * dcdx)
+            s3 += f
+            s4 += f * rx
+            s5 += f * ry
+            s6 += f * (rx * rx + ry * ry)
             if flow:
                 vx = cur[o + nn]
                 vy = cur[o + nn + nn]
-                out[7] += f * (rx * vy - ry * vx)
-                out[8] += f * vx
-                out[9] += f * vy
+                s7 += f * (rx * vy - ry * vx)
+                s8 += f * vx
+                s9 += f * vy
     area = dx * dx
-    for m in range(N_INTEGRALS):
-        out[m] *= area
+    out[0], out[1], out[2], out[3], out[4] = s0 * area, s1 * area, s2 * area, s3 * area, s4 * area
+    out[5], out[6], out[7], out[8], out[9] = s5 * area, s6 * area, s7 * area, s8 * area, s9 * area
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
