@@ -195,7 +195,8 @@ def draw_body(F, G, owner, domain, k, body, pills, pose, normals, centres, box, 
             filtered_plate_row(
                 row_f, rx, row_y, tab, b.n_corners, b.size_a, b.tan_half, b.crease, edge,
                 b.edge_u0, p.edge_inv_step, plate, b.table_n, b.table_x0, p.table_inv_step,
-                scratch[1:, ja:jb], taps[ja:jb],
+                scratch[1, ja:jb], scratch[2, ja:jb], scratch[3, ja:jb], scratch[4, ja:jb],
+                taps[ja:jb],
             )  # fmt: skip
         elif filtered and b.plate == PLATE_DISK:
             for j in range(row_y.size):

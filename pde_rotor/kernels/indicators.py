@@ -70,7 +70,7 @@ def plate_row(row_f, x, row_y, tab, n_corners, apothem, inv_delta, row_h):
 @nb.njit(inline="always", **_ROW)
 def filtered_plate_row(
     row_f, x, row_y, tab, n_corners, apothem, tan_half, crease, edge, e_u0, e_inv, plate, t_n,
-    t_x0, t_inv, scratch, row_taps,
+    t_x0, t_inv, row_h, row_q, row_tx, row_ty, row_taps,
 ):  # fmt: skip
     """F_eps of the scheme ``consistent`` on a row of cells (compiled): row_f[j] at the
     point (x, row_y[j]) of the plate's frame, as for :func:`plate_row`.
@@ -84,11 +84,10 @@ def filtered_plate_row(
     one cell at a time, the table's spline on those cells (``corner_sum``: 16 loads from
     computed places, which LLVM does not vectorise). Split so, the corner cells cost 10 %
     less than with the table looked up whole (``filtered_corner``) in the loop over the
-    cells. `scratch` (>= 4 rows as long as the row) and `row_taps` (as long, unsigned)
-    are scratch.
+    cells. `row_h`, `row_q`, `row_tx`, `row_ty` and `row_taps` (unsigned), as long as the
+    row, are scratch (four rows of one array, each passed alone: as a slice of a 2-D slice
+    its stride would be unknown, and LLVM would not vectorise the loops).
     """
-    row_h = scratch[0]
-    row_q = scratch[1]
     ex, ey = tab[0, 0], tab[1, 0]
     for j in range(row_y.size):
         row_h[j] = _projection(x, row_y[j], ex, ey)
@@ -103,8 +102,6 @@ def filtered_plate_row(
             row_h[j] = proj if nearer else row_h[j]
     for j in range(row_y.size):
         row_f[j] = _filtered_edge(row_h[j], apothem, edge, e_u0, e_inv)
-    row_tx = scratch[2]
-    row_ty = scratch[3]
     skip = np.uint64(-1)
     for j in range(row_y.size):
         near = _near_corner(row_h[j], row_q[j], tan_half, crease)
@@ -192,8 +189,8 @@ def indicator_row(F, G, i, coords, j0, j1, p, tab, tables, scratch, taps):
     )
     filtered_plate_row(
         row_f, x, row_y, tab, n_corners, p.apothem, p.tan_half, p.crease, edge_tab, p.edge_u0,
-        p.edge_inv_step, plate_tab, p.table_n, p.table_x0, p.table_inv_step, scratch[:, j0:j1],
-        taps[j0:j1],
+        p.edge_inv_step, plate_tab, p.table_n, p.table_x0, p.table_inv_step, scratch[0, j0:j1],
+        scratch[1, j0:j1], scratch[2, j0:j1], scratch[3, j0:j1], taps[j0:j1],
     )  # fmt: skip
 
 
