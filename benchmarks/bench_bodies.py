@@ -7,7 +7,7 @@ each `--scheme` (both by default). Each count is timed alternately with the othe
 stepping thread (on a shared machine the wall-clock time also counts other processes);
 printed: ms/step, its ratio to one body's step and the goal 1 + 0.3 K for K bodies.
 With `--profile`, also the phases of the step (:func:`pde_rotor.kernels.bodies.advance_bodies`)
-timed one by one on the four-body run, in ms per body: clear and redraw of F, G and the
+timed one by one on the four-body run, in ms per body: the redraw of F, G and the
 owner map (filtered for ``consistent``), the spline window and the contour nodes
 (``consistent``), the area integrals, and the field update's cost per body over the
 body-free update.
@@ -88,7 +88,7 @@ def profile(sim: Simulation, steps: int) -> dict[str, float]:
     out = np.zeros(kb.N_INTEGRALS)
     scratch, taps = np.empty((kb.SCRATCH_ROWS, n)), np.empty(n, np.uint64)
     times = dict.fromkeys(
-        ["draw (clear, F, G, owner)", "area integrals", "spline window",
+        ["draw (F, G, owner)", "area integrals", "spline window",
          "contour nodes", "field update over the support"], 0.0
     )  # fmt: skip
 
@@ -101,8 +101,8 @@ def profile(sim: Simulation, steps: int) -> dict[str, float]:
     for _ in range(steps):
         pose[:, 2] += pose[:, 5] * sim.config.grid.dt
         for k in range(count):
-            timed("draw (clear, F, G, owner)", kb.draw_body, F, G, owner, domain, k, body,
-                  pills, pose, normals, centres, box, tables, p, scratch, taps)  # fmt: skip
+            timed("draw (F, G, owner)", kb.draw_body, F, G, owner, domain, k, body,
+                  pills, pose, normals, centres, box, tables, p, scratch, taps, False)  # fmt: skip
         kb.support_rows(box, n, domain[3], domain[4])
         for k in range(count):
             timed("area integrals", kb.body_integrals, cur, F, owner, coords, k, pose[k, 0],

@@ -123,7 +123,7 @@ def _footprint_row(coords, j0, j1, rx, y_k, reach):
 
 @nb.njit(cache=True, nogil=True, fastmath=FASTMATH, error_model="numpy")
 def draw_body(F, G, owner, domain, k, body, pills, pose, normals, centres, box, tables, p, scratch,
-              taps):  # fmt: skip
+              taps, moved):  # fmt: skip
     """Draw body k at its pose: F_k, G_k and owner k on the cells of its footprint.
 
     The footprint is the disk of radius ``body[k].reach`` about X_k, beyond which F_k and
@@ -140,7 +140,8 @@ def draw_body(F, G, owner, domain, k, body, pills, pose, normals, centres, box, 
     densities relative to the record's ``source`` (1 for the paper's pills, so that G is
     the paper's indicator sum). `tables` as for :func:`advance_bodies` (read where the
     record `p`'s ``filtered`` is set); `scratch` (:data:`SCRATCH_ROWS`, n) and `taps`
-    (n, unsigned) are scratch.
+    (n, unsigned) are scratch. The cells of the last drawn footprint are cleared first
+    where X_k `moved` since (else the new footprint is the same cells, all redrawn).
 
     Returns:
         0, or ``STATUS_EDGE`` (a footprint cell outside the dish), or ``-1 - j`` when
@@ -149,7 +150,8 @@ def draw_body(F, G, owner, domain, k, body, pills, pose, normals, centres, box, 
     coords, lo, hi, _, _ = domain
     _, _, profiles, pill_tab, corner, edges, _, _, _ = tables
     n = coords.size
-    _clear_body(F, G, owner, n, k, box)
+    if moved:
+        _clear_body(F, G, owner, n, k, box)
     _orient(k, body, pills, pose, normals, centres)
     b = body[k]
     filtered = p.filtered
@@ -177,9 +179,14 @@ def draw_body(F, G, owner, domain, k, body, pills, pose, normals, centres, box, 
         if ja < lo[i]:
             return STATUS_EDGE
         base = i * n
-        for o in range(base + ja, base + min(jb, hi[i])):
-            if owner[o] >= 0 and owner[o] != k:
-                return -1 - owner[o]
+        row_o = owner[base + ja : base + max(ja, min(jb, hi[i]))]
+        other = False
+        for j in range(row_o.size):  # branch-free, several cells at a time
+            other |= (row_o[j] >= 0) & (row_o[j] != k)
+        if other:
+            for j in range(row_o.size):
+                if row_o[j] >= 0 and row_o[j] != k:
+                    return -1 - row_o[j]
         if jb > hi[i]:
             return STATUS_EDGE
         row_o = owner[base + ja : base + jb]
@@ -508,7 +515,7 @@ def advance_bodies(
             if pose[k, 0] != drawn[k, 0] or pose[k, 1] != drawn[k, 1] or pose[k, 2] != drawn[k, 2]:
                 code = draw_body(
                     F, G, owner, domain, k, body, pills, pose, normals, centres, box, tables, p,
-                    scratch, taps,
+                    scratch, taps, pose[k, 0] != drawn[k, 0] or pose[k, 1] != drawn[k, 1],
                 )  # fmt: skip
                 if code != 0:
                     status[0] = STATUS_EDGE if code > 0 else STATUS_OVERLAP
