@@ -272,7 +272,8 @@ def body_integrals(cur, F, owner, coords, k, x_k, y_k, box, flow, out):
     integrals are those of :func:`pde_rotor.kernels.cpu.rotor_integrals`).
     """
     n = coords.size
-    nn = n * n
+    sx = np.uint64(n)  # unsigned offsets: no test for negative indices at each load
+    nn = np.uint64(n * n)
     dx = coords[1] - coords[0]
     inv_2dx = 0.5 / dx
     # the sums in locals, which stay in registers (out might alias cur or F)
@@ -280,15 +281,15 @@ def body_integrals(cur, F, owner, coords, k, x_k, y_k, box, flow, out):
     for i in range(box[k, 0], box[k, 1]):
         rx = coords[i] - x_k
         for j in range(box[k, 2], box[k, 3]):
-            o = i * n + j
+            o = np.uint64(i * n + j)
             if owner[o] != k:
                 continue
             f = F[o]
             if f == 0.0:
                 continue
             ry = coords[j] - y_k
-            dcdx = (cur[o + n] - cur[o - n]) * inv_2dx
-            dcdy = (cur[o + 1] - cur[o - 1]) * inv_2dx
+            dcdx = (cur[o + sx] - cur[o - sx]) * inv_2dx
+            dcdy = (cur[o + np.uint64(1)] - cur[o - np.uint64(1)]) * inv_2dx
             s0 += f * dcdx
             s1 += f * dcdy
             s2 += f * (rx * dcdy - ry * dcdx)
