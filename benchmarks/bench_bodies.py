@@ -6,17 +6,27 @@ each `--scheme` (both by default). Each count is timed alternately with the othe
 (`--repeats` rounds, minimum kept) over `--steps` steps after a warm-up, in CPU time of the
 stepping thread (on a shared machine the wall-clock time also counts other processes);
 printed: ms/step, its ratio to one body's step and the goal 1 + 0.3 K for K bodies.
+With `--profile`, also the phases of the step (:func:`pde_rotor.kernels.bodies.advance_bodies`)
+timed one by one on the four-body run, in ms per body: the redraw of F, G and the
+owner map (filtered for ``consistent``), the spline window and the contour nodes
+(``consistent``), the area integrals, and the field update's cost per body over the
+body-free update.
 
 Run:  NUMBA_NUM_THREADS=1 python benchmarks/bench_bodies.py [--steps 400] [--repeats 3]
-      [--scheme paper consistent]
+      [--scheme paper consistent] [--profile]
 """
 
 from __future__ import annotations
 
 import argparse
 import time
+from collections.abc import Callable
+
+import numpy as np
 
 from pde_rotor import RotorConfig
+from pde_rotor.kernels import bodies as kb
+from pde_rotor.solver.bodies import make_bodies_stepper
 from pde_rotor.solver.simulation import Simulation
 
 PLACES = [(-1.5, -1.5), (1.5, 1.5), (-1.5, 1.5), (1.5, -1.5)]
@@ -50,11 +60,83 @@ def ms_per_step(sim: Simulation, steps: int) -> float:
     return 1e3 * (time.thread_time() - start) / steps
 
 
+def profile(sim: Simulation, steps: int) -> dict[str, float]:
+    """ms per body of each phase of the bodies' step of `sim` (see the module docstring).
+
+    The step's kernels called one by one from here, in the step's order, on the run's
+    arrays, the bodies turning by a step's angle each step, each call timed in the thread's
+    CPU time (so that each phase meets the caches as the step leaves them). The spline
+    window is timed once more on its own (the contour's time is the rest of
+    ``body_contour``'s), and the field update once more without bodies (the base).
+    """
+    pde = sim.pde
+    step = make_bodies_stepper(pde, sim.config.grid.dt, np.random.default_rng(0))
+    record, body, pills, tables = step._record, step._bodies, step._pills, step._tables
+    coords, lo, hi, _, _ = pde.domain.arrays()
+    n = coords.size
+    domain = (coords, lo, hi, *step._rows)
+    cur = np.ascontiguousarray(sim.state.data).reshape(-1).copy()
+    nxt = np.zeros_like(cur)
+    F, G, owner = pde.F.reshape(-1), pde.G.reshape(-1), pde.owner.reshape(-1)
+    pose = sim.bodies.poses.copy()
+    pose[:, :2] -= pde.domain.centre
+    box, normals, centres = pde.box, step._normals, step._centres
+    p = record.view(np.recarray)[0]
+    rates = kb._rate_coefficients(p)
+    count = len(body)
+    x0, inv_dx = coords[0], 1.0 / (coords[1] - coords[0])
+    out = np.zeros(kb.N_INTEGRALS)
+    scratch, taps = np.empty((kb.SCRATCH_ROWS, n)), np.empty(n, np.uint64)
+    times = dict.fromkeys(
+        ["draw (F, G, owner)", "area integrals", "spline window",
+         "contour nodes", "field update over the support"], 0.0
+    )  # fmt: skip
+
+    def timed(phase: str, kernel: Callable[..., object], *args: object) -> None:
+        start = time.thread_time()
+        kernel(*args)
+        times[phase] += time.thread_time() - start
+
+    base = 0.0
+    for _ in range(steps):
+        pose[:, 2] += pose[:, 5] * sim.config.grid.dt
+        for k in range(count):
+            timed("draw (F, G, owner)", kb.draw_body, F, G, owner, domain, k, body,
+                  pills, pose, normals, centres, box, tables, p, scratch, taps, False)  # fmt: skip
+        kb.support_rows(box, n, domain[3], domain[4])
+        for k in range(count):
+            timed("area integrals", kb.body_integrals, cur, F, owner, coords, k, pose[k, 0],
+                  pose[k, 1], box, p.flow, out)  # fmt: skip
+            if p.contour:
+                half = int(body[k]["window_half"])
+                ic = int(np.floor((pose[k, 0] - x0) * inv_dx)) + 1
+                jc = int(np.floor((pose[k, 1] - x0) * inv_dx)) + 1
+                timed("spline window", kb.spline_box, cur, tables[7], n, max(1, ic - half),
+                      min(n - 1, ic + half), max(1, jc - half), min(n - 1, jc + half),
+                      tables[8])  # fmt: skip
+                timed("contour nodes", kb.body_contour, cur, coords, k, body, pills, pose,
+                      normals, centres, tables, p.smoothing, out)  # fmt: skip
+        timed("field update over the support", kb.euler_body_fields, cur, nxt, F, G, owner,
+              domain, rates, p.dt, pose, p.flow)  # fmt: skip
+        start = time.thread_time()
+        kb.euler_body_fields(cur, nxt, F, G, owner, (coords, lo, hi, 0 * lo, 0 * hi), rates,
+                             p.dt, pose, p.flow)  # fmt: skip
+        base += time.thread_time() - start
+        cur, nxt = nxt, cur
+    times["contour nodes"] -= times["spline window"]
+    times["field update over the support"] -= base
+    result = {phase: 1e3 * t / steps / count for phase, t in times.items() if t != 0.0}
+    result["per body, all phases"] = sum(result.values())
+    result["field update without bodies (base)"] = 1e3 * base / steps
+    return result
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--steps", type=int, default=400)
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--scheme", nargs="+", default=["paper", "consistent"])
+    parser.add_argument("--profile", action="store_true", help="time each phase per body")
     args = parser.parse_args()
     for scheme in args.scheme:
         sims = {k: Simulation(config(k, scheme)) for k in (1, 2, 3, 4)}
@@ -72,6 +154,10 @@ def main() -> None:
                 f"K = {k}: {ms:.3f} ms/step, {ms / one:.2f} x one body's step "
                 f"(goal 1 + 0.3 K = {1 + 0.3 * k:.1f})"
             )
+        if args.profile:
+            print(f"phases of the step, ms per body (K = 4, {scheme} scheme, thread CPU time)")
+            for phase, ms in profile(sims[4], args.steps).items():
+                print(f"  {phase:36s} {ms:.4f}")
 
 
 if __name__ == "__main__":

@@ -4,13 +4,13 @@
 generalised model (docs/bodies.md): every step it
 
 1. freezes the bodies that are fixed or in a stop of their own schedule (``stopped_at``);
-2. redraws F, G and the owner map of each body whose pose changed since it was last
-   drawn (:func:`draw_body`; bodies may not overlap, so each cell belongs to one body at
-   most, and the plate velocity of a cell is its owner's, :func:`plate_velocity`);
+2. redraws F, G (filtered for ``consistent``) and the owner map of each body whose pose
+   changed since it was last drawn (:func:`draw_body`; bodies may not overlap, so each
+   cell belongs to one body at most, and the plate velocity of a cell is its owner's,
+   :func:`plate_velocity`);
 3. takes each moving body's integrals over its plate (:func:`body_integrals`, area
-   form with central differences, the ``paper`` scheme; for ``consistent`` the filtered
-   F_k and G_k of :func:`draw_filtered` and the force and torque in contour form,
-   :func:`body_contour`);
+   form with central differences, the ``paper`` scheme; for ``consistent`` the force
+   and torque in contour form, :func:`body_contour`);
 4. advances c and v by one Euler step of Eqs. (eqc), (eqv) (the core's ``plate_rates``
    with the owner's plate velocity; behind a no-flux dish wall c on the cut cells of the
    circle, :func:`pde_rotor.kernels.wall.euler_walled_fields`);
@@ -40,6 +40,7 @@ from .body_core import (
     PLATE_POLYGON,
 )
 from .core import CPU, FASTMATH
+from .indicators import filtered_plate_row, plate_row
 from .spline import ROW_GROUP, spline_columns, spline_rows
 from .wall import euler_walled_fields
 
@@ -53,7 +54,6 @@ _pill_reach = CPU.pill_reach
 _body_accelerations = CPU_BODIES.body_accelerations
 _euler_rotor = CPU.euler_rotor
 _noise_kick = CPU.noise_kick
-_filtered_plate = CPU.filtered_plate
 _filtered_pill_term = CPU.filtered_pill_term
 _filtered_pill_reach = CPU.filtered_pill_reach
 _edge_node = CPU_BODIES.edge_node
@@ -99,27 +99,66 @@ def _orient(k, body, pills, pose, normals, centres):
         centres[1, j] = pose[k, 1] + pills[j, 4] * math.sin(angle)
 
 
+SCRATCH_ROWS = 5
+"""Rows of the float scratch (SCRATCH_ROWS, n) of :func:`draw_body`."""
+
+
+@nb.njit(inline="always", cache=True, nogil=True, fastmath=FASTMATH, error_model="numpy")
+def _footprint_row(coords, j0, j1, rx, y_k, reach):
+    """[ja, jb): the cells of columns [j0, j1) of a row, rx from X_k, within the footprint
+    |r - X_k| < reach (a chord of the disk: scanned in from both ends of the box)."""
+    limit = reach * reach
+    ja = j0
+    while ja < j1:
+        ry = coords[ja] - y_k
+        if rx * rx + ry * ry < limit:
+            break
+        ja += 1
+    jb = j1
+    while jb > ja:
+        ry = coords[jb - 1] - y_k
+        if rx * rx + ry * ry < limit:
+            break
+        jb -= 1
+    return ja, jb
+
+
 @nb.njit(cache=True, nogil=True, fastmath=FASTMATH, error_model="numpy")
-def draw_body(F, G, owner, domain, k, body, pills, pose, normals, centres, box, inv_delta):
+def draw_body(F, G, owner, domain, k, body, pills, pose, normals, centres, box, tables, p, scratch,
+              taps, moved):  # fmt: skip
     """Draw body k at its pose: F_k, G_k and owner k on the cells of its footprint.
 
-    Two passes: the plate's F on the footprint, then each pill's term on the cells of its
-    own bounding box (a pill's term is below 4.3e-18 beyond rho + X_SATURATION delta), in
-    the pills' order, as the rotor's ``pill_rows`` sums them. The footprint is the disk
-    of radius ``body[k].reach`` about X_k, beyond which F_k and
-    G_k are 0 to within 4.3e-18 (:data:`pde_rotor.config.X_SATURATION`). G holds the
-    pills' source densities relative to the record's ``source`` (1 for the paper's
-    pills, so that G is the paper's indicator sum).
+    The footprint is the disk of radius ``body[k].reach`` about X_k, beyond which F_k and
+    G_k are 0 to within 4.3e-18 (:data:`pde_rotor.config.X_SATURATION`). Row by row, on
+    the row's chord of the footprint: the owner and the plate's F, the loop over the
+    edges outside the loop over the cells (the rotor's row functions
+    :func:`~pde_rotor.kernels.indicators.plate_row` and, for the ``consistent`` scheme,
+    ``filtered_plate_row``, in the body's frame; a disk's or strip's ``body_plate_cell``,
+    a disk's filtered profile ``filtered_pill_term``), then each pill's term on the
+    cells of its own bounding square (a pill's term is below 4.3e-18 beyond
+    rho + X_SATURATION delta; a filtered term is 0 beyond its profile, so only the
+    square's chord of that disk), in the pills' order, as the rotor's ``pill_row`` sums
+    them; the terms of a body without a plate are its F too. G holds the pills' source
+    densities relative to the record's ``source`` (1 for the paper's pills, so that G is
+    the paper's indicator sum). `tables` as for :func:`advance_bodies` (read where the
+    record `p`'s ``filtered`` is set); `scratch` (:data:`SCRATCH_ROWS`, n) and `taps`
+    (n, unsigned) are scratch. The cells of the last drawn footprint are cleared first
+    where X_k `moved` since (else the new footprint is the same cells, all redrawn).
 
     Returns:
         0, or ``STATUS_EDGE`` (a footprint cell outside the dish), or ``-1 - j`` when
-        the footprint meets body j's.
+        the footprint meets body j's (the first such cell in row-major order decides).
     """
     coords, lo, hi, _, _ = domain
+    _, _, profiles, pill_tab, corner, edges, _, _, _ = tables
     n = coords.size
-    _clear_body(F, G, owner, n, k, box)
+    if moved:
+        _clear_body(F, G, owner, n, k, box)
     _orient(k, body, pills, pose, normals, centres)
     b = body[k]
+    filtered = p.filtered
+    inv_delta = 1.0 / p.smoothing
+    inv_step = p.profile_inv_step
     x_k, y_k, reach = pose[k, 0], pose[k, 1], b.reach
     x0 = coords[0]
     inv_dx = 1.0 / (coords[1] - x0)
@@ -129,43 +168,99 @@ def draw_body(F, G, owner, domain, k, body, pills, pose, normals, centres, box, 
     j1 = min(n, math.floor((y_k + reach - x0) * inv_dx) + 1)
     box[k, 0], box[k, 1], box[k, 2], box[k, 3] = i0, i1, j0, j1
     tab = normals[:, :, k]
-    plate = b.plate != PLATE_NONE
-    for i in range(i0, i1):  # the footprint: owner, F of the plate, G = 0
+    no_plate = b.plate == PLATE_NONE
+    disk = profiles[b.f_start : b.f_start + b.f_count]
+    plate = corner[b.table_start : b.table_start + b.table_n * b.table_n]
+    edge = edges[b.edge_start : b.edge_start + b.edge_count]
+    for i in range(i0, i1):
         x = coords[i]
-        for j in range(j0, j1):
-            rx = x - x_k
-            ry = coords[j] - y_k
-            if rx * rx + ry * ry >= reach * reach:
-                continue
-            if j < lo[i] or j >= hi[i]:
-                return STATUS_EDGE
-            o = i * n + j
-            if owner[o] >= 0 and owner[o] != k:
-                return -1 - owner[o]
-            owner[o] = k
-            G[o] = 0.0
-            F[o] = 0.0
-            if plate:
-                F[o] = _body_plate_cell(
-                    rx, ry, b.plate, tab, b.n_corners, b.size_a, b.size_b, inv_delta
+        rx = x - x_k
+        ja, jb = _footprint_row(coords, j0, j1, rx, y_k, reach)
+        if ja >= jb:
+            continue
+        if ja < lo[i]:
+            return STATUS_EDGE
+        base = i * n
+        row_o = owner[base + ja : base + max(ja, min(jb, hi[i]))]
+        other = False
+        for j in range(row_o.size):  # branch-free, several cells at a time
+            other |= (row_o[j] >= 0) & (row_o[j] != k)
+        if other:
+            for j in range(row_o.size):
+                if row_o[j] >= 0 and row_o[j] != k:
+                    return -1 - row_o[j]
+        if jb > hi[i]:
+            return STATUS_EDGE
+        row_o = owner[base + ja : base + jb]
+        row_f = F[base + ja : base + jb]
+        row_g = G[base + ja : base + jb]
+        row_x = coords[ja:jb]
+        row_y = scratch[0, ja:jb]
+        for j in range(row_y.size):
+            row_o[j] = k
+            row_g[j] = 0.0
+            row_y[j] = row_x[j] - y_k
+        if filtered and b.plate == PLATE_POLYGON:
+            filtered_plate_row(
+                row_f, rx, row_y, tab, b.n_corners, b.size_a, b.tan_half, b.crease, edge,
+                b.edge_u0, p.edge_inv_step, plate, b.table_n, b.table_x0, p.table_inv_step,
+                scratch[1, ja:jb], scratch[2, ja:jb], scratch[3, ja:jb], scratch[4, ja:jb],
+                taps[ja:jb],
+            )  # fmt: skip
+        elif filtered and b.plate == PLATE_DISK:
+            for j in range(row_y.size):
+                row_f[j] = _filtered_pill_term(rx, row_y[j], disk, inv_step)
+        elif filtered or no_plate:
+            for j in range(row_y.size):
+                row_f[j] = 0.0
+        elif b.plate == PLATE_POLYGON:
+            plate_row(row_f, rx, row_y, tab, b.n_corners, b.size_a, inv_delta, scratch[1, ja:jb])
+        else:
+            for j in range(row_y.size):
+                row_f[j] = _body_plate_cell(
+                    rx, row_y[j], b.plate, tab, b.n_corners, b.size_a, b.size_b, inv_delta
                 )
-    for m in range(b.pill_start, b.pill_start + b.pill_count):  # each pill on its own box
-        px, py, rho, weight = centres[0, m], centres[1, m], pills[m, 2], pills[m, 3]
-        pill_reach = _pill_reach(rho, inv_delta)
-        ia = max(i0, math.ceil((px - pill_reach - x0) * inv_dx))
-        ib = min(i1, math.floor((px + pill_reach - x0) * inv_dx) + 1)
-        ja = max(j0, math.ceil((py - pill_reach - x0) * inv_dx))
-        jb = min(j1, math.floor((py + pill_reach - x0) * inv_dx) + 1)
-        for i in range(ia, ib):
-            dx_p = coords[i] - px
-            for j in range(ja, jb):
-                o = i * n + j
-                if owner[o] != k:
+        for m in range(b.pill_start, b.pill_start + b.pill_count):
+            px, py, rho, weight = centres[0, m], centres[1, m], pills[m, 2], pills[m, 3]
+            g_prof = profiles[pill_tab[m, 0] : pill_tab[m, 0] + pill_tab[m, 1]]
+            f_prof = profiles[pill_tab[m, 2] : pill_tab[m, 2] + pill_tab[m, 3]]
+            if filtered:
+                pill_reach = _filtered_pill_reach(g_prof, inv_step)
+                if no_plate:
+                    pill_reach = max(pill_reach, _filtered_pill_reach(f_prof, inv_step))
+            else:
+                pill_reach = _pill_reach(rho, inv_delta)
+            if math.ceil((px - pill_reach - x0) * inv_dx) > i:
+                continue
+            if math.floor((px + pill_reach - x0) * inv_dx) < i:
+                continue
+            dx_p = x - px
+            half = pill_reach
+            if filtered:  # the terms are 0 off the disk: its chord, a cell more each side
+                if abs(dx_p) >= pill_reach:
                     continue
-                term = _pill_term(dx_p, coords[j] - py, rho, inv_delta)
-                G[o] += weight * term
-                if not plate:
-                    F[o] += term
+                half = math.sqrt(pill_reach * pill_reach - dx_p * dx_p) + 1.0 / inv_dx
+            ca = max(ja, math.ceil((py - half - x0) * inv_dx))
+            cb = max(ca, min(jb, math.floor((py + half - x0) * inv_dx) + 1))
+            cell_y = coords[ca:cb]
+            cell_g = G[base + ca : base + cb]
+            cell_f = F[base + ca : base + cb]
+            if filtered:
+                for j in range(cell_y.size):
+                    cell_g[j] += weight * _filtered_pill_term(
+                        dx_p, cell_y[j] - py, g_prof, inv_step
+                    )
+                if no_plate:
+                    for j in range(cell_y.size):
+                        cell_f[j] += _filtered_pill_term(dx_p, cell_y[j] - py, f_prof, inv_step)
+            elif no_plate:
+                for j in range(cell_y.size):
+                    term = _pill_term(dx_p, cell_y[j] - py, rho, inv_delta)
+                    cell_g[j] += weight * term
+                    cell_f[j] += term
+            else:
+                for j in range(cell_y.size):
+                    cell_g[j] += weight * _pill_term(dx_p, cell_y[j] - py, rho, inv_delta)
     return 0
 
 
@@ -179,103 +274,40 @@ def body_integrals(cur, F, owner, coords, k, x_k, y_k, box, flow, out):
     integrals are those of :func:`pde_rotor.kernels.cpu.rotor_integrals`).
     """
     n = coords.size
-    nn = n * n
+    sx = np.uint64(n)  # unsigned offsets: no test for negative indices at each load
+    nn = np.uint64(n * n)
     dx = coords[1] - coords[0]
     inv_2dx = 0.5 / dx
-    for m in range(N_INTEGRALS):
-        out[m] = 0.0
+    # the sums in locals, which stay in registers (out might alias cur or F)
+    s0 = s1 = s2 = s3 = s4 = s5 = s6 = s7 = s8 = s9 = 0.0
     for i in range(box[k, 0], box[k, 1]):
         rx = coords[i] - x_k
         for j in range(box[k, 2], box[k, 3]):
-            o = i * n + j
+            o = np.uint64(i * n + j)
             if owner[o] != k:
                 continue
             f = F[o]
             if f == 0.0:
                 continue
             ry = coords[j] - y_k
-            dcdx = (cur[o + n] - cur[o - n]) * inv_2dx
-            dcdy = (cur[o + 1] - cur[o - 1]) * inv_2dx
-            out[0] += f * dcdx
-            out[1] += f * dcdy
-            out[2] += f * (rx * dcdy - ry * dcdx)
-            out[3] += f
-            out[4] += f * rx
-            out[5] += f * ry
-            out[6] += f * (rx * rx + ry * ry)
+            dcdx = (cur[o + sx] - cur[o - sx]) * inv_2dx
+            dcdy = (cur[o + np.uint64(1)] - cur[o - np.uint64(1)]) * inv_2dx
+            s0 += f * dcdx
+            s1 += f * dcdy
+            s2 += f * (rx * dcdy - ry * dcdx)
+            s3 += f
+            s4 += f * rx
+            s5 += f * ry
+            s6 += f * (rx * rx + ry * ry)
             if flow:
                 vx = cur[o + nn]
                 vy = cur[o + nn + nn]
-                out[7] += f * (rx * vy - ry * vx)
-                out[8] += f * vx
-                out[9] += f * vy
+                s7 += f * (rx * vy - ry * vx)
+                s8 += f * vx
+                s9 += f * vy
     area = dx * dx
-    for m in range(N_INTEGRALS):
-        out[m] *= area
-
-
-@nb.njit(cache=True, nogil=True, fastmath=FASTMATH, error_model="numpy")
-def draw_filtered(F, G, owner, coords, k, body, pills, pose, normals, centres, box, tables, p):
-    """F_k and G_k of the ``consistent`` scheme on the cells body k owns (compiled),
-    after :func:`draw_body` has drawn its footprint at the same pose.
-
-    The plate's F_eps: a polygon's from the rotor's edge profile and corner table (the
-    core's ``filtered_plate``, in the frame of the nearest edge), a disk's from its
-    radial profile (``filtered_pill_term``); then each pill's G_eps (and, for a body
-    without a plate, its F_eps) from its radial profiles on the cells of its own box,
-    in the pills' order, as the rotor's rows sum them. `tables` as for
-    :func:`advance_bodies`, `p` the parameter record.
-    """
-    _, _, profiles, pill_tab, corner, edges, _, _, _ = tables
-    b = body[k]
-    n = coords.size
-    x0 = coords[0]
-    inv_dx = 1.0 / (coords[1] - x0)
-    inv_step = p.profile_inv_step
-    x_k, y_k = pose[k, 0], pose[k, 1]
-    tab = normals[:, :, k]
-    disk = profiles[b.f_start : b.f_start + b.f_count]
-    plate = corner[b.table_start : b.table_start + b.table_n * b.table_n]
-    edge = edges[b.edge_start : b.edge_start + b.edge_count]
-    i0, i1, j0, j1 = box[k, 0], box[k, 1], box[k, 2], box[k, 3]
-    for i in range(i0, i1):
-        rx = coords[i] - x_k
-        for j in range(j0, j1):
-            o = i * n + j
-            if owner[o] != k:
-                continue
-            ry = coords[j] - y_k
-            f = 0.0
-            if b.plate == PLATE_POLYGON:
-                f = _filtered_plate(
-                    rx, ry, tab, b.n_corners, b.size_a, b.tan_half, b.crease, edge, b.edge_u0,
-                    p.edge_inv_step, plate, b.table_n, b.table_x0, p.table_inv_step,
-                )  # fmt: skip
-            elif b.plate == PLATE_DISK:
-                f = _filtered_pill_term(rx, ry, disk, inv_step)
-            F[o] = f
-            G[o] = 0.0
-    for m in range(b.pill_start, b.pill_start + b.pill_count):
-        px, py, weight = centres[0, m], centres[1, m], pills[m, 3]
-        g_prof = profiles[pill_tab[m, 0] : pill_tab[m, 0] + pill_tab[m, 1]]
-        f_prof = profiles[pill_tab[m, 2] : pill_tab[m, 2] + pill_tab[m, 3]]
-        reach = _filtered_pill_reach(g_prof, inv_step)
-        if b.plate == PLATE_NONE:
-            reach = max(reach, _filtered_pill_reach(f_prof, inv_step))
-        ia = max(i0, math.ceil((px - reach - x0) * inv_dx))
-        ib = min(i1, math.floor((px + reach - x0) * inv_dx) + 1)
-        ja = max(j0, math.ceil((py - reach - x0) * inv_dx))
-        jb = min(j1, math.floor((py + reach - x0) * inv_dx) + 1)
-        for i in range(ia, ib):
-            dx_p = coords[i] - px
-            for j in range(ja, jb):
-                o = i * n + j
-                if owner[o] != k:
-                    continue
-                dy_p = coords[j] - py
-                G[o] += weight * _filtered_pill_term(dx_p, dy_p, g_prof, inv_step)
-                if b.plate == PLATE_NONE:
-                    F[o] += _filtered_pill_term(dx_p, dy_p, f_prof, inv_step)
+    out[0], out[1], out[2], out[3], out[4] = s0 * area, s1 * area, s2 * area, s3 * area, s4 * area
+    out[5], out[6], out[7], out[8], out[9] = s5 * area, s6 * area, s7 * area, s8 * area, s9 * area
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
@@ -464,13 +496,14 @@ def advance_bodies(
     nn = n * n
     coef = _rate_coefficients(p)
     sign_k = p.torque_sign * p.tension_slope
-    inv_delta = 1.0 / p.smoothing
     cur = data
     nxt = spare
     integrals = np.zeros(N_INTEGRALS)
     accel = np.zeros((n_bodies, 3))
     no_flux = wall[0].size > 0
     rhs = np.zeros(nn if no_flux else 0)
+    scratch = np.empty((SCRATCH_ROWS, n))
+    taps = np.empty(n, np.uint64)
     if not p.flow:
         data[nn:] = 0.0
         spare[nn:] = 0.0
@@ -488,8 +521,9 @@ def advance_bodies(
                 pose[k, 5] = 0.0
             if pose[k, 0] != drawn[k, 0] or pose[k, 1] != drawn[k, 1] or pose[k, 2] != drawn[k, 2]:
                 code = draw_body(
-                    F, G, owner, domain, k, body, pills, pose, normals, centres, box, inv_delta
-                )
+                    F, G, owner, domain, k, body, pills, pose, normals, centres, box, tables, p,
+                    scratch, taps, pose[k, 0] != drawn[k, 0] or pose[k, 1] != drawn[k, 1],
+                )  # fmt: skip
                 if code != 0:
                     status[0] = STATUS_EDGE if code > 0 else STATUS_OVERLAP
                     status[1] = k
@@ -497,10 +531,6 @@ def advance_bodies(
                     if s % 2 == 1:
                         data[:] = spare
                     return s
-                if p.filtered:
-                    draw_filtered(
-                        F, G, owner, coords, k, body, pills, pose, normals, centres, box, tables, p
-                    )
                 drawn[k, 0], drawn[k, 1], drawn[k, 2] = pose[k, 0], pose[k, 1], pose[k, 2]
                 redrawn = True
         if redrawn or s == 0:  # the support rows are scratch of each call

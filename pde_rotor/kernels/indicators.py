@@ -45,18 +45,17 @@ _ROW = {"cache": True, "nogil": True, "fastmath": FASTMATH, "error_model": "nump
 
 
 @nb.njit(inline="always", **_ROW)
-def plate_row(F, i, coords, j0, j1, tab, n_corners, apothem, inv_delta, h):
-    """F of the scheme ``paper`` on the support cells [j0, j1) of row i (compiled).
+def plate_row(row_f, x, row_y, tab, n_corners, apothem, inv_delta, row_h):
+    """F of the scheme ``paper`` on a row of cells (compiled): row_f[j] at the point
+    (x, row_y[j]) of the plate's frame (its centre at the origin, the edge normals `tab`
+    (2, >= N) in the lab's axes).
 
     The gauge (``projection``, ``gauge_step``) and profile of the physics core's
     ``plate_cell``, with the loop over the edges outside the loop over the row's cells,
     so that the row is computed four cells at a time (SIMD; the loops run over slices,
-    whose indices numba knows to be non-negative). `h` (>= n) is scratch.
+    whose indices numba knows to be non-negative). `row_h` (as long) is scratch. The
+    rotor's rows and the bodies' (:mod:`pde_rotor.kernels.bodies`) call it.
     """
-    n = coords.size
-    x = coords[i]
-    row_y = coords[j0:j1]
-    row_h = h[j0:j1]
     ex, ey = tab[0, 0], tab[1, 0]
     for j in range(row_y.size):
         row_h[j] = _projection(x, row_y[j], ex, ey)
@@ -64,36 +63,31 @@ def plate_row(F, i, coords, j0, j1, tab, n_corners, apothem, inv_delta, h):
         ex, ey = tab[0, k], tab[1, k]
         for j in range(row_y.size):
             row_h[j] = _gauge_step(row_h[j], x, row_y[j], ex, ey)
-    row_f = F[i * n + j0 : i * n + j1]
     for j in range(row_y.size):
         row_f[j] = _plate_profile(row_h[j], apothem, inv_delta)
 
 
 @nb.njit(inline="always", **_ROW)
-def filtered_plate_row(F, i, coords, j0, j1, tab, p, edge, plate, scratch, taps):
-    """F_eps of the scheme ``consistent`` on the support cells [j0, j1) of row i (compiled).
+def filtered_plate_row(
+    row_f, x, row_y, tab, n_corners, apothem, tan_half, crease, edge, e_u0, e_inv, plate, t_n,
+    t_x0, t_inv, row_h, row_q, row_tx, row_ty, row_taps,
+):  # fmt: skip
+    """F_eps of the scheme ``consistent`` on a row of cells (compiled): row_f[j] at the
+    point (x, row_y[j]) of the plate's frame, as for :func:`plate_row`.
 
-    The physics core's ``filtered_plate`` in passes over the row, all but the last four
-    cells at a time (SIMD, as :func:`plate_row`): the frame of the nearest edge (h, q)
-    (``nearer_edge`` from ``projection``, ``farther`` and ``tangential``); the edge
-    profile (``filtered_edge``); where the 2-D corner table's taps lie
-    (``corner_taps``), kept for the cells within the crease width of a corner bisector
-    (``near_corner``); last, one cell at a time, the table's spline on those cells
-    (``corner_sum``: 16 loads from computed places, which LLVM does not vectorise).
-    Split so, the corner cells cost 10 % less than with the table looked up whole
-    (``filtered_corner``) in the loop over the cells. `p` is the parameter record
-    (:mod:`pde_rotor.kernels.records`); `scratch` (>= 4, >= n) and `taps` (>= n,
-    unsigned) are scratch.
+    The physics core's ``filtered_plate`` (its arguments from `n_corners` to `t_inv`) in
+    passes over the row, all but the last four cells at a time (SIMD, as
+    :func:`plate_row`): the frame of the nearest edge (h, q) (``nearer_edge`` from
+    ``projection``, ``farther`` and ``tangential``); the edge profile
+    (``filtered_edge``); where the 2-D corner table's taps lie (``corner_taps``), kept
+    for the cells within the crease width of a corner bisector (``near_corner``); last,
+    one cell at a time, the table's spline on those cells (``corner_sum``: 16 loads from
+    computed places, which LLVM does not vectorise). Split so, the corner cells cost 10 %
+    less than with the table looked up whole (``filtered_corner``) in the loop over the
+    cells. `row_h`, `row_q`, `row_tx`, `row_ty` and `row_taps` (unsigned), as long as the
+    row, are scratch (four rows of one array, each passed alone: as a slice of a 2-D slice
+    its stride would be unknown, and LLVM would not vectorise the loops).
     """
-    n_corners, apothem = p.n_corners, p.apothem
-    tan_half, crease = p.tan_half, p.crease
-    e_u0, e_inv = p.edge_u0, p.edge_inv_step
-    t_n, t_x0, t_inv = p.table_n, p.table_x0, p.table_inv_step
-    n = coords.size
-    x = coords[i]
-    row_y = coords[j0:j1]
-    row_h = scratch[0, j0:j1]
-    row_q = scratch[1, j0:j1]
     ex, ey = tab[0, 0], tab[1, 0]
     for j in range(row_y.size):
         row_h[j] = _projection(x, row_y[j], ex, ey)
@@ -106,12 +100,8 @@ def filtered_plate_row(F, i, coords, j0, j1, tab, p, edge, plate, scratch, taps)
             nearer = _farther(proj, row_h[j])
             row_q[j] = _tangential(x, row_y[j], ex, ey) if nearer else row_q[j]
             row_h[j] = proj if nearer else row_h[j]
-    row_f = F[i * n + j0 : i * n + j1]
     for j in range(row_y.size):
         row_f[j] = _filtered_edge(row_h[j], apothem, edge, e_u0, e_inv)
-    row_taps = taps[j0:j1]
-    row_tx = scratch[2, j0:j1]
-    row_ty = scratch[3, j0:j1]
     skip = np.uint64(-1)
     for j in range(row_y.size):
         near = _near_corner(row_h[j], row_q[j], tan_half, crease)
@@ -180,8 +170,12 @@ def indicator_row(F, G, i, coords, j0, j1, p, tab, tables, scratch, taps):
     (:data:`SCRATCH_ROWS`, n) and `taps` (n, unsigned) scratch."""
     _, _, plate_tab, edge_tab, pill_tab = tables
     n_corners, rho, inv_delta = p.n_corners, p.pill_radius, 1.0 / p.smoothing
+    n = coords.size
+    x = coords[i]
+    row_y = coords[j0:j1]
+    row_f = F[i * n + j0 : i * n + j1]
     if not p.filtered:
-        plate_row(F, i, coords, j0, j1, tab, n_corners, p.apothem, inv_delta, scratch[0])
+        plate_row(row_f, x, row_y, tab, n_corners, p.apothem, inv_delta, scratch[0, j0:j1])
         reach = _pill_reach(rho, inv_delta)
         pill_row(
             G, i, coords, j0, j1, tab, n_corners, reach, rho, inv_delta, pill_tab[:0], 1.0,
@@ -193,7 +187,11 @@ def indicator_row(F, G, i, coords, j0, j1, p, tab, tables, scratch, taps):
     pill_row(
         G, i, coords, j0, j1, tab, n_corners, reach, rho, inv_delta, pill_tab, p_inv, scratch[4]
     )
-    filtered_plate_row(F, i, coords, j0, j1, tab, p, edge_tab, plate_tab, scratch, taps)
+    filtered_plate_row(
+        row_f, x, row_y, tab, n_corners, p.apothem, p.tan_half, p.crease, edge_tab, p.edge_u0,
+        p.edge_inv_step, plate_tab, p.table_n, p.table_x0, p.table_inv_step, scratch[0, j0:j1],
+        scratch[1, j0:j1], scratch[2, j0:j1], scratch[3, j0:j1], taps[j0:j1],
+    )  # fmt: skip
 
 
 @nb.njit(**_ROW)

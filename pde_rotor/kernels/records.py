@@ -256,8 +256,10 @@ def make_body_tables(
     of its F profile and of its radial rule, the polygons' corner tables (spline
     coefficients) one after the other, their edge profiles, the circles' radial rules
     (2, I) one after the other (:func:`~pde_rotor.model.body_schemes.ring_rule`), and
-    scratch: the spline coefficients (n^2) and a line's carry (n)). For the ``paper``
-    scheme, one-element arrays of the same types.
+    scratch: the spline coefficients (n^2) and a line's carry (n)). Equal tables (the
+    pills of one radius, bodies of one shape) are stored once, so that K equal bodies
+    read one corner table (megabytes) from the caches, not K. For the ``paper`` scheme,
+    one-element arrays of the same types.
 
     Args:
         bodies: the run's bodies.
@@ -277,7 +279,11 @@ def make_body_tables(
     rings: list[np.ndarray] = []
 
     def append(parts: list[np.ndarray], array: np.ndarray) -> tuple[int, int]:
-        start = sum(p.shape[-1] for p in parts)
+        start = 0
+        for part in parts:  # an equal table already there is shared, not copied
+            if part.shape == array.shape and np.array_equal(part, array):
+                return start, array.shape[-1]
+            start += part.shape[-1]
         parts.append(array)
         return start, array.shape[-1]
 
