@@ -95,9 +95,11 @@ def _euler_row(cur, nxt, F, G, i, coords, lo, hi, slo, shi, coef, dt, omega, flo
 
 
 @nb.njit(inline="always", **_LOOP)
-def _row_integrals(cur, F, i, coords, j0, j1, inv_2dx, flow, sums):
+def _row_integrals(cur, F, i, coords, j0, j1, inv_2dx, flow, area, sums):
     """Row i's sums of the integrands of Eq. (eq_motion) over its support cells [j0, j1)
-    (``cell_integrals``: F r x grad c, F |r|^2, F r x v, without dA) into sums[i]."""
+    (``cell_integrals``: F r x grad c, F |r|^2, F r x v, without dA) into sums[i]; the
+    first only with `area` (a compile-time constant: without it, the torque's contour
+    form replaces the area form, whose sum is 0 and whose gradients LLVM drops)."""
     n = coords.size
     x = coords[i]
     cross_grad = 0.0
@@ -109,7 +111,8 @@ def _row_integrals(cur, F, i, coords, j0, j1, inv_2dx, flow, sums):
         if f == 0.0:
             continue
         grad, mom, vel = _cell_integrals(cur, o, n, 1, n * n, f, x, coords[j], inv_2dx, flow)
-        cross_grad += grad
+        if area:
+            cross_grad += grad
         moment += mom
         cross_v += vel
     sums[i, 0] = cross_grad
@@ -148,7 +151,10 @@ def _sweep_block(cur, nxt, F, G, domain, params, tab, tables, turned, omega, wor
             j0, j1 = slo[i], shi[i]
             if turned and j1 > j0:
                 indicator_row(F, G, i, coords, j0, j1, p, tab, tables, scratch, taps)
-            _row_integrals(cur, F, i, coords, j0, j1, inv_2dx, p.flow, sums)
+            if p.contour:  # two calls, so that `area` is a compile-time constant of each
+                _row_integrals(cur, F, i, coords, j0, j1, inv_2dx, p.flow, False, sums)
+            else:
+                _row_integrals(cur, F, i, coords, j0, j1, inv_2dx, p.flow, True, sums)
         if p.flow:  # two loops, so that `flow` is a compile-time constant of each
             _euler_rows(cur, nxt, F, G, i0, i1, domain, rates, dt, omega, True)
         else:
@@ -459,7 +465,7 @@ def rotor_integrals(cur, F, domain, params, tab, tables, coef):
     inv_2dx = 0.5 / (coords[1] - coords[0])
     sums = np.zeros((n, 3))
     for i in range(n):
-        _row_integrals(cur, F, i, coords, slo[i], shi[i], inv_2dx, p.flow, sums)
+        _row_integrals(cur, F, i, coords, slo[i], shi[i], inv_2dx, p.flow, True, sums)
     cross_grad, moment, cross_v = _total_integrals(sums, coords)
     if p.contour:
         spline_window(cur, coef, n, p.window_lo, p.window_hi)
