@@ -160,7 +160,8 @@ def _sweep_block(cur, nxt, F, G, domain, params, tab, tables, turned, omega, wor
         else:
             _euler_rows(cur, nxt, F, G, i0, i1, domain, rates, dt, omega, False)
         if p.contour and max(i0, w_lo) < min(i1, w_hi):
-            spline_rows(cur, coef, n, max(i0, w_lo), min(i1, w_hi), w_lo, w_hi, scratch[3])
+            r0, r1 = max(i0, w_lo), min(i1, w_hi)
+            spline_rows(cur, coef, n, r0, r1, w_lo, w_hi, p.taps_lo, scratch[3])
 
 
 @nb.njit(**_PARALLEL)
@@ -205,10 +206,11 @@ def sweep_rows(cur, nxt, F, G, domain, params, tab, tables, turned, omega, coef,
 
 
 @nb.njit(**_LOOP)
-def _window_columns(coef, n, lo, hi):
-    """The spline window's columns (x) [lo, hi): :func:`.spline.spline_columns`."""
-    carry = np.empty(hi - lo)
-    spline_columns(coef, n, lo, hi, lo, hi, carry)
+def _window_columns(coef, n, lo, hi, taps_lo, taps_hi):
+    """The spline window's columns (x) [taps_lo, taps_hi) over its rows [lo, hi) (those
+    the contour's taps read, :func:`.spline.spline_columns`)."""
+    carry = np.empty(taps_hi - taps_lo)
+    spline_columns(coef, n, lo, hi, taps_lo, taps_hi, taps_lo, carry)
 
 
 @nb.njit(**_LOOP)  # called, not inlined: a prange body stays small, fast to compile
@@ -245,7 +247,7 @@ def contour_torque(coef, coords, params, tab, tables, sums, threads):
     quad_s, quad_t = tables[0], tables[1]
     n = coords.size
     pairs = p.n_corners * quad_s.shape[1]
-    _window_columns(coef, n, p.window_lo, p.window_hi)
+    _window_columns(coef, n, p.window_lo, p.window_hi, p.taps_lo, p.taps_hi)
     blocks = min(threads, pairs)
     if blocks <= 1:  # no parallel region to start
         for b in range(1):
@@ -468,7 +470,7 @@ def rotor_integrals(cur, F, domain, params, tab, tables, coef):
         _row_integrals(cur, F, i, coords, slo[i], shi[i], inv_2dx, p.flow, True, sums)
     cross_grad, moment, cross_v = _total_integrals(sums, coords)
     if p.contour:
-        spline_window(cur, coef, n, p.window_lo, p.window_hi)
+        spline_window(cur, coef, n, p.window_lo, p.window_hi, p.taps_lo, p.taps_hi)
         pair_sums = np.zeros(p.n_corners * tables[0].shape[1])
         for b in range(1):  # as contour_torque calls it
             _contour_block(coef, coords, params, tab, tables[0], tables[1], pair_sums, b, 1)
