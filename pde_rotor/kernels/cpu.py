@@ -33,7 +33,9 @@ from .spline import ROW_GROUP, spline_columns, spline_rows, spline_window
 _cell_rates = CPU.cell_rates
 _rate_coefficients = CPU.rate_coefficients
 _cell_integrals = CPU.cell_integrals
-_contour_point = CPU.contour_point
+_contour_place = CPU.contour_place
+_bspline_weights = CPU.bspline_weights
+_spline_sum = CPU.spline_sum
 _rotor_table = CPU.rotor_table
 _stopped_at = CPU.stopped_at
 _rotor_torques = CPU.rotor_torques
@@ -213,24 +215,40 @@ def _window_columns(coef, n, lo, hi, taps_lo, taps_hi):
     spline_columns(coef, n, lo, hi, taps_lo, taps_hi, taps_lo, carry)
 
 
-@nb.njit(**_LOOP)  # called, not inlined: a prange body stays small, fast to compile
-def _contour_block(coef, coords, params, tab, quad_s, quad_t, sums, b, blocks):
+@nb.njit(_nrt=False, **_LOOP)  # called, not inlined: a prange body stays small
+def _contour_block(coef, coords, params, tab, quad_s, quad_t, sums, scratch, b, blocks):
     """Block b of the contour nodes: the sum over the nodes along the edge of each
-    (edge j, band node m) of every `blocks`-th pair into sums[j M + m]."""
+    (edge j, band node m) of every `blocks`-th pair into sums[j M + m], in two passes
+    over a pair's nodes: the core's ``contour_place`` and ``bspline_weights`` of every
+    node (SIMD), then the 16-tap sums ``spline_sum`` times the weights, added in order
+    (the core's ``contour_point``, node by node)."""
     p = params[0]
     n = coords.size
     x0 = coords[0]
     inv_dx = 1.0 / p.dx
     n_s, n_t = quad_s.shape[1], quad_t.shape[1]
     apothem, delta, tan_half = p.apothem, p.smoothing, p.tan_half
+    taps, weights = scratch
+    sx, sy = np.uint64(n), np.uint64(1)
     for pair in range(b, p.n_corners * n_s, blocks):
         j = pair // n_s
         m = pair - j * n_s
+        for k_t in range(n_t):
+            row, tx, ty, w = _contour_place(
+                n, x0, inv_dx, tab, apothem, delta, tan_half, quad_s, quad_t, j, m, k_t
+            )
+            wx0, wx1, wx2, wx3 = _bspline_weights(tx)
+            wy0, wy1, wy2, wy3 = _bspline_weights(ty)
+            taps[k_t] = np.uint64(row)
+            weights[0, k_t], weights[1, k_t], weights[2, k_t], weights[3, k_t] = wx0, wx1, wx2, wx3
+            weights[4, k_t], weights[5, k_t], weights[6, k_t], weights[7, k_t] = wy0, wy1, wy2, wy3
+            weights[8, k_t] = w
         total = 0.0
         for k_t in range(n_t):
-            total += _contour_point(
-                coef, 0, n, x0, inv_dx, tab, apothem, delta, tan_half, quad_s, quad_t, j, m, k_t
-            )
+            wx0, wx1, wx2, wx3 = weights[0, k_t], weights[1, k_t], weights[2, k_t], weights[3, k_t]
+            wy0, wy1, wy2, wy3 = weights[4, k_t], weights[5, k_t], weights[6, k_t], weights[7, k_t]
+            c = _spline_sum(coef, taps[k_t], sx, sy, wx0, wx1, wx2, wx3, wy0, wy1, wy2, wy3)
+            total += weights[8, k_t] * c
         sums[pair] = total
 
 
@@ -240,9 +258,9 @@ def contour_torque(coef, coords, params, tab, tables, sums, threads):
     the rows of the spline window of c into `coef`: the window's columns
     (:func:`.spline.spline_columns`, 0.003 ms, on the calling thread: shared among threads
     they would cost a parallel loop's start and their cache lines' moves from core to
-    core), then the nodes of the physics core's ``contour_point`` in `threads` blocks of
-    (edge, band node) pairs; `sums` (N M) receives the pairs' sums, added in order (the
-    same for any number of threads)."""
+    core), then the nodes of the physics core's ``contour_point`` (:func:`_contour_block`)
+    in `threads` blocks of (edge, band node) pairs; `sums` (N M) receives the pairs'
+    sums, added in order (the same for any number of threads)."""
     p = params[0]
     quad_s, quad_t = tables[0], tables[1]
     n = coords.size
@@ -251,10 +269,14 @@ def contour_torque(coef, coords, params, tab, tables, sums, threads):
     blocks = min(threads, pairs)
     if blocks <= 1:  # no parallel region to start
         for b in range(1):
-            _contour_block(coef, coords, params, tab, quad_s, quad_t, sums, b, 1)
+            scratch = (np.empty(quad_t.shape[1], np.uint64), np.empty((9, quad_t.shape[1])))
+            _contour_block(coef, coords, params, tab, quad_s, quad_t, sums, scratch, b, 1)
     else:
         for b in nb.prange(blocks):
-            _contour_block(coef, coords, params, tab, quad_s, quad_t, sums, np.int64(b), blocks)
+            scratch = (np.empty(quad_t.shape[1], np.uint64), np.empty((9, quad_t.shape[1])))
+            _contour_block(
+                coef, coords, params, tab, quad_s, quad_t, sums, scratch, np.int64(b), blocks
+            )
     total = 0.0
     for pair in range(pairs):
         total += sums[pair]
@@ -473,7 +495,10 @@ def rotor_integrals(cur, F, domain, params, tab, tables, coef):
         spline_window(cur, coef, n, p.window_lo, p.window_hi, p.taps_lo, p.taps_hi)
         pair_sums = np.zeros(p.n_corners * tables[0].shape[1])
         for b in range(1):  # as contour_torque calls it
-            _contour_block(coef, coords, params, tab, tables[0], tables[1], pair_sums, b, 1)
+            scratch = (np.empty(tables[1].shape[1], np.uint64), np.empty((9, tables[1].shape[1])))
+            _contour_block(
+                coef, coords, params, tab, tables[0], tables[1], pair_sums, scratch, b, 1
+            )
         cross_grad = 0.0
         for pair in range(pair_sums.size):
             cross_grad += pair_sums[pair]
