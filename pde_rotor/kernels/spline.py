@@ -115,8 +115,10 @@ def spline_columns(coef, n, lo, hi, j0, j1, keep, carry):
     adjacent_lines(coef, lo * n + j0, n, hi - lo, j1 - j0, keep - lo, carry)
 
 
-ROW_GROUP = 8
-"""Rows prefiltered side by side: enough to hide the latency of a step of the recursion."""
+ROW_GROUP = 16
+"""Rows prefiltered side by side: enough to hide the latency of a step of the recursion
+(the window's rows cost 0.0105 ms with 16, 0.0126 with 8, 0.0197 with 4; thread CPU
+time, one thread, paper grid)."""
 
 
 @nb.njit(**_LINES)
