@@ -116,7 +116,10 @@ def time_parts(sim: Simulation, calls: int) -> dict[str, float]:
         "Euler update": timed(lambda k: euler_fields(cur, nxt, F, G, domain, params, omega)),
     }
     if scheme.contour:
-        parts["of which spline window"] = timed(lambda k: spline_window(cur, coef, n, lo, hi))
+        t_lo, t_hi = scheme.taps
+        parts["of which spline window"] = timed(
+            lambda k: spline_window(cur, coef, n, lo, hi, t_lo, t_hi)
+        )
     parts["fused pass over rows"] = timed(
         lambda k: sweep_rows(
             cur, nxt, F, G, domain, params, tab, tables, True, omega, coef, sums, 1

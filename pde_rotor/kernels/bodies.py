@@ -316,8 +316,8 @@ def spline_box(cur, coef, n, i0, i1, j0, j1, carry):
     columns [j0, j1) (compiled): the rows prefiltered in groups of ``ROW_GROUP``, then
     the columns, as the rotor's window (:mod:`pde_rotor.kernels.spline`); `carry` >= n."""
     for r0 in range(i0, i1, ROW_GROUP):
-        spline_rows(cur, coef, n, r0, min(i1, r0 + ROW_GROUP), j0, j1, carry)
-    spline_columns(coef, n, i0, i1, j0, j1, carry)
+        spline_rows(cur, coef, n, r0, min(i1, r0 + ROW_GROUP), j0, j1, j0, carry)
+    spline_columns(coef, n, i0, i1, j0, j1, i0, carry)
 
 
 @nb.njit(cache=True, nogil=True, fastmath=FASTMATH, error_model="numpy")

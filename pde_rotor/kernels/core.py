@@ -43,7 +43,9 @@ Physics (section "Model" of Koyano et al., Chaos 2020):
   F r x grad c (area form of the torque, Eq. (torque)), F |r|^2 and F r x v;
 * :func:`contour_node`: one node of the contour form of the same torque integral
   (scheme ``consistent``, see :mod:`pde_rotor.model.schemes`), with c from its interpolating
-  cubic spline (:func:`spline_line`, :func:`interpolate`);
+  cubic spline (:func:`spline_line`, :func:`interpolate`); the node's taps and weight
+  (:func:`contour_place`) apart from the sum over the taps (:func:`spline_sum`), so that
+  the CPU places many nodes at once;
 * the rotor, Eq. (eq_motion): :func:`rotor_torques` (T of Eq. (torque) and the friction
   torque from the integrals), :func:`angular_acceleration`, the steps :func:`euler_rotor`
   and :func:`heun_rotor`, the Euler-Maruyama kick of Eq. (noiseav) (:func:`noise_kick`),
@@ -112,9 +114,11 @@ class Core(NamedTuple):
     spline_anticausal: Callable
     spline_gain: Callable
     spline_line: Callable
+    bspline_weights: Callable
     spline_node: Callable
     spline_sum: Callable
     interpolate: Callable
+    contour_place: Callable
     contour_point: Callable
     contour_node: Callable
 
@@ -661,21 +665,41 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         return g
 
     @jit
-    def contour_point(
-        coef, o0, n, x0, inv_dx, tab, apothem, delta, tan_half, quad_s, quad_t, j, m, k_t
-    ):
-        """The contour node of edge j, band node m and edge node k_t (see :func:`contour_node`).
+    def contour_place(n, x0, inv_dx, tab, apothem, delta, tan_half, quad_s, quad_t, j, m, k_t):
+        """Where the contour node of edge j, band node m and edge node k_t (see
+        :func:`contour_node`) takes the taps of the spline of c, and its weight.
 
         Returns:
-            the node's weighted contribution to int F r x grad c dA.
+            (row, tx, ty, w): the offset of its first tap in the n x n coefficients and
+            the fractions along x and y (for :func:`bspline_weights` and
+            :func:`spline_sum`, as :func:`interpolate`), and the weight w of c there in
+            int F r x grad c dA.
         """
         h = apothem - delta * quad_s[0, m]
         half = h * tan_half
         t = half * quad_t[0, k_t]
         ex = tab[0, j]
         ey = tab[1, j]
-        c = interpolate(coef, o0, n, x0, inv_dx, h * ex - t * ey, h * ey + t * ex)
-        return -quad_s[1, m] * quad_t[1, k_t] * half * t * c
+        i, tx = spline_node(x0, inv_dx, h * ex - t * ey)
+        k, ty = spline_node(x0, inv_dx, h * ey + t * ex)
+        return (i - 1) * n + k - 1, tx, ty, -quad_s[1, m] * quad_t[1, k_t] * half * t
+
+    @jit
+    def contour_point(
+        coef, o0, n, x0, inv_dx, tab, apothem, delta, tan_half, quad_s, quad_t, j, m, k_t
+    ):
+        """The contour node of edge j, band node m and edge node k_t (see :func:`contour_node`):
+        its weight times the spline of c there (:func:`contour_place`).
+
+        Returns:
+            the node's weighted contribution to int F r x grad c dA.
+        """
+        row, tx, ty, w = contour_place(
+            n, x0, inv_dx, tab, apothem, delta, tan_half, quad_s, quad_t, j, m, k_t
+        )
+        wx0, wx1, wx2, wx3 = bspline_weights(tx)
+        wy0, wy1, wy2, wy3 = bspline_weights(ty)
+        return w * spline_sum(coef, o0 + row, n, 1, wx0, wx1, wx2, wx3, wy0, wy1, wy2, wy3)
 
     @jit
     def contour_node(coef, o0, n, x0, inv_dx, tab, apothem, delta, tan_half, quad_s, quad_t, q):
@@ -744,9 +768,11 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         spline_anticausal=spline_anticausal,
         spline_gain=spline_gain,
         spline_line=spline_line,
+        bspline_weights=bspline_weights,
         spline_node=spline_node,
         spline_sum=spline_sum,
         interpolate=interpolate,
+        contour_place=contour_place,
         contour_point=contour_point,
         contour_node=contour_node,
     )

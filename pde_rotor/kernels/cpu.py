@@ -33,7 +33,9 @@ from .spline import ROW_GROUP, spline_columns, spline_rows, spline_window
 _cell_rates = CPU.cell_rates
 _rate_coefficients = CPU.rate_coefficients
 _cell_integrals = CPU.cell_integrals
-_contour_point = CPU.contour_point
+_contour_place = CPU.contour_place
+_bspline_weights = CPU.bspline_weights
+_spline_sum = CPU.spline_sum
 _rotor_table = CPU.rotor_table
 _stopped_at = CPU.stopped_at
 _rotor_torques = CPU.rotor_torques
@@ -95,9 +97,11 @@ def _euler_row(cur, nxt, F, G, i, coords, lo, hi, slo, shi, coef, dt, omega, flo
 
 
 @nb.njit(inline="always", **_LOOP)
-def _row_integrals(cur, F, i, coords, j0, j1, inv_2dx, flow, sums):
+def _row_integrals(cur, F, i, coords, j0, j1, inv_2dx, flow, area, sums):
     """Row i's sums of the integrands of Eq. (eq_motion) over its support cells [j0, j1)
-    (``cell_integrals``: F r x grad c, F |r|^2, F r x v, without dA) into sums[i]."""
+    (``cell_integrals``: F r x grad c, F |r|^2, F r x v, without dA) into sums[i]; the
+    first only with `area` (a compile-time constant: without it, the torque's contour
+    form replaces the area form, whose sum is 0 and whose gradients LLVM drops)."""
     n = coords.size
     x = coords[i]
     cross_grad = 0.0
@@ -109,7 +113,8 @@ def _row_integrals(cur, F, i, coords, j0, j1, inv_2dx, flow, sums):
         if f == 0.0:
             continue
         grad, mom, vel = _cell_integrals(cur, o, n, 1, n * n, f, x, coords[j], inv_2dx, flow)
-        cross_grad += grad
+        if area:
+            cross_grad += grad
         moment += mom
         cross_v += vel
     sums[i, 0] = cross_grad
@@ -148,13 +153,17 @@ def _sweep_block(cur, nxt, F, G, domain, params, tab, tables, turned, omega, wor
             j0, j1 = slo[i], shi[i]
             if turned and j1 > j0:
                 indicator_row(F, G, i, coords, j0, j1, p, tab, tables, scratch, taps)
-            _row_integrals(cur, F, i, coords, j0, j1, inv_2dx, p.flow, sums)
+            if p.contour:  # two calls, so that `area` is a compile-time constant of each
+                _row_integrals(cur, F, i, coords, j0, j1, inv_2dx, p.flow, False, sums)
+            else:
+                _row_integrals(cur, F, i, coords, j0, j1, inv_2dx, p.flow, True, sums)
         if p.flow:  # two loops, so that `flow` is a compile-time constant of each
             _euler_rows(cur, nxt, F, G, i0, i1, domain, rates, dt, omega, True)
         else:
             _euler_rows(cur, nxt, F, G, i0, i1, domain, rates, dt, omega, False)
         if p.contour and max(i0, w_lo) < min(i1, w_hi):
-            spline_rows(cur, coef, n, max(i0, w_lo), min(i1, w_hi), w_lo, w_hi, scratch[3])
+            r0, r1 = max(i0, w_lo), min(i1, w_hi)
+            spline_rows(cur, coef, n, r0, r1, w_lo, w_hi, p.taps_lo, scratch[3])
 
 
 @nb.njit(**_PARALLEL)
@@ -199,30 +208,47 @@ def sweep_rows(cur, nxt, F, G, domain, params, tab, tables, turned, omega, coef,
 
 
 @nb.njit(**_LOOP)
-def _window_columns(coef, n, lo, hi):
-    """The spline window's columns (x) [lo, hi): :func:`.spline.spline_columns`."""
-    carry = np.empty(hi - lo)
-    spline_columns(coef, n, lo, hi, lo, hi, carry)
+def _window_columns(coef, n, lo, hi, taps_lo, taps_hi):
+    """The spline window's columns (x) [taps_lo, taps_hi) over its rows [lo, hi) (those
+    the contour's taps read, :func:`.spline.spline_columns`)."""
+    carry = np.empty(taps_hi - taps_lo)
+    spline_columns(coef, n, lo, hi, taps_lo, taps_hi, taps_lo, carry)
 
 
-@nb.njit(**_LOOP)  # called, not inlined: a prange body stays small, fast to compile
-def _contour_block(coef, coords, params, tab, quad_s, quad_t, sums, b, blocks):
+@nb.njit(_nrt=False, **_LOOP)  # called, not inlined: a prange body stays small
+def _contour_block(coef, coords, params, tab, quad_s, quad_t, sums, scratch, b, blocks):
     """Block b of the contour nodes: the sum over the nodes along the edge of each
-    (edge j, band node m) of every `blocks`-th pair into sums[j M + m]."""
+    (edge j, band node m) of every `blocks`-th pair into sums[j M + m], in two passes
+    over a pair's nodes: the core's ``contour_place`` and ``bspline_weights`` of every
+    node (SIMD), then the 16-tap sums ``spline_sum`` times the weights, added in order
+    (the core's ``contour_point``, node by node)."""
     p = params[0]
     n = coords.size
     x0 = coords[0]
     inv_dx = 1.0 / p.dx
     n_s, n_t = quad_s.shape[1], quad_t.shape[1]
     apothem, delta, tan_half = p.apothem, p.smoothing, p.tan_half
+    taps, weights = scratch
+    sx, sy = np.uint64(n), np.uint64(1)
     for pair in range(b, p.n_corners * n_s, blocks):
         j = pair // n_s
         m = pair - j * n_s
+        for k_t in range(n_t):
+            row, tx, ty, w = _contour_place(
+                n, x0, inv_dx, tab, apothem, delta, tan_half, quad_s, quad_t, j, m, k_t
+            )
+            wx0, wx1, wx2, wx3 = _bspline_weights(tx)
+            wy0, wy1, wy2, wy3 = _bspline_weights(ty)
+            taps[k_t] = np.uint64(row)
+            weights[0, k_t], weights[1, k_t], weights[2, k_t], weights[3, k_t] = wx0, wx1, wx2, wx3
+            weights[4, k_t], weights[5, k_t], weights[6, k_t], weights[7, k_t] = wy0, wy1, wy2, wy3
+            weights[8, k_t] = w
         total = 0.0
         for k_t in range(n_t):
-            total += _contour_point(
-                coef, 0, n, x0, inv_dx, tab, apothem, delta, tan_half, quad_s, quad_t, j, m, k_t
-            )
+            wx0, wx1, wx2, wx3 = weights[0, k_t], weights[1, k_t], weights[2, k_t], weights[3, k_t]
+            wy0, wy1, wy2, wy3 = weights[4, k_t], weights[5, k_t], weights[6, k_t], weights[7, k_t]
+            c = _spline_sum(coef, taps[k_t], sx, sy, wx0, wx1, wx2, wx3, wy0, wy1, wy2, wy3)
+            total += weights[8, k_t] * c
         sums[pair] = total
 
 
@@ -232,21 +258,25 @@ def contour_torque(coef, coords, params, tab, tables, sums, threads):
     the rows of the spline window of c into `coef`: the window's columns
     (:func:`.spline.spline_columns`, 0.003 ms, on the calling thread: shared among threads
     they would cost a parallel loop's start and their cache lines' moves from core to
-    core), then the nodes of the physics core's ``contour_point`` in `threads` blocks of
-    (edge, band node) pairs; `sums` (N M) receives the pairs' sums, added in order (the
-    same for any number of threads)."""
+    core), then the nodes of the physics core's ``contour_point`` (:func:`_contour_block`)
+    in `threads` blocks of (edge, band node) pairs; `sums` (N M) receives the pairs'
+    sums, added in order (the same for any number of threads)."""
     p = params[0]
     quad_s, quad_t = tables[0], tables[1]
     n = coords.size
     pairs = p.n_corners * quad_s.shape[1]
-    _window_columns(coef, n, p.window_lo, p.window_hi)
+    _window_columns(coef, n, p.window_lo, p.window_hi, p.taps_lo, p.taps_hi)
     blocks = min(threads, pairs)
     if blocks <= 1:  # no parallel region to start
         for b in range(1):
-            _contour_block(coef, coords, params, tab, quad_s, quad_t, sums, b, 1)
+            scratch = (np.empty(quad_t.shape[1], np.uint64), np.empty((9, quad_t.shape[1])))
+            _contour_block(coef, coords, params, tab, quad_s, quad_t, sums, scratch, b, 1)
     else:
         for b in nb.prange(blocks):
-            _contour_block(coef, coords, params, tab, quad_s, quad_t, sums, np.int64(b), blocks)
+            scratch = (np.empty(quad_t.shape[1], np.uint64), np.empty((9, quad_t.shape[1])))
+            _contour_block(
+                coef, coords, params, tab, quad_s, quad_t, sums, scratch, np.int64(b), blocks
+            )
     total = 0.0
     for pair in range(pairs):
         total += sums[pair]
@@ -459,13 +489,16 @@ def rotor_integrals(cur, F, domain, params, tab, tables, coef):
     inv_2dx = 0.5 / (coords[1] - coords[0])
     sums = np.zeros((n, 3))
     for i in range(n):
-        _row_integrals(cur, F, i, coords, slo[i], shi[i], inv_2dx, p.flow, sums)
+        _row_integrals(cur, F, i, coords, slo[i], shi[i], inv_2dx, p.flow, True, sums)
     cross_grad, moment, cross_v = _total_integrals(sums, coords)
     if p.contour:
-        spline_window(cur, coef, n, p.window_lo, p.window_hi)
+        spline_window(cur, coef, n, p.window_lo, p.window_hi, p.taps_lo, p.taps_hi)
         pair_sums = np.zeros(p.n_corners * tables[0].shape[1])
         for b in range(1):  # as contour_torque calls it
-            _contour_block(coef, coords, params, tab, tables[0], tables[1], pair_sums, b, 1)
+            scratch = (np.empty(tables[1].shape[1], np.uint64), np.empty((9, tables[1].shape[1])))
+            _contour_block(
+                coef, coords, params, tab, tables[0], tables[1], pair_sums, scratch, b, 1
+            )
         cross_grad = 0.0
         for pair in range(pair_sums.size):
             cross_grad += pair_sums[pair]

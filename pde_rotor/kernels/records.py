@@ -19,7 +19,8 @@ The fields, by the equation that uses them (Koyano et al., Chaos 2020):
   ``pill_radius`` rho, ``pill_distance`` R_c, ``asymmetry`` Delta, ``smoothing`` delta;
 * the stop schedule in steps: ``n_ini``, ``n_stop``, ``n_period``, ``cycles``;
 * the scheme (:mod:`pde_rotor.model.schemes`): ``contour`` (contour-form torque),
-  ``tan_half`` tan(pi/N), ``window_lo``, ``window_hi`` (the spline window), and for the
+  ``tan_half`` tan(pi/N), ``window_lo``, ``window_hi`` (the spline window),
+  ``taps_lo``, ``taps_hi`` (its part the contour's taps read), and for the
   filtered F and G of ``consistent`` (``filtered``) the layout of the filter tables:
   ``table_n``, ``table_x0``, ``table_inv_step`` (the plate's 2-D table),
   ``profile_inv_step`` (the pill profile), ``crease``, ``edge_u0``, ``edge_inv_step``
@@ -92,6 +93,8 @@ PARAMS = np.dtype(
         ("tan_half", _F8),
         ("window_lo", _I8),
         ("window_hi", _I8),
+        ("taps_lo", _I8),
+        ("taps_hi", _I8),
         ("table_n", _I8),
         ("table_x0", _F8),
         ("table_inv_step", _F8),
@@ -136,6 +139,7 @@ def make_record(config: RotorConfig, scheme: Scheme, dt: float) -> np.ndarray:
     rec["contour"] = scheme.contour
     rec["tan_half"] = scheme.tan_half
     rec["window_lo"], rec["window_hi"] = scheme.window
+    rec["taps_lo"], rec["taps_hi"] = scheme.taps
     tables = scheme.tables
     if tables is not None:
         rec["filtered"] = True

@@ -104,6 +104,9 @@ class Scheme:
         window: cell range [lo, hi), along both axes, whose c is turned into cubic
             spline coefficients each step: the contour's 4 x 4 taps plus
             :data:`~pde_rotor.kernels.core.SPLINE_MARGIN` cells.
+        taps: the cell range [lo, hi) within `window`, along both axes, of the contour's
+            taps: the coefficients wanted (the window's margin only feeds the prefilter's
+            recursions).
     """
 
     name: str
@@ -113,6 +116,7 @@ class Scheme:
     quad_t: np.ndarray
     tan_half: float
     window: tuple[int, int]
+    taps: tuple[int, int]
 
     @classmethod
     def from_config(cls, config: RotorConfig) -> Scheme:
@@ -120,7 +124,7 @@ class Scheme:
         num = config.numerics
         consistent = num.scheme == "consistent"
         n_cells = 2 * math.ceil(config.grid.domain_radius / config.grid.dx - 1e-9) + 2
-        window = (0, 0)
+        window = taps = (0, 0)
         tables = None
         if consistent:
             quad_s = np.stack(sech2_gauss(num.band_nodes))
@@ -132,6 +136,8 @@ class Scheme:
             )
             half = math.ceil(reach / config.grid.dx) + 2 + SPLINE_MARGIN
             window = (max(1, n_cells // 2 - half), min(n_cells - 1, n_cells // 2 + half))
+            inner = half - SPLINE_MARGIN
+            taps = (max(window[0], n_cells // 2 - inner), min(window[1], n_cells // 2 + inner))
             # F and G's profiles do not depend on Delta: one table for a sweep over it
             tables = make_tables(
                 replace(RotorShape.from_config(geo), asymmetry=0.0),
@@ -151,6 +157,7 @@ class Scheme:
             quad_t=np.ascontiguousarray(quad_t),
             tan_half=math.tan(math.pi / config.geometry.n_corners),
             window=window,
+            taps=taps,
         )
 
     def kernel_tables(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:

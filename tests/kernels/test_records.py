@@ -112,6 +112,7 @@ def test_scheme_fields(small_config: Callable[..., RotorConfig]) -> None:
         assert rec["contour"] == rec["filtered"] == consistent
         assert rec["tan_half"] == math.tan(math.pi / cfg.geometry.n_corners)
         assert (rec["window_lo"], rec["window_hi"]) == scheme.window
+        assert (rec["taps_lo"], rec["taps_hi"]) == scheme.taps
         if consistent:
             tables = scheme.tables
             assert rec["table_n"] == tables.plate_n

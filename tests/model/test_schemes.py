@@ -53,7 +53,7 @@ def test_core_spline_equals_scipy_and_is_fourth_order() -> None:
         flat = np.concatenate([field.reshape(-1), np.zeros(2 * n * n)])
         coef = np.zeros(n * n)
         lo, hi = 1, n - 1
-        spline_window(flat, coef, n, lo, hi)
+        spline_window(flat, coef, n, lo, hi, lo, hi)
         rng = np.random.default_rng(2)
         px, py = rng.uniform(-0.6, 0.6, (2, 100))
         got = np.array(
