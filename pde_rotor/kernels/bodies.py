@@ -47,7 +47,7 @@ from .wall import euler_walled_fields
 _plate_rates = CPU.plate_rates
 _rate_coefficients = CPU.rate_coefficients
 _stopped_at = CPU.stopped_at
-_plate_velocity = CPU_BODIES.plate_velocity
+_owner_plate = CPU_BODIES.owner_plate
 _body_plate_cell = CPU_BODIES.body_plate_cell
 _pill_term = CPU.pill_term
 _pill_reach = CPU.pill_reach
@@ -429,18 +429,9 @@ def euler_body_fields(cur, nxt, F, G, owner, domain, coef, dt, pose, flow):
         for j in range(lo[i], hi[i]):
             o = np.uint64(i * n + j)
             plate = slo[i] <= j < shi[i]
-            f = 0.0
-            g = 0.0
-            px = 0.0
-            py = 0.0
+            f, g, px, py = 0.0, 0.0, 0.0, 0.0
             if plate:
-                f = F[o]
-                g = G[o]
-                k = owner[o]
-                if k >= 0:
-                    px, py = _plate_velocity(
-                        pose[k, 3], pose[k, 4], pose[k, 5], x - pose[k, 0], coords[j] - pose[k, 1]
-                    )
+                f, g, px, py = _owner_plate(F, G, owner, pose, o, x, coords[j])
             cc = cur[o]
             ux = cur[o + nn] if flow else 0.0
             uy = cur[o + nn + nn] if flow else 0.0

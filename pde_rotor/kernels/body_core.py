@@ -45,6 +45,7 @@ class BodyCore(NamedTuple):
     """The compiled body functions for one target (see the module docstring)."""
 
     plate_velocity: Callable
+    owner_plate: Callable
     strip_gauge: Callable
     polygon_gauge: Callable
     body_plate_cell: Callable
@@ -73,6 +74,17 @@ def make_body_core(jit: Callable[[Callable], Callable], core: Core) -> BodyCore:
     def plate_velocity(u, v, omega, rx, ry):
         """u_k at r = X_k + (rx, ry): U_k + omega_k z x (r - X_k) = (u - omega ry, v + omega rx)."""
         return u - omega * ry, v + omega * rx
+
+    @jit
+    def owner_plate(F, G, owner, pose, o, x, y):
+        """F, G and the plate velocity u_k of the owner k of the cell at offset `o`,
+        centred at (x, y) in the dish frame: the plate terms of Eqs. (eqc), (eqv) with K
+        bodies, (f, g, px, py); a cell without an owner has no plate velocity."""
+        k = owner[o]
+        if k < 0:
+            return F[o], G[o], 0.0, 0.0
+        px, py = plate_velocity(pose[k, 3], pose[k, 4], pose[k, 5], x - pose[k, 0], y - pose[k, 1])
+        return F[o], G[o], px, py
 
     @jit
     def polygon_gauge(rx, ry, normals, n_corners):
@@ -194,6 +206,7 @@ def make_body_core(jit: Callable[[Callable], Callable], core: Core) -> BodyCore:
 
     return BodyCore(
         plate_velocity=plate_velocity,
+        owner_plate=owner_plate,
         strip_gauge=strip_gauge,
         polygon_gauge=polygon_gauge,
         body_plate_cell=body_plate_cell,

@@ -26,7 +26,7 @@ from .core import CPU, FASTMATH
 _plate_rates = CPU.plate_rates
 _cut_cell_inflow = CPU.cut_cell_inflow
 _local_rate = CPU.local_rate
-_plate_velocity = CPU_BODIES.plate_velocity
+_owner_plate = CPU_BODIES.owner_plate
 
 _NONE = np.zeros(0)
 _NO_INDEX = np.zeros(0, dtype=np.int64)
@@ -62,18 +62,9 @@ def euler_walled_fields(cur, nxt, F, G, owner, domain, wall, coef, dt, pose, flo
         for j in range(wlo[i], whi[i]):
             o = np.uint64(i * n + j)
             plate = slo[i] <= j < shi[i]
-            f = 0.0
-            g = 0.0
-            px = 0.0
-            py = 0.0
+            f, g, px, py = 0.0, 0.0, 0.0, 0.0
             if plate:
-                f = F[o]
-                g = G[o]
-                k = owner[o]
-                if k >= 0:
-                    px, py = _plate_velocity(
-                        pose[k, 3], pose[k, 4], pose[k, 5], x - pose[k, 0], coords[j] - pose[k, 1]
-                    )
+                f, g, px, py = _owner_plate(F, G, owner, pose, o, x, coords[j])
             cc = cur[o]
             kappa = volume[o]
             q = _cut_cell_inflow(cur, o, sx, sy, nn, open_x, open_y, pass_x, pass_y, coef, flow)
