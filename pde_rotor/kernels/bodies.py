@@ -246,8 +246,8 @@ def draw_filtered(F, G, owner, coords, k, body, pills, pose, normals, centres, b
             f = 0.0
             if b.plate == PLATE_POLYGON:
                 f = _filtered_plate(
-                    rx, ry, tab, b.n_corners, b.size_a, b.tan_half, b.crease, edge, b.edge_u0,
-                    p.edge_inv_step, plate, b.table_n, b.table_x0, p.table_inv_step,
+                    rx, ry, tab, b.n_corners, b.size_a, b.tan_half, b.crease, b.corner_end, edge,
+                    b.edge_u0, p.edge_inv_step, plate, b.table_n, b.table_x0, p.table_inv_step,
                 )  # fmt: skip
             elif b.plate == PLATE_DISK:
                 f = _filtered_pill_term(rx, ry, disk, inv_step)
