@@ -25,6 +25,7 @@ from numba.np import numpy_support
 from pde import FieldCollection
 
 from pde_rotor.config import RotorConfig
+from pde_rotor.model import filtering
 from pde_rotor.model.pde import RotorPDE
 
 COARSE: dict[str, Any] = {"grid": {"dx": 0.05, "dt": 4e-4}, "geometry": {"smoothing": 0.05}}
@@ -194,6 +195,17 @@ def compiled_indicators(pde: RotorPDE, phi: float) -> tuple[np.ndarray, np.ndarr
         phi,
     )
     return F, G, tab
+
+
+@pytest.fixture
+def full_corner_table(monkeypatch: pytest.MonkeyPatch) -> Iterator[None]:
+    """While active, filter tables are built with the corner table on every cell near a
+    bisector (``CORNER_CUTOFF`` 0 puts ``corner_end`` past the table's last node): the
+    path without the table's end, to bound what the end changes."""
+    monkeypatch.setattr(filtering, "CORNER_CUTOFF", 0.0)
+    filtering.make_tables.cache_clear()
+    yield
+    filtering.make_tables.cache_clear()
 
 
 @pytest.fixture

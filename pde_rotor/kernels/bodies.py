@@ -202,8 +202,8 @@ def draw_body(F, G, owner, domain, k, body, pills, pose, normals, centres, box, 
             row_y[j] = row_x[j] - y_k
         if filtered and b.plate == PLATE_POLYGON:
             filtered_plate_row(
-                row_f, rx, row_y, tab, b.n_corners, b.size_a, b.tan_half, b.crease, edge,
-                b.edge_u0, p.edge_inv_step, plate, b.table_n, b.table_x0, p.table_inv_step,
+                row_f, rx, row_y, tab, b.n_corners, b.size_a, b.tan_half, b.crease, b.corner_end,
+                edge, b.edge_u0, p.edge_inv_step, plate, b.table_n, b.table_x0, p.table_inv_step,
                 scratch[1, ja:jb], scratch[2, ja:jb], scratch[3, ja:jb], scratch[4, ja:jb],
                 taps[ja:jb],
             )  # fmt: skip

@@ -229,10 +229,12 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
         return (p if nearer else h), (tangential(x, y, ex, ey) if nearer else q)
 
     @jit
-    def near_corner(h, q, tan_half, crease):
+    def near_corner(h, q, tan_half, crease, corner_end):
         """Whether (h, q) (frame of the nearest edge) lies within the crease width of a
-        corner bisector, h tan(pi/N) - |q| <= crease, where F_eps needs the 2-D table."""
-        return h * tan_half - abs(q) <= crease
+        corner bisector, h tan(pi/N) - |q| <= crease, and short of the table's end
+        h < `corner_end` (beyond, F_eps is below 1e-13: :mod:`pde_rotor.model.filtering`,
+        ``corner_end``), where F_eps needs the 2-D table."""
+        return (h * tan_half - abs(q) <= crease) & (h < corner_end)
 
     @jit
     def pill_reach(rho, inv_delta):
@@ -621,22 +623,37 @@ def make_core(jit: Callable[[Callable], Callable]) -> Core:
 
     @jit
     def filtered_plate(
-        x, y, tab, n_corners, apothem, tan_half, crease, edge, e_u0, e_inv, plate, t_n, t_x0, t_inv
+        x,
+        y,
+        tab,
+        n_corners,
+        apothem,
+        tan_half,
+        crease,
+        corner_end,
+        edge,
+        e_u0,
+        e_inv,
+        plate,
+        t_n,
+        t_x0,
+        t_inv,
     ):
         """F_eps of the cell centred at (x, y) (``consistent``, :mod:`pde_rotor.model.filtering`).
 
         The point is written in the frame of its nearest edge j (the one maximising
         r . e_j; the first of equals, :func:`nearer_edge`): h = r . e_j, q = r . tau_j,
         tau_j = e_j turned by +pi/2. Where h tan(pi/N) - |q| > `crease` (more than
-        crease cos(pi/N) from the corner bisectors, :func:`near_corner`) F_eps comes from
-        :func:`filtered_edge`, closer from :func:`filtered_corner`. Either way F_eps has
+        crease cos(pi/N) from the corner bisectors) or h >= `corner_end` (beyond the
+        corners, :func:`near_corner`) F_eps comes from :func:`filtered_edge`, closer
+        from :func:`filtered_corner`. Either way F_eps has
         the hexagon's symmetry exactly.
         """
         h = projection(x, y, tab[0, 0], tab[1, 0])
         q = tangential(x, y, tab[0, 0], tab[1, 0])
         for k in range(1, n_corners):
             h, q = nearer_edge(h, q, x, y, tab[0, k], tab[1, k])
-        if near_corner(h, q, tan_half, crease):
+        if near_corner(h, q, tan_half, crease, corner_end):
             return filtered_corner(h, q, plate, t_n, t_x0, t_inv)
         return filtered_edge(h, apothem, edge, e_u0, e_inv)
 

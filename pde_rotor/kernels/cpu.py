@@ -256,7 +256,7 @@ def _contour_block(coef, coords, params, tab, quad_s, quad_t, sums, scratch, b, 
 def contour_torque(coef, coords, params, tab, tables, sums, threads):
     """int F r x grad c dA in contour form (compiled), after :func:`sweep_rows` has filled
     the rows of the spline window of c into `coef`: the window's columns
-    (:func:`.spline.spline_columns`, 0.003 ms, on the calling thread: shared among threads
+    (:func:`.spline.spline_columns`, 0.002 ms, on the calling thread: shared among threads
     they would cost a parallel loop's start and their cache lines' moves from core to
     core), then the nodes of the physics core's ``contour_point`` (:func:`_contour_block`)
     in `threads` blocks of (edge, band node) pairs; `sums` (N M) receives the pairs'

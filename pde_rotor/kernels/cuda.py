@@ -156,6 +156,7 @@ def _advance(
     t_n, t_x0 = p.table_n, p.table_x0
     t_inv, p_inv = p.table_inv_step, p.profile_inv_step
     crease, e_u0, e_inv = p.crease, p.edge_u0, p.edge_inv_step
+    corner_end = p.corner_end
     contour = p.contour
     tan_half = p.tan_half
     w_lo = p.window_lo
@@ -220,6 +221,7 @@ def _advance(
                             apothem,
                             tan_half,
                             crease,
+                            corner_end,
                             edge_tab,
                             e_u0,
                             e_inv,

@@ -69,8 +69,8 @@ def plate_row(row_f, x, row_y, tab, n_corners, apothem, inv_delta, row_h):
 
 @nb.njit(inline="always", **_ROW)
 def filtered_plate_row(
-    row_f, x, row_y, tab, n_corners, apothem, tan_half, crease, edge, e_u0, e_inv, plate, t_n,
-    t_x0, t_inv, row_h, row_q, row_tx, row_ty, row_taps,
+    row_f, x, row_y, tab, n_corners, apothem, tan_half, crease, corner_end, edge, e_u0, e_inv,
+    plate, t_n, t_x0, t_inv, row_h, row_q, row_tx, row_ty, row_taps,
 ):  # fmt: skip
     """F_eps of the scheme ``consistent`` on a row of cells (compiled): row_f[j] at the
     point (x, row_y[j]) of the plate's frame, as for :func:`plate_row`.
@@ -80,13 +80,14 @@ def filtered_plate_row(
     :func:`plate_row`): the frame of the nearest edge (h, q) (``nearer_edge`` from
     ``projection``, ``farther`` and ``tangential``); the edge profile
     (``filtered_edge``); where the 2-D corner table's taps lie (``corner_taps``), kept
-    for the cells within the crease width of a corner bisector (``near_corner``); last,
-    one cell at a time, the table's spline on those cells (``corner_sum``: 16 loads from
-    computed places, which LLVM does not vectorise). Split so, the corner cells cost 10 %
-    less than with the table looked up whole (``filtered_corner``) in the loop over the
-    cells. `row_h`, `row_q`, `row_tx`, `row_ty` and `row_taps` (unsigned), as long as the
-    row, are scratch (four rows of one array, each passed alone: as a slice of a 2-D slice
-    its stride would be unknown, and LLVM would not vectorise the loops).
+    for the cells within the crease width of a corner bisector and short of the table's
+    end (``near_corner``); last, one cell at a time, the table's spline on those cells
+    (``corner_sum``: 16 loads from computed places, which LLVM does not vectorise). Split
+    so, the corner cells cost 10 % less than with the table looked up whole
+    (``filtered_corner``) in the loop over the cells. `row_h`, `row_q`, `row_tx`, `row_ty`
+    and `row_taps` (unsigned), as long as the row, are scratch (four rows of one array,
+    each passed alone: as a slice of a 2-D slice its stride would be unknown, and LLVM
+    would not vectorise the loops).
     """
     ex, ey = tab[0, 0], tab[1, 0]
     for j in range(row_y.size):
@@ -104,7 +105,7 @@ def filtered_plate_row(
         row_f[j] = _filtered_edge(row_h[j], apothem, edge, e_u0, e_inv)
     skip = np.uint64(-1)
     for j in range(row_y.size):
-        near = _near_corner(row_h[j], row_q[j], tan_half, crease)
+        near = _near_corner(row_h[j], row_q[j], tan_half, crease, corner_end)
         inside, first, row_tx[j], row_ty[j] = _corner_taps(row_h[j], row_q[j], t_n, t_x0, t_inv)
         take = near & inside
         value = row_f[j]  # loaded whatever take is, so that the loop stays branch-free
@@ -188,9 +189,9 @@ def indicator_row(F, G, i, coords, j0, j1, p, tab, tables, scratch, taps):
         G, i, coords, j0, j1, tab, n_corners, reach, rho, inv_delta, pill_tab, p_inv, scratch[4]
     )
     filtered_plate_row(
-        row_f, x, row_y, tab, n_corners, p.apothem, p.tan_half, p.crease, edge_tab, p.edge_u0,
-        p.edge_inv_step, plate_tab, p.table_n, p.table_x0, p.table_inv_step, scratch[0, j0:j1],
-        scratch[1, j0:j1], scratch[2, j0:j1], scratch[3, j0:j1], taps[j0:j1],
+        row_f, x, row_y, tab, n_corners, p.apothem, p.tan_half, p.crease, p.corner_end, edge_tab,
+        p.edge_u0, p.edge_inv_step, plate_tab, p.table_n, p.table_x0, p.table_inv_step,
+        scratch[0, j0:j1], scratch[1, j0:j1], scratch[2, j0:j1], scratch[3, j0:j1], taps[j0:j1],
     )  # fmt: skip
 
 

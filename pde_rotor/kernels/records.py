@@ -23,7 +23,8 @@ The fields, by the equation that uses them (Koyano et al., Chaos 2020):
   ``taps_lo``, ``taps_hi`` (its part the contour's taps read), and for the
   filtered F and G of ``consistent`` (``filtered``) the layout of the filter tables:
   ``table_n``, ``table_x0``, ``table_inv_step`` (the plate's 2-D table),
-  ``profile_inv_step`` (the pill profile), ``crease``, ``edge_u0``, ``edge_inv_step``
+  ``profile_inv_step`` (the pill profile), ``crease``, ``corner_end`` (where F_eps
+  takes the table), ``edge_u0``, ``edge_inv_step``
   (the edge profile).
 """
 
@@ -100,6 +101,7 @@ PARAMS = np.dtype(
         ("table_inv_step", _F8),
         ("profile_inv_step", _F8),
         ("crease", _F8),
+        ("corner_end", _F8),
         ("edge_u0", _F8),
         ("edge_inv_step", _F8),
         ("flow", _B1),
@@ -148,6 +150,7 @@ def make_record(config: RotorConfig, scheme: Scheme, dt: float) -> np.ndarray:
         rec["table_inv_step"] = 1.0 / tables.plate_step
         rec["profile_inv_step"] = 1.0 / tables.pill_step
         rec["crease"] = CREASE_WIDTHS * tables.plate_reach / math.cos(math.atan(scheme.tan_half))
+        rec["corner_end"] = tables.corner_end
         rec["edge_u0"] = tables.edge_u0
         rec["edge_inv_step"] = 1.0 / tables.edge_step
     return rec
@@ -173,6 +176,7 @@ BODY = np.dtype(
         ("cycles", _I8),
         ("tan_half", _F8),
         ("crease", _F8),
+        ("corner_end", _F8),
         ("f_start", _I8),
         ("f_count", _I8),
         ("table_start", _I8),
@@ -192,7 +196,8 @@ BODY = np.dtype(
 apothem, radius or half length; ``size_b``: half width), the footprint radius ``reach``,
 its pills' range in the pill table, motion kind, m, I, mu, the noise kick
 sqrt(2 dt) sigma / I, and its stop schedule in steps. For the ``consistent`` scheme
-(:func:`make_body_tables`): tan(pi/N) and the crease width of a polygon, where its
+(:func:`make_body_tables`): tan(pi/N), the crease width and the corner table's end
+``corner_end`` of a polygon, where its
 filtered tables lie in the flat arrays (a disk's F profile ``f_*``, a polygon's corner
 table ``table_*`` and edge profile ``edge_*``, a disk's radial rule ``ring_*``), and the
 half side of its spline window.
@@ -309,6 +314,7 @@ def make_body_tables(
             tan_half = math.tan(math.pi / shape.n_corners)
             rec["tan_half"] = tan_half
             rec["crease"] = CREASE_WIDTHS * tables.plate_reach / math.cos(math.atan(tan_half))
+            rec["corner_end"] = tables.corner_end
             rec["table_start"], _ = append(corners, tables.plate)
             rec["table_n"], rec["table_x0"] = tables.plate_n, tables.plate_x0
             rec["edge_start"], rec["edge_count"] = append(edges, tables.edge)

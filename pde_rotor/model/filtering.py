@@ -36,6 +36,9 @@ below is linear in its kernel and is built as the same sum of Gaussian filtering
   kernels write each cell centre in the frame of its nearest edge
   (:mod:`pde_rotor.kernels.core`, ``filtered_plate``), so F_eps has the hexagon's rotation and
   mirror symmetries exactly.
+  Beyond the corners, where F_eps and the table's difference to the edge profile have
+  fallen below CORNER_CUTOFF (from h = ``corner_end`` on, about a + 15 delta), the edge
+  profile serves near the bisectors too.
 * The pills: G is a sum of radial profiles g(|r - R_j|), so G_eps = sum_j g_eps(|r - R_j|)
   with the radial convolution
 
@@ -66,6 +69,12 @@ GAUSS_TRUNCATE = 8.0
 
 CREASE_WIDTHS = GAUSS_TRUNCATE
 """Cells closer than this many eps to a corner bisector use the 2-D plate table."""
+
+CORNER_CUTOFF = 1e-13
+"""Beyond the plate's corners F_eps falls below this (of its height 1), and so does the
+difference of the 2-D table and the edge profile: from there on (:func:`corner_end`) the
+cells near a bisector take the edge profile too, which changes F by less than 2e-13
+(tests/kernels/test_indicators.py) and spares the table a sixth of its cells."""
 
 PILL_CUTOFF = 1e-14
 """The pill profile ends where |g_eps| falls below this (of its height 1): each cell then
@@ -117,6 +126,8 @@ class FilterTables:
         edge_step: spacing of the edge profile.
         plate_reach: the widest Gaussian of the plate's kernel (how far from the
             corner bisectors its crease is felt).
+        corner_end: the gauge h (frame of the nearest edge) beyond which the cells near
+            a bisector take the edge profile (:func:`corner_end`).
     """
 
     plate_values: np.ndarray
@@ -130,6 +141,7 @@ class FilterTables:
     edge_u0: float
     edge_step: float
     plate_reach: float
+    corner_end: float
 
 
 def filtered_plate(
@@ -164,6 +176,35 @@ def filtered_plate(
         for weight, w in parts
     )
     return np.ascontiguousarray(values[pad:-pad, pad:-pad]), float(axis[0])
+
+
+def corner_end(
+    values: np.ndarray,
+    x0: float,
+    step: float,
+    edge: tuple[np.ndarray, float, float],
+    shape: RotorShape,
+    crease: float,
+) -> float:
+    """The gauge h beyond which the plate table (`values` on the nodes x0 + k step, edge
+    0's normal along +x) and the edge profile `edge` (profile, first node, spacing) differ
+    by less than CORNER_CUTOFF at every node within `crease` of a corner bisector (and
+    in edge 0's sector), plus the two nodes the table's cubic spline reaches.
+
+    Returns:
+        h of the last node row where they differ by CORNER_CUTOFF or more, plus 2 step.
+    """
+    axis = x0 + step * np.arange(values.shape[0])
+    profile, u0, u_step = edge
+    nodes = u0 + u_step * np.arange(profile.size)
+    flat = np.interp(shape.apothem - axis, nodes, profile, left=0.0, right=1.0)
+    h, q = axis[:, None], np.abs(axis[None, :])
+    half = math.pi / shape.n_corners
+    distance = (h * math.tan(half) - q) * math.cos(half)  # from the bisector, inside
+    near = (distance >= -step) & (distance <= crease)
+    far = near & (np.abs(values - flat[:, None]) >= CORNER_CUTOFF)
+    rows = np.nonzero(far.any(axis=1))[0]
+    return float(axis[rows[-1]] + 2.0 * step)
 
 
 def filtered_edge_profile(
@@ -273,6 +314,8 @@ def make_tables(
     pill_step = dx / PROFILE_REFINEMENT
     edge_step = dx / EDGE_REFINEMENT
     edge, edge_u0 = filtered_edge_profile(shape, plate_width, edge_step, plate_kernel)
+    reach = widest(plate_kernel, plate_width)
+    end = corner_end(values, x0, step, (edge, edge_u0, edge_step), shape, CREASE_WIDTHS * reach)
     return FilterTables(
         plate_values=values,
         plate=np.ascontiguousarray(coef.reshape(-1)),
@@ -284,7 +327,8 @@ def make_tables(
         edge=edge,
         edge_u0=edge_u0,
         edge_step=edge_step,
-        plate_reach=widest(plate_kernel, plate_width),
+        plate_reach=reach,
+        corner_end=end,
     )
 
 
@@ -320,7 +364,7 @@ def filtered_polygon(
     q = y * np.cos(nearest) - x * np.sin(nearest)
     half = math.pi / n_corners
     crease_distance = (h * math.tan(half) - np.abs(q)) * math.cos(half)
-    near_crease = crease_distance <= CREASE_WIDTHS * tables.plate_reach
+    near_crease = (crease_distance <= CREASE_WIDTHS * tables.plate_reach) & (h < tables.corner_end)
     u = tables.edge_u0 + tables.edge_step * np.arange(tables.edge.size)
     F = np.interp(apothem - h, u, tables.edge, left=0.0, right=1.0)
     inv = 1.0 / tables.plate_step

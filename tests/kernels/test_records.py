@@ -122,6 +122,7 @@ def test_scheme_fields(small_config: Callable[..., RotorConfig]) -> None:
             assert rec["edge_u0"] == tables.edge_u0
             assert rec["edge_inv_step"] == 1.0 / tables.edge_step
             assert rec["crease"] > 0.0
+            assert rec["corner_end"] == tables.corner_end
 
 
 def test_kick_follows_the_solver_step(small_config: Callable[..., RotorConfig]) -> None:
