@@ -9,7 +9,7 @@ median ms/step over the rounds (wall clock), the median of the per-round ratios 
 thread, and the largest difference of the state (c, v_x, v_y, phi, omega) from the
 one-thread run's after the same steps: 0 when the threads give the same bits.
 
-Run:  python benchmarks/bench_threads.py [--scheme consistent] [--rounds 10] [--chunk 500]
+Run:  python benchmarks/bench_threads.py [--scheme consistent] [--rounds 10] [--chunk 2000]
 """
 
 from __future__ import annotations
@@ -29,7 +29,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--scheme", choices=["consistent", "paper"], default="consistent")
     parser.add_argument("--rounds", type=int, default=10, help="turns of every thread count")
-    parser.add_argument("--chunk", type=int, default=500, help="steps per turn")
+    parser.add_argument("--chunk", type=int, default=2000, help="steps per turn")
     parser.add_argument("--threads", type=int, nargs="*", help="thread counts after 1")
     args = parser.parse_args()
     cores = len(os.sched_getaffinity(0))
