@@ -709,3 +709,45 @@ def test_measured_map_places_points_on_the_union_of_their_axes():
     assert ds["P"].sel(t_stop=0.5, asymmetry=0.0) == 1.0
     assert np.isnan(ds["P"].sel(t_stop=0.5, asymmetry=1e-4))
     assert int(np.isfinite(ds["P"]).sum()) == 3
+
+
+def test_phase_diagram_leaves_out_partial_points():
+    """A point whose runs are not all done (runs_done < runs_expected) gives no crossing
+    marker: its P would mix a finished and an unfinished ensemble."""
+    module = load_script(scripts()["phase_diagram"])
+    t = np.array([1.0, 1.5, 2.0])
+    curve = xr.Dataset(
+        {
+            "P": ("t_stop", [1.0, 0.9, 0.6]),
+            "runs_done": ("t_stop", [200, 57, 200]),
+            "runs_expected": ("t_stop", [200, 200, 200]),
+        },
+        coords={"t_stop": t},
+    )
+    assert module.complete(curve)["t_stop"].values.tolist() == [1.0, 2.0]
+
+
+def test_phase_diagram_reads_delta_and_sigma_from_axes_or_base_config(tmp_path, monkeypatch):
+    """A report with (asymmetry, sigma) axes gives one curve per pair; one without takes
+    both from its base config."""
+    module = load_script(scripts()["phase_diagram"])
+    base = json.dumps({"geometry": {"asymmetry": 1e-4}, "noise": {"sigma": 3e-7}})
+    P = np.linspace(1.0, 0.5, 2 * 3 * 2).reshape(2, 3, 2)
+    swept = xr.Dataset(
+        {"P": (("asymmetry", "t_stop", "sigma"), P)},
+        coords={"asymmetry": [0.0, 2e-5], "t_stop": [1.0, 1.5, 2.0], "sigma": [7.5e-8, 3e-7]},
+        attrs={"base_config": json.dumps({"geometry": {}, "noise": {"sigma": 1.5e-7}})},
+    )
+    single = xr.Dataset(
+        {"P": ("t_stop", [1.0, 0.8])}, coords={"t_stop": [0.9, 1.0]}, attrs={"base_config": base}
+    )
+    swept.to_netcdf(tmp_path / "swept.nc", engine="h5netcdf")
+    single.to_netcdf(tmp_path / "single.nc", engine="h5netcdf")
+    monkeypatch.setattr(module, "DATA", tmp_path)
+    monkeypatch.setattr(module, "REPORTS", ("swept.nc", "single.nc", "absent.nc"))
+    found = module.stored_curves()
+    assert [(d, s) for d, s, _ in found] == [
+        (0.0, 7.5e-8), (0.0, 3e-7), (2e-5, 7.5e-8), (2e-5, 3e-7), (1e-4, 3e-7)
+    ]  # fmt: skip
+    np.testing.assert_array_equal(found[3][2]["P"].values, P[1, :, 1])
+    np.testing.assert_array_equal(found[4][2]["P"].values, [1.0, 0.8])
