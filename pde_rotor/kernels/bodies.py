@@ -136,7 +136,8 @@ def draw_body(F, G, owner, domain, k, body, pills, pose, normals, centres, box, 
     edges outside the loop over the cells (the rotor's row functions
     :func:`~pde_rotor.kernels.indicators.plate_row` and, for the ``consistent`` scheme,
     ``filtered_plate_row``, in the body's frame; a disk's or strip's ``body_plate_cell``,
-    a disk's filtered profile ``filtered_pill_term``), then each pill's term on the
+    a disk's filtered profile ``filtered_pill_term``, a strip's quadrant table
+    ``filtered_strip``), then each pill's term on the
     cells of its own bounding square (a pill's term is below 4.3e-18 beyond
     rho + X_SATURATION delta; a filtered term is 0 beyond its profile, so only the
     square's chord of that disk), in the pills' order, as the rotor's ``pill_row`` sums
@@ -336,8 +337,10 @@ def body_contour(cur, coords, k, body, pills, pose, normals, centres, tables, de
 
     The spline of c on the square window of half side ``window_half`` cells about the
     cell of X_k (:func:`spline_box`), then the contour nodes of the body core: a
-    polygon's edges (``edge_node``; per (edge, band node) the sum along the edge, the
-    pairs added in order, as the rotor's contour torque), a disk plate's circle about
+    polygon's or a strip's edges (``edge_sums``; per (edge, band node) the sum along
+    the edge, the pairs added in order, as the rotor's contour torque; a strip's four
+    edges of two lengths, its band nodes without a parallel skipped), a disk plate's
+    circle about
     X_k, or each pill's circle about its centre, its torque (P - X) x its force
     (``arc_node``, the angles phi + 2 pi l / L). `delta` is the edge width; `tables` as
     for :func:`advance_bodies`.

@@ -13,11 +13,16 @@ lattice torque (docs/model.md). The remedy is the rotor's (:mod:`pde_rotor.model
   (:func:`~pde_rotor.model.filtering.disk_profile`); a body without a plate floats on its
   pills, and its F_eps is the sum of the pills' profiles filtered with the plate's
   kernel; a polygon plate's F_eps comes from the rotor's edge profile and corner table
-  (:func:`~pde_rotor.model.filtering.make_tables`).
+  (:func:`~pde_rotor.model.filtering.make_tables`); a strip plate's from one table of the
+  filtered rectangle over a quadrant of its frame, read at (|x'|, |y'|), so that it has
+  the rectangle's two mirror symmetries exactly
+  (:func:`~pde_rotor.model.filtering.strip_table`: its two edge lengths differ, and a thin
+  strip's filtered corners overlap, so the polygon's nearest-edge frame does not serve).
 * **Force and torque in contour form.** F = f(a - h(r)) with a gauge h whose level sets
   are the smoothed contour's parallels and |grad h| = 1: the distance |r - P| from a
-  disk's centre P (a pill, or a disk plate about X), or the polygon's
-  max_j (r - X) . e_j. Integrating by parts and by level sets (coarea formula),
+  disk's centre P (a pill, or a disk plate about X), the polygon's max_j (r - X) . e_j,
+  or the strip's max(|x'| - L/2, |y'| - W/2). Integrating by parts and by level sets
+  (coarea formula),
 
       int F grad c dA = int w(h) oint_{h} c n ds dh,
       int F (r - X) x grad c dA = int w(h) oint_{h} c (r - X) x n ds dh,
@@ -27,9 +32,12 @@ lattice torque (docs/model.md). The remedy is the rotor's (:mod:`pde_rotor.model
   A polygon takes the rotor's rule: the model's F, w(h) dh = 1/2 sech^2(s) ds,
   s = (a - h) / delta, by the Gauss rule of ``numerics.band_nodes`` nodes
   (:func:`~pde_rotor.model.schemes.sech2_gauss`) and ``numerics.contour_nodes``
-  Gauss-Legendre nodes along each edge. A circle takes the filtered F_eps that the
-  field equations see, w = -f_eps' (:func:`ring_rule`: the midpoint rule, two radii per
-  cell), and :data:`ARC_EDGES` times ``numerics.contour_nodes`` equally spaced angles
+  Gauss-Legendre nodes along each edge. A strip takes the same rule on the four edges of
+  the rectangle of half sides L/2 + h, W/2 + h (h = -delta s); h >= -min(L, W)/2
+  everywhere, where the parallel shrinks to a segment whose two sides cancel, so the
+  band nodes beyond have no parallel and are dropped. A circle takes the filtered F_eps
+  that the field equations see, w = -f_eps' (:func:`ring_rule`: the midpoint rule, two
+  radii per cell), and :data:`ARC_EDGES` times ``numerics.contour_nodes`` equally spaced angles
   (the trapezoidal rule, spectrally accurate for a periodic integrand). The sharp
   weight would put every node within a few delta of a pill's rim, where the source
   switches on and the spline of c errs by an amount that moves with the body's

@@ -39,6 +39,9 @@ below is linear in its kernel and is built as the same sum of Gaussian filtering
   Beyond the corners, where F_eps and the table's difference to the edge profile have
   fallen below CORNER_CUTOFF (from h = ``corner_end`` on, about a + 15 delta), the edge
   profile serves near the bisectors too.
+* A strip plate of the bodies (:func:`strip_table`): F = f(-max(|x'| - L/2, |y'| - W/2))
+  in its frame, filtered as one 2-D table over the quadrant x', y' >= 0 (mirrored about
+  the axes), read at (|x'|, |y'|).
 * The pills: G is a sum of radial profiles g(|r - R_j|), so G_eps = sum_j g_eps(|r - R_j|)
   with the radial convolution
 

@@ -5,6 +5,8 @@ Checked against analysis, never against earlier runs:
 * the tables equal the convolution with each kernel (Gaussian, sharpened; the
   plate's and the pills' chosen independently) computed independently, by tensor
   Gauss-Hermite quadrature of the analytic F and G at scattered points;
+* a strip plate's quadrant table equals the same quadrature, with the rectangle's
+  mirror symmetries, and converges at its corners as the polygon's does;
 * the filter keeps the masses of F and G (their layer-cake values) and adds exactly
   2 eps^2 (Gaussian) or 0 (sharpened) to their second moments, at any angle: the
   filtered fields on the grid are the model's fields blurred isotropically, whatever
