@@ -38,6 +38,7 @@ from .body_core import (
     PLATE_DISK,
     PLATE_NONE,
     PLATE_POLYGON,
+    PLATE_STRIP,
 )
 from .core import CPU, FASTMATH
 from .indicators import filtered_plate_row, plate_row
@@ -56,7 +57,8 @@ _euler_rotor = CPU.euler_rotor
 _noise_kick = CPU.noise_kick
 _filtered_pill_term = CPU.filtered_pill_term
 _filtered_pill_reach = CPU.filtered_pill_reach
-_edge_node = CPU_BODIES.edge_node
+_edge_sums = CPU_BODIES.edge_sums
+_filtered_strip = CPU_BODIES.filtered_strip
 _arc_node = CPU_BODIES.arc_node
 
 N_INTEGRALS = 10
@@ -134,7 +136,8 @@ def draw_body(F, G, owner, domain, k, body, pills, pose, normals, centres, box, 
     edges outside the loop over the cells (the rotor's row functions
     :func:`~pde_rotor.kernels.indicators.plate_row` and, for the ``consistent`` scheme,
     ``filtered_plate_row``, in the body's frame; a disk's or strip's ``body_plate_cell``,
-    a disk's filtered profile ``filtered_pill_term``), then each pill's term on the
+    a disk's filtered profile ``filtered_pill_term``, a strip's quadrant table
+    ``filtered_strip``), then each pill's term on the
     cells of its own bounding square (a pill's term is below 4.3e-18 beyond
     rho + X_SATURATION delta; a filtered term is 0 beyond its profile, so only the
     square's chord of that disk), in the pills' order, as the rotor's ``pill_row`` sums
@@ -170,7 +173,7 @@ def draw_body(F, G, owner, domain, k, body, pills, pose, normals, centres, box, 
     tab = normals[:, :, k]
     no_plate = b.plate == PLATE_NONE
     disk = profiles[b.f_start : b.f_start + b.f_count]
-    plate = corner[b.table_start : b.table_start + b.table_n * b.table_n]
+    plate = corner[b.table_start : b.table_start + b.table_n * b.table_m]
     edge = edges[b.edge_start : b.edge_start + b.edge_count]
     for i in range(i0, i1):
         x = coords[i]
@@ -210,6 +213,13 @@ def draw_body(F, G, owner, domain, k, body, pills, pose, normals, centres, box, 
         elif filtered and b.plate == PLATE_DISK:
             for j in range(row_y.size):
                 row_f[j] = _filtered_pill_term(rx, row_y[j], disk, inv_step)
+        elif filtered and b.plate == PLATE_STRIP:
+            ex, ey = tab[0, 0], tab[1, 0]
+            for j in range(row_y.size):
+                row_f[j] = _filtered_strip(
+                    rx, row_y[j], ex, ey, plate, b.table_n, b.table_m, b.table_x0,
+                    p.table_inv_step,
+                )  # fmt: skip
         elif filtered or no_plate:
             for j in range(row_y.size):
                 row_f[j] = 0.0
@@ -327,8 +337,10 @@ def body_contour(cur, coords, k, body, pills, pose, normals, centres, tables, de
 
     The spline of c on the square window of half side ``window_half`` cells about the
     cell of X_k (:func:`spline_box`), then the contour nodes of the body core: a
-    polygon's edges (``edge_node``; per (edge, band node) the sum along the edge, the
-    pairs added in order, as the rotor's contour torque), a disk plate's circle about
+    polygon's or a strip's edges (``edge_sums``; per (edge, band node) the sum along
+    the edge, the pairs added in order, as the rotor's contour torque; a strip's four
+    edges of two lengths, its band nodes without a parallel skipped), a disk plate's
+    circle about
     X_k, or each pill's circle about its centre, its torque (P - X) x its force
     (``arc_node``, the angles phi + 2 pi l / L). `delta` is the edge width; `tables` as
     for :func:`advance_bodies`.
@@ -355,20 +367,29 @@ def body_contour(cur, coords, k, body, pills, pose, normals, centres, tables, de
             ex, ey = normals[0, j, k], normals[1, j, k]
             for m in range(n_s):
                 h = b.size_a - delta * quad_s[0, m]
-                half_t = h * b.tan_half
-                pair_x = 0.0
-                pair_y = 0.0
-                pair_t = 0.0
-                for k_t in range(n_t):
-                    a, c, e = _edge_node(
-                        coef, n, x0, inv_dx, x_k, y_k, ex, ey, h, half_t, quad_s, quad_t, m, k_t
-                    )
-                    pair_x += a
-                    pair_y += c
-                    pair_t += e
+                pair_x, pair_y, pair_t = _edge_sums(
+                    coef, n, x0, inv_dx, x_k, y_k, ex, ey, h, h * b.tan_half, quad_s, quad_t, m
+                )
                 f_x += pair_x
                 f_y += pair_y
                 torque += pair_t
+    elif b.plate == PLATE_STRIP:
+        ex, ey = normals[0, 0, k], normals[1, 0, k]
+        thinner = min(b.size_a, b.size_b)
+        for j in range(4):  # the edges' normals e, z x e, -e, -z x e; sides L/2, W/2
+            side, along = (b.size_a, b.size_b) if j % 2 == 0 else (b.size_b, b.size_a)
+            for m in range(n_s):
+                h = -delta * quad_s[0, m]
+                if h <= -thinner:  # no parallel: the gauge is >= -W/2 (L/2) everywhere
+                    continue
+                pair_x, pair_y, pair_t = _edge_sums(
+                    coef, n, x0, inv_dx, x_k, y_k, ex, ey, side + h, along + h, quad_s, quad_t,
+                    m,
+                )  # fmt: skip
+                f_x += pair_x
+                f_y += pair_y
+                torque += pair_t
+            ex, ey = -ey, ex
     else:
         n_arc = ARC_EDGES * n_t
         step = 2.0 * math.pi / n_arc

@@ -47,10 +47,12 @@ class BodyCore(NamedTuple):
     plate_velocity: Callable
     owner_plate: Callable
     strip_gauge: Callable
+    filtered_strip: Callable
     polygon_gauge: Callable
     body_plate_cell: Callable
     body_accelerations: Callable
     edge_node: Callable
+    edge_sums: Callable
     arc_node: Callable
 
 
@@ -69,6 +71,9 @@ def make_body_core(jit: Callable[[Callable], Callable], core: Core) -> BodyCore:
     pill_term = core.pill_term
     projection = core.projection
     gauge_step = core.gauge_step
+    tangential = core.tangential
+    spline_node = core.spline_node
+    corner_sum = core.corner_sum
 
     @jit
     def plate_velocity(u, v, omega, rx, ry):
@@ -104,6 +109,25 @@ def make_body_core(jit: Callable[[Callable], Callable], core: Core) -> BodyCore:
         along = abs(projection(rx, ry, ex, ey)) - half_length
         across = abs(ey * rx - ex * ry) - half_width
         return along if along > across else across
+
+    @jit
+    def filtered_strip(rx, ry, ex, ey, plate, rows, columns, t_x0, t_inv):
+        """F_eps of a strip plate at r = X + (rx, ry) (``consistent``,
+        :func:`pde_rotor.model.filtering.strip_table`), e = (ex, ey) its x axis: the cubic
+        spline of the quadrant table `plate` (rows x columns coefficients on the nodes
+        t_x0 + k / t_inv, x' along the rows) at (|x'|, |y'|), so that F_eps has the
+        rectangle's two mirror symmetries exactly; 0 where the taps leave the table
+        (beyond, F_eps is below 1e-17). t_x0 < 0: the taps of a point on an axis lie in
+        the table's mirrored nodes."""
+        along = abs(projection(rx, ry, ex, ey))
+        across = abs(tangential(rx, ry, ex, ey))
+        fx = (along - t_x0) * t_inv
+        fy = (across - t_x0) * t_inv
+        if not (fx < rows - 2.0 and fy < columns - 2.0):
+            return 0.0
+        i, tx = spline_node(t_x0, t_inv, along)
+        j, ty = spline_node(t_x0, t_inv, across)
+        return corner_sum(plate, (i - 1) * columns + j - 1, columns, 1, tx, ty)
 
     @jit
     def body_plate_cell(rx, ry, plate, normals, n_corners, size_a, size_b, inv_delta):
@@ -191,6 +215,24 @@ def make_body_core(jit: Callable[[Callable], Callable], core: Core) -> BodyCore:
         return w * ex, w * ey, -quad_s[1, m] * quad_t[1, k_t] * half * t * c
 
     @jit
+    def edge_sums(coef, n, x0, inv_dx, cx, cy, ex, ey, h, half, quad_s, quad_t, m):
+        """Band node m of a straight edge of the contour form (``consistent``): the
+        :func:`edge_node` shares of its Gauss-Legendre nodes along the edge, added in
+        order (the rotor's contour torque). A polygon's edge (h, half) = (a - delta s_m,
+        h tan(pi/N)), a strip's (L/2 or W/2 - delta s_m, W/2 or L/2 - delta s_m)."""
+        pair_x = 0.0
+        pair_y = 0.0
+        pair_t = 0.0
+        for k_t in range(quad_t.shape[1]):
+            a, c, e = edge_node(
+                coef, n, x0, inv_dx, cx, cy, ex, ey, h, half, quad_s, quad_t, m, k_t
+            )
+            pair_x += a
+            pair_y += c
+            pair_t += e
+        return pair_x, pair_y, pair_t
+
+    @jit
     def arc_node(coef, n, x0, inv_dx, cx, cy, h, ca, sa, weight):
         """A node of a circle of the contour form (``consistent``): the point
         (cx, cy) + h (ca, sa) on the level set h of a disk's gauge |r - P|, P = (cx, cy),
@@ -208,10 +250,12 @@ def make_body_core(jit: Callable[[Callable], Callable], core: Core) -> BodyCore:
         plate_velocity=plate_velocity,
         owner_plate=owner_plate,
         strip_gauge=strip_gauge,
+        filtered_strip=filtered_strip,
         polygon_gauge=polygon_gauge,
         body_plate_cell=body_plate_cell,
         body_accelerations=body_accelerations,
         edge_node=edge_node,
+        edge_sums=edge_sums,
         arc_node=arc_node,
     )
 

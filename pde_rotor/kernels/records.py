@@ -181,6 +181,7 @@ BODY = np.dtype(
         ("f_count", _I8),
         ("table_start", _I8),
         ("table_n", _I8),
+        ("table_m", _I8),
         ("table_x0", _F8),
         ("edge_start", _I8),
         ("edge_count", _I8),
@@ -199,8 +200,9 @@ sqrt(2 dt) sigma / I, and its stop schedule in steps. For the ``consistent`` sch
 (:func:`make_body_tables`): tan(pi/N), the crease width and the corner table's end
 ``corner_end`` of a polygon, where its
 filtered tables lie in the flat arrays (a disk's F profile ``f_*``, a polygon's corner
-table ``table_*`` and edge profile ``edge_*``, a disk's radial rule ``ring_*``), and the
-half side of its spline window.
+table or a strip's quadrant table ``table_*``, ``table_n`` x ``table_m`` spline
+coefficients, a polygon's edge profile ``edge_*``, a disk's radial rule ``ring_*``), and
+the half side of its spline window.
 """
 
 
@@ -262,13 +264,14 @@ def make_body_tables(
     Fills the scheme's fields of `records` (:data:`BODY`) and returns the arrays of
     :func:`pde_rotor.kernels.bodies.advance_bodies`: (quad_s, quad_t, the radial
     profiles one after the other, per pill (P, 6) the start and length of its G profile,
-    of its F profile and of its radial rule, the polygons' corner tables (spline
-    coefficients) one after the other, their edge profiles, the circles' radial rules
-    (2, I) one after the other (:func:`~pde_rotor.model.body_schemes.ring_rule`), and
-    scratch: the spline coefficients (n^2) and a line's carry (n)). Equal tables (the
-    pills of one radius, bodies of one shape) are stored once, so that K equal bodies
-    read one corner table (megabytes) from the caches, not K. For the ``paper`` scheme,
-    one-element arrays of the same types.
+    of its F profile and of its radial rule, the polygons' corner tables and the strips'
+    quadrant tables (spline coefficients) one after the other, the polygons' edge
+    profiles, the circles' radial rules (2, I) one after the other
+    (:func:`~pde_rotor.model.body_schemes.ring_rule`), and scratch: the spline
+    coefficients (n^2) and a line's carry (n)). Equal tables (the pills of one radius,
+    bodies of one shape) are stored once, so that K equal bodies read one corner table
+    (megabytes) from the caches, not K. For the ``paper`` scheme, one-element arrays of
+    the same types.
 
     Args:
         bodies: the run's bodies.
@@ -317,8 +320,14 @@ def make_body_tables(
             rec["corner_end"] = tables.corner_end
             rec["table_start"], _ = append(corners, tables.plate)
             rec["table_n"], rec["table_x0"] = tables.plate_n, tables.plate_x0
+            rec["table_m"] = tables.plate_n
             rec["edge_start"], rec["edge_count"] = append(edges, tables.edge)
             rec["edge_u0"] = tables.edge_u0
+        strip = filt.strip
+        if strip is not None:
+            rec["table_start"], _ = append(corners, strip.coef)
+            rec["table_n"], rec["table_m"] = strip.rows, strip.columns
+            rec["table_x0"] = strip.x0
         rec["window_half"] = scheme.window_half(shape, filt)
     flat = [np.concatenate(parts) if parts else np.zeros(1) for parts in (profiles, corners, edges)]
     return (

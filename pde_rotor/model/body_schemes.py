@@ -13,11 +13,16 @@ lattice torque (docs/model.md). The remedy is the rotor's (:mod:`pde_rotor.model
   (:func:`~pde_rotor.model.filtering.disk_profile`); a body without a plate floats on its
   pills, and its F_eps is the sum of the pills' profiles filtered with the plate's
   kernel; a polygon plate's F_eps comes from the rotor's edge profile and corner table
-  (:func:`~pde_rotor.model.filtering.make_tables`).
+  (:func:`~pde_rotor.model.filtering.make_tables`); a strip plate's from one table of the
+  filtered rectangle over a quadrant of its frame, read at (|x'|, |y'|), so that it has
+  the rectangle's two mirror symmetries exactly
+  (:func:`~pde_rotor.model.filtering.strip_table`: its two edge lengths differ, and a thin
+  strip's filtered corners overlap, so the polygon's nearest-edge frame does not serve).
 * **Force and torque in contour form.** F = f(a - h(r)) with a gauge h whose level sets
   are the smoothed contour's parallels and |grad h| = 1: the distance |r - P| from a
-  disk's centre P (a pill, or a disk plate about X), or the polygon's
-  max_j (r - X) . e_j. Integrating by parts and by level sets (coarea formula),
+  disk's centre P (a pill, or a disk plate about X), the polygon's max_j (r - X) . e_j,
+  or the strip's max(|x'| - L/2, |y'| - W/2). Integrating by parts and by level sets
+  (coarea formula),
 
       int F grad c dA = int w(h) oint_{h} c n ds dh,
       int F (r - X) x grad c dA = int w(h) oint_{h} c (r - X) x n ds dh,
@@ -27,9 +32,12 @@ lattice torque (docs/model.md). The remedy is the rotor's (:mod:`pde_rotor.model
   A polygon takes the rotor's rule: the model's F, w(h) dh = 1/2 sech^2(s) ds,
   s = (a - h) / delta, by the Gauss rule of ``numerics.band_nodes`` nodes
   (:func:`~pde_rotor.model.schemes.sech2_gauss`) and ``numerics.contour_nodes``
-  Gauss-Legendre nodes along each edge. A circle takes the filtered F_eps that the
-  field equations see, w = -f_eps' (:func:`ring_rule`: the midpoint rule, two radii per
-  cell), and :data:`ARC_EDGES` times ``numerics.contour_nodes`` equally spaced angles
+  Gauss-Legendre nodes along each edge. A strip takes the same rule on the four edges of
+  the rectangle of half sides L/2 + h, W/2 + h (h = -delta s); h >= -min(L, W)/2
+  everywhere, where the parallel shrinks to a segment whose two sides cancel, so the
+  band nodes beyond have no parallel and are dropped. A circle takes the filtered F_eps
+  that the field equations see, w = -f_eps' (:func:`ring_rule`: the midpoint rule, two
+  radii per cell), and :data:`ARC_EDGES` times ``numerics.contour_nodes`` equally spaced angles
   (the trapezoidal rule, spectrally accurate for a periodic integrand). The sharp
   weight would put every node within a few delta of a pill's rim, where the source
   switches on and the spline of c errs by an amount that moves with the body's
@@ -53,16 +61,19 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.ndimage import map_coordinates
 
-from ..config import X_SATURATION, ConfigError, RotorConfig
+from ..config import X_SATURATION, RotorConfig
 from ..kernels.core import SPLINE_MARGIN
 from .bodies import Body, BodyShape, Pose, pill_offsets
 from .filtering import (
     PROFILE_REFINEMENT,
     Filter,
     FilterTables,
+    StripTable,
     disk_profile,
     filtered_polygon,
+    filtered_strip,
     make_tables,
+    strip_table,
 )
 from .geometry import RotorShape, edge_normal_angles
 from .schemes import sech2_gauss
@@ -70,27 +81,6 @@ from .schemes import sech2_gauss
 ARC_EDGES = 4
 """A circle carries as many equally spaced contour nodes as this many straight edges
 (``numerics.contour_nodes`` each)."""
-
-CONSISTENT_PLATES = ("none", "disk", "polygon")
-"""The plate shapes the ``consistent`` scheme of bodies implements."""
-
-
-def check_consistent_plates(config: RotorConfig) -> None:
-    """Refuse, in one line, a body whose plate the ``consistent`` scheme does not implement.
-
-    Raises:
-        ConfigError: numerics.scheme consistent with a body of another plate shape.
-    """
-    if config.bodies is None or config.numerics.scheme != "consistent":
-        return
-    for k, body in enumerate(config.bodies):
-        if body.plate.shape not in CONSISTENT_PLATES:
-            msg = (
-                f"bodies[{k}].plate.shape = {body.plate.shape}: the consistent scheme of "
-                f"bodies implements plates {', '.join(CONSISTENT_PLATES)} (allowed: one of "
-                "them, or numerics.scheme: paper)"
-            )
-            raise ConfigError(msg)
 
 
 @dataclass(frozen=True)
@@ -103,6 +93,7 @@ class BodyFilter:
             no plate and floats on its pills; empty otherwise.
         disk: a disk plate's F_eps profile, or None.
         polygon: a polygon plate's filter tables (the rotor's), or None.
+        strip: a strip plate's quadrant table, or None.
         rings: per circle of the contour (each pill of a body without a plate, or the
             disk plate), its radial rule (2, I): radii h_i and weights
             (:func:`ring_rule`).
@@ -112,6 +103,7 @@ class BodyFilter:
     pill_f: tuple[np.ndarray, ...]
     disk: np.ndarray | None
     polygon: FilterTables | None
+    strip: StripTable | None
     rings: tuple[np.ndarray, ...]
 
 
@@ -167,7 +159,7 @@ def make_body_filter(
     Args:
         shape: the body's shape.
         dx: grid spacing.
-        refinement: nodes per dx of a polygon's corner table.
+        refinement: nodes per dx of a polygon's corner table and a strip's table.
         plate: the prefilter of F (kernel, kappa).
         pill: the prefilter of G (kernel, kappa).
     """
@@ -185,6 +177,11 @@ def make_body_filter(
         polygon=(
             make_tables(polygon_shape(shape), dx, refinement, plate, pill)
             if shape.plate == "polygon"
+            else None
+        ),
+        strip=(
+            strip_table(shape.length, shape.width, delta, dx, refinement, plate)
+            if shape.plate == "strip"
             else None
         ),
         rings=tuple(ring_rule(profile, step, dx) for profile in circles),
@@ -223,12 +220,7 @@ class BodyScheme:
 
     @classmethod
     def from_config(cls, config: RotorConfig, bodies: tuple[Body, ...]) -> BodyScheme:
-        """The scheme of a run's bodies (``numerics`` section).
-
-        Raises:
-            ConfigError: a plate the consistent scheme does not implement.
-        """
-        check_consistent_plates(config)
+        """The scheme of a run's bodies (``numerics`` section)."""
         num = config.numerics
         dx = config.grid.dx
         if num.scheme != "consistent":
@@ -255,6 +247,9 @@ class BodyScheme:
         if shape.plate == "polygon":
             band = shape.smoothing * float(np.abs(self.quad_s[0]).max())
             return (shape.apothem + band) / math.cos(math.pi / shape.n_corners)
+        if shape.plate == "strip":
+            band = shape.smoothing * float(np.abs(self.quad_s[0]).max())
+            return math.hypot(shape.length / 2 + band, shape.width / 2 + band)
         if shape.plate == "disk":
             return float(filt.rings[0][0, -1])
         return max(
@@ -305,6 +300,8 @@ def filtered_body_fields(
         F = _radial(filt.disk, step, np.hypot(rx, ry))
     if filt.polygon is not None:
         F = filtered_polygon(filt.polygon, shape.n_corners, shape.apothem, rx, ry, pose.phi)
+    if filt.strip is not None:
+        F = filtered_strip(filt.strip, rx, ry, pose.phi)
     return F, source
 
 
@@ -313,6 +310,29 @@ def _spline(c: np.ndarray, x0: float, y0: float, dx: float, x: np.ndarray, y: np
     beyond it, as on and outside the dish's circle)."""
     points = np.stack([(x - x0) / dx, (y - y0) / dx])
     return map_coordinates(c, points, order=3, mode="grid-constant", cval=0.0)
+
+
+def _edges(
+    c: np.ndarray, origin: tuple[float, float], dx: float, pose: Pose, normals: np.ndarray,
+    distance: np.ndarray, half: np.ndarray, s_weights: np.ndarray, quad_t: np.ndarray,
+) -> tuple[float, float, float]:  # fmt: skip
+    """The straight edges of a contour form (see :func:`contour_integrals`): edge j's
+    normal at the angle normals[j], its parallel of band node m at distance[j, m] from
+    X, half[j, m] long each side of its foot; weight s_weights[m] across and the
+    Gauss-Legendre rule `quad_t` along.
+
+    Returns:
+        the force integrals (x, y) and the torque integral about X.
+    """
+    t_nodes, t_weights = quad_t
+    t = half[:, :, None] * t_nodes[None, None, :]
+    ex = np.cos(normals)[:, None, None]
+    ey = np.sin(normals)[:, None, None]
+    x = pose.x + distance[:, :, None] * ex - t * ey
+    y = pose.y + distance[:, :, None] * ey + t * ex
+    values = _spline(c, *origin, dx, x, y)
+    weights = (s_weights * half)[:, :, None] * t_weights[None, None, :] * values
+    return np.sum(weights * ex), np.sum(weights * ey), -np.sum(weights * t)
 
 
 def contour_integrals(
@@ -338,21 +358,19 @@ def contour_integrals(
     delta = shape.smoothing
     out = np.zeros(3)
     if shape.plate == "polygon":
-        t_nodes, t_weights = scheme.quad_t
-        tan_half = math.tan(math.pi / shape.n_corners)
         h = shape.apothem - delta * s_nodes
-        half = h * tan_half
-        t = half[:, None] * t_nodes[None, :]
         normals = edge_normal_angles(shape.n_corners, pose.phi)
-        ex = np.cos(normals)[:, None, None]
-        ey = np.sin(normals)[:, None, None]
-        x = pose.x + h[None, :, None] * ex - t[None] * ey
-        y = pose.y + h[None, :, None] * ey + t[None] * ex
-        values = _spline(c, *origin, dx, x, y)
-        weights = (s_weights * half)[:, None] * t_weights[None, :] * values
-        out[0] = np.sum(weights * ex)
-        out[1] = np.sum(weights * ey)
-        out[2] = -np.sum(weights * t[None])
+        distance = np.broadcast_to(h, (shape.n_corners, h.size))
+        half = distance * math.tan(math.pi / shape.n_corners)
+        out[:] = _edges(c, origin, dx, pose, normals, distance, half, s_weights, scheme.quad_t)
+        return out
+    if shape.plate == "strip":
+        h = -delta * s_nodes
+        normals = pose.phi + 0.5 * math.pi * np.arange(4)
+        sides = np.array([shape.length, shape.width] * 2)[:, None] / 2
+        distance, half = sides + h, sides[[1, 0, 3, 2]] + h
+        kept = s_weights * (h > -min(shape.length, shape.width) / 2)
+        out[:] = _edges(c, origin, dx, pose, normals, distance, half, kept, scheme.quad_t)
         return out
     n_arc = scheme.arc_nodes
     theta = pose.phi + 2.0 * math.pi * np.arange(n_arc) / n_arc

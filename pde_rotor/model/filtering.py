@@ -39,6 +39,9 @@ below is linear in its kernel and is built as the same sum of Gaussian filtering
   Beyond the corners, where F_eps and the table's difference to the edge profile have
   fallen below CORNER_CUTOFF (from h = ``corner_end`` on, about a + 15 delta), the edge
   profile serves near the bisectors too.
+* A strip plate of the bodies (:func:`strip_table`): F = f(-max(|x'| - L/2, |y'| - W/2))
+  in its frame, filtered as one 2-D table over the quadrant x', y' >= 0 (mirrored about
+  the axes), read at (|x'|, |y'|).
 * The pills: G is a sum of radial profiles g(|r - R_j|), so G_eps = sum_j g_eps(|r - R_j|)
   with the radial convolution
 
@@ -345,6 +348,99 @@ def disk_profile(radius: float, smoothing: float, dx: float, filt: Filter) -> np
         filt: the prefilter (kernel name, width kappa in units of dx).
     """
     return filtered_disk_profile(radius, smoothing, filt[1] * dx, dx / PROFILE_REFINEMENT, filt[0])
+
+
+@dataclass(frozen=True)
+class StripTable:
+    """The filtered F of a strip plate over one quadrant of its frame, as the kernels
+    read it (:func:`strip_table`).
+
+    Attributes:
+        values: (m, n) F_eps at the nodes (k step, l step), k, l >= 0: x' along the
+            strip's length, y' across it (for the numpy reference).
+        coef: (m + 2) * (n + 2) cubic B-spline coefficients of F_eps on the nodes
+            x0 + k step, x0 = -2 step, row-major (the mirror image of the quadrant's
+            coefficients on the two nodes before the axes: F_eps is even in x' and y').
+        rows: m + 2.
+        columns: n + 2.
+        x0: -2 step, the first node along both axes.
+        step: table spacing.
+    """
+
+    values: np.ndarray
+    coef: np.ndarray
+    rows: int
+    columns: int
+    x0: float
+    step: float
+
+
+STRIP_PAD = 2
+"""Nodes of a strip table before the axes x' = 0, y' = 0 (its cubic spline's taps reach
+one: two keep a point on an axis, rounded down, inside)."""
+
+
+@lru_cache(maxsize=16)
+def strip_table(
+    length: float, width: float, smoothing: float, dx: float, refinement: int, filt: Filter
+) -> StripTable:
+    """F_eps = F * K_eps of a strip plate (L x W, F = 1/2 [1 + tanh(-h / delta)], h =
+    max(|x'| - L/2, |y'| - W/2)) over the quadrant x', y' >= 0 of its frame (cached:
+    the members of a sweep and the equal strips of a run share it).
+
+    A rectangle's two edges differ in length and a thin strip's corners see each other
+    through the filter, so the whole quadrant is one 2-D table (spacing dx /
+    `refinement`), which the kernels read at (|x'|, |y'|): F_eps has the rectangle's two
+    mirror symmetries exactly. F is sampled on the quadrant's nodes out to X_SATURATION
+    delta beyond the edges (where it is below 4.3e-18) and GAUSS_TRUNCATE widths of the
+    filter more, filtered with :func:`scipy.ndimage.gaussian_filter` mirrored about the
+    axes (mode ``mirror``: exact for the even F), and the filter's margin cut off. The
+    spline coefficients are scipy's, mirrored too, so that they are those of the whole
+    table.
+
+    Args:
+        length, width: L and W.
+        smoothing: delta.
+        dx: grid spacing.
+        refinement: table nodes per dx (``numerics.table_refinement``).
+        filt: the plate's prefilter (kernel name, width kappa in units of dx).
+    """
+    kernel, eps = filt[0], filt[1] * dx
+    step = dx / refinement
+    grow = X_SATURATION * smoothing + 4.0 * step
+    rows = math.ceil((length / 2 + grow) / step) + 1
+    columns = math.ceil((width / 2 + grow) / step) + 1
+    pad = math.ceil(GAUSS_TRUNCATE * widest(kernel, eps) / step)
+    x = step * np.arange(rows + pad)[:, None]
+    y = step * np.arange(columns + pad)[None, :]
+    sharp = 0.5 * (1.0 + np.tanh(-np.maximum(x - length / 2, y - width / 2) / smoothing))
+    values = sum(
+        weight * gaussian_filter(sharp, sigma=w / step, mode="mirror", truncate=GAUSS_TRUNCATE)
+        for weight, w in components(kernel, eps)
+    )
+    values = np.ascontiguousarray(values[:rows, :columns])
+    coef = np.pad(spline_filter(values, order=3, mode="mirror"), ((STRIP_PAD, 0),) * 2, "reflect")
+    return StripTable(
+        values=values,
+        coef=np.ascontiguousarray(coef.reshape(-1)),
+        rows=rows + STRIP_PAD,
+        columns=columns + STRIP_PAD,
+        x0=-STRIP_PAD * step,
+        step=step,
+    )
+
+
+def filtered_strip(table: StripTable, x: np.ndarray, y: np.ndarray, phi: float) -> np.ndarray:
+    """F_eps of a strip plate centred at the origin, its length along phi, at the points
+    (x, y) (numpy reference): scipy's cubic spline of the quadrant's values (its own
+    prefilter, mirrored about the axes) at (|x'|, |y'|), 0 where the kernels' taps would
+    leave the table; independent of the kernels' code."""
+    c, s = math.cos(phi), math.sin(phi)
+    along = np.abs(c * x + s * y) / table.step
+    across = np.abs(c * y - s * x) / table.step
+    inside = (along < table.rows - 2 - STRIP_PAD) & (across < table.columns - 2 - STRIP_PAD)
+    value = map_coordinates(table.values, np.stack([along, across]), order=3, mode="mirror")
+    return np.where(inside, value, 0.0)
 
 
 def filtered_polygon(

@@ -34,7 +34,6 @@ from pde import FieldCollection, ScalarField, VectorField
 from pde.pdes.base import PDEBase
 
 from ..config import DISH_CENTRE, ConfigError, RotorConfig
-from .body_schemes import check_consistent_plates
 from .domain import Domain, make_domain
 from .filtering import filtered_indicators
 from .geometry import (
@@ -129,13 +128,10 @@ def refuse_bodies(config: RotorConfig) -> None:
 
 def check_bodies_numerics(config: RotorConfig) -> None:
     """Refuse, in one line, numerics the bodies' kernel does not implement (before any
-    compute): it integrates forward Euler, on the ``paper`` scheme or on the
-    ``consistent`` scheme for the plates of
-    :data:`~pde_rotor.model.body_schemes.CONSISTENT_PLATES`.
+    compute): it integrates forward Euler (on either scheme, every plate).
 
     Raises:
-        ConfigError: ``bodies:`` with numerics.integrator other than euler, or the
-            consistent scheme with a plate it does not implement.
+        ConfigError: ``bodies:`` with numerics.integrator other than euler.
     """
     if config.bodies is None:
         return
@@ -146,7 +142,6 @@ def check_bodies_numerics(config: RotorConfig) -> None:
             "Euler only (allowed: euler)"
         )
         raise ConfigError(msg)
-    check_consistent_plates(config)
 
 
 class RotorPDE(PDEBase):
