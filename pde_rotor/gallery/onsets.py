@@ -5,6 +5,9 @@
 * :func:`kick_growth_rate`: the growth rate of its velocity after a small kick, the
   quantity the linear stability of docs/bodies.md predicts
   (:func:`pde_rotor.model.onsets.free_disk_growth_rate`);
+* :func:`disk_in_dish_config`, :func:`kick_orbit`, :func:`kick_hopf_rate`,
+  :func:`dragged_orbit`: the disk in a no-flux dish, its Hopf pair after a kick, and the
+  branch (rotation, or motion back and forth) it settles on after a given wake;
 * :func:`sized_rotor`, :func:`rotation_samples`, :func:`extrapolated_limit`: the steady
   angular velocity of the two-disk rotor against its size.
 """
@@ -150,6 +153,49 @@ def kick_orbit(
         except BodyContactError:
             break
         out[m] = sim.bodies.poses[0, :2]
+    return out
+
+
+def dragged_orbit(
+    config: RotorConfig,
+    relax: float,
+    ellipse: tuple[float, float, float],
+    drag: float,
+    times: np.ndarray,
+) -> np.ndarray:
+    """The disk's pose after it was dragged along an ellipse and released.
+
+    The disk of :func:`disk_in_dish_config` is nearly overdamped (m / mu ~ 1e-3): a
+    velocity given at the release is forgotten within a few steps, and what the motion
+    remembers is the camphor about it. So after the hold of `relax` it is dragged for
+    `drag` time units along X(t) = (a cos w t, b sin w t), `ellipse` = (a, b, w), its
+    position and velocity set every 0.02 time units, so that c takes the wake of that
+    motion: the counter-clockwise and clockwise circular parts (a + b) / 2 and
+    (a - b) / 2 (b = a: rotation about the centre; b = 0: motion back and forth along x,
+    which the mirror symmetry y -> -y keeps on that line).
+
+    Returns:
+        (len(times), 4) rows (x, y, U_x, U_y) at `times` after the release; rows after
+        an early end (the disk reached the wall) are nan.
+    """
+    a, b, w = ellipse
+    dt = config.grid.dt
+    sim = Simulation(config)
+    sim.run(relax)
+    every = max(1, round(0.02 / dt))
+    for n in range(1, round(drag / dt) // every + 1):
+        t = n * every * dt
+        sim.run(relax + n * every * dt)
+        sim.bodies.poses[0, 0:2] = (a * math.cos(w * t), b * math.sin(w * t))
+        sim.bodies.poses[0, 3:5] = (-a * w * math.sin(w * t), b * w * math.cos(w * t))
+    start = sim.t
+    out = np.full((len(times), 4), np.nan)
+    for m, t in enumerate(times):
+        try:
+            sim.run(start + round(t / dt) * dt)
+        except BodyContactError:
+            break
+        out[m] = sim.bodies.poses[0, [0, 1, 3, 4]]
     return out
 
 

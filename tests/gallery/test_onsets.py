@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pde_rotor.gallery.onsets import hopf_rate
+from pde_rotor.gallery.onsets import disk_in_dish_config, dragged_orbit, hopf_rate
 
 
 @pytest.mark.parametrize("lam", [0.05 + 0.3j, -0.2 + 0.8j])
@@ -24,3 +24,20 @@ def test_hopf_rate_of_two_real_rates_is_the_larger() -> None:
     x = np.exp(0.3 * t) + 0.5 * np.exp(-0.4 * t)
     fitted = hopf_rate(t, np.stack([x, 0.2 * x], axis=1))
     assert fitted == pytest.approx(0.3, abs=1e-9)
+
+
+def test_dragged_orbit_gives_the_wake_of_its_ellipse() -> None:
+    """Dragged along a line through the centre (b = 0), the disk keeps to it after the
+    release (the grid's mirror symmetry y -> -y: no angular momentum); dragged along a
+    circle (b = a), it leaves turning the same way about the centre."""
+    dt = 4e-4
+    config = disk_in_dish_config(0.05, dt, 1.75, 1e-4, 0.16, 3.7, 0.5)
+    times = np.array([0.5, 1.0])
+    line = dragged_orbit(config, 0.5, (0.1, 0.0, 1.0), 2.0, times)
+    circle = dragged_orbit(config, 0.5, (0.1, 0.1, 1.0), 2.0, times)
+    assert np.all(np.isfinite(line)) and np.all(np.isfinite(circle))
+    assert np.all(np.hypot(line[:, 0], line[:, 1]) > 1e-3)  # it moves
+    np.testing.assert_allclose(line[:, 1], 0.0, atol=1e-12)
+    np.testing.assert_allclose(line[:, 3], 0.0, atol=1e-12)
+    momentum = circle[:, 0] * circle[:, 3] - circle[:, 1] * circle[:, 2]
+    assert np.all(momentum > 0.0)
