@@ -103,6 +103,13 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
                     continue
                 if found.value is None:
                     continue
+                first = points.isel(t_stop=int(np.argmin(points["t_stop"].values)))
+                if float(first["P"]) < level:  # crossed before the first point: censored
+                    print(
+                        f"{NAME}: Delta = {asymmetry:g}, sigma = {sigma:g}: P < {level:g} already "
+                        f"at the first point, t_stop = {found.value:g} (not drawn)"
+                    )
+                    continue
                 low = found.low if found.low is not None else np.nan
                 high = found.high if found.high is not None else np.nan
                 print(
