@@ -11,9 +11,13 @@ dish of Koyano, Suematsu & Kitahata, PRE 99, 022211 (2019); configs/bodies/disk_
   onset mu_c, omega_c (:func:`~pde_rotor.model.onsets.dish_hopf_onset`);
 * (c), (d) below the onset, the disk moved to (1, 0) and pushed to U = (0, 1) at the
   release: it swings through the centre, then settles into rotation about the centre at a
-  constant radius; the orbit, and its radius and angle against time. (A small kick along
-  a line through the centre keeps it on that line by symmetry, and grows into motion
-  back and forth through the centre: docs/results.md.)
+  constant radius; the orbit, and its radius and angle against time. The disk is nearly
+  overdamped (m / mu ~ 6e-4): the push itself is forgotten within two steps, and what
+  breaks the mirror symmetry about the x axis is the 6e-4 it moves the disk across.
+  (A kick along a line through the centre keeps it on that line by symmetry, and grows
+  into motion back and forth through the centre; which wakes end in which motion, and
+  the rotation's hysteresis above the onset: benchmarks/dish_branches.py,
+  docs/bodies.md.)
 
 Theirs (the 2019 abstract): "rotational motion is stably realized through the double-Hopf
 bifurcation from the rest state"; only the abstract was available to us, their model's

@@ -471,7 +471,8 @@ def _run_bodies(
             wall_time=time.perf_counter() - start,
             backend="cpu",
         )
-        _logger.info("bodies run %s after %.1f s: %s", status, result.wall_time, message)
+        said = f": {result.message}" if result.message else ""
+        _logger.info("bodies run %s after %.1f s%s", status, result.wall_time, said)
         if run_dir is not None:
             write_netcdf_atomic(result.events, run_dir / "events.nc")
             fig = bodies_summary(result.timeseries, cfg, make_bodies(cfg))
