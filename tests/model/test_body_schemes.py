@@ -62,22 +62,29 @@ def smooth_c(x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.n
     return bump * wave, grad_x, grad_y
 
 
+def consistent_surface(specs: list[dict], radius: float) -> tuple[list, BodyScheme, np.ndarray]:
+    """The bodies of `specs` on the consistent scheme in a dish of `radius` (dx = DX),
+    their scheme and the grid's cell centres along an axis."""
+    config = RotorConfig.model_validate(
+        {
+            "grid": {"domain_radius": radius, "dx": DX, "dt": 1e-5},
+            "numerics": {"scheme": "consistent"},
+            "bodies": specs,
+        }
+    )
+    bodies = make_bodies(config)
+    cells = 2 * math.ceil(radius / DX) + 2
+    axis = DX * (np.arange(cells) - (cells - 1) / 2)
+    return bodies, BodyScheme.from_config(config, bodies), axis
+
+
 def test_contour_forms_equal_the_area_integrals() -> None:
     """For a smooth c (its gradient exact), int F grad c dA and int F (r - X) x grad c dA
     summed over a fine grid (spacing dx / 4 about each body: at dx the tanh corners of
     the strip alias to 1e-3) equal the contour forms: with the filtered F of a circle's
     weight for the pills and the disk, with the model's F for the polygon and the strip
     (the rotor's band), to 1e-4 of the force."""
-    config = RotorConfig.model_validate(
-        {
-            "grid": {"domain_radius": 3.5, "dx": DX, "dt": 1e-5},
-            "numerics": {"scheme": "consistent"},
-            "bodies": BODIES,
-        }
-    )
-    bodies = make_bodies(config)
-    scheme = BodyScheme.from_config(config, bodies)
-    axis = DX * (np.arange(2 * math.ceil(3.5 / DX) + 2) - (2 * math.ceil(3.5 / DX) + 1) / 2)
+    bodies, scheme, axis = consistent_surface(BODIES, 3.5)
     c, _, _ = smooth_c(*np.meshgrid(axis, axis, indexing="ij"))
     fine = DX / 4
     for k, body in enumerate(bodies):
@@ -139,16 +146,7 @@ def test_square_strip_is_the_square_polygon() -> None:
     ]
     for body in square:
         body.update(pills=[{"x": 0.05, "y": 0.0}], motion={"kind": "free", "mass": 1e-3})
-    config = RotorConfig.model_validate(
-        {
-            "grid": {"domain_radius": 3.0, "dx": DX, "dt": 1e-5},
-            "numerics": {"scheme": "consistent"},
-            "bodies": square,
-        }
-    )
-    bodies = make_bodies(config)
-    scheme = BodyScheme.from_config(config, bodies)
-    axis = DX * (np.arange(2 * math.ceil(3.0 / DX) + 2) - (2 * math.ceil(3.0 / DX) + 1) / 2)
+    bodies, scheme, axis = consistent_surface(square, 3.0)
     x, y = np.meshgrid(axis, axis, indexing="ij")
     c, _, _ = smooth_c(x, y)
     phi = 0.37
