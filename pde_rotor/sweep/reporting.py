@@ -99,6 +99,16 @@ def _mcnemar(
     return values
 
 
+def _grid_value(sweep: Sweep, name: str) -> float:
+    """The sweep's grid.`name` (dx or dt): its axis's value where that axis has one, NaN
+    where it has several (the report's coordinate then says), else the base config's."""
+    key = f"grid.{name}"
+    if key in sweep.axes:
+        values = sweep.axes[key]
+        return float(values[0]) if len(values) == 1 else math.nan
+    return float(sweep.base.get("grid", {}).get(name, getattr(RotorConfig().grid, name)))
+
+
 def gather(sweep: Sweep, sweep_dir: str | Path) -> xr.Dataset:
     """Collect the stored runs of `sweep` from `sweep_dir` into a Dataset (no writing).
 
@@ -156,7 +166,6 @@ def gather(sweep: Sweep, sweep_dir: str | Path) -> xr.Dataset:
             },
         )
     spec = sweep.spec
-    grid = sweep.base.get("grid", {})
     attrs = {
         "sweep": spec.name,
         "description": spec.description,
@@ -173,8 +182,8 @@ def gather(sweep: Sweep, sweep_dir: str | Path) -> xr.Dataset:
             else "independent: every run has its own stop, at a uniformly random angle"
         ),
         "base_config": json.dumps(sweep.base, sort_keys=True),
-        "grid_dx": float(grid.get("dx", RotorConfig().grid.dx)),
-        "grid_dt": float(grid.get("dt", RotorConfig().grid.dt)),
+        "grid_dx": _grid_value(sweep, "dx"),
+        "grid_dt": _grid_value(sweep, "dt"),
         "paper": "Koyano, Kitahata, Nakata, Gorecki, Chaos 30 (2020), Figs. 5, 7, 8, 9",
     }
     return xr.Dataset(data_vars, coords=coords, attrs=attrs)
@@ -242,6 +251,14 @@ Terms of the sweep reports (docs/statistics.md has the derivations):
 """What ``pde-rotor report --explain`` prints."""
 
 
+def _attr_text(ds: xr.Dataset, name: str) -> str:
+    """A grid attribute of a report for its table's header: ``swept`` where it is NaN."""
+    value = ds.attrs.get(name)
+    if value is None:
+        return "unknown"
+    return "swept" if math.isnan(float(value)) else f"{float(value):g}"
+
+
 def format_table(ds: xr.Dataset) -> str:
     """One row per point: axis values, P and its 95 % interval, the inverted stops by
     starting direction, mean |omega| and the runs done; for a paired design the McNemar
@@ -277,7 +294,7 @@ def format_table(ds: xr.Dataset) -> str:
     widths = [max(len(h), *(len(r[k]) for r in rows)) for k, h in enumerate(header)]
     lines = [
         f"{ds.attrs.get('sweep', '')} ({kind} estimator, "
-        f"dx = {ds.attrs.get('grid_dx')}, dt = {ds.attrs.get('grid_dt')})",
+        f"dx = {_attr_text(ds, 'grid_dx')}, dt = {_attr_text(ds, 'grid_dt')})",
         *LEGENDS["protocol" if kind == "protocol" else "restart"],
     ]
     if paired:

@@ -7,6 +7,7 @@ dt = 4e-4) with very short times, so that one run takes a fraction of a second.
 from __future__ import annotations
 
 import json
+import math
 import os
 import shutil
 import signal
@@ -844,3 +845,18 @@ def test_report_label_counts_stops_of_measured_points_only():
     assert "200 stops per point (2 of 3 points measured);" in label
     done = SweepData(ds.isel(t_stop=[0, 1]), Path("s.nc"), computed=False).label()
     assert "200 stops per point;" in done
+
+
+def test_report_records_the_grid_its_runs_used(tmp_path):
+    """A report's grid_dx / grid_dt are the runs' own: the base config's, an axis's single
+    value, or NaN (the header says "swept") where the axis has several; never the base
+    value that an axis overrides."""
+    base = gather(tiny_sweep(), tmp_path)
+    assert (base.attrs["grid_dx"], base.attrs["grid_dt"]) == (0.05, 4e-4)
+    fine = {**TINY_SWEEP["base"], "grid": {**TINY_BASE["grid"], "dt": 2e-4}}
+    one = gather(tiny_sweep(base=fine, axes={"grid.dx": [1 / 30]}), tmp_path)
+    assert one.attrs["grid_dx"] == pytest.approx(1 / 30)
+    assert "dx = 0.0333333, dt = 0.0002" in format_table(one).splitlines()[0]
+    many = gather(tiny_sweep(base=fine, axes={"grid.dx": [0.05, 1 / 30]}), tmp_path)
+    assert math.isnan(many.attrs["grid_dx"])
+    assert "dx = swept" in format_table(many).splitlines()[0]
