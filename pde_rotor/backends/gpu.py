@@ -23,10 +23,10 @@ import time
 from collections.abc import Callable, Sequence
 
 import numpy as np
-from numba import cuda
 
 from ..config import RotorConfig
-from ..kernels.cuda import MAX_CORNERS, advance_kernel, simulator_enabled
+from ..kernels.cuda import MAX_CORNERS, advance_kernel
+from ..kernels.cuda_target import cuda, simulator_enabled
 from ..kernels.records import PARAMS, make_record
 from ..model.pde import RotorPDE
 from .ensemble import (
