@@ -136,26 +136,24 @@ def resolve_backend(requested: str) -> str:
 def backend_for(config: RotorConfig) -> str:
     """The backend that will run `config`: ``solver.backend`` resolved for its numerics.
 
-    The GPU kernel integrates with forward Euler only: with another
-    ``numerics.integrator``, ``auto`` runs on the CPU and ``gpu`` is refused. No backend
-    runs bodies yet (:func:`pde_rotor.model.pde.refuse_bodies`): the CLI and
+    The rotor's GPU kernel integrates with forward Euler only: with another
+    ``numerics.integrator``, ``auto`` runs the rotor on the CPU and ``gpu`` is refused.
+    Bodies (``bodies:``) run on either backend (the GPU's
+    :mod:`pde_rotor.backends.gpu_bodies`, Euler or Heun; the CPU's loop refuses what it
+    does not implement, :func:`pde_rotor.model.pde.check_bodies_numerics`). The CLI and
     :func:`pde_rotor.run` ask here before they write anything.
 
     Raises:
-        BackendError: "gpu" requested and no usable GPU, or an integrator the GPU kernel
-            does not implement (one line, naming the key).
-        ConfigError: bodies with numerics their kernel does not implement (one line).
+        BackendError: "gpu" requested and no usable GPU, or an integrator the rotor's GPU
+            kernel does not implement (one line, naming the key).
+        ConfigError: bodies on the CPU with numerics its loop does not implement (one line).
     """
-    check_bodies_numerics(config)
     requested = config.solver.backend
     if config.bodies is not None:
-        if requested == "gpu":
-            msg = (
-                "solver.backend = 'gpu' with bodies: the GPU ensemble runs the rotor of "
-                "geometry: only (allowed: solver.backend = cpu or auto)"
-            )
-            raise BackendError(msg)
-        return "cpu"
+        backend = resolve_backend(requested)
+        if backend == "cpu":
+            check_bodies_numerics(config)
+        return backend
     integrator = config.numerics.integrator
     if requested != "cpu" and integrator != "euler":
         if requested == "auto":

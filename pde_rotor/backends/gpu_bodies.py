@@ -12,10 +12,6 @@ member m, with forward Euler or Heun (``numerics.integrator``). Two users:
 * :func:`run_bodies_ensemble`: E members (a sweep's points, seeds) to a common end
   time, every body's pose and forces recorded at a fixed interval
   (:class:`BodiesEnsembleResult`).
-
-The model object is :class:`pde_rotor.model.surface.SurfacePDE`, built from a copy of
-the config with forward Euler: it holds the equations, which do not depend on the
-integrator (the CPU's bodies loop refuses Heun where it has none).
 """
 
 from __future__ import annotations
@@ -44,14 +40,10 @@ GPU_THREADS = 128
 """Threads per block on a GPU."""
 
 
-def surface_model(config: RotorConfig) -> SurfacePDE:
-    """The bodies' model of `config` (see the module docstring: built with Euler)."""
-    numerics = config.numerics.model_copy(update={"integrator": "euler"})
-    return SurfacePDE(config.model_copy(update={"numerics": numerics}))
-
-
 def _same(arrays: Sequence[np.ndarray], first: Sequence[np.ndarray]) -> bool:
-    return all(a.shape == b.shape and np.array_equal(a, b) for a, b in zip(arrays, first, strict=True))
+    return all(
+        a.shape == b.shape and np.array_equal(a, b) for a, b in zip(arrays, first, strict=True)
+    )
 
 
 class BodiesBatch:
@@ -64,7 +56,9 @@ class BodiesBatch:
         threads: threads per block.
     """
 
-    def __init__(self, pdes: Sequence[SurfacePDE], dt: float, heun: bool, threads: int | None = None):
+    def __init__(
+        self, pdes: Sequence[SurfacePDE], dt: float, heun: bool, threads: int | None = None
+    ):
         """
         Args:
             pdes: the members' models (common grid, numerics and bodies' layout).
@@ -97,7 +91,9 @@ class BodiesBatch:
             if m == 0:
                 tables, walls = table, wall
             elif rec.shape != records[0].shape or pill.shape != pills[0].shape:
-                raise ValueError(f"member {m}: its number of bodies or pills differs from member 0's")
+                raise ValueError(
+                    f"member {m}: its number of bodies or pills differs from member 0's"
+                )
             elif not (_same(table, tables) and _same(wall, walls)):
                 msg = (
                     f"member {m}: its bodies' scheme tables or dish wall differ from member "
@@ -122,7 +118,10 @@ class BodiesBatch:
             cuda.to_device(np.zeros((e, nn))),
             cuda.to_device(np.full((e, nn), -1, dtype=np.int64)),
         )
-        self.d_surface = (cuda.to_device(coords), cuda.to_device(np.stack([lo, hi]).astype(np.int64)))
+        self.d_surface = (
+            cuda.to_device(coords),
+            cuda.to_device(np.stack([lo, hi]).astype(np.int64)),
+        )
         self.d_pose = cuda.to_device(np.zeros((e, k, len(POSE_COLUMNS))))
         self.d_body = cuda.to_device(np.stack(records))
         self.d_arrays = (
@@ -224,7 +223,7 @@ class GpuBodiesStepper:
 
     def __post_init__(self) -> None:
         heun = self.pde.config.numerics.integrator == "heun"
-        self.batch = BodiesBatch([surface_model(self.pde.config)], self.dt, heun)
+        self.batch = BodiesBatch([self.pde], self.dt, heun)
 
     def __call__(self, data: np.ndarray, bodies: BodiesState, step0: int, n_steps: int) -> None:
         """Advance `data` and `bodies` together by `n_steps` steps from step `step0`.
@@ -245,7 +244,9 @@ class GpuBodiesStepper:
             _ended(self.pde, (step0 + n_steps) * self.dt, status[1:], bodies, data)
 
 
-def _ended(pde: SurfacePDE, t: float, status: np.ndarray, bodies: BodiesState, data: np.ndarray) -> None:
+def _ended(
+    pde: SurfacePDE, t: float, status: np.ndarray, bodies: BodiesState, data: np.ndarray
+) -> None:
     """Raise the error of an early end, worded as the CPU stepper words it."""
     reason, k, other = (int(s) for s in status)
     names = bodies.names
@@ -329,7 +330,7 @@ def run_bodies_ensemble(
         raise ValueError("run_bodies_ensemble needs configs with a bodies: list")
     dt = configs[0].grid.dt
     heun = configs[0].numerics.integrator == "heun"
-    pdes = [surface_model(c) for c in configs]
+    pdes = [SurfacePDE(c) for c in configs]
     batch = BodiesBatch(pdes, dt, heun, threads_per_block)
     t_end = max(c.protocol.t_end for c in configs) if t_end is None else t_end
     every = steps_of(record_interval or configs[0].output.timeseries_interval, dt)

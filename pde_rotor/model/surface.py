@@ -44,7 +44,7 @@ from .bodies import Body, Pose, make_bodies, pill_source, plate_indicator
 from .body_schemes import BodyScheme, contour_integrals, filtered_body_fields
 from .domain import Domain, make_domain
 from .geometry import RotorShape
-from .pde import BOUNDARY, TORQUE_SIGN, check_bodies_numerics
+from .pde import BOUNDARY, TORQUE_SIGN
 from .schemes import Scheme
 from .wall import make_wall_step, wall_fluxes, wall_rate
 
@@ -141,13 +141,8 @@ class SurfacePDE(PDEBase):
         """
         Args:
             config: the run configuration (with or without ``bodies``).
-
-        Raises:
-            ConfigError: a scheme or integrator the bodies' loop does not implement
-                (:func:`~pde_rotor.model.pde.check_bodies_numerics`).
         """
         super().__init__()
-        check_bodies_numerics(config)
         self.config = config
         self.bodies: tuple[Body, ...] = make_bodies(config)
         self.scheme = Scheme.from_config(config)
