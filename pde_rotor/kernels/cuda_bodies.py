@@ -264,7 +264,7 @@ def _row_code(i, k, m, state, surface, bodies):
 
 
 @device_function
-def _draw(k, m, moved, state, surface, bodies, scratch, tables, p, flags):
+def _draw(k, m, moved, state, surface, bodies, scratch, tables, p, red):
     """Draw body k of member m at its pose (all threads): F_k, G_k and owner k on the
     cells of its footprint, the old footprint cleared first where X_k `moved`.
 
@@ -298,14 +298,23 @@ def _draw(k, m, moved, state, surface, bodies, scratch, tables, p, flags):
         box[m, k, 1] = min(n, int(math.floor((x_k + reach - x0) * inv_dx)) + 1)  # noqa: RUF046
         box[m, k, 2] = max(0, int(math.ceil((y_k - reach - x0) * inv_dx)))  # noqa: RUF046
         box[m, k, 3] = min(n, int(math.floor((y_k + reach - x0) * inv_dx)) + 1)  # noqa: RUF046
-        flags[0] = n
     cuda.syncthreads()
     i0, i1, j0, j1 = box[m, k, 0], box[m, k, 1], box[m, k, 2], box[m, k, 3]
+    mine = n  # the first failing row of this thread's rows, then of all (a min tree)
     for i in range(i0 + tid, i1, n_threads):
         if _row_code(i, k, m, state, surface, bodies) != 0:
-            cuda.atomic.min(flags, 0, i)
+            mine = i
+            break
+    red[tid] = mine
     cuda.syncthreads()
-    first = flags[0]
+    half = n_threads // 2
+    while half > 0:
+        if tid < half:
+            red[tid] = min(red[tid], red[tid + half])
+        cuda.syncthreads()
+        half //= 2
+    first = int(red[0])
+    cuda.syncthreads()
     if first < n:
         return _row_code(first, k, m, state, surface, bodies)
     tab = scratch[0][m, k]
@@ -625,7 +634,7 @@ def _stage(where, state, surface, bodies, scratch, tables, walls, p, shared):
         cuda.syncthreads()
         moved = pose[m, k, 0] != drawn[m, k, 0] or pose[m, k, 1] != drawn[m, k, 1]
         if moved or pose[m, k, 2] != drawn[m, k, 2]:
-            code = _draw(k, m, moved, state, surface, bodies, scratch, tables, p, flags)
+            code = _draw(k, m, moved, state, surface, bodies, scratch, tables, p, red)
             if code != 0:
                 if tid == 0:
                     flags[2] = k

@@ -3,7 +3,7 @@
 Every CUDA kernel and device function of the package (:mod:`pde_rotor.kernels.cuda`,
 :mod:`pde_rotor.kernels.cuda_bodies`) and the GPU backend's host code
 (:mod:`pde_rotor.backends.gpu`, :mod:`pde_rotor.backends.gpu_bodies`) take the compiler
-from here: ``cuda`` (device arrays, ``shared.array``, ``syncthreads``, ``atomic.min``,
+from here: ``cuda`` (device arrays, ``shared.array``, ``syncthreads``,
 ``blockIdx``, ``threadIdx``, ``blockDim``, ``to_device``, ``device_array``,
 ``is_available``, ``get_current_device``), the decorators :func:`device_function` and
 :func:`kernel`, and the element types of shared arrays (``float64``, ``int64``). Moving
