@@ -23,6 +23,8 @@ without the ``gpu`` extra.
 * :mod:`.base`: the interface (runtime-checkable Protocols) both backends implement;
 * :mod:`.ensemble`: the plan, state and result of an ensemble shared by the backends;
 * :mod:`.batch`: a sweep's members in batches, classified by the inversion rule;
+* :mod:`.gpu_bodies`: ``bodies:`` configs on the GPU, a single run's stepper and an
+  ensemble of members (kernel: :mod:`pde_rotor.kernels.cuda_bodies`);
 * this package: :func:`run_ensemble`, the backend choice and :func:`member_stepper`,
   which runs a single configuration as one member under py-pde's Controller.
 """

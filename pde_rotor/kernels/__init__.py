@@ -13,5 +13,8 @@
   force and torque of a body (Eq. (eq_motion) about its position);
 * :mod:`.bodies`: the step of K bodies and the fields on the CPU (``paper`` scheme);
 * :mod:`.wall`: the step of the fields behind a no-flux dish wall (cut cells of the circle);
-* :mod:`.cuda`: the batched CUDA kernel of an ensemble (:mod:`pde_rotor.backends.gpu`).
+* :mod:`.cuda_target`: the CUDA compiler (numba-cuda), imported in this one place;
+* :mod:`.cuda`: the batched CUDA kernel of an ensemble (:mod:`pde_rotor.backends.gpu`);
+* :mod:`.cuda_bodies`: the batched CUDA kernel of K bodies, Euler or Heun
+  (:mod:`pde_rotor.backends.gpu_bodies`).
 """
