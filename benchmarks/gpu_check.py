@@ -466,7 +466,7 @@ def summary(results: dict[str, Any]) -> str:
     lines.append(
         f"bodies (free disk, fixed_axis hexagon) at dx = {bodies['grid']['dx']}, "
         f"dt = {bodies['grid']['dt']}, scheme {bodies['scheme']}, {bodies['steps']} steps: "
-        f"gpu {bodies['gpu_s']:.1f} s, cpu {bodies['cpu_s']:.1f} s (compilation included); "
+        f"gpu {bodies['gpu_s']:.3g} s, cpu {bodies['cpu_s']:.3g} s (compilation included); "
         f"max deviation poses {bodies['max_pose_deviation']:.2e}, fields "
         f"{bodies['max_field_deviation']:.2e} (tolerance {bodies['tolerance']:g}): "
         + ("agree" if bodies["agree"] else "DIFFER")
