@@ -5,7 +5,8 @@ The kernel of :mod:`pde_rotor.kernels.cuda_bodies` runs here on the CPU
 (``NUMBA_ENABLE_CUDASIM=1``, set below before numba-cuda is imported), on small grids
 (dx = 0.1) for a few steps. Checked: a free disk and a fixed_axis hexagon with pills,
 stops and noise advance as the CPU's bodies loop advances them, on both schemes, with
-forward Euler, to 1e-10 (poses, velocities, forces, c and v); with Heun one fixed_axis
+forward Euler, to 1e-10 (poses, velocities, forces, c and v), and so do a strip, a
+body without a plate and a fixed body; with Heun one fixed_axis
 body is the CPU rotor's Heun, and a free disk's trajectory converges at second order in
 dt; the no-flux dish; an early end at the dish's edge; an ensemble of members; and
 ``pde-rotor run --backend gpu`` with a bodies: list.
@@ -120,6 +121,51 @@ def test_two_bodies_with_euler_agree_with_the_cpu(scheme: str) -> None:
         assert_same(cpu, gpu)
     assert cpu.bodies.poses[0, 6] != 0.0 and cpu.bodies.poses[1, 8] != 0.0  # forces seen
     assert cpu.bodies.poses[1, 5] != 0.0  # the hexagon turns again after its stop
+
+
+STRIP_AND_PILLS: list[dict[str, Any]] = [
+    {
+        "name": "strip",
+        "plate": {"shape": "strip", "length": 0.6, "width": 0.2},
+        "pills": [{"x": 0.2, "y": 0.0, "radius": 0.06}],
+        "motion": {"kind": "free", "mass": 1e-3, "inertia": 1e-4},
+        "start": {"x": 1.7, "y": 0.1, "angle": 0.7, "omega": 2.0, "velocity": [-0.2, 0.1]},
+    },
+    {
+        "name": "pair",
+        "plate": {"shape": "none"},
+        "pills": [{"x": 0.2, "y": 0.0, "radius": 0.06}, {"x": -0.2, "y": 0.05, "radius": 0.08}],
+        "motion": {"kind": "free", "mass": 1e-3, "inertia": 1e-4},
+        "start": {"x": -1.4, "y": -0.1, "angle": 0.3, "omega": -1.0, "velocity": [0.1, 0.2]},
+    },
+]
+"""The other plates: a free strip and a free body floating on two pills (no plate)."""
+
+
+@pytest.mark.parametrize("scheme", ["paper", "consistent"])
+def test_strip_and_plateless_bodies_agree_with_the_cpu(scheme: str) -> None:
+    """A strip (its filtered quadrant table and four edges in contour form) and a body
+    without a plate (its pills' F, and their circles in contour form) as on the CPU."""
+    cpu, gpu = pair(
+        config(STRIP_AND_PILLS, grid={"domain_radius": 3.6}, numerics={"scheme": scheme})
+    )
+    cpu.run(0.003)
+    gpu.run(0.003)
+    assert_same(cpu, gpu)
+    assert np.all(cpu.bodies.poses[:, 8] != 0.0)
+
+
+def test_a_fixed_body_stays_and_feeds_the_fields_as_on_the_cpu() -> None:
+    """A fixed body (its start velocities dropped) never moves; its sources and plate act
+    on the fields as on the CPU."""
+    fixed = {**DISK, "motion": {"kind": "fixed"}, "noise_sigma": None}
+    fixed["start"] = {"x": 0.0, "y": 0.05, "angle": 0.3}
+    cpu, gpu = pair(config([fixed], grid={"domain_radius": 1.6}))
+    cpu.run(0.002)
+    gpu.run(0.002)
+    assert_same(cpu, gpu)
+    np.testing.assert_array_equal(gpu.bodies.poses[0, :6], [0.0, 0.05, 0.3, 0.0, 0.0, 0.0])
+    assert gpu.bodies.poses[0, 12] == 1.0
 
 
 def test_no_flux_dish_agrees_with_the_cpu() -> None:
