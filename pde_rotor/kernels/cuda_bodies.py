@@ -842,5 +842,5 @@ def bodies_kernel(threads_per_block: int) -> Callable:
     """The bodies' kernel for a block size (compiled on its first launch); launch it with
     E blocks and ``N_SUMS * threads_per_block * 8`` bytes of dynamic shared memory."""
     if threads_per_block not in _KERNELS:
-        _KERNELS[threads_per_block] = kernel(_advance_bodies, (threads_per_block, 0))
+        _KERNELS[threads_per_block] = kernel(_advance_bodies, (threads_per_block,))
     return _KERNELS[threads_per_block]

@@ -38,9 +38,10 @@ def device_function(func: Callable) -> Callable:
     return cuda.jit(device=True, inline=True)(func)
 
 
-def kernel(func: Callable, launch_bounds: tuple[int, int] | None = None) -> Callable:
+def kernel(func: Callable, launch_bounds: tuple[int, ...] | None = None) -> Callable:
     """A CUDA kernel, compiled on its first launch; `launch_bounds` (threads per block,
-    least blocks per multiprocessor) is passed on a GPU only (the simulator has none)."""
+    and optionally the least blocks per multiprocessor) is passed on a GPU only (the
+    simulator has none)."""
     if launch_bounds is None or simulator_enabled():
         return cuda.jit(func)
     return cuda.jit(launch_bounds=launch_bounds)(func)
