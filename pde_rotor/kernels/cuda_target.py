@@ -1,7 +1,7 @@
 """The CUDA compiler of the GPU kernels, imported in this one place.
 
 Every CUDA kernel and device function of the package (:mod:`pde_rotor.kernels.cuda`,
-:mod:`pde_rotor.kernels.cuda_bodies`) and the GPU backend's host code
+:mod:`pde_rotor.kernels.cuda_bodies` and its parts) and the GPU backend's host code
 (:mod:`pde_rotor.backends.gpu`, :mod:`pde_rotor.backends.gpu_bodies`) take the compiler
 from here: ``cuda`` (device arrays, ``shared.array``, ``syncthreads``,
 ``blockIdx``, ``threadIdx``, ``blockDim``, ``to_device``, ``device_array``,
