@@ -3,7 +3,8 @@ and no module imports itself back through others.
 
 The layers, from the bottom: the base (configuration, files, units, statistics, the
 paper's stated values), the physics core (kernels/core.py: each equation once, whose
-stop schedule and constants the numpy model uses too), the model in numpy, the compiled
+stop schedule and constants the numpy model uses too), the model in numpy and, beside it,
+the exact theory of the onsets of motion (neither imports the other), the compiled
 loops and their parameter record (the rest of kernels/), the solver, figure primitives,
 trackers, ensemble backends, sweeps, the decision model, the Python API, the gallery's
 library and the command line (README, "Layout").
@@ -26,6 +27,7 @@ LAYERS: dict[str, int] = {
     "config": 1,
     "kernels.core": 2,
     "model": 3,
+    "theory": 3,
     "kernels": 4,
     "solver": 5,
     "plotting": 6,
@@ -139,11 +141,14 @@ def test_the_package_top_holds_at_most_six_modules():
 
 
 def test_every_subpackage_says_what_each_of_its_modules_does():
-    """A newcomer reads a folder's __init__ first: it names every module of the folder."""
+    """A newcomer reads a folder's __init__ first: it names every module and every
+    subpackage of the folder (nested folders too)."""
     silent = []
-    for init in sorted(PACKAGE.glob("*/__init__.py")):
+    for init in sorted(PACKAGE.glob("*/**/__init__.py")):
         doc = ast.get_docstring(ast.parse(init.read_text(encoding="utf-8"))) or ""
-        for module in sorted(init.parent.glob("*.py")):
-            if module.name != "__init__.py" and f":mod:`.{module.stem}`" not in doc:
-                silent.append(f"{init.parent.name}/{module.name}")
+        modules = [p.stem for p in init.parent.glob("*.py") if p.name != "__init__.py"]
+        modules += [p.parent.name for p in init.parent.glob("*/__init__.py")]
+        for module in sorted(modules):
+            if f":mod:`.{module}`" not in doc:
+                silent.append(f"{init.parent.relative_to(PACKAGE)}/{module}")
     assert silent == []

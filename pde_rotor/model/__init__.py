@@ -18,7 +18,7 @@ loops so that every indicator is written once.
   independent reference of Eqs. (eqc), (eqv) and (eq_motion);
 * :mod:`.surface`: :class:`SurfacePDE`, the same model with K bodies on one surface
   (each body's force and torque, Eq. (eq_motion) about its position), and its state;
-* :mod:`.analysis`: what needs no time stepping (the stopped plate's steady state);
-* :mod:`.onsets`: the exact onsets of motion from linear stability (a free camphor disk,
-  a disk in a dish, the two-disk rotor), derived in docs/bodies.md.
+* :mod:`.analysis`: what needs no time stepping (the stopped plate's steady state).
+
+The exact onsets of motion the bodies are checked against are :mod:`pde_rotor.theory`'s.
 """

@@ -23,8 +23,8 @@ One module per job:
 
 * :mod:`.spec`: the sweep file's schema, shipped bases, ``--set`` overrides;
 * :mod:`.plan`: points, runs, seeds and run keys (:class:`Sweep`, :class:`Run`);
-* :mod:`.estimators`: the restart, bank and protocol estimators, written once over the
-  ensemble interface for both the dask tasks and the GPU batches;
+* :mod:`.estimators`: the protocol, restart and bank estimators, one module each, written
+  once over the ensemble interface for both the dask tasks and the GPU batches;
 * :mod:`.tasks`: a group of runs on a dask worker (with its spin-up cache);
 * :mod:`.batch`: runs in batches on an ensemble backend (GPU);
 * :mod:`.store`: the append-only run logs of a sweep directory (default

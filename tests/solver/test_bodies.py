@@ -268,7 +268,7 @@ def test_free_disk_starts_moving_below_the_critical_friction(
     above it, and the friction where the simulated growth rate changes sign is the
     linear stability's closed form (docs/bodies.md) to 10 % on the coarse grid, 2 % on
     the paper's (measured: -7 % and -0.9 %)."""
-    from pde_rotor.model.onsets import CamphorDisk, free_disk_critical_friction
+    from pde_rotor.theory import CamphorDisk, free_disk_critical_friction
 
     mu_c = free_disk_critical_friction(CamphorDisk.from_config(RotorConfig()))
     below, above = 0.9 * mu_c, 1.05 * mu_c
@@ -303,7 +303,7 @@ def test_disk_in_a_no_flux_dish_leaves_rest_through_a_hopf_onset(
     `tolerance`: on the coarse grid in a dish of radius 2 (measured: -5.2 % and +0.5 %), on a
     grid of dx = 1/30 in the dish of radius 3 (measured: -0.3 % and +2.2 %)."""
     from pde_rotor.gallery.onsets import disk_in_dish_config, kick_hopf_rate
-    from pde_rotor.model.onsets import CamphorDisk, Wall, dish_hopf_onset
+    from pde_rotor.theory import CamphorDisk, Wall, dish_hopf_onset
 
     mass, relax = 1e-4, 6.0
     mu_c, omega_c = dish_hopf_onset(
@@ -333,7 +333,7 @@ def test_two_disk_rotor_starts_turning_below_its_critical_friction() -> None:
     grows at 0.9 mu_c(l) and decays at 1.05 mu_c(l) of the linear stability
     (docs/bodies.md), and the sign change lies within 10 % of mu_c on the coarse grid
     (measured: -6 %; -0.2 % on the paper grid)."""
-    from pde_rotor.model.onsets import CamphorDisk, rotor_critical_friction
+    from pde_rotor.theory import CamphorDisk, rotor_critical_friction
 
     half_length, inertia, relax, fit = 0.5, 1e-4, 6.0, (0.5, 1.5)
     mu_c = rotor_critical_friction(CamphorDisk.from_config(RotorConfig()), half_length, 0.025)
@@ -452,7 +452,7 @@ def test_two_disk_rotor_turns_fastest_at_an_intermediate_size() -> None:
     gallery/bodies_rotor_size.py)."""
     from pde_rotor.config import load_config
     from pde_rotor.gallery.onsets import rotation_samples, sized_rotor
-    from pde_rotor.model.onsets import (
+    from pde_rotor.theory import (
         CamphorDisk,
         free_disk_steady_speed,
         rotor_critical_half_length,
@@ -515,7 +515,7 @@ def test_consistent_scheme_removes_the_lattice_force_on_a_held_disk() -> None:
     10 %) plus a lattice force that depends on its sub-cell position; held a quarter
     cell off a cell corner, that lattice force is at least four times smaller on the
     consistent scheme than on the paper scheme (measured: 9 times at dx = 0.05)."""
-    from pde_rotor.model.onsets import CamphorDisk, Wall, free_disk_displacement_force
+    from pde_rotor.theory import CamphorDisk, Wall, free_disk_displacement_force
 
     pull = free_disk_displacement_force(
         CamphorDisk.from_config(RotorConfig()), 0.0, Wall(2.0, "absorbing")
