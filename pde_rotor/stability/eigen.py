@@ -6,7 +6,8 @@ small determinant det S(lambda) = 0 (:meth:`~.linear.Linearisation.schur`). The 
 the spectral transformation is put where those roots are: the largest real part of the
 eigenvalues of S(0) (the quasi-static estimate: the camphor following the body
 instantly, an upper bound for a real growth rate whose response weakens with lambda), or
-0 if that is negative (the onsets, where an eigenvalue crosses the imaginary axis).
+1e-3 if that is smaller (the onsets, where an eigenvalue crosses the imaginary axis; not 0
+itself, where a neutral coordinate would make J - sigma singular).
 scipy's ``eigs`` (ARPACK) with ``OPinv`` = (J - sigma)^{-1}
 (:meth:`~.linear.Linearisation.shift_invert`) then returns the k eigenvalues nearest
 sigma; each comes with its residual |J x - lambda x| / (|lambda| |x|).
@@ -25,6 +26,9 @@ from scipy.sparse.linalg import eigs
 
 from .linear import Linearisation
 
+SHIFT_FLOOR = 1e-3
+"""The smallest automatic shift: not 0, where a neutral mode of the bodies' coordinates
+would make J - sigma singular."""
 IMAGINARY_TOLERANCE = 1e-8
 """|Im lambda| / max(|lambda|, 1) below which an eigenvalue counts as real."""
 
@@ -62,7 +66,7 @@ def auto_shift(lin: Linearisation) -> float:
     if lin.n_dofs == 0:
         return 0.0
     values = np.linalg.eigvals(lin.with_positions(False).schur(0.0))
-    return float(max(values.real.max(), 0.0))
+    return float(max(values.real.max(), SHIFT_FLOOR))
 
 
 def leading_modes(

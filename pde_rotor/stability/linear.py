@@ -97,16 +97,33 @@ class Linearisation:
         """B, (n_f, m_s): the coordinates' columns (with positions), then the velocities';
         in the co-moving frame the velocities' columns less the rest field's shift c_q."""
         if self.positions:
-            return np.concatenate([self.coordinate_columns, self.velocity_columns], axis=1)
+            coords = self.coordinate_columns[:, self.active]
+            return np.concatenate([coords, self.velocity_columns], axis=1)
         return self.velocity_columns - self.rest_shift
+
+    @property
+    def active(self) -> np.ndarray:
+        """Indices of the coordinates that enter the rates: a coordinate that moves
+        nothing (the angle of a round disk turning about its centre) is ignorable, its
+        eigenvalue exactly 0, and is left out even with positions."""
+        def moves(block: np.ndarray) -> np.ndarray:
+            size = np.abs(block).max(axis=0, initial=0.0)
+            return size > 1e-12 * max(float(size.max(initial=0.0)), 1e-300)
+
+        moving = moves(self.coordinate_columns) | moves(self.coordinate_rows)
+        return np.nonzero(moving)[0]
 
     @property
     def small(self) -> np.ndarray:
         """D, (m_s, m_s)."""
-        m = self.n_dofs
         if self.positions:
+            m, a = self.n_dofs, self.active
+            pick = np.eye(m)[a]
             return np.block(
-                [[np.zeros((m, m)), np.eye(m)], [self.coordinate_rows, self.velocity_rows]]
+                [
+                    [np.zeros((a.size, a.size)), pick],
+                    [self.coordinate_rows[:, a], self.velocity_rows],
+                ]
             )
         return self.velocity_rows
 
@@ -133,7 +150,8 @@ class Linearisation:
     def labels(self) -> list[str]:
         """Names of the mechanical unknowns, in order."""
         dofs = self.model.dofs
-        coords = [f"{d.name}.{d.coordinate}" for d in dofs] if self.positions else []
+        coords = [f"{dofs[i].name}.{dofs[i].coordinate}" for i in self.active]
+        coords = coords if self.positions else []
         return coords + [d.label for d in dofs]
 
     def rows(self, x_fields: np.ndarray) -> np.ndarray:
@@ -149,7 +167,7 @@ class Linearisation:
         else:
             acc = model.accelerations(c, v, q, zero)
         if self.positions:
-            return np.concatenate([np.zeros(self.n_dofs, dtype=acc.dtype), acc])
+            return np.concatenate([np.zeros(self.active.size, dtype=acc.dtype), acc])
         return acc
 
     def matvec(self, x: np.ndarray) -> np.ndarray:
@@ -222,7 +240,9 @@ class Linearisation:
         n, m = self.n_fields, self.n_dofs
         x_f, x_s = x[:n], x[n:]
         if self.positions:
-            dq, dp = x_s[:m], x_s[m:]
+            a = self.active
+            dq, dp = np.zeros(m, dtype=x.dtype), x_s[a.size :]
+            dq[a] = x_s[: a.size]
         else:
             dp = x_s
             dq = dp / eigenvalue if eigenvalue not in (None, 0) else np.zeros_like(dp)

@@ -21,15 +21,28 @@ operators.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cached_property
 
 import numpy as np
-from pde import ScalarField, VectorField
+from pde import CartesianGrid, ScalarField, VectorField
 
 from ..config import DISH_CENTRE, RotorConfig
 from ..model.pde import RotorFields, RotorPDE, RotorState
 from ..model.surface import BodiesState, SurfaceFields, SurfacePDE
+
+_GRIDS: dict[tuple, CartesianGrid] = {}
+"""One py-pde grid per grid geometry: py-pde compiles its operators per grid object, and a
+continuation builds a model per value."""
+
+
+def _share_grid(pde: RotorPDE | SurfacePDE) -> None:
+    """Give `pde` the grid object of an earlier model on the same grid (its compiled
+    Laplacian, divergence and gradient with it)."""
+    grid = pde.domain.grid
+    key = (type(grid).__name__, np.asarray(grid.axes_bounds).tobytes(), grid.shape)
+    pde.domain = replace(pde.domain, grid=_GRIDS.setdefault(key, grid))
+
 
 POSE_VELOCITY = {"x": "u", "y": "v", "phi": "omega"}
 """The velocity of each coordinate of a body's pose (columns of
@@ -85,6 +98,7 @@ class DiscreteModel:
         self.config = config
         self.rotor = config.bodies is None and config.grid.domain_centre == DISH_CENTRE
         self.pde: RotorPDE | SurfacePDE = RotorPDE(config) if self.rotor else SurfacePDE(config)
+        _share_grid(self.pde)
         self.flow = bool(config.flow.enabled)
         domain = self.pde.domain
         self.c_mask = np.asarray(getattr(domain, "camphor_mask", domain.interior_mask))
