@@ -106,6 +106,7 @@ class Linearisation:
         """Indices of the coordinates that enter the rates: a coordinate that moves
         nothing (the angle of a round disk turning about its centre) is ignorable, its
         eigenvalue exactly 0, and is left out even with positions."""
+
         def moves(block: np.ndarray) -> np.ndarray:
             size = np.abs(block).max(axis=0, initial=0.0)
             return size > 1e-12 * max(float(size.max(initial=0.0)), 1e-300)
@@ -130,6 +131,15 @@ class Linearisation:
     def with_positions(self, positions: bool) -> Linearisation:
         """The same blocks with or without the coordinates as unknowns."""
         return replace(self, positions=positions)
+
+    @property
+    def rest_acceleration(self) -> np.ndarray:
+        """(m,) the bodies' accelerations at the rest state if released: 0 where the rest
+        state is a fixed point of the free bodies (by symmetry); the lattice torque or an
+        asymmetry otherwise, which the linearisation about the held state leaves out."""
+        model = self.model
+        zero_v = np.zeros((2, *model.shape))
+        return model.accelerations(self.rest.c, zero_v, model.q0, np.zeros(self.n_dofs))
 
     @property
     def n_fields(self) -> int:
