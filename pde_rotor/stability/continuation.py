@@ -141,7 +141,8 @@ def critical_value(
     Args:
         data: the config as a mapping.
         key: the dotted key.
-        lo, hi: a bracket: Re lambda has opposite signs at its ends.
+        lo: one end of a bracket: Re lambda has opposite signs at its ends.
+        hi: the other end.
         rtol: relative tolerance of the value.
         k: eigenvalues per evaluation.
         positions: as for :func:`~pde_rotor.stability.linear.linearise`.
