@@ -15,7 +15,7 @@ With three grids the script prints the Richardson limit dx -> 0 (order from the 
 values) and the paper grid's error against it.
 
 Run: ``python benchmarks/stability_onsets.py [--grids 0.05 0.025 0.0166666667]
-[--systems free rotor dish]`` (one thread: OMP_NUM_THREADS=1).
+[--systems free rotor dish] [--radius 3]`` (one thread: OMP_NUM_THREADS=1).
 """
 
 from __future__ import annotations
@@ -40,9 +40,10 @@ KEY = "bodies[0].motion.friction"
 DELTA = 0.025
 
 
-def system(name: str, dx: float) -> tuple[dict[str, Any], tuple[float, float]]:
-    """The config (as a mapping) and the friction bracket of one system on one grid."""
-    grid = {"domain_radius": 3.0, "dx": dx, "dt": 1e-4 if dx >= 0.025 else 5e-5}
+def system(name: str, dx: float, radius: float = 3.0) -> tuple[dict[str, Any], tuple[float, float]]:
+    """The config (as a mapping) and the friction bracket of one system on one grid, in a
+    dish of `radius`."""
+    grid = {"domain_radius": radius, "dx": dx, "dt": 1e-4 if dx >= 0.025 else 5e-5}
     if name == "free":
         data = read_config_data("configs/bodies/free_disk.yaml")
         data["bodies"][0]["motion"].update({"mass": 2e-3, "inertia": 1e-5})
@@ -61,7 +62,7 @@ def system(name: str, dx: float) -> tuple[dict[str, Any], tuple[float, float]]:
     return data, bracket
 
 
-def theory(name: str) -> str:
+def theory(name: str, radius: float = 3.0) -> str:
     """The onset of model/onsets.py, sharp and (where available) at delta."""
     disk = CamphorDisk(1.0, 1.0, 1.0, 1.0, 0.1)
     if name == "free":
@@ -72,7 +73,7 @@ def theory(name: str) -> str:
             f"delta {rotor_critical_friction(disk, 0.5, DELTA):.5f}, "
             f"delta 0.005 {rotor_critical_friction(disk, 0.5):.5f}"
         )
-    mu, omega = dish_hopf_onset(disk, Wall(3.0, "no_flux"), 1e-4)
+    mu, omega = dish_hopf_onset(disk, Wall(radius, "no_flux"), 1e-4)
     return f"sharp mu_c {mu:.5f} omega_c {omega:.5f}"
 
 
@@ -81,18 +82,19 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--grids", type=float, nargs="+", default=[0.05, 0.025, 0.0166666667])
     parser.add_argument("--systems", nargs="+", default=["free", "rotor", "dish"])
+    parser.add_argument("--radius", type=float, default=3.0, help="dish radius L")
     args = parser.parse_args()
     for name in args.systems:
         values = []
         for dx in args.grids:
-            data, (lo, hi) = system(name, dx)
+            data, (lo, hi) = system(name, dx, args.radius)
             start = time.thread_time()
             cross = critical_value(data, KEY, lo, hi, rtol=1e-5, k=6)
             values.append(cross.value)
             print(
                 f"{name} dx={dx:.4g}: mu_c = {cross.value:.5f} +- {cross.tolerance:.1e} "
                 f"{cross.kind} omega = {cross.frequency:.4f} ({cross.direction}) "
-                f"cpu {time.thread_time() - start:.0f}s; theory {theory(name)}",
+                f"cpu {time.thread_time() - start:.0f}s; theory {theory(name, args.radius)}",
                 flush=True,
             )
         if len(values) == 3:
