@@ -35,6 +35,7 @@ LAYERS: dict[str, int] = {
     "backends": 8,
     "sweep": 9,
     "decision": 10,
+    "stability": 10,
     "api": 11,
     "gallery": 12,
     "cli": 13,

@@ -27,6 +27,7 @@ from .common import EXIT_BAD_INPUT, EXIT_FAILED, EXIT_INTERRUPTED, SetOption, fa
 from .gallery import register as register_gallery_commands
 from .plot import register as register_plot_command
 from .predict import register as register_predict_commands
+from .stability import register as register_stability_command
 from .sweep import register as register_sweep_commands
 
 app = typer.Typer(
@@ -281,6 +282,7 @@ register_sweep_commands(app)  # pde-rotor sweep / report
 register_plot_command(app)  # pde-rotor plot
 register_gallery_commands(app)  # pde-rotor gallery
 register_predict_commands(app)  # pde-rotor predict
+register_stability_command(app)  # pde-rotor stability
 
 
 def main() -> None:
