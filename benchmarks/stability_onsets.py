@@ -26,6 +26,7 @@ import time
 from typing import Any
 
 from pde_rotor.config import read_config_data
+from pde_rotor.stability import critical_value
 from pde_rotor.theory import (
     CamphorDisk,
     Wall,
@@ -34,7 +35,6 @@ from pde_rotor.theory import (
     free_disk_smoothed_coefficients,
     rotor_critical_friction,
 )
-from pde_rotor.stability import critical_value
 
 KEY = "bodies[0].motion.friction"
 DELTA = 0.025

@@ -28,6 +28,7 @@ import numpy as np
 
 from pde_rotor.config import read_config_data
 from pde_rotor.gallery.common import add_footer, new_figure, parse_args, save
+from pde_rotor.stability import Branch, follow
 from pde_rotor.theory import (
     CamphorDisk,
     Wall,
@@ -35,7 +36,6 @@ from pde_rotor.theory import (
     free_disk_growth_rate,
     rotor_growth_rate,
 )
-from pde_rotor.stability import Branch, follow
 
 NAME = "stability_onsets"
 KEY = "bodies[0].motion.friction"

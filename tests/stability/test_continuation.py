@@ -8,11 +8,11 @@ import pytest
 import xarray as xr
 
 from pde_rotor.config import ConfigError
+from pde_rotor.stability import follow
 from pde_rotor.theory import (
     CamphorDisk,
     free_disk_smoothed_coefficients,
 )
-from pde_rotor.stability import follow
 from tests.stability.conftest import disk_data, rotor_data
 
 KEY = "bodies[0].motion.friction"

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from pde_rotor.config import RotorConfig
-from pde_rotor.theory import CamphorDisk, Wall, dish_hopf_onset
 from pde_rotor.stability import DiscreteModel, is_real, leading_modes, linearise
+from pde_rotor.theory import CamphorDisk, Wall, dish_hopf_onset
 from tests.stability.conftest import disk_data
 
 
