@@ -385,13 +385,17 @@ def run(
                 name: run_dir / name for name in RunDirectory.FILES if (run_dir / name).exists()
             }
             if error is None or isinstance(error, SimulationDivergedError):
-                result.write_summary()
+                try:
+                    result.write_summary()
+                except OSError as err:  # a full disk: the records are kept, say so
+                    _logger.error("writing summary.png failed: %s", err)
+                    error = err
         if error is not None and (check or not isinstance(error, SimulationDivergedError)):
             if isinstance(error, SimulationDivergedError) or not isinstance(error, Exception):
                 raise error
             t_last = ts_tracker.rows["time"][-1] if ts_tracker.rows["time"] else 0.0
             kept = f"; what was recorded before is in {run_dir.path}" if run_dir else ""
-            msg = f"run stopped after t = {t_last:g}: {type(error).__name__}: {error}{kept}"
+            msg = f"run stopped after t = {t_last:g}: {_describe(error)}{kept}"
             raise RunError(msg) from error
         return result
     finally:
@@ -491,6 +495,14 @@ def _run_bodies(
 class RunError(RuntimeError):
     """A run stopped by something other than the physics (a full disk, a failing writer);
     ``str(err)`` is one line saying when, why and where the records before it are."""
+
+
+def _describe(error: Exception) -> str:
+    """One line for what stopped a run: ``No space left on device (writing events.nc)``."""
+    if isinstance(error, OSError) and error.strerror:
+        where = f" (writing {Path(error.filename).name})" if error.filename else ""
+        return f"{error.strerror}{where}"
+    return f"{type(error).__name__}: {error}".splitlines()[0]
 
 
 def _events_from_csv(path: Path, commit_fraction: float) -> xr.Dataset:

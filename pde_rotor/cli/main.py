@@ -137,6 +137,8 @@ def run(
         fail(str(err))
     except RunError as err:
         fail(str(err), EXIT_FAILED)
+    except OSError as err:  # a full disk before the first step (config.yaml, reserve)
+        fail(f"cannot write the run's files in {run_dir}: {err.strerror or err}", EXIT_FAILED)
     _report(result)
     if result.status == "diverged":
         fail(result.message, EXIT_FAILED)
