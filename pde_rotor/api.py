@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import logging
 import math
-import platform
 import secrets
 import time
 from collections.abc import Iterable, Mapping
@@ -27,6 +26,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from ._version import versions
 from .backends import backend_for, device_name, member_stepper
 from .config import ConfigError, RotorConfig, dump_config, load_config, validate_config
 from .io.output import (
@@ -44,23 +44,6 @@ PAPER = (
     "Koyano, Kitahata, Nakata, Gorecki: On a simple model that explains inversion of a "
     "self-propelled rotor under periodic stop-and-release operations, Chaos 30 (2020)"
 )
-
-
-def versions() -> dict[str, str]:
-    """Versions of pde_rotor and of the packages that determine its results."""
-    import numba
-    import pde
-
-    from ._version import __version__
-
-    return {
-        "pde_rotor": __version__,
-        "py-pde": pde.__version__,
-        "numba": numba.__version__,
-        "numpy": np.__version__,
-        "xarray": xr.__version__,
-        "python": platform.python_version(),
-    }
 
 
 def with_seed(config: RotorConfig) -> RotorConfig:

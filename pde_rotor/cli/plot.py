@@ -12,11 +12,11 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
 
 import typer
-import xarray as xr
 
 from .common import fail, output_file
 
 if TYPE_CHECKING:
+    import xarray as xr
     from matplotlib.figure import Figure
 
 SWEEP_SUFFIXES = (".yaml", ".yml")

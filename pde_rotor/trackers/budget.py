@@ -16,8 +16,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..config import ConfigError, RotorConfig
-from .events import EVENT_COLUMNS
-from .timeseries import TIMESERIES_VARIABLES
+from .variables import EVENT_COLUMNS, TIMESERIES_VARIABLES
 
 BYTES_PER_MOVIE_FRAME = 60_000
 """Disk taken by one H.264 frame of the movie at the default size (generous: the
