@@ -87,8 +87,14 @@ def register(app: typer.Typer) -> None:
         ] = False,
     ) -> None:
         """Run SWEEP on dask (resumable: finished runs are skipped), then write the report."""
+        from ..sweep.store import DEFAULT_ROOT, StoreBusyError, check_not_busy
+
+        if not dry_run:  # a second sweep on one directory: refused before anything else
+            try:
+                check_not_busy(out if out is not None else DEFAULT_ROOT / sweep.stem)
+            except StoreBusyError as err:
+                fail(str(err))
         from ..sweep import (
-            DEFAULT_ROOT,
             Sweep,
             SweepError,
             check_scheduler,
