@@ -98,6 +98,38 @@ def test_usage_config_reference_defaults_are_the_schemas():
             )
 
 
+RICHER_THAN_THE_ERROR = {
+    "bodies[k].name",
+    "bodies[k].plate.shape",
+    "bodies[k].motion.kind",
+    "bodies[k].start.velocity",
+    "bodies[k].protocol",
+}
+"""Keys whose docs row says more than the one-line error can (rules across keys)."""
+
+
+def test_usage_config_reference_ranges_are_the_errors():
+    """The allowed column of every key states the range its one-line error states (the
+    bodies' friction read 0.1 where the tool allows 1000)."""
+    from pde_rotor.config.messages import allowed_values
+
+    rows = [line for line in (DOCS / "usage.md").read_text().splitlines() if line.startswith("| `")]
+    checked = 0
+    for line in rows:
+        cells = [cell.strip() for cell in line.strip().strip("|").split(" | ")]
+        key = cells[0].strip("`")
+        if len(cells) != 4 or "." not in key or "/" in key or key in RICHER_THAN_THE_ERROR:
+            continue
+        path: list[str | int] = []
+        for part in key.split("."):
+            name, _, index = part.partition("[")
+            path += [name, 0] if index else [name]
+        tool = allowed_values(tuple(path)).removesuffix(" or null")
+        assert tool in cells[2], f"docs/usage.md: {key} allows {cells[2]!r}, the error {tool!r}"
+        checked += 1
+    assert checked > 50
+
+
 def test_usage_shipped_configs_table_is_the_configs():
     """docs/usage.md's table of shipped configs: Delta, t_stop, cycles, grid
     and sigma of each file."""
