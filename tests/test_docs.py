@@ -130,6 +130,37 @@ def test_usage_config_reference_ranges_are_the_errors():
     assert checked > 50
 
 
+def test_usage_states_what_a_smoothed_pill_supplies():
+    """`camphor.supply` is s0, but a pill smoothed over delta supplies more: the row says
+    how much, and its numbers are the integral of the code's own pill indicator."""
+    import math
+    import re
+
+    import numpy as np
+
+    from pde_rotor.config import RotorConfig
+    from pde_rotor.model.geometry import RotorShape, pill_indicator
+
+    (row,) = [
+        line
+        for line in (DOCS / "usage.md").read_text().splitlines()
+        if line.startswith("| `camphor.supply`")
+    ]
+    assert "s0 (1 + pi^2 delta^2 / (12 rho^2))" in row
+    stated = re.findall(r"([0-9.]+) s0 at delta = ([0-9.]+)", row)
+    assert len(stated) == 2
+    h = 0.002
+    x = np.arange(-1.0, 1.0 + h / 2, h)
+    X, Y = np.meshgrid(x, x, indexing="ij")
+    for factor, delta in stated:
+        geometry = RotorConfig.model_validate({"geometry": {"smoothing": float(delta)}}).geometry
+        shape = RotorShape.from_config(geometry)
+        supplied = pill_indicator(X, Y, shape, 0.0).sum() * h * h / shape.n_corners
+        assert supplied / (math.pi * shape.pill_radius**2) == pytest.approx(
+            float(factor), abs=6e-4
+        ), (factor, delta)
+
+
 def test_usage_shipped_configs_table_is_the_configs():
     """docs/usage.md's table of shipped configs: Delta, t_stop, cycles, grid
     and sigma of each file."""
