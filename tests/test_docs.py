@@ -161,6 +161,16 @@ def test_usage_states_what_a_smoothed_pill_supplies():
         ), (factor, delta)
 
 
+def test_the_readme_names_the_quick_subset_and_it_exists():
+    """README's everyday command selects the ``quick`` marker, and every path that marks
+    tests quick (tests/conftest.py) is there."""
+    from tests.conftest import QUICK
+
+    readme = (DOCS.parent / "README.md").read_text()
+    assert "python -m pytest -m quick -n 0" in readme
+    assert all((DOCS.parent / path).exists() for path in QUICK)
+
+
 def test_usage_shipped_configs_table_is_the_configs():
     """docs/usage.md's table of shipped configs: Delta, t_stop, cycles, grid
     and sigma of each file."""
