@@ -2,13 +2,14 @@
 gallery: cli_gallery; predict: cli_predict).
 
 Exit codes: 0 success; 1 the simulation diverged (NaN/Inf; everything recorded up to
-then is kept); 2 bad input (config, --set, paths, backend), always one line
+then is kept) or its files could not be written (a full disk: one line, every file written
+until then readable); 2 bad input (config, --set, paths, backend), always one line
 ``error: ...`` naming the key path and the allowed values, printed before anything is
 compiled; 130 interrupted with Ctrl-C.
 
 Each command imports what it needs when it runs: ``--version``, ``--help``, ``check`` and
-``info`` never import the solver, py-pde, xarray or dask, and answer in a fraction of a
-second.
+``info`` never import the solver, py-pde, xarray or dask, and take under a second of CPU
+time.
 """
 
 from __future__ import annotations
