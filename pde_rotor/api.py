@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import logging
 import math
-import platform
 import secrets
 import time
 from collections.abc import Iterable, Mapping
@@ -27,6 +26,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from ._version import versions
 from .backends import backend_for, device_name, member_stepper
 from .config import ConfigError, RotorConfig, dump_config, load_config, validate_config
 from .io.output import (
@@ -44,23 +44,6 @@ PAPER = (
     "Koyano, Kitahata, Nakata, Gorecki: On a simple model that explains inversion of a "
     "self-propelled rotor under periodic stop-and-release operations, Chaos 30 (2020)"
 )
-
-
-def versions() -> dict[str, str]:
-    """Versions of pde_rotor and of the packages that determine its results."""
-    import numba
-    import pde
-
-    from ._version import __version__
-
-    return {
-        "pde_rotor": __version__,
-        "py-pde": pde.__version__,
-        "numba": numba.__version__,
-        "numpy": np.__version__,
-        "xarray": xr.__version__,
-        "python": platform.python_version(),
-    }
 
 
 def with_seed(config: RotorConfig) -> RotorConfig:
@@ -385,13 +368,17 @@ def run(
                 name: run_dir / name for name in RunDirectory.FILES if (run_dir / name).exists()
             }
             if error is None or isinstance(error, SimulationDivergedError):
-                result.write_summary()
+                try:
+                    result.write_summary()
+                except OSError as err:  # a full disk: the records are kept, say so
+                    _logger.error("writing summary.png failed: %s", err)
+                    error = err
         if error is not None and (check or not isinstance(error, SimulationDivergedError)):
             if isinstance(error, SimulationDivergedError) or not isinstance(error, Exception):
                 raise error
             t_last = ts_tracker.rows["time"][-1] if ts_tracker.rows["time"] else 0.0
             kept = f"; what was recorded before is in {run_dir.path}" if run_dir else ""
-            msg = f"run stopped after t = {t_last:g}: {type(error).__name__}: {error}{kept}"
+            msg = f"run stopped after t = {t_last:g}: {_describe(error)}{kept}"
             raise RunError(msg) from error
         return result
     finally:
@@ -491,6 +478,14 @@ def _run_bodies(
 class RunError(RuntimeError):
     """A run stopped by something other than the physics (a full disk, a failing writer);
     ``str(err)`` is one line saying when, why and where the records before it are."""
+
+
+def _describe(error: Exception) -> str:
+    """One line for what stopped a run: ``No space left on device (writing events.nc)``."""
+    if isinstance(error, OSError) and error.strerror:
+        where = f" (writing {Path(error.filename).name})" if error.filename else ""
+        return f"{error.strerror}{where}"
+    return f"{type(error).__name__}: {error}".splitlines()[0]
 
 
 def _events_from_csv(path: Path, commit_fraction: float) -> xr.Dataset:

@@ -20,6 +20,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "pde_rotor"
 
 LAYERS: dict[str, int] = {
     "_version": 0,
+    "_lazy": 0,
     "units": 0,
     "paper": 0,
     "io": 0,

@@ -30,6 +30,9 @@ def test_the_tutorial_notebook_runs_and_shows_its_results() -> None:
     )
     client.execute()  # raises CellExecutionError, naming the cell, if one fails
     code = [cell for cell in notebook.cells if cell.cell_type == "code"]
+    # nothing on stderr: tqdm's "IProgress not found" warned in every run without ipywidgets
+    warned = [o.text for c in code for o in c.outputs if o.get("name") == "stderr"]
+    assert warned == []
     run, _, omega, events, sweep, figure, prediction, stability, _ = code
     text, _ = outputs(run)
     assert "completed after" in text and "inversion probability: 1.0" in text

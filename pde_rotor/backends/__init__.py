@@ -33,16 +33,19 @@ import importlib
 import logging
 import math
 from collections.abc import Callable, Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import numpy as np
+from .._lazy import lazy_exports
 
-from ..config import RotorConfig
-from ..model.pde import RotorPDE, RotorState, check_bodies_numerics
-from ..solver.rotor import MemberStepper, SimulationDivergedError, StepperFactory
-from .base import EnsembleBackend, EnsembleRunner
-from .batch import MemberRun, run_batch
-from .ensemble import EnsembleResult, EnsembleState
+if TYPE_CHECKING:  # imported on first use: `pde-rotor info` asks for the GPU quickly
+    import numpy as np
+
+    from ..config import RotorConfig
+    from ..model.pde import RotorPDE, RotorState
+    from ..solver.rotor import MemberStepper, StepperFactory
+    from .base import EnsembleBackend, EnsembleRunner
+    from .batch import MemberRun, run_batch
+    from .ensemble import EnsembleResult, EnsembleState
 
 _logger = logging.getLogger(__name__)
 
@@ -146,6 +149,8 @@ def backend_for(config: RotorConfig) -> str:
             does not implement (one line, naming the key).
         ConfigError: bodies with numerics their kernel does not implement (one line).
     """
+    from ..model.pde import check_bodies_numerics
+
     check_bodies_numerics(config)
     requested = config.solver.backend
     if config.bodies is not None:
@@ -190,6 +195,9 @@ def member_stepper(backend: str) -> StepperFactory:
         backend: ``gpu``, or ``cpu`` (the CPU ensemble backend: the same path, checked
             against the fused CPU solver by the tests).
     """
+
+    from ..solver.rotor import SimulationDivergedError
+    from .ensemble import EnsembleState
 
     def factory(pde: RotorPDE, dt: float, rng: np.random.Generator) -> MemberStepper:
         config = pde.config
@@ -262,3 +270,6 @@ def run_ensemble(
         progress=progress,
         **options,
     )
+
+
+__getattr__, __dir__ = lazy_exports(__name__)

@@ -4,12 +4,18 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 from collections.abc import Callable
 from typing import Any
 
 from pde.trackers.base import InfoDict
 from pde.trackers.interrupts import RealtimeInterrupts
-from tqdm.auto import tqdm
+
+with warnings.catch_warnings():
+    # in a notebook without ipywidgets tqdm.auto warns, then draws its text bar: the
+    # same bar, without a warning in every executed notebook
+    warnings.filterwarnings("ignore", message="IProgress not found")
+    from tqdm.auto import tqdm
 
 from ..config import RotorConfig
 from ..model.pde import RotorFields
