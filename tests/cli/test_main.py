@@ -405,6 +405,7 @@ COMMANDS = (
     "plot",
     "gallery",
     "predict",
+    "stability",
 )
 SUBCOMMANDS = (
     "predict measure",
