@@ -38,7 +38,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy.special import xlogy
-from scipy.stats import binom, binomtest, chi2
+from scipy.stats import binom, binomtest, chi2, norm
 
 from .check import Comparison
 
@@ -70,6 +70,8 @@ class CalibrationBin:
         expected: their expected number, sum of n q.
         range: the 95 % range of that count under the model (2.5 % and 97.5 %
             quantiles of the simulated sums of binomials).
+        scatter: the rms error in x = Phi^-1(p) that the conditionals' spread beyond
+            the binomial's implies (:func:`x_scatter`; 0 where there is none).
     """
 
     low: float
@@ -78,6 +80,7 @@ class CalibrationBin:
     observed: int
     expected: float
     range: tuple[int, int]
+    scatter: float = 0.0
 
     @property
     def holds(self) -> bool:
@@ -190,7 +193,8 @@ class GoodnessOfFit:
             lines.append(
                 f"  q in [{b.low:g}, {b.high:g}): {b.observed} observed, {b.expected:.2f} "
                 f"expected [{b.range[0]}, {b.range[1]}] (95 % binomial range) in "
-                f"{b.conditionals} conditionals" + ("" if b.holds else "  (outside)")
+                f"{b.conditionals} conditionals, scatter of x {b.scatter:.2f}"
+                + ("" if b.holds else "  (outside)")
             )
         if worst:
             lines.append("least likely conditionals under the model (exact binomial p):")
@@ -244,6 +248,24 @@ def count_at_least(probabilities: np.ndarray, count: int) -> float:
     for a in probabilities:
         dist = np.convolve(dist, [1.0 - a, a])
     return float(dist[count:].sum())
+
+
+def x_scatter(k: np.ndarray, n: np.ndarray, p: np.ndarray) -> float:
+    """The rms error of the model's x = Phi^-1(p) that the spread of counts `k` implies.
+
+    If each conditional's true x were the model's plus an error of rms s, its count
+    would vary by n p (1 - p) + s^2 n^2 phi(x)^2 instead of n p (1 - p) (to first order),
+    so the method of moments gives s^2 = sum (z^2 - 1) / sum n phi(x)^2 / (p (1 - p)),
+    z = (k - n p) / sqrt(n p (1 - p)): 0 for a model whose only error is the binomial's.
+    Conditionals with p in {0, 1} are left out.
+    """
+    keep = (p > 0) & (p < 1)
+    k, n, p = k[keep], n[keep], p[keep]
+    if not k.size:
+        return 0.0
+    z2 = (k - n * p) ** 2 / (n * p * (1 - p))
+    weight = n * norm.pdf(norm.ppf(p)) ** 2 / (p * (1 - p))
+    return float(math.sqrt(max(0.0, float(np.sum(z2 - 1) / np.sum(weight)))))
 
 
 def _statistics(k: np.ndarray, n: np.ndarray, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -319,6 +341,7 @@ def goodness_of_fit(
                 int(minority[inside].sum()),
                 float(np.sum(n[inside] * q[inside])),
                 (math.floor(lo), math.ceil(hi)),
+                x_scatter(k[inside], n[inside], p[inside]),
             )
         )
     return GoodnessOfFit(
