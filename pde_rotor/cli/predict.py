@@ -132,6 +132,10 @@ def _stored_groups(data: Path | None, flow: str, scheme: str | None) -> tuple[li
             + (f" and scheme {scheme}" if scheme else "")
         )
     pairs, left_out = stored_matches(reports, data / "decision")
+    if not pairs:
+        fail(
+            f"--data {data}: no table under {data / 'decision'} predicts any report ({left_out[0]})"
+        )
     groups: dict[Path, tuple] = {}
     for _, ds, table_path, table in pairs:
         groups.setdefault(table_path, (table_path, table, []))[2].append(ds)
@@ -472,9 +476,10 @@ def register(app: typer.Typer) -> None:
 
             for table_path, table, reports in groups:
                 points = master_points(table, reports)
-                paths_out = draw_master(points, plot, footer=table_footer(table, table_path))
+                name = "master_curve" if len(groups) == 1 else f"master_curve_{table_path.stem}"
+                paths_out = draw_master(points, plot, name, footer=table_footer(table, table_path))
                 typer.echo(
-                    f"master curve ({table_path.name}): {len(points)} conditionals; wrote "
+                    f"master curve: {len(points)} conditionals ({table_path.name}); wrote "
                     + ", ".join(map(str, paths_out))
                 )
 
