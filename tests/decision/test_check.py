@@ -217,3 +217,19 @@ def test_the_cli_finds_every_stored_ensemble_and_its_table(tmp_path) -> None:
     result = runner.invoke(app, ["predict", "check", "--data", str(tmp_path), "--flow", "off"])
     assert result.exit_code == 2 and result.stderr.count("\n") == 1
     assert "no table" in result.stderr and "off.nc" in result.stderr
+
+
+def test_a_new_report_records_its_scheme_whether_or_not_its_base_names_it(tmp_path) -> None:
+    """The report of a sweep whose base names no scheme records the one its runs used,
+    so the default can change without the report changing meaning."""
+    from pde_rotor.statistics.proportions import CCW, CW
+    from pde_rotor.sweep import gather
+    from tests.sweep.test_sweep import fake_restarts, tiny_sweep
+
+    sweep = tiny_sweep(samples=2, axes={"protocol.t_stop": [0.5]})
+    fake_restarts(tmp_path, sweep, {CCW: 1, CW: 0})
+    report = gather(sweep, tmp_path)
+    assert "scheme" not in json.loads(report.attrs["base_config"]).get("numerics", {})
+    assert report.attrs["scheme"] == RotorConfig().numerics.scheme
+    report.attrs["scheme"] = "paper"  # as if the default had been another
+    assert report_scheme(report) == "paper"
