@@ -207,19 +207,22 @@ class GoodnessOfFit:
 
 
 def counted(comparison: Comparison) -> list[tuple[int, int, float, str]]:
-    """(inverted, stops, predicted p, label) of every conditional that carries its counts."""
-    return [
-        (
-            int(r["inverted"]),
-            int(r["stops"]),
-            float(r["predicted"]),
+    """(inverted, stops, predicted p, label) of every conditional that carries its counts,
+    sorted by label (then counts): the bootstrap's draws, and so its p-values, do not
+    depend on the order in which the reports were given."""
+    rows = []
+    for r in comparison.rows:
+        if r["column"] == "P" or not r.get("stops"):
+            continue
+        dx = r.get("dx", math.nan)
+        grid = f", dx = {dx:.4g}" if dx == dx else ""
+        label = (
             f"{r.get('sweep', '?')} t_stop = {r.get('t_stop', math.nan):g}, Delta = "
-            f"{r.get('asymmetry', math.nan):g}, sigma = {r.get('sigma', math.nan):g}, "
-            f"{r['column']}",
+            f"{r.get('asymmetry', math.nan):g}, sigma = {r.get('sigma', math.nan):g}{grid}, "
+            f"{r['column']}"
         )
-        for r in comparison.rows
-        if r["column"] != "P" and r.get("stops")
-    ]
+        rows.append((int(r["inverted"]), int(r["stops"]), float(r["predicted"]), label))
+    return sorted(rows, key=lambda row: (row[3], row[0], row[1], row[2]))
 
 
 def exact_p_value(k: int, n: int, p: float) -> float:
