@@ -19,7 +19,12 @@ the model gives the less likely direction 0.1 % to 5 %. From the committed runs
 * **the noise's dt-dependence**: the Euler step's variance of the linear escape is
   Dw / (lambda (1 + lambda dt / 2)), so x grows by sqrt(1 + lambda dt / 2).
 * **a global noise scale**: the full test with the model at kappa Dw, kappa from 0.8
-  to 1.5 (a scale error moves every tail one way).
+  to 1.5 (a scale error moves every tail one way);
+* **a misscaled part of beta**: separate factors on the asymmetry part (beta at Delta
+  less beta at 0) and the rest (memory and lattice), fitted by maximum likelihood.
+
+It also prints the scatter of x (:func:`pde_rotor.decision.goodness.x_scatter`) of each
+ensemble: where the misfit sits.
 
 Run:  python benchmarks/decision_tails.py   (about a minute; reads data/ only)
 """
@@ -32,6 +37,7 @@ import math
 from pathlib import Path
 
 import numpy as np
+from scipy.optimize import minimize
 from scipy.special import ndtr
 
 from pde_rotor.decision.check import (
@@ -41,7 +47,7 @@ from pde_rotor.decision.check import (
     report_config,
     stored_matches,
 )
-from pde_rotor.decision.goodness import goodness_of_fit
+from pde_rotor.decision.goodness import goodness_of_fit, x_scatter
 from pde_rotor.decision.table import DecisionTable, diffusion_of
 from pde_rotor.sweep.stored import load_report
 
@@ -191,13 +197,70 @@ def noise_scale(pairs: list) -> None:
 
             DecisionTable.conditionals = scaled
             rows = [row for _, ds, _, table in pairs for row in compare(table, [ds]).rows]
-            fit = goodness_of_fit(Comparison(rows), draws=4000)
+            fit = goodness_of_fit(Comparison(rows))
             print(
                 f"noise scale: kappa = {kappa:g}: X2 p = {fit.pearson_p:.3f}, G2 p = "
                 f"{fit.g_p:.3f}, {fit.failing} conditionals fail (P = {fit.failing_p:.2g})"
             )
     finally:
         DecisionTable.conditionals = original
+
+
+def by_ensemble(pairs: list) -> None:
+    """The scatter of x over each ensemble's conditionals (q > 0)."""
+    rows = collections.defaultdict(list)
+    for _, ds, _, table in pairs:
+        for row in compare(table, [ds]).rows:
+            if row["column"] != "P" and row.get("stops") and 0 < row["predicted"] < 1:
+                rows[row["sweep"]].append((row["inverted"], row["stops"], row["predicted"]))
+    for name, values in sorted(rows.items()):
+        k, n, p = (np.array(v, dtype=float) for v in zip(*values, strict=True))
+        print(f"scatter of x: {name}: {x_scatter(k, n, p):.2f} over {k.size} conditionals")
+
+
+def part_scales(pairs: list) -> None:
+    """Separate factors on the asymmetry part of beta and the rest, by maximum likelihood,
+    and the full test with them."""
+    original = DecisionTable.release_bias
+    counts = []
+    for _, ds, _, table in pairs:
+        for row in compare(table, [ds]).rows:
+            if row["column"] == "P" or not row.get("stops") or row["sigma"] <= 0:
+                continue
+            t, delta = row["t_stop"], row["asymmetry"]
+            full, rest = original(table, t, delta), original(table, t, 0.0)
+            scale = math.sqrt(table.growth_rate * diffusion_of(row["sigma"], table.inertia))
+            d = 0 if row["column"] == "P_ccw" else 1
+            counts.append(
+                ((full - rest)[d] / scale, rest[d] / scale, d, row["inverted"], row["stops"])
+            )
+
+    def minus_log_likelihood(factors: np.ndarray) -> float:
+        total = 0.0
+        for asym, rest, d, k, n in counts:
+            plus = float(np.mean(ndtr(factors[0] * asym + factors[1] * rest)))
+            p = np.clip(1 - plus if d == 0 else plus, 1e-15, 1 - 1e-15)
+            total -= k * math.log(p) + (n - k) * math.log(1 - p)
+        return total
+
+    best = minimize(minus_log_likelihood, np.ones(2), method="Nelder-Mead").x
+
+    def scaled(self, t_stop, asymmetry):
+        rest = original(self, t_stop, 0.0)
+        return best[0] * (original(self, t_stop, asymmetry) - rest) + best[1] * rest
+
+    DecisionTable.release_bias = scaled
+    try:
+        rows = [row for _, ds, _, table in pairs for row in compare(table, [ds]).rows]
+        fit = goodness_of_fit(Comparison(rows))
+    finally:
+        DecisionTable.release_bias = original
+    print(
+        f"parts of beta: asymmetry times {best[0]:.3f}, the rest times {best[1]:.3f} "
+        f"(log-likelihood {minus_log_likelihood(np.ones(2)) - minus_log_likelihood(best):+.1f}):"
+        f" X2 p = {fit.pearson_p:.3f}, G2 p = {fit.g_p:.3f}, {fit.failing} fail "
+        f"(P = {fit.failing_p:.2g}), scatter of x in q in [0.001, 0.05) {fit.bins[1].scatter:.2f}"
+    )
 
 
 def main() -> None:
@@ -209,6 +272,8 @@ def main() -> None:
     commit_threshold(table)
     noise_step(table)
     noise_scale(pairs)
+    part_scales(pairs)
+    by_ensemble(pairs)
 
 
 if __name__ == "__main__":
