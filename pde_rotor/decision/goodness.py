@@ -129,9 +129,12 @@ class GoodnessOfFit:
         failing_bound_p: P(at least `failing` rejections) of Bin(tested, LEVEL), the
             bound every exact test meets (conservative).
         impossible: conditionals with q = 0 whose count the model calls impossible.
-        informative, classical_pearson, classical_pearson_p, classical_g,
-        classical_g_p: the classical test over the conditionals with at least
-            :data:`MIN_EXPECTED` stops expected each way, on the chi-square law.
+        informative: conditionals with at least :data:`MIN_EXPECTED` stops expected
+            each way (the classical test's).
+        classical_pearson: their Pearson X^2.
+        classical_pearson_p: its p-value on the chi-square law.
+        classical_g: their G^2.
+        classical_g_p: its p-value on the chi-square law.
         bins: the calibration, one :class:`CalibrationBin` per bin.
     """
 
