@@ -233,3 +233,10 @@ def test_a_new_report_records_its_scheme_whether_or_not_its_base_names_it(tmp_pa
     assert report.attrs["scheme"] == RotorConfig().numerics.scheme
     report.attrs["scheme"] = "paper"  # as if the default had been another
     assert report_scheme(report) == "paper"
+
+
+def test_the_help_states_the_bootstraps_defaults() -> None:
+    from pde_rotor.decision.goodness import DRAWS, SEED
+
+    text = " ".join(CliRunner().invoke(app, ["predict", "check", "--help"]).stdout.split())
+    assert f"[default: {DRAWS}]" in text and f"[default: {SEED}]" in text
