@@ -43,16 +43,15 @@ PREDICTED = ("protocol.t_stop", "geometry.asymmetry", "noise.sigma")
 
 
 DEFAULT_SCHEME = "consistent"
-"""The default ``numerics.scheme`` of the reports that carry the restart estimators' rule
-(the ``design`` attribute): the scheme every report written since names, or
-:data:`REPORT_SCHEME_ATTR` records."""
+"""The scheme of a report in the estimators' format (with the ``design`` attribute) that
+neither names nor records one: the default from 2026-11-23 until reports recorded their
+scheme (2026-11-28). A report of that format written on 2026-11-23 before the default
+changed would be misread; none is stored."""
 
 FORMER_SCHEME = "paper"
-"""The scheme of every report written before ``numerics.scheme`` had another default:
-a report without the ``design`` attribute (the format before the restart estimators'
-rule, 2026-11-23) that names no scheme ran the paper's scheme, the only one there was
-or the default of the time (data/calibration.nc, predictions.nc and the *_quick
-reports)."""
+"""The scheme of a report in the format before the estimators' rule (no ``design``
+attribute, before 2026-11-23) that names none: the only scheme there was, then the
+default (data/calibration.nc, predictions.nc and the *_quick reports)."""
 
 REPORT_SCHEME_ATTR = "scheme"
 """A report's attribute with the scheme its runs used (written since reports record it)."""
