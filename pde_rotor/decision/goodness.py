@@ -116,7 +116,7 @@ class GoodnessOfFit:
     """The tests and the calibration of the model against ensemble conditionals.
 
     Attributes:
-        conditionals: every conditional with its counts, in input order.
+        conditionals: every conditional with its counts, sorted by label (:func:`counted`).
         min_q: the smallest q of the combined tests' conditionals.
         tested: conditionals in the combined tests (0 < q and q >= min_q).
         pearson, pearson_p: Pearson's X^2 and its simulated p-value.
