@@ -1,0 +1,175 @@
+"""Camphor boats on a ring in 1D: the exact theory against a direct solve.
+
+The canonical case: ring length 6 pi, boats of length 0.3, D = a = 1, k s0 = 1, evaporation
+everywhere (pde_rotor.theory.ring). For camphor from the rear end, for each N and mu: the
+speed V of N evenly spaced boats (theory :func:`travelling_speed`; direct: the mean speed
+after `--settle` time units from rest, c = 0, even spacing) and the leading growth rate of
+each spacing mode m (theory :func:`spacing_rates`; direct: the boats are then displaced by
+a random vector of size `--kick` d and each mode's amplitude sum_i x_i e^{-2 pi i m i / N} is
+fitted to e^{lambda t} from `--skip` time units on, while above 1e-8 of its start). For
+camphor from the centre: the critical friction of each N (the pitchfork of moving together
+and the Hopf friction of each mode, :func:`rest_critical_friction`), checked by the growth
+rate of the critical mode at mu_c (1 -+ `--margin`), interpolated to zero.
+
+Run:  python benchmarks/ring_1d.py [--modes 1024] [--dt 0.02] [--count 1 2 3 4 6 8 12]
+          [--mu 0.05 0.1 0.2] [--skip-direct]
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import time
+
+import numpy as np
+
+from pde_rotor.theory.ring import (
+    RingBoats,
+    rest_critical_friction,
+    rest_hopf_friction,
+    rest_pitchfork_friction,
+    spacing_roots,
+    spacing_rates,
+    travelling_speed,
+)
+from pde_rotor.theory.ring_solve import RingSolver, fitted_rate, mode_amplitudes
+
+LENGTH = 6 * math.pi
+BOAT = 0.3
+
+
+def fmt(z: complex | None) -> str:
+    if z is None:
+        return "< -0.98"
+    if abs(z.imag) < 5e-5:
+        return f"{z.real:.4f}"
+    return f"{z.real:.4f} ± {abs(z.imag):.4f}i"
+
+
+def envelope(times: np.ndarray, amp: np.ndarray, omega: float) -> np.ndarray:
+    """|A| for one complex exponential; sqrt(|A|^2 + |A'|^2 / omega^2) for a +-i omega pair."""
+    if omega < 1e-3:
+        return np.abs(amp)
+    slope = np.gradient(amp, times)
+    return np.sqrt(np.abs(amp) ** 2 + np.abs(slope) ** 2 / omega**2)
+
+
+def measured(times, amp, skip, omega, pair):
+    start = np.abs(amp[0])
+    keep = (times >= times[0] + skip) & (np.abs(amp) > 1e-8 * start)
+    if pair:
+        env = envelope(times, amp, omega)
+        return np.polyfit(times[keep], np.log(env[keep]), 1)[0]
+    return fitted_rate(times[keep], amp[keep])
+
+
+def rear(args) -> None:
+    print(
+        "| N | mu | V theory | V direct | rel. diff | mode m | lambda theory | lambda direct | rel. diff (Re) |"
+    )
+    print("|---|---|---|---|---|---|---|---|---|")
+    rng = np.random.default_rng(1)
+    for n in args.count:
+        for mu in args.mu:
+            boats = RingBoats(LENGTH, BOAT, n, mu)
+            v = travelling_speed(boats)
+            rates = spacing_rates(boats, v)
+            if args.skip_direct:
+                for m in range(n // 2 + 1):
+                    print(f"| {n} | {mu} | {v:.6f} | | | {m} | {fmt(rates[m])} | | |")
+                continue
+            t0 = time.perf_counter()
+            solver = RingSolver(boats, args.modes, boats.spacing * np.arange(n))
+            run = solver.run(args.settle, args.dt, every=10)
+            vd = run.velocities[-1].mean()
+            solver.positions = solver.positions + args.kick * boats.spacing * rng.standard_normal(n)
+            run = solver.run(args.watch, args.dt, every=5)
+            amps = mode_amplitudes(run, boats.spacing)
+            for m in range(n // 2 + 1):
+                theory = rates[m]
+                if m == 0:
+                    dv = np.abs(run.velocities.mean(axis=1) - vd)
+                    keep = (run.times > run.times[0] + 0.5) & (run.times < run.times[0] + 3)
+                    direct = np.polyfit(run.times[keep], np.log(dv[keep]), 1)[0]
+                    text, diff = f"mean speed: {direct:.2f}", ""
+                else:
+                    lam = measured(run.times, amps[:, m], args.skip, 0.0, False)
+                    text = fmt(lam)
+                    diff = f"{(lam.real - theory.real) / abs(theory.real):+.2%}"
+                vcell = f"{vd:.6f} | {(vd - v) / v:+.1e}" if m == 0 else " | "
+                vt = f"{v:.6f}" if m == 0 else ""
+                print(
+                    f"| {n} | {mu} | {vt} | {vcell} | {m} | {fmt(theory)} | {text} | {diff} |",
+                    flush=True,
+                )
+            print(f"<!-- N={n} mu={mu}: {time.perf_counter() - t0:.1f} s -->", flush=True)
+
+
+def centre(args) -> None:
+    print(
+        "| N | pitchfork mu | Hopf mu (m, omega) | mu_c theory | critical mode | mu_c direct | rel. diff |"
+    )
+    print("|---|---|---|---|---|---|---|")
+    rng = np.random.default_rng(2)
+    for n in args.count:
+        boats = RingBoats(LENGTH, BOAT, n, 1.0, source="centre")
+        fork = rest_pitchfork_friction(boats)
+        hopf = [rest_hopf_friction(boats, m) for m in range(n)]
+        best_m = max(range(n), key=lambda m: hopf[m][0])
+        mu_c = rest_critical_friction(boats)
+        critical = 0 if fork >= hopf[best_m][0] else best_m
+        omega = 0.0 if critical == 0 else hopf[best_m][1]
+        hopf_text = (
+            f"{hopf[best_m][0]:.5f} ({best_m}, {hopf[best_m][1]:.4f})"
+            if hopf[best_m][0] > 0
+            else "none"
+        )
+        row = f"| {n} | {fork:.5f} | {hopf_text} | {mu_c:.5f} | {critical} |"
+        if args.skip_direct:
+            print(row + " | |")
+            continue
+        found = []
+        for factor in (1 - args.margin, 1 + args.margin):
+            b = RingBoats(LENGTH, BOAT, n, mu_c * factor, source="centre")
+            theory = spacing_roots(b, 0.0, critical)[0]
+            solver = RingSolver(b, args.modes, b.spacing * np.arange(n))
+            solver.run(args.settle, args.dt, every=1000)
+            solver.positions = solver.positions + args.kick * b.spacing * rng.standard_normal(n)
+            run = solver.run(args.watch, args.dt, every=5)
+            amp = mode_amplitudes(run, b.spacing)[:, critical]
+            if critical == 0:
+                amp = run.velocities.mean(axis=1).astype(complex)
+            lam = measured(run.times, amp, args.skip, omega, True)
+            found.append((mu_c * factor, float(np.real(lam)), theory.real))
+            print(
+                f"<!-- N={n} mu={mu_c * factor:.5f}: Re lambda direct {np.real(lam):.5f}, theory {theory.real:.5f} -->",
+                flush=True,
+            )
+        (m1, r1, _), (m2, r2, _) = found
+        direct = m1 - r1 * (m2 - m1) / (r2 - r1)
+        print(f"{row} {direct:.5f} | {(direct - mu_c) / mu_c:+.2%} |", flush=True)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--modes", type=int, default=1024)
+    parser.add_argument("--dt", type=float, default=0.02)
+    parser.add_argument("--count", type=int, nargs="+", default=[1, 2, 3, 4, 6, 8, 12])
+    parser.add_argument("--mu", type=float, nargs="+", default=[0.05, 0.1, 0.2])
+    parser.add_argument("--settle", type=float, default=30.0)
+    parser.add_argument("--watch", type=float, default=60.0)
+    parser.add_argument("--skip", type=float, default=10.0)
+    parser.add_argument("--kick", type=float, default=1e-3)
+    parser.add_argument("--margin", type=float, default=0.05)
+    parser.add_argument("--variant", choices=["rear", "centre", "both"], default="both")
+    parser.add_argument("--skip-direct", action="store_true", help="theory only")
+    args = parser.parse_args()
+    if args.variant in ("rear", "both"):
+        rear(args)
+    if args.variant in ("centre", "both"):
+        print()
+        centre(args)
+
+
+if __name__ == "__main__":
+    main()
