@@ -28,8 +28,8 @@ from pde_rotor.theory.ring import (
     rest_critical_friction,
     rest_hopf_friction,
     rest_pitchfork_friction,
-    spacing_roots,
     spacing_rates,
+    spacing_roots,
     travelling_speed,
 )
 from pde_rotor.theory.ring_solve import RingSolver, fitted_rate, mode_amplitudes
@@ -65,7 +65,8 @@ def measured(times, amp, skip, omega, pair):
 
 def rear(args) -> None:
     print(
-        "| N | mu | V theory | V direct | rel. diff | mode m | lambda theory | lambda direct | rel. diff (Re) |"
+        "| N | mu | V theory | V direct | rel. diff | mode m | lambda theory "
+        "| lambda direct | rel. diff (Re) |"
     )
     print("|---|---|---|---|---|---|---|---|---|")
     rng = np.random.default_rng(1)
@@ -107,7 +108,8 @@ def rear(args) -> None:
 
 def centre(args) -> None:
     print(
-        "| N | pitchfork mu | Hopf mu (m, omega) | mu_c theory | critical mode | mu_c direct | rel. diff |"
+        "| N | pitchfork mu | Hopf mu (m, omega) | mu_c theory | critical mode "
+        "| mu_c direct | rel. diff |"
     )
     print("|---|---|---|---|---|---|---|")
     rng = np.random.default_rng(2)
@@ -142,7 +144,8 @@ def centre(args) -> None:
             lam = measured(run.times, amp, args.skip, omega, True)
             found.append((mu_c * factor, float(np.real(lam)), theory.real))
             print(
-                f"<!-- N={n} mu={mu_c * factor:.5f}: Re lambda direct {np.real(lam):.5f}, theory {theory.real:.5f} -->",
+                f"<!-- N={n} mu={mu_c * factor:.5f}: Re lambda direct {np.real(lam):.5f}, "
+                f"theory {theory.real:.5f} -->",
                 flush=True,
             )
         (m1, r1, _), (m2, r2, _) = found

@@ -26,6 +26,7 @@ LAYERS: dict[str, int] = {
     "config": 1,
     "kernels.core": 2,
     "model": 3,
+    "theory": 3,
     "kernels": 4,
     "solver": 5,
     "plotting": 6,

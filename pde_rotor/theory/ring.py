@@ -230,7 +230,8 @@ def spacing_dispersion(boats: RingBoats, speed: float, mode: int, growth: comple
     changes by k s0 sum_j int dtau [K_y(rear) - K_y(front)] (x_i(t) - x_j(t - tau)). The
     tau-integrals are Laplace transforms, i.e. Green's functions at decay rate a + lambda:
 
-        R_m(lambda) = k s0 {[G_1'(e_r) - G_1'(e_f)]_{r = a} - [G_w'(e_r) - G_w'(e_f)]_{r = a + lambda}}
+        R_m(lambda) = k s0 {[G_1'(e_r) - G_1'(e_f)]_{r = a}
+                            - [G_w'(e_r) - G_w'(e_f)]_{r = a + lambda}}
 
     with e_r, e_f the ends relative to the source (:func:`bloch_green`). R_0(0) = 0 (a shift
     of every boat) and R_0'(0) = F'(V) (a slow change of speed).
