@@ -9,7 +9,10 @@ a random vector of size `--kick` d and each mode's amplitude sum_i x_i e^{-2 pi 
 fitted to e^{lambda t} from `--skip` time units on, while above 1e-8 of its start). For
 camphor from the centre: the critical friction of each N (the pitchfork of moving together
 and the Hopf friction of each mode, :func:`rest_critical_friction`), checked by the growth
-rate of the critical mode at mu_c (1 -+ `--margin`), interpolated to zero.
+rate of the critical mode at mu_c (1 -+ `--margin`), interpolated to zero: the boats rest
+`--settle` time units, are displaced by 1e-6 d at random and watched for 6 / |lambda| (20 to
+150); the common speed's rate is fitted to log |V| (m = 0), a spacing mode's two exponents
+by linear prediction (Prony) and the larger kept.
 
 Run:  python benchmarks/ring_1d.py [--modes 1024] [--dt 0.02] [--count 1 2 3 4 6 8 12]
           [--mu 0.05 0.1 0.2] [--skip-direct]
@@ -46,20 +49,9 @@ def fmt(z: complex | None) -> str:
     return f"{z.real:.4f} ± {abs(z.imag):.4f}i"
 
 
-def envelope(times: np.ndarray, amp: np.ndarray, omega: float) -> np.ndarray:
-    """|A| for one complex exponential; sqrt(|A|^2 + |A'|^2 / omega^2) for a +-i omega pair."""
-    if omega < 1e-3:
-        return np.abs(amp)
-    slope = np.gradient(amp, times)
-    return np.sqrt(np.abs(amp) ** 2 + np.abs(slope) ** 2 / omega**2)
-
-
-def measured(times, amp, skip, omega, pair):
-    start = np.abs(amp[0])
-    keep = (times >= times[0] + skip) & (np.abs(amp) > 1e-8 * start)
-    if pair:
-        env = envelope(times, amp, omega)
-        return np.polyfit(times[keep], np.log(env[keep]), 1)[0]
+def measured(times: np.ndarray, amp: np.ndarray, skip: float) -> complex:
+    """lambda of one complex exponential, fitted from `skip` on while above 1e-8 of its start."""
+    keep = (times >= times[0] + skip) & (np.abs(amp) > 1e-8 * np.abs(amp[0]))
     return fitted_rate(times[keep], amp[keep])
 
 
@@ -94,7 +86,7 @@ def rear(args) -> None:
                     direct = np.polyfit(run.times[keep], np.log(dv[keep]), 1)[0]
                     text, diff = f"mean speed: {direct:.2f}", ""
                 else:
-                    lam = measured(run.times, amps[:, m], args.skip, 0.0, False)
+                    lam = measured(run.times, amps[:, m], args.skip)
                     text = fmt(lam)
                     diff = f"{(lam.real - theory.real) / abs(theory.real):+.2%}"
                 vcell = f"{vd:.6f} | {(vd - v) / v:+.1e}" if m == 0 else " | "
@@ -104,6 +96,14 @@ def rear(args) -> None:
                     flush=True,
                 )
             print(f"<!-- N={n} mu={mu}: {time.perf_counter() - t0:.1f} s -->", flush=True)
+
+
+def prony(times: np.ndarray, amp: np.ndarray) -> np.ndarray:
+    """The two exponents of amp ~ A e^{l1 t} + B e^{l2 t} (linear prediction, least squares)."""
+    rows = np.column_stack([amp[1:-1], amp[:-2]])
+    coef = np.linalg.lstsq(rows, amp[2:], rcond=None)[0]
+    roots = np.roots([1.0, -coef[0], -coef[1]])
+    return np.log(roots.astype(complex)) / (times[1] - times[0])
 
 
 def centre(args) -> None:
@@ -120,7 +120,6 @@ def centre(args) -> None:
         best_m = max(range(n), key=lambda m: hopf[m][0])
         mu_c = rest_critical_friction(boats)
         critical = 0 if fork >= hopf[best_m][0] else best_m
-        omega = 0.0 if critical == 0 else hopf[best_m][1]
         hopf_text = (
             f"{hopf[best_m][0]:.5f} ({best_m}, {hopf[best_m][1]:.4f})"
             if hopf[best_m][0] > 0
@@ -134,21 +133,26 @@ def centre(args) -> None:
         for factor in (1 - args.margin, 1 + args.margin):
             b = RingBoats(LENGTH, BOAT, n, mu_c * factor, source="centre")
             theory = spacing_roots(b, 0.0, critical)[0]
+            watch = float(np.clip(6.0 / abs(theory.real), 20.0, 150.0))
             solver = RingSolver(b, args.modes, b.spacing * np.arange(n))
             solver.run(args.settle, args.dt, every=1000)
-            solver.positions = solver.positions + args.kick * b.spacing * rng.standard_normal(n)
-            run = solver.run(args.watch, args.dt, every=5)
-            amp = mode_amplitudes(run, b.spacing)[:, critical]
-            if critical == 0:
-                amp = run.velocities.mean(axis=1).astype(complex)
-            lam = measured(run.times, amp, args.skip, omega, True)
-            found.append((mu_c * factor, float(np.real(lam)), theory.real))
+            solver.positions = solver.positions + 1e-6 * b.spacing * rng.standard_normal(n)
+            run = solver.run(watch, args.dt, every=5)
+            late = run.times >= run.times[0] + args.skip
+            if critical == 0:  # the common speed: one exponential (the shift's root is 0)
+                speed = np.abs(run.velocities.mean(axis=1))
+                lam = np.polyfit(run.times[late], np.log(speed[late]), 1)[0]
+            else:  # a pair of roots of the mode: its two exponents, the larger kept
+                stride = max(1, round(0.5 / (run.times[1] - run.times[0])))
+                amp = mode_amplitudes(run, b.spacing)[late, critical][::stride]
+                lam = max(prony(run.times[late][::stride], amp), key=lambda z: z.real).real
+            found.append((mu_c * factor, float(lam)))
             print(
-                f"<!-- N={n} mu={mu_c * factor:.5f}: Re lambda direct {np.real(lam):.5f}, "
-                f"theory {theory.real:.5f} -->",
+                f"<!-- N={n} mu={mu_c * factor:.5f}: Re lambda direct {lam:.5f}, "
+                f"theory {theory.real:.5f} (watched {watch:.0f}) -->",
                 flush=True,
             )
-        (m1, r1, _), (m2, r2, _) = found
+        (m1, r1), (m2, r2) = found
         direct = m1 - r1 * (m2 - m1) / (r2 - r1)
         print(f"{row} {direct:.5f} | {(direct - mu_c) / mu_c:+.2%} |", flush=True)
 

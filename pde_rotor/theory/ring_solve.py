@@ -70,13 +70,18 @@ class RingSolver:
         self.weights = 2 / (boats.ring_length * boats.diffusion * self.k[1:] ** 2)
 
     def tail(self, points: np.ndarray, sources: np.ndarray) -> np.ndarray:
-        """T summed over the sources at each point: the quasi-static part of the modes above K."""
+        """T summed over the sources at each point: the quasi-static part of the modes above K.
+
+        The kept modes' part factorises, sum_j cos(k (x - s_j)) = Re e^{i k x} sum_j e^{-i k s_j},
+        so the cost is that of evaluating the series, not of every pair.
+        """
         b = self.boats
-        y = (np.asarray(points)[:, None] - np.asarray(sources)[None, :]).ravel()
-        x = np.mod(y / b.ring_length, 1.0)
-        whole = b.ring_length / (2 * b.diffusion) * (x * x - x + 1 / 6)
-        kept = np.cos(np.outer(y, self.k[1:])) @ self.weights
-        return (whole - kept).reshape(len(points), -1).sum(axis=1)
+        points, sources = np.asarray(points, dtype=float), np.asarray(sources, dtype=float)
+        x = np.mod((points[:, None] - sources[None, :]) / b.ring_length, 1.0)
+        whole = (b.ring_length / (2 * b.diffusion) * (x * x - x + 1 / 6)).sum(axis=1)
+        spectrum = np.exp(-1j * np.outer(sources, self.k[1:])).sum(axis=0) * self.weights
+        kept = (np.exp(1j * np.outer(points, self.k[1:])) @ spectrum).real
+        return whole - kept
 
     def field(self, x: np.ndarray) -> np.ndarray:
         """c at the points x (the series summed, per unit supply)."""
