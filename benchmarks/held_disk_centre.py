@@ -1,7 +1,7 @@
 """The force on a free camphor disk held at the dish's centre, where it should vanish.
 
-A free disk (ρ = 0.1, no plate) held by a stop of its own at the centre of a dish of radius 2,
-coarse grid dx = δ = 0.05, dt = 4e-4, flow on: the largest |f_x|, |f_y| over ten samples
+A free disk (radius 0.1, no plate) held by a stop of its own at the centre of a dish of radius 2,
+coarse grid dx = delta = 0.05, dt = 4e-4, flow on: the largest |f_x|, |f_y| over ten samples
 up to t = 0.4 on each scheme given. Then the cubic spline's prefilter
 (:func:`pde_rotor.kernels.spline.spline_window`) on a field exactly symmetric about the
 centre of a symmetric 60 x 60 window: the largest asymmetry of its coefficients.
