@@ -402,7 +402,8 @@ def _run_bodies(
     from .solver.bodies import BodyContactError
     from .solver.rotor import SimulationDivergedError
     from .solver.simulation import Simulation
-    from .trackers.bodies import BodiesMovieTracker, BodiesTracker
+    from .trackers.bodies import BodiesLogTracker, BodiesMovieTracker, BodiesTracker
+    from .trackers.progress import ProgressBarTracker
 
     run_dir = RunDirectory.create(out, overwrite=overwrite) if out is not None else None
     attrs = {
@@ -417,6 +418,18 @@ def _run_bodies(
         write_text_atomic(run_dir.config, dump_config(cfg))
         log_handler = run_dir.attach_log()
     try:
+        grid = cfg.grid
+        _logger.info(
+            "bodies run %s: config hash %s, %d bodies (%s), scheme %s, t_end %g, dx %g, dt %g",
+            run_dir.path if run_dir else "(in memory)",
+            attrs["config_hash"],
+            len(cfg.bodies),
+            ", ".join(b.name for b in make_bodies(cfg)),
+            cfg.numerics.scheme,
+            cfg.protocol.t_end,
+            grid.dx,
+            grid.dt,
+        )
         sim = Simulation(cfg)
         tracker = BodiesTracker(
             cfg,
@@ -425,8 +438,10 @@ def _run_bodies(
             checkpoint_seconds=cfg.output.checkpoint_seconds,
             attrs=attrs,
         )
-        trackers: list[Any] = [tracker]
         out_cfg = cfg.output
+        trackers: list[Any] = [tracker, BodiesLogTracker(cfg, out_cfg.timeseries_interval)]
+        if out_cfg.progress:
+            trackers.append(ProgressBarTracker(cfg))
         if run_dir is not None and out_cfg.movie:
             trackers.append(
                 BodiesMovieTracker(

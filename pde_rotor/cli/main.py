@@ -5,7 +5,8 @@ Exit codes: 0 success; 1 the simulation diverged (NaN/Inf; everything recorded u
 then is kept) or its files could not be written (a full disk: one line, every file written
 until then readable); 2 bad input (config, --set, paths, backend), always one line
 ``error: ...`` naming the key path and the allowed values, printed before anything is
-compiled; 130 interrupted with Ctrl-C.
+compiled; 3 a body reached the dish's edge or another body (one line naming them; the run
+ends there and keeps what it recorded); 130 interrupted with Ctrl-C.
 
 Each command imports what it needs when it runs: ``--version``, ``--help``, ``check`` and
 ``info`` never import the solver, py-pde, xarray or dask, and take under a second of CPU
@@ -21,7 +22,16 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
-from .common import EXIT_BAD_INPUT, EXIT_FAILED, EXIT_INTERRUPTED, SetOption, fail, output_file
+from .common import (
+    EXIT_BAD_INPUT,
+    EXIT_CONTACT,
+    EXIT_FAILED,
+    EXIT_INTERRUPTED,
+    SetOption,
+    fail,
+    output_file,
+    warnings_shown,
+)
 from .gallery import register as register_gallery_commands
 from .plot import register as register_plot_command
 from .predict import register as register_predict_commands
@@ -63,6 +73,7 @@ def options(
 
 
 @app.command(short_help="Run a config into a run directory.")
+@warnings_shown()
 def run(
     config: Annotated[
         Path, typer.Argument(metavar="CONFIG", help="YAML config file (see configs/).")
@@ -151,6 +162,8 @@ def run(
     _report(result)
     if result.status == "diverged":
         fail(result.message, EXIT_FAILED)
+    if result.status == "stopped":  # a body at the dish's edge or at another body
+        fail(result.message, EXIT_CONTACT)
     if result.status != "completed":
         fail(f"run {result.status}: {result.message}", EXIT_INTERRUPTED)
 
@@ -224,6 +237,7 @@ def show(
 
 
 @app.command(short_help="Validate configs; print the run cost.")
+@warnings_shown()
 def check(
     configs: Annotated[
         list[Path],

@@ -13,7 +13,12 @@ nothing here steps time, and the layer imports only :mod:`pde_rotor.config`.
 * :mod:`.dish`: a disk at the centre of a dish: the Hopf onset with a no-flux wall
   (Koyano, Suematsu & Kitahata, PRE 2019), the drift from an absorbing one;
 * :mod:`.two_disk_rotor`: the two-disk rotor of Koyano et al. (PRE 2017): the torque
-  response, the critical friction, the growth rate and the critical size.
+  response, the critical friction, the growth rate and the critical size;
+* :mod:`.ring`: the 1D limit of Eq. (eqc) for N point-like camphor boats on a ring: the
+  speed of N evenly spaced boats, the Bloch modes of their spacing, the symmetric boat's
+  onset of motion;
+* :mod:`.ring_solve`: a direct spectral solve of the same 1D equations (moving point
+  sources, overdamped boats) that checks :mod:`.ring`.
 
 Units are the config's: lengths in sqrt(D/a) when D = a = 1, times in 1/a.
 """
