@@ -38,7 +38,7 @@ from typing import Any
 import numpy as np
 
 from ..config import RotorConfig
-from ..model.pde import RotorPDE, RotorState, check_bodies_numerics
+from ..model.pde import RotorPDE, RotorState
 from ..solver.rotor import MemberStepper, SimulationDivergedError, StepperFactory
 from .base import EnsembleBackend, EnsembleRunner
 from .batch import MemberRun, run_batch
@@ -144,9 +144,7 @@ def backend_for(config: RotorConfig) -> str:
     Raises:
         BackendError: "gpu" requested and no usable GPU, or an integrator the GPU kernel
             does not implement (one line, naming the key).
-        ConfigError: bodies with numerics their kernel does not implement (one line).
     """
-    check_bodies_numerics(config)
     requested = config.solver.backend
     if config.bodies is not None:
         if requested == "gpu":

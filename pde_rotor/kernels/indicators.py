@@ -3,7 +3,7 @@
 Every step the plate turns, F and G (the equations after Eq. (rj) of Koyano et al.,
 Chaos 2020; filtered for the scheme ``consistent``, :mod:`pde_rotor.model.filtering`) are
 recomputed on the cells within reach of the plate. The terms are the physics core's
-(:mod:`pde_rotor.kernels.core`: the gauge and nearest-edge frame ``projection``,
+(:mod:`pde_rotor.physics`: the gauge and nearest-edge frame ``projection``,
 ``farther``, ``gauge_step``, ``tangential``, ``near_corner``, the pills' reach ``pill_reach``,
 ``filtered_pill_reach``, and ``plate_profile``, ``pill_term``, ``filtered_edge``,
 ``corner_taps``, ``corner_sum``, ``filtered_pill_term``), the same the GPU sums once per cell in
@@ -22,22 +22,22 @@ import math
 import numba as nb
 import numpy as np
 
-from .core import CPU, FASTMATH
+from ..physics.build import CPU, FASTMATH
 
-_rotor_table = CPU.rotor_table
-_projection = CPU.projection
-_gauge_step = CPU.gauge_step
-_farther = CPU.farther
-_tangential = CPU.tangential
-_near_corner = CPU.near_corner
-_pill_reach = CPU.pill_reach
-_filtered_pill_reach = CPU.filtered_pill_reach
-_plate_profile = CPU.plate_profile
-_pill_term = CPU.pill_term
-_filtered_edge = CPU.filtered_edge
-_corner_taps = CPU.corner_taps
-_corner_sum = CPU.corner_sum
-_filtered_pill_term = CPU.filtered_pill_term
+_rotor_table = CPU.indicators.rotor_table
+_projection = CPU.indicators.projection
+_gauge_step = CPU.indicators.gauge_step
+_farther = CPU.indicators.farther
+_tangential = CPU.indicators.tangential
+_near_corner = CPU.indicators.near_corner
+_pill_reach = CPU.indicators.pill_reach
+_filtered_pill_reach = CPU.indicators.filtered_pill_reach
+_plate_profile = CPU.indicators.plate_profile
+_pill_term = CPU.indicators.pill_term
+_filtered_edge = CPU.indicators.filtered_edge
+_corner_taps = CPU.indicators.corner_taps
+_corner_sum = CPU.indicators.corner_sum
+_filtered_pill_term = CPU.indicators.filtered_pill_term
 
 
 _ROW = {"cache": True, "nogil": True, "fastmath": FASTMATH, "error_model": "numpy"}

@@ -2,7 +2,7 @@
 
 :data:`PARAMS` is the structured dtype that the CPU loops (:mod:`pde_rotor.kernels.cpu`),
 the CUDA kernel (:mod:`pde_rotor.kernels.cuda`) and the physics core
-(:mod:`pde_rotor.kernels.core`) read by field name (numba compiles ``p.dt`` to a load of
+(:mod:`pde_rotor.physics`) read by field name (numba compiles ``p.dt`` to a load of
 the record's field on both targets); :func:`make_record` is the one place that fills it
 from a run's configuration. Adding a parameter to the kernels touches the schema
 (:mod:`pde_rotor.config.schema`), this builder and the core function that uses it.
@@ -14,7 +14,9 @@ The fields, by the equation that uses them (Koyano et al., Chaos 2020):
 * Eq. (eqv): ``flow`` (False: v = 0, Fig. 8), ``drag`` eta, ``bulk_drag`` eta_b,
   ``viscosity`` D_eta;
 * Eqs. (torque), (eq_motion), (noiseav): ``tension_slope`` k, ``torque_sign`` (+-1,
-  ``rotor.torque``), ``inertia`` I, ``friction`` mu, ``kick`` sqrt(2 dt) sigma / I;
+  ``rotor.torque``), ``inertia`` I, ``friction`` mu, ``kick`` sqrt(2 dt) sigma / I, and
+  as for a body's record (the rotor is the ``fixed_axis`` body at the origin,
+  :mod:`pde_rotor.physics.motion`) ``motion`` and ``mass`` (0: it does not translate);
 * Eqs. (ejt0), (rc), (rj) and F, G: ``n_corners`` N, ``apothem`` R cos(pi/N),
   ``pill_radius`` rho, ``pill_distance`` R_c, ``asymmetry`` Delta, ``smoothing`` delta;
 * the stop schedule in steps: ``n_ini``, ``n_stop``, ``n_period``, ``cycles``;
@@ -43,6 +45,7 @@ from ..model.geometry import RotorShape
 from ..model.pde import TORQUE_SIGN
 from ..model.protocol import StopSchedule
 from ..model.schemes import Scheme
+from ..physics.motion import MOTION_FIXED_AXIS
 
 _F8, _I8, _B1 = np.float64, np.int64, np.bool_
 
@@ -91,6 +94,8 @@ PARAMS = np.dtype(
         ("n_stop", _I8),
         ("n_period", _I8),
         ("cycles", _I8),
+        ("motion", _I8),
+        ("mass", _F8),
         ("tan_half", _F8),
         ("window_lo", _I8),
         ("window_hi", _I8),
@@ -138,6 +143,7 @@ def make_record(config: RotorConfig, scheme: Scheme, dt: float) -> np.ndarray:
     rec["n_ini"] = schedule.n_ini
     rec["n_stop"] = schedule.n_stop
     rec["n_period"] = schedule.n_period
+    rec["motion"] = MOTION_FIXED_AXIS
     rec["contour"] = scheme.contour
     rec["tan_half"] = scheme.tan_half
     rec["window_lo"], rec["window_hi"] = scheme.window
@@ -193,7 +199,7 @@ BODY = np.dtype(
     align=True,
 )
 """One body of :func:`pde_rotor.kernels.bodies.advance_bodies`: plate kind
-(:data:`pde_rotor.kernels.body_core.PLATE_POLYGON`...), its corners and sizes (``size_a``:
+(:data:`pde_rotor.physics.indicators.PLATE_POLYGON`...), its corners and sizes (``size_a``:
 apothem, radius or half length; ``size_b``: half width), the footprint radius ``reach``,
 its pills' range in the pill table, motion kind, m, I, mu, the noise kick
 sqrt(2 dt) sigma / I, and its stop schedule in steps. For the ``consistent`` scheme

@@ -20,13 +20,12 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
-from .body_core import CPU_BODIES
-from .core import CPU, FASTMATH
+from ..physics.build import CPU, FASTMATH
 
-_plate_rates = CPU.plate_rates
-_cut_cell_inflow = CPU.cut_cell_inflow
-_local_rate = CPU.local_rate
-_owner_plate = CPU_BODIES.owner_plate
+_plate_rates = CPU.rates.plate_rates
+_cut_cell_inflow = CPU.rates.cut_cell_inflow
+_local_rate = CPU.rates.local_rate
+_owner_plate = CPU.rates.owner_plate
 
 _NONE = np.zeros(0)
 _NO_INDEX = np.zeros(0, dtype=np.int64)

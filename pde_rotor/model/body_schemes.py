@@ -62,7 +62,7 @@ import numpy as np
 from scipy.ndimage import map_coordinates
 
 from ..config import X_SATURATION, RotorConfig
-from ..kernels.core import SPLINE_MARGIN
+from ..physics.spline import SPLINE_MARGIN
 from .bodies import Body, BodyShape, Pose, pill_offsets
 from .filtering import (
     PROFILE_REFINEMENT,
@@ -260,7 +260,7 @@ class BodyScheme:
     def window_half(self, shape: BodyShape, filt: BodyFilter) -> int:
         """Half the side, in cells, of the square window about X whose c is turned into
         spline coefficients: the contour's taps plus
-        :data:`~pde_rotor.kernels.core.SPLINE_MARGIN` cells (the rotor's window for a
+        :data:`~pde_rotor.physics.spline.SPLINE_MARGIN` cells (the rotor's window for a
         polygon at the origin)."""
         return math.ceil(self.contour_reach(shape, filt) / self.dx) + 2 + SPLINE_MARGIN
 

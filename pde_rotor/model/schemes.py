@@ -30,13 +30,13 @@ its angle (docs/model.md). Two schemes are offered (``numerics.scheme``):
       the same continuum torque. It is evaluated with a Gauss rule for the weight
       1/2 sech^2(s) (:func:`sech2_gauss`, ``numerics.band_nodes`` nodes) across the
       edge and Gauss-Legendre (``numerics.contour_nodes`` per edge) along it, with c
-      from its interpolating cubic spline (:mod:`pde_rotor.kernels.core`: ``spline_line``,
+      from its interpolating cubic spline (:mod:`pde_rotor.physics`: ``spline_line``,
       ``interpolate``). Every quadrature node turns with the plate, so only the
       interpolation error of c, O(dx^4), and the lattice error of c itself still see
       the lattice; the torque integrates the model's own F (unfiltered), the field
       equations see F_eps and G_eps (docs/model.md, "Schemes").
 
-The per-cell work of both schemes is in :mod:`pde_rotor.kernels.core`; this module only builds
+The per-cell work of both schemes is in :mod:`pde_rotor.physics`; this module only builds
 the numbers the kernels need (:func:`pde_rotor.kernels.records.make_record` packs them).
 """
 
@@ -50,7 +50,7 @@ import numpy as np
 from scipy.ndimage import map_coordinates
 
 from ..config import RotorConfig
-from ..kernels.core import SPLINE_MARGIN
+from ..physics.spline import SPLINE_MARGIN
 from .filtering import FilterTables, make_tables
 from .geometry import RotorShape
 
@@ -103,7 +103,7 @@ class Scheme:
         tan_half: tan(pi / N).
         window: cell range [lo, hi), along both axes, whose c is turned into cubic
             spline coefficients each step: the contour's 4 x 4 taps plus
-            :data:`~pde_rotor.kernels.core.SPLINE_MARGIN` cells.
+            :data:`~pde_rotor.physics.spline.SPLINE_MARGIN` cells.
         taps: the cell range [lo, hi) within `window`, along both axes, of the contour's
             taps: the coefficients wanted (the window's margin only feeds the prefilter's
             recursions).
