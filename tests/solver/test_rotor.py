@@ -15,6 +15,8 @@ from pde.trackers import CallbackTracker
 from scipy.stats import chi2
 
 from pde_rotor import RotorConfig, Simulation
+from pde_rotor.model.bodies import make_bodies
+from pde_rotor.model.motion import Inertia, accelerations, euler_poses, held_bodies
 from pde_rotor.model.pde import RotorPDE
 from pde_rotor.solver.rotor import RotorSolver, SimulationDivergedError
 
@@ -43,7 +45,8 @@ def test_fused_step_equals_numpy_reference(
 
     Reference: c' = c + dt rate_c, v' = v + dt rate_v from ``evolution_rate`` (Eqs. (eqc),
     (eqv)); phi' = phi + dt omega, omega' = omega + dt (T + friction) / I from
-    ``rotor_torques`` (Eq. (eq_motion)). In a stop phase omega = 0 enters the flow term
+    ``rotor_torques`` and the equation of motion of :mod:`pde_rotor.model.motion`
+    (Eq. (eq_motion)). In a stop phase omega = 0 enters the flow term
     and the friction, phi and omega stay frozen (omega' = 0). Checked on a random smooth
     state with an asymmetric rotor, with the flow on and off; increments agree to 1e-12
     relative.
@@ -76,15 +79,20 @@ def test_fused_step_equals_numpy_reference(
     assert new.rotor.torque == pytest.approx(torque, rel=1e-11)  # a sum with cancellations
     assert new.rotor.friction == pytest.approx(friction, rel=1e-12, abs=1e-300)
     assert new.rotor.stopped is stopped
-    inertia = cfg.rotor.inertia
+    # the equation of motion of the numpy reference: the rotor is the fixed_axis body at 0
+    bodies = make_bodies(cfg)
+    inertia = Inertia.of(bodies)
+    held = held_bodies(bodies, 0, dt)
+    assert bool(held[0]) is stopped
+    pose = np.array([[0.0, 0.0, phi, 0.0, 0.0, 0.0 if stopped else omega]])
+    accel = accelerations(np.array([[0.0, 0.0, torque, 0.0, 0.0, friction]]), inertia)
+    want = euler_poses(pose, accel, held, inertia, dt)[0]
+    assert new.rotor.phi == pytest.approx(want[2], rel=1e-15)
     if stopped:
         assert new.rotor.phi == phi
-        assert new.rotor.omega == 0.0
+        assert new.rotor.omega == 0.0 == want[5]
     else:
-        assert new.rotor.phi == pytest.approx(phi + dt * omega, rel=1e-15)
-        assert (new.rotor.omega - omega) / dt == pytest.approx(
-            (torque + friction) / inertia, rel=1e-10
-        )
+        assert (new.rotor.omega - omega) / dt == pytest.approx((want[5] - omega) / dt, rel=1e-10)
 
 
 def discrete_boundary_flux(pde: RotorPDE, c: np.ndarray, v: np.ndarray | None) -> float:
