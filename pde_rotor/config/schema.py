@@ -190,6 +190,9 @@ class RotorDynamicsConfig(_Section):
     omega0: FiniteFloat = Field(
         0.1, ge=-OMEGA_BOUND, le=OMEGA_BOUND, description="dphi/dt(0): initial angular velocity"
     )
+    external_torque: FiniteFloat = Field(
+        0.0, description="a constant external torque on the rotor, Eq. (eq_motion)"
+    )
     torque: Literal["physical", "printed"] = Field(
         "physical",
         description=(
@@ -667,6 +670,7 @@ class RotorConfig(_Section):
             start=StartConfig(angle=rotor.phi0, omega=rotor.omega0),
             protocol=self.protocol,
             noise_sigma=self.noise.sigma,
+            external_torque=rotor.external_torque,
         )
         return [body]
 

@@ -16,7 +16,8 @@ The fields, by the equation that uses them (Koyano et al., Chaos 2020):
 * Eqs. (torque), (eq_motion), (noiseav): ``tension_slope`` k, ``torque_sign`` (+-1,
   ``rotor.torque``), ``inertia`` I, ``friction`` mu, ``kick`` sqrt(2 dt) sigma / I, and
   as for a body's record (the rotor is the ``fixed_axis`` body at the origin,
-  :mod:`pde_rotor.physics.motion`) ``motion`` and ``mass`` (0: it does not translate);
+  :mod:`pde_rotor.physics.motion`) ``motion``, ``mass`` (0: it does not translate) and
+  the external load ``external_force_x``, ``external_force_y`` (0) and ``external_torque``;
 * Eqs. (ejt0), (rc), (rj) and F, G: ``n_corners`` N, ``apothem`` R cos(pi/N),
   ``pill_radius`` rho, ``pill_distance`` R_c, ``asymmetry`` Delta, ``smoothing`` delta;
 * the stop schedule in steps: ``n_ini``, ``n_stop``, ``n_period``, ``cycles``;
@@ -60,6 +61,7 @@ CONFIG_FIELDS: dict[str, str] = {
     "viscosity": "flow.viscosity",
     "inertia": "rotor.inertia",
     "friction": "rotor.friction",
+    "external_torque": "rotor.external_torque",
     "n_corners": "geometry.n_corners",
     "pill_radius": "geometry.pill_radius",
     "pill_distance": "geometry.pill_distance",
@@ -96,6 +98,9 @@ PARAMS = np.dtype(
         ("cycles", _I8),
         ("motion", _I8),
         ("mass", _F8),
+        ("external_force_x", _F8),
+        ("external_force_y", _F8),
+        ("external_torque", _F8),
         ("tan_half", _F8),
         ("window_lo", _I8),
         ("window_hi", _I8),
@@ -180,6 +185,9 @@ BODY = np.dtype(
         ("n_stop", _I8),
         ("n_period", _I8),
         ("cycles", _I8),
+        ("external_force_x", _F8),
+        ("external_force_y", _F8),
+        ("external_torque", _F8),
         ("tan_half", _F8),
         ("crease", _F8),
         ("corner_end", _F8),
@@ -202,7 +210,8 @@ BODY = np.dtype(
 (:data:`pde_rotor.physics.indicators.PLATE_POLYGON`...), its corners and sizes (``size_a``:
 apothem, radius or half length; ``size_b``: half width), the footprint radius ``reach``,
 its pills' range in the pill table, motion kind, m, I, mu, the noise kick
-sqrt(2 dt) sigma / I, and its stop schedule in steps. For the ``consistent`` scheme
+sqrt(2 dt) sigma / I, its stop schedule in steps and its external force and torque.
+For the ``consistent`` scheme
 (:func:`make_body_tables`): tan(pi/N), the crease width and the corner table's end
 ``corner_end`` of a polygon, where its
 filtered tables lie in the flat arrays (a disk's F profile ``f_*``, a polygon's corner
@@ -253,6 +262,7 @@ def make_body_records(
         rec["motion"] = _MOTIONS[body.motion]
         rec["mass"], rec["inertia"], rec["friction"] = body.mass, body.inertia, body.friction
         rec["kick"] = math.sqrt(2.0 * dt) * body.noise_sigma / body.inertia
+        rec["external_force_x"], rec["external_force_y"], rec["external_torque"] = body.external
         if body.protocol is not None:
             schedule = StopSchedule.from_config(body.protocol, dt)
             rec["n_ini"], rec["n_stop"] = schedule.n_ini, schedule.n_stop

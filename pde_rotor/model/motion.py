@@ -35,7 +35,7 @@ class Inertia:
         inertia: (K,) I.
         free: (K,) whether the body translates.
         fixed: (K,) whether it never moves.
-        external: (K, 3) the external force (x, y) and torque (none yet: 0).
+        external: (K, 3) the external force (x, y) and torque.
     """
 
     mass: np.ndarray
@@ -52,7 +52,7 @@ class Inertia:
             inertia=np.array([b.inertia for b in bodies], dtype=float),
             free=np.array([b.motion == "free" for b in bodies]),
             fixed=np.array([b.motion == "fixed" for b in bodies]),
-            external=np.zeros((len(bodies), 3)),
+            external=np.array([b.external for b in bodies], dtype=float).reshape(-1, 3),
         )
 
 

@@ -149,8 +149,8 @@ def make_motion(jit: Callable[[Callable], Callable]) -> Motion:
         accel_y = 0.0
         if b.motion == MOTION_FREE:
             inv_m = 1.0 / b.mass
-            accel_x = (force_x + drag_x) * inv_m
-            accel_y = (force_y + drag_y) * inv_m
+            accel_x = (force_x + drag_x + b.external_force_x) * inv_m
+            accel_y = (force_y + drag_y + b.external_force_y) * inv_m
         return (
             force_x,
             force_y,
@@ -160,7 +160,7 @@ def make_motion(jit: Callable[[Callable], Callable]) -> Motion:
             friction,
             accel_x,
             accel_y,
-            (friction + torque) * (1.0 / b.inertia),
+            (friction + torque + b.external_torque) * (1.0 / b.inertia),
         )
 
     @jit

@@ -427,3 +427,29 @@ def test_the_corner_tables_end_moves_a_run_by_less_than_1e_12(
     np.testing.assert_allclose(sim.state.data, full.state.data, rtol=0, atol=1e-12 * scale)
     np.testing.assert_allclose(sim.pde.F, full.pde.F, rtol=0, atol=2e-13)
     np.testing.assert_array_equal(sim.pde.G, full.pde.G)
+
+
+def test_external_torque_without_camphor_turns_the_rotor_at_torque_over_friction(
+    small_config: Callable[..., RotorConfig],
+) -> None:
+    """Without camphor (supply 0) and flow, Eq. (eq_motion) is I domega/dt = T_ext - mu J
+    omega, J = int F |r|^2 dA: the rotor under a constant external torque reaches
+    omega = T_ext / (mu J) (15 relaxation times I / (mu J) here), turning either way."""
+    for torque in (1e-3, -5e-4):
+        cfg = small_config(
+            {
+                "camphor": {"supply": 0.0},
+                "flow": {"enabled": False},
+                "rotor": {"external_torque": torque, "omega0": 0.0},
+            }
+        )
+        sim = Simulation(cfg)
+        pde: RotorPDE = sim.pde
+        x, y = pde.cell_coordinates()
+        F, _ = pde.indicators(0.0)
+        polar = float(np.sum(F * (x**2 + y**2)) * pde.domain.cell_area)
+        mu = cfg.rotor.friction
+        t_end = 15 * cfg.rotor.inertia / (mu * polar)
+        sim.run(round(t_end / cfg.grid.dt) * cfg.grid.dt)
+        assert np.abs(sim.state.data).max() == 0.0  # no camphor, no flow
+        assert sim.rotor.omega == pytest.approx(torque / (mu * polar), rel=1e-3)
