@@ -155,6 +155,14 @@ class CamphorConfig(_Section):
         le=SCALE_BOUND,
         description="k: surface tension gamma = gamma0 - k c, Eq. (surfacetension)",
     )
+    saturation: PositiveFloat | None = Field(
+        None,
+        le=SCALE_BOUND,
+        description=(
+            "c_sat: saturating surface tension gamma = gamma0 - k c / (1 + c / c_sat) "
+            "(null: the paper's linear law)"
+        ),
+    )
 
 
 class FlowConfig(_Section):

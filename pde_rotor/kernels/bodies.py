@@ -277,7 +277,7 @@ def draw_body(F, G, owner, domain, k, body, pills, pose, normals, centres, box, 
 
 
 @nb.njit(cache=True, nogil=True, fastmath=FASTMATH)
-def body_integrals(cur, F, owner, coords, k, x_k, y_k, box, flow, out):
+def body_integrals(cur, F, owner, coords, k, x_k, y_k, box, p, out):
     """The integrals of body k over its plate, area form (central differences) (compiled).
 
     out[:] = (int F grad c (x, y), int F (r - X) x grad c, int F, int F (r - X) (x, y),
@@ -291,6 +291,8 @@ def body_integrals(cur, F, owner, coords, k, x_k, y_k, box, flow, out):
     nn = np.uint64(n * n)
     dx = coords[1] - coords[0]
     inv_2dx = 0.5 / dx
+    inv_sat = p.inv_saturation
+    flow = p.flow
     # the sums in locals, which stay in registers (out might alias cur or F)
     s0 = s1 = s2 = s3 = s4 = s5 = s6 = s7 = s8 = s9 = 0.0
     for i in range(box[k, 0], box[k, 1]):
@@ -303,7 +305,7 @@ def body_integrals(cur, F, owner, coords, k, x_k, y_k, box, flow, out):
             if f == 0.0:
                 continue
             ry = coords[j] - y_k
-            t0, t1, t2 = _tension_integrand(cur, o, sx, np.uint64(1), f, rx, ry, inv_2dx)
+            t0, t1, t2 = _tension_integrand(cur, o, sx, np.uint64(1), f, rx, ry, inv_2dx, inv_sat)
             m0, m1, m2, m3, m4, m5, m6 = _friction_moments(cur, o, nn, f, rx, ry, flow)
             s0 += t0
             s1 += t1
@@ -331,7 +333,7 @@ def spline_box(cur, coef, n, i0, i1, j0, j1, carry):
 
 
 @nb.njit(cache=True, nogil=True, fastmath=FASTMATH, error_model="numpy")
-def body_contour(cur, coords, k, body, pills, pose, normals, centres, tables, delta, out):
+def body_contour(cur, coords, k, body, pills, pose, normals, centres, tables, p, out):
     """int F_k grad c dA (x, y) and int F_k (r - X_k) x grad c dA in contour form
     (``consistent``; :mod:`pde_rotor.model.body_schemes`) into out[0:3] (compiled).
 
@@ -346,6 +348,7 @@ def body_contour(cur, coords, k, body, pills, pose, normals, centres, tables, de
     for :func:`advance_bodies`.
     """
     quad_s, quad_t, _, pill_tab, _, _, rings, coef, carry = tables
+    delta, inv_sat = p.smoothing, p.inv_saturation
     _orient(k, body, pills, pose, normals, centres)  # scratch: a new stepper starts with 0
     b = body[k]
     n = coords.size
@@ -369,7 +372,7 @@ def body_contour(cur, coords, k, body, pills, pose, normals, centres, tables, de
             for m in range(n_s):
                 h, half = _polygon_band(b.size_a, delta, b.tan_half, quad_s, m)
                 edge = (x_k, y_k, ex, ey, h, half)
-                pair_x, pair_y, pair_t = _edge_sums(coef, grid, edge, quad_s, quad_t, m)
+                pair_x, pair_y, pair_t = _edge_sums(coef, grid, edge, quad_s, quad_t, m, inv_sat)
                 f_x += pair_x
                 f_y += pair_y
                 torque += pair_t
@@ -383,7 +386,7 @@ def body_contour(cur, coords, k, body, pills, pose, normals, centres, tables, de
                 if h <= -thinner:  # no parallel: the gauge is >= -W/2 (L/2) everywhere
                     continue
                 edge = (x_k, y_k, ex, ey, side + h, along + h)
-                pair_x, pair_y, pair_t = _edge_sums(coef, grid, edge, quad_s, quad_t, m)
+                pair_x, pair_y, pair_t = _edge_sums(coef, grid, edge, quad_s, quad_t, m, inv_sat)
                 f_x += pair_x
                 f_y += pair_y
                 torque += pair_t
@@ -408,7 +411,7 @@ def body_contour(cur, coords, k, body, pills, pose, normals, centres, tables, de
                 for a_l in range(n_arc):
                     angle = phi + step * a_l
                     a, c = _arc_node(
-                        coef, grid, cx, cy, h, math.cos(angle), math.sin(angle), weight
+                        coef, grid, cx, cy, h, math.cos(angle), math.sin(angle), weight, inv_sat
                     )
                     q_x += a
                     q_y += c
@@ -509,10 +512,10 @@ def _loads(cur, F, owner, domain, bodies, p, integrals, loads, status):
         b = body[k]
         if b.motion == MOTION_FIXED:
             continue
-        body_integrals(cur, F, owner, coords, k, pose[k, 0], pose[k, 1], box, p.flow, integrals)
+        body_integrals(cur, F, owner, coords, k, pose[k, 0], pose[k, 1], box, p, integrals)
         if p.contour:
             body_contour(
-                cur, coords, k, body, pills, pose, normals, centres, tables, p.smoothing,
+                cur, coords, k, body, pills, pose, normals, centres, tables, p,
                 integrals,
             )  # fmt: skip
         state = (pose[k, 0], pose[k, 1], pose[k, 2], pose[k, 3], pose[k, 4], pose[k, 5])

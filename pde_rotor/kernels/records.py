@@ -13,7 +13,9 @@ The fields, by the equation that uses them (Koyano et al., Chaos 2020):
 * Eq. (eqc): ``diffusion`` D, ``evaporation`` a, ``source`` s0 / (pi rho^2);
 * Eq. (eqv): ``flow`` (False: v = 0, Fig. 8), ``drag`` eta, ``bulk_drag`` eta_b,
   ``viscosity`` D_eta;
-* Eqs. (torque), (eq_motion), (noiseav): ``tension_slope`` k, ``torque_sign`` (+-1,
+* Eqs. (torque), (eq_motion), (noiseav): ``tension_slope`` k, ``inv_saturation``
+  1 / c_sat of the saturating law (0: linear, :mod:`pde_rotor.physics.tension`),
+  ``torque_sign`` (+-1,
   ``rotor.torque``), ``inertia`` I, ``friction`` mu, ``kick`` sqrt(2 dt) sigma / I, and
   as for a body's record (the rotor is the ``fixed_axis`` body at the origin,
   :mod:`pde_rotor.physics.motion`) ``motion``, ``mass`` (0: it does not translate) and
@@ -82,6 +84,7 @@ PARAMS = np.dtype(
         ("bulk_drag", _F8),
         ("viscosity", _F8),
         ("tension_slope", _F8),
+        ("inv_saturation", _F8),
         ("torque_sign", _F8),
         ("inertia", _F8),
         ("friction", _F8),
@@ -142,6 +145,8 @@ def make_record(config: RotorConfig, scheme: Scheme, dt: float) -> np.ndarray:
     rec["dt"] = dt
     rec["source"] = config.camphor.supply / (math.pi * rho**2)
     rec["torque_sign"] = TORQUE_SIGN[config.rotor.torque]
+    saturation = config.camphor.saturation
+    rec["inv_saturation"] = 0.0 if saturation is None else 1.0 / saturation
     rec["kick"] = config.kick_scale(dt)
     rec["apothem"] = RotorShape.from_config(config.geometry).apothem
     schedule = StopSchedule.from_config(config.protocol, dt)

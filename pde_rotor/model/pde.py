@@ -42,7 +42,7 @@ from .geometry import (
     pill_indicator,
     plate_indicator,
 )
-from .schemes import Scheme, contour_cross_grad
+from .schemes import Scheme, contour_cross_grad, surface_pressure
 
 BOUNDARY = {"value": 0}
 """py-pde boundary condition on the square; it never reaches an interior cell."""
@@ -239,9 +239,11 @@ class RotorPDE(PDEBase):
                 normals,
                 self.shape.apothem,
                 self.shape.smoothing,
+                cfg.camphor.saturation,
             )
         else:
-            grad = c.gradient(BOUNDARY).data
+            pressure = ScalarField(c.grid, surface_pressure(c.data, cfg.camphor.saturation))
+            grad = pressure.gradient(BOUNDARY).data
             cross_grad = np.sum(F * (x * grad[1] - y * grad[0])) * area
         torque = TORQUE_SIGN[cfg.rotor.torque] * cfg.camphor.tension_slope * cross_grad
         cross_v = np.sum(F * (x * v.data[1] - y * v.data[0])) * area if cfg.flow.enabled else 0.0

@@ -55,6 +55,15 @@ from .filtering import FilterTables, make_tables
 from .geometry import RotorShape
 
 
+def surface_pressure(c: np.ndarray, saturation: float | None) -> np.ndarray:
+    """Pi(c) / k = (gamma0 - gamma(c)) / k, the surface pressure per tension slope that
+    the tension integrals read (numpy reference): c for the paper's linear law
+    (`saturation` None), c / (1 + c / c_sat) for the saturating one."""
+    if saturation is None:
+        return c
+    return c / (1.0 + c / saturation)
+
+
 @lru_cache(maxsize=32)
 def sech2_gauss(n_nodes: int) -> tuple[np.ndarray, np.ndarray]:
     """Gauss rule for int 1/2 sech^2(s) g(s) ds over the real line (total weight 1).
@@ -195,8 +204,10 @@ def contour_cross_grad(
     normal_angles: np.ndarray,
     apothem: float,
     smoothing: float,
+    saturation: float | None = None,
 ) -> float:
-    """int F r x grad c dA in the contour form of the ``consistent`` scheme (numpy reference).
+    """int F r x grad P dA in the contour form of the ``consistent`` scheme (numpy reference),
+    P = :func:`surface_pressure` of c (c itself for the linear law).
 
     Args:
         c: (n, n) concentration at the cell centres.
@@ -206,6 +217,7 @@ def contour_cross_grad(
         normal_angles: angles of the edge normals e_j at the current phi.
         apothem: R cos(pi/N).
         smoothing: delta.
+        saturation: c_sat of the saturating law (None: linear).
     """
     s_nodes, s_weights = scheme.quad_s
     t_nodes, t_weights = scheme.quad_t
@@ -216,6 +228,6 @@ def contour_cross_grad(
     ey = np.sin(normal_angles)[:, None, None]
     x = h[None, :, None] * ex - t[None] * ey
     y = h[None, :, None] * ey + t[None] * ex
-    values = interpolate_spline(c, x0, dx, x, y)
+    values = surface_pressure(interpolate_spline(c, x0, dx, x, y), saturation)
     weights = s_weights[:, None] * t_weights[None, :] * half[:, None] * t
     return float(-np.sum(weights[None] * values))

@@ -48,7 +48,7 @@ from .domain import Domain, make_domain
 from .geometry import RotorShape
 from .motion import Inertia, accelerations, euler_poses, held_bodies, heun_poses
 from .pde import BOUNDARY, TORQUE_SIGN
-from .schemes import Scheme
+from .schemes import Scheme, surface_pressure
 from .wall import make_wall_step, wall_fluxes, wall_rate
 
 POSE_COLUMNS = (
@@ -290,7 +290,9 @@ class SurfacePDE(PDEBase):
         c, v = state
         x, y = self.cell_coordinates()
         area = self.domain.cell_area
-        grad = c.gradient(BOUNDARY).data
+        saturation = cfg.camphor.saturation
+        pressure = ScalarField(c.grid, surface_pressure(c.data, saturation))
+        grad = pressure.gradient(BOUNDARY).data
         flow = v.data if cfg.flow.enabled else np.zeros_like(v.data)
         sign_k = TORQUE_SIGN[cfg.rotor.torque] * cfg.camphor.tension_slope
         out = np.zeros((len(self.bodies), 6))
@@ -317,6 +319,7 @@ class SurfacePDE(PDEBase):
                     state.bodies.pose(k),
                     self.body_scheme,
                     k,
+                    saturation,
                 )
             out[k] = (
                 *(sign_k * tension),

@@ -5,7 +5,11 @@ The force and torque of the surface tension on a body about its position X,
     s k int F grad c dA,    s k int F (r - X) x grad c dA,
 
 (s the sign of ``rotor.torque``, k the tension slope; the paper's rotor is the body at
-X = 0), in two forms, each one function serving the rotor's loops and the bodies':
+X = 0), or, for the saturating law gamma(c) = gamma0 - k c / (1 + c / c_sat)
+(``camphor.saturation``), the same with c replaced by the surface pressure per slope
+Pi(c) / k = c / (1 + c / c_sat) (:func:`surface_pressure`, through which every
+function below reads c), in two forms, each one function serving the rotor's loops and
+the bodies':
 
 * area form (scheme ``paper``): :func:`tension_integrand`, one cell's integrands with
   central differences, summed over the cells of the plate times dA;
@@ -41,6 +45,7 @@ from .spline import Spline
 class Tension(NamedTuple):
     """The compiled tension functions for one target (see the module docstring)."""
 
+    surface_pressure: Callable
     tension_integrand: Callable
     polygon_band: Callable
     edge_place: Callable
@@ -67,14 +72,28 @@ def make_tension(jit: Callable[[Callable], Callable], spline: Spline) -> Tension
     spline_sum = spline.spline_sum
 
     @jit
-    def tension_integrand(buf, o, sx, sy, f, rx, ry, inv_2dx):
-        """One cell's F grad c (x, y) and F (r - X) x grad c (central differences, no dA).
+    def surface_pressure(c, inv_sat):
+        """Pi(c) / k = gamma0 - gamma(c) over k: c / (1 + c / c_sat), `inv_sat` = 1 / c_sat
+        (0: the paper's linear law, Pi / k = c exactly; the test on the loop-invariant
+        `inv_sat` leaves the linear law's loops without a division)."""
+        if inv_sat == 0.0:
+            return c
+        return c / (1.0 + c * inv_sat)
+
+    @jit
+    def tension_integrand(buf, o, sx, sy, f, rx, ry, inv_2dx, inv_sat):
+        """One cell's F grad P (x, y) and F (r - X) x grad P, P = Pi(c) / k
+        (:func:`surface_pressure`; c itself for the linear law), central differences, no dA.
 
         (rx, ry) = r - X at the cell centre; `sx`, `sy` the offsets of the x and y
         neighbours (n and 1) of the caller's integer type. r x u = rx u_y - ry u_x.
         """
-        dcdx = (buf[o + sx] - buf[o - sx]) * inv_2dx
-        dcdy = (buf[o + sy] - buf[o - sy]) * inv_2dx
+        east = surface_pressure(buf[o + sx], inv_sat)
+        west = surface_pressure(buf[o - sx], inv_sat)
+        north = surface_pressure(buf[o + sy], inv_sat)
+        south = surface_pressure(buf[o - sy], inv_sat)
+        dcdx = (east - west) * inv_2dx
+        dcdy = (north - south) * inv_2dx
         return f * dcdx, f * dcdy, f * (rx * dcdy - ry * dcdx)
 
     @jit
@@ -107,8 +126,9 @@ def make_tension(jit: Callable[[Callable], Callable], spline: Spline) -> Tension
         return o0 + (i - 1) * n + k - 1, tx, ty, w, -quad_s[1, m] * quad_t[1, k_t] * half * t
 
     @jit
-    def edge_node(coef, grid, edge, quad_s, quad_t, m, k_t):
-        """Node (m, k_t) of a straight edge (:func:`edge_place`) with c from its spline.
+    def edge_node(coef, grid, edge, quad_s, quad_t, m, k_t, inv_sat):
+        """Node (m, k_t) of a straight edge (:func:`edge_place`) with c from its spline,
+        read through :func:`surface_pressure`.
 
         Returns:
             the node's shares of int F grad c dA (x, y), w c e, and of
@@ -118,12 +138,14 @@ def make_tension(jit: Callable[[Callable], Callable], spline: Spline) -> Tension
         wx0, wx1, wx2, wx3 = bspline_weights(tx)
         wy0, wy1, wy2, wy3 = bspline_weights(ty)
         n = grid[1]
-        c = spline_sum(coef, row, n, 1, wx0, wx1, wx2, wx3, wy0, wy1, wy2, wy3)
+        c = surface_pressure(
+            spline_sum(coef, row, n, 1, wx0, wx1, wx2, wx3, wy0, wy1, wy2, wy3), inv_sat
+        )
         wc = w * c
         return wc * edge[2], wc * edge[3], w_t * c
 
     @jit
-    def edge_sums(coef, grid, edge, quad_s, quad_t, m):
+    def edge_sums(coef, grid, edge, quad_s, quad_t, m, inv_sat):
         """Band node m of a straight edge: the :func:`edge_node` shares of its
         Gauss-Legendre nodes along the edge, added in order. A polygon's edge
         (h, half) is :func:`polygon_band`'s, a strip's (L/2 or W/2 - delta s_m,
@@ -132,14 +154,14 @@ def make_tension(jit: Callable[[Callable], Callable], spline: Spline) -> Tension
         pair_y = 0.0
         pair_t = 0.0
         for k_t in range(quad_t.shape[1]):
-            a, b, c = edge_node(coef, grid, edge, quad_s, quad_t, m, k_t)
+            a, b, c = edge_node(coef, grid, edge, quad_s, quad_t, m, k_t, inv_sat)
             pair_x += a
             pair_y += b
             pair_t += c
         return pair_x, pair_y, pair_t
 
     @jit
-    def polygon_node(coef, grid, tab, polygon, quad_s, quad_t, q):
+    def polygon_node(coef, grid, tab, polygon, quad_s, quad_t, q, inv_sat):
         """Node q of the contour form of a regular polygon about the origin.
 
         `tab` (>= 2, N) holds the edge normals, `polygon` is (apothem, delta,
@@ -157,10 +179,10 @@ def make_tension(jit: Callable[[Callable], Callable], spline: Spline) -> Tension
         apothem, delta, tan_half = polygon
         h, half = polygon_band(apothem, delta, tan_half, quad_s, m)
         edge = (0.0, 0.0, tab[0, j], tab[1, j], h, half)
-        return edge_node(coef, grid, edge, quad_s, quad_t, m, k_t)
+        return edge_node(coef, grid, edge, quad_s, quad_t, m, k_t, inv_sat)
 
     @jit
-    def arc_node(coef, grid, cx, cy, h, ca, sa, weight):
+    def arc_node(coef, grid, cx, cy, h, ca, sa, weight, inv_sat):
         """A node of a circle of the contour form: the point (cx, cy) + h (ca, sa) on the
         level set h of a disk's gauge |r - P|, P = (cx, cy), with the quadrature weight
         `weight` (band weight times h times the angle step).
@@ -175,11 +197,14 @@ def make_tension(jit: Callable[[Callable], Callable], spline: Spline) -> Tension
         wx0, wx1, wx2, wx3 = bspline_weights(tx)
         wy0, wy1, wy2, wy3 = bspline_weights(ty)
         row = o0 + (i - 1) * n + j - 1
-        c = spline_sum(coef, row, n, 1, wx0, wx1, wx2, wx3, wy0, wy1, wy2, wy3)
+        c = surface_pressure(
+            spline_sum(coef, row, n, 1, wx0, wx1, wx2, wx3, wy0, wy1, wy2, wy3), inv_sat
+        )
         w = weight * c
         return w * ca, w * sa
 
     return Tension(
+        surface_pressure=surface_pressure,
         tension_integrand=tension_integrand,
         polygon_band=polygon_band,
         edge_place=edge_place,

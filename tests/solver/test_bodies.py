@@ -100,27 +100,32 @@ floating on two pills."""
 
 
 @pytest.mark.parametrize(
-    ("scheme", "flow", "integrator"),
+    ("scheme", "flow", "integrator", "saturation"),
     [
-        ("paper", True, "euler"),
-        ("paper", False, "euler"),
-        ("consistent", True, "euler"),
-        ("paper", True, "heun"),
-        ("consistent", True, "heun"),
+        ("paper", True, "euler", None),
+        ("paper", False, "euler", None),
+        ("consistent", True, "euler", None),
+        ("paper", True, "heun", None),
+        ("consistent", True, "heun", None),
+        ("paper", True, "euler", 0.5),
+        ("consistent", True, "heun", 0.5),
     ],
 )
-def test_step_equals_numpy_reference(scheme: str, flow: bool, integrator: str) -> None:
+def test_step_equals_numpy_reference(
+    scheme: str, flow: bool, integrator: str, saturation: float | None
+) -> None:
     """One compiled step of four bodies of every plate shape and motion is the numpy
     reference's step (:meth:`SurfacePDE.reference_step`): the rates of Eqs. (eqc), (eqv),
     the forces and torques and the equation of motion of Eq. (eq_motion), on both
     schemes (consistent: filtered F_k, G_k and the contour forms, each written twice),
-    forward Euler and Heun."""
+    forward Euler and Heun, the linear and the saturating surface tension."""
     bodies = FOUR_BODIES if scheme == "paper" else CONSISTENT_BODIES
     config = surface_config(
         bodies,
         flow={"enabled": flow},
         grid={"domain_radius": 4.0},
         numerics={"scheme": scheme, "integrator": integrator},
+        camphor={"saturation": saturation},
     )
     sim = Simulation(config)
     smooth_fields(sim)

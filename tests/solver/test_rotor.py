@@ -453,3 +453,35 @@ def test_external_torque_without_camphor_turns_the_rotor_at_torque_over_friction
         sim.run(round(t_end / cfg.grid.dt) * cfg.grid.dt)
         assert np.abs(sim.state.data).max() == 0.0  # no camphor, no flow
         assert sim.rotor.omega == pytest.approx(torque / (mu * polar), rel=1e-3)
+
+
+@pytest.mark.parametrize("scheme", ["paper", "consistent"])
+def test_saturating_tension_torque_equals_numpy_reference(
+    scheme: str,
+    small_config: Callable[..., RotorConfig],
+    random_state: Callable[..., FieldCollection],
+) -> None:
+    """With gamma(c) = gamma0 - k c / (1 + c / c_sat) the fused step's torque is
+    RotorPDE's (area form, and contour form with the spline of c read through the
+    surface pressure) to 1e-11; on the paper scheme it is the linear law's torque of the
+    field c / (1 + c / c_sat) itself (the area form reads c only through Pi); and it
+    tends to the linear law's torque as c_sat grows."""
+    torques = {}
+    for saturation in (0.5, 1e3, None):
+        cfg = small_config({"numerics": {"scheme": scheme}, "camphor": {"saturation": saturation}})
+        pde = RotorPDE(cfg)
+        state = random_state(pde, np.random.default_rng(2))
+        state.rotor.phi, state.rotor.omega = 0.4, 3.0
+        torque, _ = pde.rotor_torques(state)
+        new = one_solver_step(pde, state)
+        assert new.rotor.torque == pytest.approx(torque, rel=1e-11)
+        torques[saturation] = torque
+        if saturation == 0.5 and scheme == "paper":
+            linear = RotorPDE(small_config({"numerics": {"scheme": scheme}}))
+            pressed = state.copy()
+            pressed.data[0] = state.data[0] / (1.0 + state.data[0] / saturation)
+            assert one_solver_step(linear, pressed).rotor.torque == pytest.approx(
+                new.rotor.torque, rel=1e-13
+            )
+    assert abs(torques[0.5] - torques[None]) > 0.1 * abs(torques[None])
+    assert abs(torques[1e3] - torques[None]) < 1e-2 * abs(torques[None])
