@@ -530,10 +530,11 @@ def _loads(cur, F, owner, domain, bodies, p, integrals, loads, status):
 
 
 @nb.njit(cache=True, nogil=True)
-def _fields(cur, nxt, F, G, owner, domain, wall, coef, p, pose, rhs):
+def _fields(cur, nxt, F, G, owner, domain, wall, p, pose, rhs):
     """One Euler step of the fields from `cur` into `nxt` with the bodies at `pose`
     (compiled): behind the no-flux wall :func:`~pde_rotor.kernels.wall.euler_walled_fields`,
     else :func:`euler_body_fields`."""
+    coef = _rate_coefficients(p)
     if wall[0].size > 0:
         euler_walled_fields(cur, nxt, F, G, owner, domain, wall, coef, p.dt, pose, p.flow, rhs)
     else:
@@ -637,7 +638,6 @@ def advance_bodies(
     coords = domain[0]
     n = coords.size
     nn = n * n
-    coef = _rate_coefficients(p)
     cur = data
     nxt = spare
     heun = stage.size > 0
@@ -673,7 +673,7 @@ def advance_bodies(
         for k in range(n_bodies):
             for m in range(6):
                 pose[k, 6 + m] = loads[k, m]
-        _fields(cur, nxt, F, G, owner, domain, wall, coef, p, pose, rhs)
+        _fields(cur, nxt, F, G, owner, domain, wall, p, pose, rhs)
         for k in range(n_bodies):
             b = body[k]
             state = (start[k, 0], start[k, 1], start[k, 2], start[k, 3], start[k, 4], start[k, 5])
@@ -693,7 +693,7 @@ def advance_bodies(
                 if s % 2 == 1:
                     data[:] = spare
                 return s
-            _fields(nxt, stage, F, G, owner, domain, wall, coef, p, pose, rhs)
+            _fields(nxt, stage, F, G, owner, domain, wall, p, pose, rhs)
             _average(cur, stage, nxt, domain, wall, p.flow)
             for k in range(n_bodies):
                 if pose[k, 12] != 0.0:
