@@ -111,6 +111,8 @@ def _row_integrals(cur, F, i, coords, j0, j1, steps, flow, area, sums):
     is (1 / (2 dx), 1 / c_sat) (:func:`pde_rotor.physics.tension.surface_pressure`)."""
     n = coords.size
     x = coords[i]
+    inv_2dx, inv_sat = steps
+    linear = inv_sat == 0.0
     cross_grad = 0.0
     moment = 0.0
     cross_v = 0.0
@@ -120,8 +122,10 @@ def _row_integrals(cur, F, i, coords, j0, j1, steps, flow, area, sums):
         if f == 0.0:
             continue
         y = coords[j]
-        if area:
-            cross_grad += _tension_integrand(cur, o, n, 1, f, x, y, steps[0], steps[1])[2]
+        if area and linear:  # the literal 0: the linear law's copy reads c with no division
+            cross_grad += _tension_integrand(cur, o, n, 1, f, x, y, inv_2dx, 0.0)[2]
+        elif area:
+            cross_grad += _tension_integrand(cur, o, n, 1, f, x, y, inv_2dx, inv_sat)[2]
         moments = _friction_moments(cur, o, n * n, f, x, y, flow)
         moment += moments[3]
         cross_v += moments[4]
@@ -499,8 +503,8 @@ def rotor_integrals(cur, F, domain, params, tab, tables, coef):
     n = coords.size
     inv_2dx = 0.5 / (coords[1] - coords[0])
     sums = np.zeros((n, 3))
+    steps = (inv_2dx, p.inv_saturation)
     for i in range(n):
-        steps = (inv_2dx, p.inv_saturation)
         _row_integrals(cur, F, i, coords, slo[i], shi[i], steps, p.flow, True, sums)
     cross_grad, moment, cross_v = _total_integrals(sums, coords)
     if p.contour:
