@@ -338,7 +338,7 @@ def body_contour(cur, coords, k, body, pills, pose, normals, centres, tables, p,
     (``consistent``; :mod:`pde_rotor.model.body_schemes`) into out[0:3] (compiled).
 
     The spline of c on the square window of half side ``window_half`` cells about the
-    cell of X_k (:func:`spline_box`), then the contour nodes of the body core: a
+    cell of X_k (:func:`spline_box`), then the contour nodes of the tension: a
     polygon's or a strip's edges (``edge_sums``; per (edge, band node) the sum along
     the edge, the pairs added in order, as the rotor's contour torque; a strip's four
     edges of two lengths, its band nodes without a parallel skipped), a disk plate's

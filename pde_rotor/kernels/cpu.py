@@ -13,8 +13,8 @@ Time: forward Euler with step dt (the paper's "Euler method"), every right-hand 
 the old time level; or, with ``numerics.integrator: heun``, Heun's second-order method
 (predictor Euler step of fields and rotor, F, G and the torque recomputed at the predicted
 angle, trapezoidal average; docs/model.md, "Time integration"). Space and the rotor
-integrals: the physics core (:mod:`pde_rotor.physics`) in the scheme of ``numerics.scheme``
-(:mod:`pde_rotor.model.schemes`). These loops only walk the grid and call the core; the GPU
+integrals: the compiled physics (:mod:`pde_rotor.physics`) in the scheme of ``numerics.scheme``
+(:mod:`pde_rotor.model.schemes`). These loops only walk the grid and call the physics; the GPU
 backend calls the same core from its threads. :mod:`pde_rotor.solver.rotor` binds them to a
 simulation and to py-pde.
 """

@@ -3,7 +3,7 @@ of the rotor model advanced in one launch, block m advancing member m.
 
 The same physics as the CPU solver (:mod:`pde_rotor.kernels.cpu`), member by member, from
 the same source: the kernel below only maps cells to threads and calls the CUDA build
-of the physics core (:mod:`pde_rotor.physics`, compiled here as device functions):
+of the compiled physics (:mod:`pde_rotor.physics`, compiled here as device functions):
 
 * F and G of the member's scheme at the angle phi of the step's start, computed on the
   fly on the support cells (``plate_cell``, ``pill_cell``, or ``filtered_plate``,

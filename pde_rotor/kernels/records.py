@@ -1,11 +1,11 @@
 """The scalar parameters of the compiled kernels as one numpy record per run.
 
 :data:`PARAMS` is the structured dtype that the CPU loops (:mod:`pde_rotor.kernels.cpu`),
-the CUDA kernel (:mod:`pde_rotor.kernels.cuda`) and the physics core
+the CUDA kernel (:mod:`pde_rotor.kernels.cuda`) and the compiled physics
 (:mod:`pde_rotor.physics`) read by field name (numba compiles ``p.dt`` to a load of
 the record's field on both targets); :func:`make_record` is the one place that fills it
 from a run's configuration. Adding a parameter to the kernels touches the schema
-(:mod:`pde_rotor.config.schema`), this builder and the core function that uses it.
+(:mod:`pde_rotor.config.schema`), this builder and the physics function that uses it.
 
 The fields, by the equation that uses them (Koyano et al., Chaos 2020):
 

@@ -34,7 +34,7 @@ fastmath, so that no multiply-add is fused and each coefficient has the bits of
 
 @nb.njit(inline="always", **_LINES)
 def spline_lines(src, buf, o, stride, count, lane_stride, lanes, keep, carry):
-    """The core's ``spline_line`` on `lanes` lines at once, from `src` into `buf`.
+    """The physics' ``spline_line`` on `lanes` lines at once, from `src` into `buf`.
 
     Line r holds the `count` samples src[o + r lane_stride + k stride], its coefficients
     go to the same places of `buf` (which may be `src`); step k of every line is taken

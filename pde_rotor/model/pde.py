@@ -8,7 +8,7 @@ Controller and trackers see it, and a branch of a run starts from both.
 
 :meth:`RotorPDE.evolution_rate` and :meth:`RotorPDE.rotor_torques` are the executable
 specification used by the tests; :mod:`pde_rotor.kernels.cpu` computes the same right-hand
-side in one fused compiled loop from the physics core (:mod:`pde_rotor.physics`).
+side in one fused compiled loop from :mod:`pde_rotor.physics`.
 
 Torque, Eq. (torque). The force that the surface exerts on the plate is the surface
 tension pulling on its contour, gamma n dl (n the outward normal). Its torque is

@@ -26,7 +26,7 @@ F_k in both.
 (:meth:`SurfacePDE.evolution_rate`, :meth:`SurfacePDE.body_forces`, the equation of
 motion of :mod:`pde_rotor.model.motion`, and a whole step of both,
 :meth:`SurfacePDE.reference_step`); the compiled loop
-:func:`pde_rotor.kernels.bodies.advance_bodies` computes the same from the physics core
+:func:`pde_rotor.kernels.bodies.advance_bodies` computes the same from the compiled physics
 and is tested against them. :class:`SurfaceFields` carries the bodies' state with c and
 v, as :class:`pde_rotor.model.pde.RotorFields` carries the rotor.
 """
