@@ -2,10 +2,10 @@
 and no module imports itself back through others.
 
 The layers, from the bottom: the base (configuration, files, units, statistics, the
-paper's stated values), the physics core (kernels/core.py: each equation once, whose
+paper's stated values), the compiled physics (physics/: each equation once, whose
 stop schedule and constants the numpy model uses too), the model in numpy and, beside it,
 the exact theory of the onsets of motion (neither imports the other), the compiled
-loops and their parameter record (the rest of kernels/), the solver, figure primitives,
+loops and their parameter record (kernels/), the solver, figure primitives,
 trackers, ensemble backends, sweeps, the decision model, the Python API, the gallery's
 library and the command line (README, "Layout").
 """
@@ -26,7 +26,7 @@ LAYERS: dict[str, int] = {
     "io": 0,
     "statistics": 0,
     "config": 1,
-    "kernels.core": 2,
+    "physics": 2,
     "model": 3,
     "theory": 3,
     "kernels": 4,
@@ -87,8 +87,6 @@ def known(module: str, modules: set[str]) -> str:
 
 def layer_of(module: str) -> str:
     parts = module.split(".")
-    if parts[1:3] == ["kernels", "core"]:
-        return "kernels.core"
     return parts[1] if len(parts) > 1 else ""
 
 

@@ -147,11 +147,7 @@ def backend_for(config: RotorConfig) -> str:
     Raises:
         BackendError: "gpu" requested and no usable GPU, or an integrator the GPU kernel
             does not implement (one line, naming the key).
-        ConfigError: bodies with numerics their kernel does not implement (one line).
     """
-    from ..model.pde import check_bodies_numerics
-
-    check_bodies_numerics(config)
     requested = config.solver.backend
     if config.bodies is not None:
         if requested == "gpu":

@@ -5,7 +5,7 @@ parameters packed for the kernel, the noise drawn on the host, and the launches 
 chunks of steps with the records copied back. The kernel and what it computes per
 step are in :mod:`pde_rotor.kernels.cuda`: the same physics as the CPU solver
 (:mod:`pde_rotor.kernels.cpu`) from the same source, the physics core
-(:mod:`pde_rotor.kernels.core`).
+(:mod:`pde_rotor.physics`).
 
 The noise: one standard normal per step per member, drawn on the host from a numpy
 Generator seeded like the CPU solver's (``default_rng(noise.seed)``) in step order, so

@@ -16,7 +16,9 @@ objects on one surface. Body k has
   Eq. (eq_motion); the paper's rotor is this at the origin) or ``free`` (translates
   with mass m and turns with inertia I; friction is the paper's coupling
   -mu int F_k (u_k - v) dA with the plate velocity u_k = U_k + omega_k z x (r - X_k));
-* optionally its own stop-and-release protocol and torque noise.
+* optionally its own stop-and-release protocol and torque noise, and an external load
+  (a constant force ``external_force`` on a free body and torque ``external_torque``
+  about X_k, added to the right-hand sides of Eq. (eq_motion)).
 
 Inheritance: a key left null takes the run's value when the bodies are resolved
 (:meth:`BodyConfig.resolved`): a pill's ``supply`` the run's ``camphor.supply``; a
@@ -261,6 +263,13 @@ class BodyConfig(_Section):
             "run's noise.sigma for a fixed_axis body, 0 otherwise)"
         ),
     )
+    external_force: tuple[FiniteFloat, FiniteFloat] = Field(
+        (0.0, 0.0),
+        description="[f_x, f_y]: a constant external force on a free body, Eq. (eq_motion)",
+    )
+    external_torque: FiniteFloat = Field(
+        0.0, description="a constant external torque about the body's origin, Eq. (eq_motion)"
+    )
 
     def extent(self) -> float:
         """Radius of the smallest disk about the body's origin holding plate and pills."""
@@ -306,9 +315,13 @@ class BodyConfig(_Section):
                     )
                     raise FieldError(f"pills[{j}]", [pill.x, pill.y], msg)
         start, kind = self.start, self.motion.kind
-        if kind != "free" and start.velocity != (0.0, 0.0):
-            msg = f"a {kind} body does not translate (allowed: [0, 0], or motion kind free)"
-            raise FieldError("start.velocity", list(start.velocity), msg)
+        for key, value in (
+            ("start.velocity", start.velocity),
+            ("external_force", self.external_force),
+        ):
+            if kind != "free" and value != (0.0, 0.0):
+                msg = f"a {kind} body does not translate (allowed: [0, 0], or motion kind free)"
+                raise FieldError(key, list(value), msg)
         if kind == "fixed":
             if start.omega != 0:
                 msg = "a fixed body does not turn (allowed: 0, or motion kind fixed_axis)"
@@ -319,6 +332,9 @@ class BodyConfig(_Section):
             if self.noise_sigma:
                 msg = "a fixed body does not turn, so no torque noise acts (allowed: 0 or null)"
                 raise FieldError("noise_sigma", self.noise_sigma, msg)
+            if self.external_torque:
+                msg = "a fixed body does not turn (allowed: 0, or motion kind fixed_axis)"
+                raise FieldError("external_torque", self.external_torque, msg)
         return self
 
     def resolved(

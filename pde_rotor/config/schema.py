@@ -155,6 +155,14 @@ class CamphorConfig(_Section):
         le=SCALE_BOUND,
         description="k: surface tension gamma = gamma0 - k c, Eq. (surfacetension)",
     )
+    saturation: PositiveFloat | None = Field(
+        None,
+        le=SCALE_BOUND,
+        description=(
+            "c_sat: saturating surface tension gamma = gamma0 - k c / (1 + c / c_sat) "
+            "(null: the paper's linear law)"
+        ),
+    )
 
 
 class FlowConfig(_Section):
@@ -189,6 +197,9 @@ class RotorDynamicsConfig(_Section):
     phi0: FiniteFloat = Field(1.0, description="phi(0): initial angle [rad]")
     omega0: FiniteFloat = Field(
         0.1, ge=-OMEGA_BOUND, le=OMEGA_BOUND, description="dphi/dt(0): initial angular velocity"
+    )
+    external_torque: FiniteFloat = Field(
+        0.0, description="a constant external torque on the rotor, Eq. (eq_motion)"
     )
     torque: Literal["physical", "printed"] = Field(
         "physical",
@@ -667,6 +678,7 @@ class RotorConfig(_Section):
             start=StartConfig(angle=rotor.phi0, omega=rotor.omega0),
             protocol=self.protocol,
             noise_sigma=self.noise.sigma,
+            external_torque=rotor.external_torque,
         )
         return [body]
 

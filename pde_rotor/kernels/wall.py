@@ -3,11 +3,11 @@
 :func:`euler_walled_fields` advances c on the cut cells of the circle and v on the cells
 whose centre lies inside it, as :func:`pde_rotor.kernels.bodies.euler_body_fields` does
 with the absorbing wall: the transport of c through the open part of each face (the
-core's ``cut_cell_inflow``) and its local terms (``local_rate``) by forward Euler, then
+physics' ``cut_cell_inflow``) and its local terms (``local_rate``) by forward Euler, then
 the diffusion through the faces of the stiff cut cells by backward Euler, cluster by
 cluster with the inverses computed once per run (:mod:`pde_rotor.model.wall`, which takes
 the same step with numpy and computes the geometry these loops read). v and the plate
-terms are the core's ``plate_rates``.
+terms are the physics' ``plate_rates``.
 
 The `wall` argument is :meth:`pde_rotor.model.wall.CutCells.arrays`: (volume, aperture_x,
 aperture_y, explicit apertures along x and y, lo, hi, cluster members, cluster offsets,
@@ -20,13 +20,12 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
-from .body_core import CPU_BODIES
-from .core import CPU, FASTMATH
+from ..physics.build import CPU, FASTMATH
 
-_plate_rates = CPU.plate_rates
-_cut_cell_inflow = CPU.cut_cell_inflow
-_local_rate = CPU.local_rate
-_owner_plate = CPU_BODIES.owner_plate
+_plate_rates = CPU.rates.plate_rates
+_cut_cell_inflow = CPU.rates.cut_cell_inflow
+_local_rate = CPU.rates.local_rate
+_owner_plate = CPU.rates.owner_plate
 
 _NONE = np.zeros(0)
 _NO_INDEX = np.zeros(0, dtype=np.int64)
@@ -45,7 +44,7 @@ def euler_walled_fields(cur, nxt, F, G, owner, domain, wall, coef, dt, pose, flo
         domain: (coords, lo, hi, slo, shi): lo, hi the cells with centre inside the circle
             (v), slo, shi the rows' support of the bodies.
         wall: the cut cells (:meth:`pde_rotor.model.wall.CutCells.arrays`).
-        coef: the core's ``rate_coefficients``.
+        coef: the physics' ``rate_coefficients``.
         dt: time step.
         pose: (K, 13) the bodies' poses (plate velocity of each cell's owner).
         flow: whether v evolves (else v = 0).
