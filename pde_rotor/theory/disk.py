@@ -21,6 +21,8 @@ from typing import TYPE_CHECKING, Literal
 import numpy as np
 from scipy.special import ive, kve
 
+from ..config import ConfigError
+
 if TYPE_CHECKING:
     from ..config import RotorConfig
 
@@ -52,8 +54,18 @@ class CamphorDisk:
 
         Returns:
             The disk with D, a, s0, k of ``config.camphor`` and rho = ``geometry.pill_radius``.
+
+        Raises:
+            ConfigError: the config's surface tension is not the linear law of Eq.
+                (surfacetension), which every onset of this package assumes.
         """
         camphor = config.camphor
+        if camphor.saturation is not None:
+            msg = (
+                f"camphor.saturation = {camphor.saturation:g}: the exact onsets assume the "
+                "linear law gamma0 - k c (allowed here: null)"
+            )
+            raise ConfigError(msg)
         return cls(
             diffusion=camphor.diffusion,
             evaporation=camphor.evaporation,

@@ -10,7 +10,7 @@ import math
 import numpy as np
 import pytest
 
-from pde_rotor.config import RotorConfig
+from pde_rotor.config import ConfigError, RotorConfig
 from pde_rotor.theory.disk import (
     CamphorDisk,
     Wall,
@@ -27,6 +27,14 @@ def test_config_defaults_make_the_disk(disk):
     assert disk.radius == cfg.geometry.pill_radius
     assert disk.supply == cfg.camphor.supply
     assert disk.source * disk.area == pytest.approx(cfg.camphor.supply)
+
+
+def test_a_saturating_tension_is_refused_in_one_line():
+    """The onsets are derived for the linear law gamma0 - k c; a saturating law is named."""
+    cfg = RotorConfig.model_validate({"camphor": {"saturation": 2.0}})
+    with pytest.raises(ConfigError, match=r"^camphor.saturation = 2: .*linear law") as err:
+        CamphorDisk.from_config(cfg)
+    assert "\n" not in str(err.value)
 
 
 def test_rest_state_is_the_radial_solve_with_a_sharp_disk(disk):
