@@ -313,7 +313,7 @@ def test_the_checker_tells_stale_references_from_good_ones() -> None:
     a config key, a library call, a placeholder or a written output is not a reference."""
     assert check_dotted("FusedStepper.kicks") == "FusedStepper.kicks"
     assert check_dotted("pde_rotor.model.onsets.Wall") == "pde_rotor.model.onsets.Wall"
-    assert check_dotted("core.rotor_torque") == "core.rotor_torque"
+    assert check_dotted("motion.rotor_torques") == "motion.rotor_torques"
     assert check_dotted("publish", "pde_rotor.gallery.runner", role=True) == "publish"
     for good in ("pde_rotor.theory.dish.dish_hopf_onset", "FusedStepper.normals", "Run.stop_seed"):
         assert check_dotted(good) is None, good

@@ -35,7 +35,7 @@ if TYPE_CHECKING:  # imported by the functions that use them: `pde-rotor info` a
 
 SIMULATOR_THREADS = 2
 """Default threads per block in numba's CUDA simulator (one Python thread each): the
-simulator's cost grows with its threads (50 steps of the test grid of tests/test_gpu.py:
+simulator's cost grows with its threads (50 steps of the test grid of tests/backends/test_gpu.py:
 7 s with 2 threads, 26 s with 8), and the reductions already take two threads."""
 
 

@@ -4,7 +4,7 @@
 (:func:`apply_overrides`) and validates the result; :func:`dump_config` writes a
 :class:`~pde_rotor.config.schema.RotorConfig` back so that it loads to an equal one.
 
-In a config with ``bodies:``, ``--set protocol.KEY=VALUE`` also sets KEY in the protocol of
+In a config with ``bodies:``, ``--set protocol.<key>=<value>`` also sets that key in the protocol of
 every body whose protocol is the run's (the shipped configs copy the run's protocol into the
 body that is stopped); where no body follows the run's protocol it sets the run's length
 only, and where some body has a protocol of its own one warning says so and names them.
@@ -246,7 +246,7 @@ def _same_protocol(a: Any, b: Any) -> bool:
 
 
 def _protocol_followers(data: Mapping[str, Any], path: list[str], text: str) -> list[int]:
-    """The bodies a ``protocol.KEY`` override also applies to: those whose protocol is the
+    """The bodies a ``protocol.<key>`` override also applies to: those whose protocol is the
     run's; one warning when some body has its own protocol and none follows the run's."""
     bodies = data.get("bodies")
     if path[0] != "protocol" or len(path) < 2 or not isinstance(bodies, list) or not bodies:

@@ -108,7 +108,7 @@ def _row_integrals(cur, F, i, coords, j0, j1, steps, flow, area, sums):
     F |r|^2 and F r x v, without dA; the rotor is the body at X = 0) into sums[i]; the
     first only with `area` (a compile-time constant: without it, the torque's contour
     form replaces the area form, whose sum is 0 and whose gradients LLVM drops); `steps`
-    is (1 / (2 dx), 1 / c_sat) (:func:`pde_rotor.physics.tension.surface_pressure`)."""
+    is (1 / (2 dx), 1 / c_sat) (``surface_pressure`` of :mod:`pde_rotor.physics.tension`)."""
     n = coords.size
     x = coords[i]
     inv_2dx, inv_sat = steps

@@ -18,7 +18,8 @@ tension pulling on its contour, gamma n dl (n the outward normal). Its torque is
 
 by the divergence theorem applied to the field (x gamma, ... ) and gamma = gamma0 - k c,
 Eq. (surfacetension). The paper prints T = int r x (-grad gamma) dA, the opposite sign:
-that torque opposes the rotation and leaves the rotor at rest (tests/test_model.py).
+that torque opposes the rotation and leaves the rotor at rest
+(tests/model/test_pde.py::test_torque_sign_physical_spins_up_printed_decays).
 ``rotor.torque = "physical"`` (default) uses the derived sign, ``"printed"`` the printed.
 """
 

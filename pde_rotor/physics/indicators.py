@@ -93,9 +93,10 @@ def make_indicators(jit: Callable[[Callable], Callable], spline: Spline) -> Indi
 
         The Taylor polynomial of degree 15 of expm1(x / 64) (remainder below 5e-17), then
         six doublings of the argument, (1 + q)^2 - 1 = q (2 + q), which keep the relative
-        accuracy (2e-14 over the range, tests/test_core.py; squaring exp(x / 64) itself
-        would lose 64 ulp). libm's exp is a call that stops LLVM from vectorising a loop;
-        this is not, so the CPU loops over a row of cells run it four cells at a time.
+        accuracy (2e-14 over the range, tests/physics/test_indicators.py; squaring
+        exp(x / 64) itself would lose 64 ulp). libm's exp is a call that stops LLVM from
+        vectorising a loop; this is not, so the CPU loops over a row of cells run it four
+        cells at a time.
         """
         r = x * (1.0 / 64.0)
         p = 1.0 / 1307674368000.0
