@@ -196,7 +196,9 @@ def assemble_cut_cells(
     wall; every other face is closed (no flux).
 
     Args:
-        volume, open_x, open_y: as :func:`disk_fractions` returns them.
+        volume: (n, n) the part of each cell inside the vessel (:func:`disk_fractions`).
+        open_x: (n, n) the open part of each face along x (:func:`disk_fractions`).
+        open_y: (n, n) the same along y.
         flowing: (n, n) the cells where v evolves.
         dx: grid spacing.
         sink: (n, n) the dry cells beyond an absorbing wall (None: no absorbing wall).
