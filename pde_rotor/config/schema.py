@@ -590,7 +590,7 @@ class RotorConfig(_Section):
         for k, body in enumerate(bodies):
             x, y = body.start.x, body.start.y
             off = math.hypot(x - cx, y - cy)
-            if off + reach[k] >= rim:
+            if off + reach[k] >= rim and self.grid.vessel is None:  # a vessel: check_vessel
                 allowed = (
                     f"|start - grid.domain_centre| < {rim - reach[k]:.4g}"
                     if rim > reach[k]

@@ -10,9 +10,9 @@ Set, it is one of
 * ``rectangle``: the tank |x| < a, |y| < b about ``grid.domain_centre``, half widths
   [a, b], its wall ``absorbing`` or ``no_flux``.
 
-The square grid covers the circle of radius ``grid.domain_radius``, which must hold the
-vessel (:meth:`VesselShape.circumradius`). Vessels run with a ``bodies:`` list
-(:mod:`pde_rotor.model.vessel` builds their cut cells).
+The square grid covers the square |x|, |y| <= ``grid.domain_radius`` (and one ring of
+cells more), which must hold the vessel (``extent``: R2, or max(a, b)). Vessels run with
+a ``bodies:`` list (:mod:`pde_rotor.model.vessel` builds their cut cells).
 """
 
 from __future__ import annotations
@@ -52,8 +52,8 @@ class AnnulusVessel(_Section):
             raise FieldError("inner_radius", self.inner_radius, msg)
         return self
 
-    def circumradius(self) -> float:
-        """The radius of the smallest circle about the centre that holds the vessel."""
+    def extent(self) -> float:
+        """Half the side of the smallest square about the centre that holds the vessel."""
         return self.outer_radius
 
     def width(self) -> float:
@@ -77,9 +77,9 @@ class RectangleVessel(_Section):
     half_widths: tuple[PositiveFloat, PositiveFloat] = Field(description="[a, b]: half widths")
     wall: WallKind = Field("no_flux", description="the tank's wall for the camphor")
 
-    def circumradius(self) -> float:
-        """The radius of the smallest circle about the centre that holds the vessel."""
-        return math.hypot(*self.half_widths)
+    def extent(self) -> float:
+        """Half the side of the smallest square about the centre that holds the vessel."""
+        return max(self.half_widths)
 
     def width(self) -> float:
         """The tank's narrower width 2 min(a, b)."""
@@ -133,15 +133,15 @@ def check_vessel(
     if grid.wall != "absorbing":
         msg = "belongs to the dish; a vessel names its own walls (allowed: leave it out)"
         raise FieldError("grid.wall", grid.wall, msg)
-    if vessel.circumradius() > grid.domain_radius:
+    if vessel.extent() > grid.domain_radius:
         msg = (
-            f"too small for the {vessel.shape} (the grid covers the circle of radius "
-            f"domain_radius; allowed: domain_radius >= {vessel.circumradius():.6g})"
+            f"too small for the {vessel.shape} (the grid covers |x|, |y| <= domain_radius; "
+            f"allowed: domain_radius >= {vessel.extent():.6g})"
         )
         raise FieldError("grid.domain_radius", grid.domain_radius, msg)
     if vessel.width() < CHANNEL_CELLS * grid.dx:
         msg = (
-            f"a {vessel.shape} {vessel.width():.4g} wide is narrower than {CHANNEL_CELLS} "
+            f"the {vessel.shape}, {vessel.width():.4g} wide, is narrower than {CHANNEL_CELLS} "
             f"cells (allowed: width >= {CHANNEL_CELLS * grid.dx:.4g}, or a smaller grid.dx)"
         )
         raise FieldError("grid.vessel", vessel.shape, msg)

@@ -20,7 +20,7 @@ VESSELS = {
     },
     "rectangle": {"shape": "rectangle", "half_widths": [4.95, 3.37]},
 }
-"""The vessels, each about the grid's centre on a grid of radius 6 (a footprint reaches
+"""The vessels, each about the grid's centre on a grid of half side 6 (a footprint reaches
 1.8 from its body at geometry.smoothing = 0.05)."""
 
 STARTS = {
@@ -57,7 +57,7 @@ def vessel_run(vessel: str, supply: float = 1.0, **sections: dict) -> Simulation
     to the walls (v only where the cell centre lies inside)."""
     config = RotorConfig.model_validate(
         {
-            "grid": {"domain_radius": 6.4, "dx": 0.1, "dt": 1e-3, "vessel": VESSELS[vessel]},
+            "grid": {"domain_radius": 6.0, "dx": 0.1, "dt": 1e-3, "vessel": VESSELS[vessel]},
             "geometry": {"smoothing": 0.05},
             "numerics": {"scheme": "paper"},
             "protocol": {"t_ini": 1.0, "cycles": 0},
