@@ -19,9 +19,9 @@ v = 0 on the cells whose centre lies outside (the solid wall's no-slip).
 
 With ``grid.vessel`` (an annular channel or a rectangular tank about the centre) c lives
 on the vessel's cut cells (:mod:`pde_rotor.model.vessel`) and v on the cells whose centre
-lies inside it; :attr:`Domain.radius` is then ``grid.domain_radius``, the circle that
-holds the vessel, and the rows' interior ranges span the vessel's cells of each row (an
-annulus' hole included: :attr:`Domain.interior_mask` leaves it out).
+lies inside it; :attr:`Domain.radius` is then ``grid.domain_radius``, the half side of
+the square that holds the vessel, and the rows' interior ranges span the vessel's cells of
+each row (an annulus' hole included: :attr:`Domain.interior_mask` leaves it out).
 """
 
 from __future__ import annotations

@@ -68,8 +68,9 @@ def test_rectangle_area_and_face_lengths_are_exact(dx: float) -> None:
 
 
 def test_the_dish_is_the_annulus_without_a_hole() -> None:
-    """The dish's cut cells (:func:`make_cut_cells`) are those of an annulus whose hole lies
-    inside a single cell's corner less that hole: the same faces away from it."""
+    """An annulus whose hole (radius 0.02) lies within the four cells about the centre
+    has the dish's cut cells (:func:`make_cut_cells`) everywhere away from that hole: the outer
+    wall is the dish's circle to the bit."""
     coords = grid_coords(0.05)
     dish = make_cut_cells(coords, 0.97)
     ring = make_vessel_cells(
