@@ -18,6 +18,8 @@ is compiled.
 * :mod:`.bodies`: the ``bodies:`` list, the camphor objects on the surface (plates,
   pills, motions), of which the ``geometry:`` rotor is the shorthand for one;
 * :mod:`.protocol`: the stop-and-release section, the run's and each body's;
+* :mod:`.vessel`: ``grid.vessel``, the annular channel or rectangular tank that replaces
+  the dish;
 * :mod:`.fields`: the number types, the section base and the bounds they all share;
 * :mod:`.yaml_io`: YAML in and out, ``--set`` overrides, the dotted-key setter;
 * :mod:`.messages`: one-line messages naming the key path and the allowed values;

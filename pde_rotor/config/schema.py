@@ -45,6 +45,7 @@ from .fields import (
     _Section,
 )
 from .protocol import ProtocolConfig
+from .vessel import VesselShape, check_vessel
 
 
 class GeometryConfig(_Section):
@@ -277,6 +278,9 @@ class GridConfig(_Section):
             "Koyano, Suematsu & Kitahata 2019; bodies only); v = 0 at the wall either way"
         ),
     )
+    vessel: VesselShape | None = Field(
+        None, description="annulus or rectangle (config/vessel.py); null: the dish above"
+    )
 
     @model_serializer(mode="wrap")
     def _without_default_centre(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
@@ -288,6 +292,8 @@ class GridConfig(_Section):
             data.pop("domain_centre", None)
         if self.wall == DISH_WALL:
             data.pop("wall", None)
+        if self.vessel is None:
+            data.pop("vessel", None)
         return data
 
 
@@ -499,6 +505,7 @@ class RotorConfig(_Section):
                 raise FieldError("grid.wall", self.grid.wall, msg)
         else:
             self._bodies_in_dish()
+        check_vessel(self.grid, self.bodies is not None, self.body_list(), self.geometry.smoothing)
         limit = self.dt_limit()
         if self.grid.dt > limit:
             msg = f"above the explicit stability limit (allowed: dt <= {limit:.4g} for this dx)"
@@ -594,7 +601,7 @@ class RotorConfig(_Section):
         for k, body in enumerate(bodies):
             x, y = body.start.x, body.start.y
             off = math.hypot(x - cx, y - cy)
-            if off + reach[k] >= rim:
+            if off + reach[k] >= rim and self.grid.vessel is None:  # a vessel: check_vessel
                 allowed = (
                     f"|start - grid.domain_centre| < {rim - reach[k]:.4g}"
                     if rim > reach[k]

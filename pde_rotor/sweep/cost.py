@@ -94,11 +94,14 @@ LONG_RUN_SECONDS = 600.0
 
 
 def cell_counts(config: RotorConfig) -> tuple[int, int]:
-    """(interior cells, support cells) of the config's grid: the disk areas over dx^2."""
+    """(interior cells, support cells) of the config's grid: the areas of the dish (or of
+    ``grid.vessel``, whose step walks only its wet cells) and of the support over dx^2."""
     dx2 = config.grid.dx**2
     support = RotorShape.from_config(config.geometry).support_radius
+    vessel = config.grid.vessel
+    area = math.pi * config.grid.domain_radius**2 if vessel is None else vessel.area()
     return (
-        round(math.pi * config.grid.domain_radius**2 / dx2),
+        round(area / dx2),
         round(math.pi * support**2 / dx2),
     )
 
