@@ -9,7 +9,9 @@ from __future__ import annotations
 
 from typing import Annotated, Any
 
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field
+from pydantic import BeforeValidator, ConfigDict, Field
+
+from .stable import StableModel
 
 X_SATURATION = 20.0
 """|x| beyond which float64 1/2 (1 + tanh(x)) is exactly 1 (1 - tanh(20) = 8.5e-18 < 2^-54)
@@ -58,7 +60,8 @@ PAPER_FRICTION = 1e-4
 """mu: the paper's friction constant of the rotor."""
 
 
-class _Section(BaseModel):
-    """Base of all config sections: unknown keys and silent coercions are errors."""
+class _Section(StableModel):
+    """Base of all config sections: unknown keys and silent coercions are errors; a key
+    added to the schema at its default is left out of every dump (:mod:`.stable`)."""
 
     model_config = ConfigDict(extra="forbid", strict=False, validate_assignment=True)

@@ -17,7 +17,7 @@ import math
 from typing import Any, Literal
 
 import numpy as np
-from pydantic import Field, SerializerFunctionWrapHandler, model_serializer, model_validator
+from pydantic import Field, model_validator
 
 from .bodies import (
     BodyConfig,
@@ -267,18 +267,6 @@ class GridConfig(_Section):
         ),
     )
 
-    @model_serializer(mode="wrap")
-    def _without_default_centre(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
-        """Leave out a domain_centre at the origin and the absorbing wall: the dumps, hashes
-        and physics of every config written before these keys existed stay as they were
-        (stored sweep runs)."""
-        data = handler(self)
-        if self.domain_centre == DISH_CENTRE:
-            data.pop("domain_centre", None)
-        if self.wall == DISH_WALL:
-            data.pop("wall", None)
-        return data
-
 
 class NumericsConfig(_Section):
     """How F, G and the torque are discretised on the grid (docs/model.md, "Schemes")."""
@@ -457,15 +445,6 @@ class RotorConfig(_Section):
             "rotor, the paper's)"
         ),
     )
-
-    @model_serializer(mode="wrap")
-    def _without_shorthand_bodies(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
-        """Leave out ``bodies: null``: the dumps, hashes and physics of every config of
-        the single rotor stay as they were before the key existed (stored sweep runs)."""
-        data = handler(self)
-        if self.bodies is None:
-            data.pop("bodies", None)
-        return data
 
     @model_validator(mode="after")
     def _numerically_sound(self) -> RotorConfig:
