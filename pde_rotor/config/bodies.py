@@ -350,4 +350,4 @@ class BodyConfig(_Section):
                     motion[key] = value
         if data["noise_sigma"] is None:
             data["noise_sigma"] = sigma if motion["kind"] == "fixed_axis" else 0.0
-        return BodyConfig.model_validate(data)
+        return type(self).model_validate(data)

@@ -121,10 +121,11 @@ _LEAVABLE: dict[type, tuple[tuple[str, Any], ...]] = {}
 
 def leavable_keys(cls: type[BaseModel]) -> tuple[tuple[str, Any], ...]:
     """(name, default) of the keys of `cls` that its dumps leave out at their defaults:
-    those not in :data:`DUMPED_KEYS` that have a default and are no tag."""
+    those that have a default, are no tag and are not in :data:`DUMPED_KEYS` under the
+    name of `cls` or of a class it derives from."""
     found = _LEAVABLE.get(cls)
     if found is None:
-        frozen = DUMPED_KEYS.get(cls.__name__, frozenset())
+        frozen = frozenset().union(*(DUMPED_KEYS.get(k.__name__, ()) for k in cls.__mro__))
         found = tuple(
             (name, field.get_default(call_default_factory=True))
             for name, field in cls.model_fields.items()
