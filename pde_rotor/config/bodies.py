@@ -36,6 +36,7 @@ from pydantic import Field, model_validator
 
 from .errors import FieldError
 from .fields import (
+    ANGLE_BOUND,
     OMEGA_BOUND,
     PAPER_FRICTION,
     PAPER_INERTIA,
@@ -43,6 +44,7 @@ from .fields import (
     PAPER_PILL_RADIUS,
     PAPER_PLATE_RADIUS,
     SCALE_BOUND,
+    VELOCITY_BOUND,
     X_SATURATION,
     FiniteFloat,
     Int,
@@ -221,16 +223,22 @@ MotionConfig = Annotated[FixedMotion | FixedAxisMotion | FreeMotion, Field(discr
 """How a body moves, by its ``kind``; each kind allows only its own keys."""
 
 
+_Speed = Annotated[FiniteFloat, Field(ge=-VELOCITY_BOUND, le=VELOCITY_BOUND)]
+"""A component of a body's start velocity: at most :data:`VELOCITY_BOUND` in size."""
+
+
 class StartConfig(_Section):
     """The body's pose and velocities at t = 0."""
 
     x: FiniteFloat = Field(0.0, description="X: x of the body's origin (its axis)")
     y: FiniteFloat = Field(0.0, description="Y: y of the body's origin (its axis)")
-    angle: FiniteFloat = Field(0.0, description="phi(0): angle of the body frame [rad]")
+    angle: FiniteFloat = Field(
+        0.0, ge=-ANGLE_BOUND, le=ANGLE_BOUND, description="phi(0): angle of the body frame [rad]"
+    )
     omega: FiniteFloat = Field(
         0.0, ge=-OMEGA_BOUND, le=OMEGA_BOUND, description="dphi/dt(0): angular velocity"
     )
-    velocity: tuple[FiniteFloat, FiniteFloat] = Field(
+    velocity: tuple[_Speed, _Speed] = Field(
         (0.0, 0.0), description="U(0) = [u_x, u_y]: velocity of a free body"
     )
 
@@ -270,6 +278,17 @@ class BodyConfig(_Section):
         """Footprint: radius about the body's origin beyond which F_k and G_k are 0 to
         4.3e-18, the plate's and pills' extent plus X_SATURATION delta."""
         return max([self.plate.reach(smoothing), *(p.reach(smoothing) for p in self.pills)])
+
+    def pill_overlap(self) -> tuple[int, int, float] | None:
+        """(i, j, distance) of the first pills i < j whose disks overlap (their sources
+        would add up there, Eq. (eqc)), or None; pills may touch."""
+        for j, pill in enumerate(self.pills):
+            for i in range(j):
+                other = self.pills[i]
+                apart = math.hypot(pill.x - other.x, pill.y - other.y)
+                if apart < pill.radius + other.radius - INSIDE_TOLERANCE:
+                    return i, j, apart
+        return None
 
     def friction_rates(self) -> list[float]:
         """Upper bounds of the body's friction relaxation rates (a resolved body).

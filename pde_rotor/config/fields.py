@@ -43,6 +43,13 @@ for and the explicit step overflows float64 (``camphor.supply: 1e308``), so such
 is refused in one line at ``check`` instead of starting a run that cannot work."""
 OMEGA_BOUND = 1e4
 """Largest |omega0|: about 50 times the rotor's own steady angular velocity (176)."""
+ANGLE_BOUND = 1e4
+"""Largest |angle| of a start (rotor.phi0, a body's start.angle), in rad: about 1600
+turns. An angle counts modulo 2 pi; far beyond this bound float64 loses its fraction of a
+turn (at 1e16 rad nothing of it is left), so a larger one is a typo."""
+VELOCITY_BOUND = 1e3
+"""Largest |u_x|, |u_y| of a body's start velocity: ten times the rim speed of the paper's
+rotor (176 x 0.5 = 88) and 500 times a free camphor disk's steady speed (about 2)."""
 TIME_BOUND = 1e5
 """Longest t_ini, t_stop or t_release: 1e4 times the paper's 10."""
 CYCLES_BOUND = 100_000

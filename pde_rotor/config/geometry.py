@@ -112,4 +112,15 @@ class GeometryConfig(_Section):
                 f"rad for these radius, pill_radius, pill_inset"
             )
             raise FieldError("asymmetry", self.asymmetry, msg)
+        apart = 2 * r_c * math.sin(half)
+        if apart < 2 * self.pill_radius - 1e-12:
+            # R_c sin(pi/N) >= rho with R_c = R - rho / cos(pi/N) - p
+            rho_max = (self.radius - self.pill_inset) * math.sin(half) / (1 + math.tan(half))
+            msg = (
+                f"the pills of neighbouring corners overlap: their centres lie 2 R_c sin(pi/N) "
+                f"= {apart:.4g} apart, less than 2 rho = {2 * self.pill_radius:g}, where their "
+                f"sources would add up (allowed: pill_radius <= {rho_max:.4g} for these "
+                f"n_corners, radius, pill_inset, or fewer corners)"
+            )
+            raise FieldError("pill_radius", self.pill_radius, msg)
         return self

@@ -8,6 +8,7 @@ from typing import Literal
 from pydantic import Field
 
 from .fields import (
+    ANGLE_BOUND,
     OMEGA_BOUND,
     PAPER_FRICTION,
     PAPER_INERTIA,
@@ -32,7 +33,9 @@ class RotorDynamicsConfig(_Section):
     friction: NonNegativeFloat = Field(
         PAPER_FRICTION, le=PAPER_FRICTION * SCALE_BOUND, description="mu: friction constant"
     )
-    phi0: FiniteFloat = Field(1.0, description="phi(0): initial angle [rad]")
+    phi0: FiniteFloat = Field(
+        1.0, ge=-ANGLE_BOUND, le=ANGLE_BOUND, description="phi(0): initial angle [rad]"
+    )
     omega0: FiniteFloat = Field(
         0.1, ge=-OMEGA_BOUND, le=OMEGA_BOUND, description="dphi/dt(0): initial angular velocity"
     )

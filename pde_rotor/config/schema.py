@@ -95,6 +95,20 @@ class RotorConfig(_Section):
         ),
     )
 
+    @model_validator(mode="before")
+    @classmethod
+    def _bodies_not_null(cls, data: Any) -> Any:
+        """A ``bodies`` key without a list (a bare ``bodies:`` line, or ``--set
+        bodies=null``) is refused as ``bodies: []`` is: the shorthand rotor is the config
+        without the key, never one whose list was lost."""
+        if isinstance(data, dict) and "bodies" in data and data["bodies"] is None:
+            msg = (
+                "a bodies key without entries (a bare `bodies:` line) (allowed: a list of at "
+                "least one body, or no bodies key for the rotor of geometry:)"
+            )
+            raise FieldError("bodies", None, msg)
+        return data
+
     @model_validator(mode="after")
     def _numerically_sound(self) -> RotorConfig:
         dx = self.grid.dx
@@ -201,6 +215,17 @@ class RotorConfig(_Section):
         reach = [body.reach(smoothing) for body in bodies]
         names: dict[str, int] = {}
         for k, body in enumerate(bodies):
+            overlap = body.pill_overlap()
+            if overlap is not None:
+                i, j, apart = overlap
+                pills = body.pills
+                radii = pills[i].radius + pills[j].radius
+                msg = (
+                    f"overlaps pills[{i}] of body {body.name!r}: their centres lie {apart:.4g} "
+                    f"apart, less than the sum of their radii {radii:.4g}, where their sources "
+                    "would add up (allowed: pills apart, or one pill with the supply of both)"
+                )
+                raise FieldError(f"bodies[{k}].pills[{j}]", [pills[j].x, pills[j].y], msg)
             if body.name in names:
                 msg = f"the name of bodies[{names[body.name]}] too (allowed: a name of its own)"
                 raise FieldError(f"bodies[{k}].name", body.name, msg)
@@ -222,6 +247,10 @@ class RotorConfig(_Section):
                     f"footprint of radius {reach[k]:.4g}: {footprint}), not inside "
                     f"grid.domain_radius - dx = {rim:.4g} (allowed: {allowed})"
                 )
+                if (cx, cy) != DISH_CENTRE and math.hypot(x, y) + reach[k] < rim:
+                    # the body fits the dish about the origin: the moved centre is the cause
+                    msg = f"moves the dish off body {body.name!r} at start [{x:g}, {y:g}]: " + msg
+                    raise FieldError("grid.domain_centre", [cx, cy], msg)
                 raise FieldError(f"bodies[{k}].start", [x, y], msg)
             for i in range(k):
                 other = bodies[i]
