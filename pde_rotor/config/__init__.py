@@ -34,6 +34,7 @@ is compiled.
 from __future__ import annotations
 
 from .bodies import (
+    FREE_FRICTION,
     BodyConfig,
     DiskPlate,
     FixedAxisMotion,
@@ -78,6 +79,7 @@ from .yaml_io import (
 __all__ = [
     "CALIBRATED_SIGMA",
     "DISH_CENTRE",
+    "FREE_FRICTION",
     "PAPER_SCHEME_SIGMA",
     "PAPER_STEADY_OMEGA",
     "PROVENANCE_KEY",

@@ -20,7 +20,9 @@ objects on one surface. Body k has
 
 Inheritance: a key left null takes the run's value when the bodies are resolved
 (:meth:`BodyConfig.resolved`): a pill's ``supply`` the run's ``camphor.supply``; a
-motion's ``inertia`` and ``friction`` the run's ``rotor.inertia`` and ``rotor.friction``;
+motion's ``inertia`` the run's ``rotor.inertia``; a ``fixed_axis`` motion's ``friction``
+the run's ``rotor.friction`` (a free body's defaults to a camphor disk's own,
+:data:`FREE_FRICTION`, not to the paper rotor's 1e-4, 1760 times below a disk's onset);
 ``noise_sigma`` the run's ``noise.sigma`` for a ``fixed_axis`` body and 0 otherwise;
 ``name`` is ``body{k}``. The positions and footprints here are what the config's checks
 need (bodies inside the dish and apart, pills inside their plate); the numpy indicators
@@ -187,6 +189,17 @@ far above the rotor's bound of SCALE_BOUND times the paper's value."""
 _Friction = Annotated[NonNegativeFloat, Field(le=BODY_FRICTION_BOUND)]
 """A body's mu: at most :data:`BODY_FRICTION_BOUND`."""
 
+FREE_FRICTION = 0.15
+"""Default mu of a free body: a camphor disk's own friction, not the paper rotor's.
+
+A free disk of the paper's pill (rho = 0.1, the paper's camphor) rests for mu above its
+onset mu_c = K(0) / (pi rho^2) = 0.17635 and self-propels below it (a supercritical
+pitchfork, docs/bodies.md); 0.15 = 0.85 mu_c sets it off at the steady speed U* = 1.97,
+0.008 cells per step on the paper's grid (tests/config/test_bodies.py). The rotor's
+mu = 1e-4 lies 1760 times below mu_c: a free body given it runs away into the rim.
+Larger disks have a lower onset (0.127 at rho = 0.2, 0.100 at 0.3) and rest at 0.15; they
+state their friction."""
+
 
 class FixedMotion(_Section):
     """A body that never moves: a stationary camphor source or an obstacle (u_k = 0)."""
@@ -214,8 +227,12 @@ class FreeMotion(_Section):
     inertia: _Inertia | None = Field(
         None, description="I: moment of inertia about X_k (null: the run's rotor.inertia)"
     )
-    friction: _Friction | None = Field(
-        None, description="mu: friction constant (null: the run's rotor.friction)"
+    friction: _Friction = Field(
+        FREE_FRICTION,
+        description=(
+            "mu: friction constant (default 0.15, 0.85 times the onset of a free camphor disk "
+            "of the paper's pill, which then self-propels at a steady speed; docs/bodies.md)"
+        ),
     )
 
 
@@ -354,7 +371,7 @@ class BodyConfig(_Section):
             index: k, the body's index in ``bodies`` (its default name body{k}).
             supply: the run's camphor.supply.
             inertia: the run's rotor.inertia.
-            friction: the run's rotor.friction.
+            friction: the run's rotor.friction (the default of a fixed_axis body).
             sigma: the run's noise.sigma (the default of a fixed_axis body).
         """
         data = self.model_dump()

@@ -283,7 +283,7 @@ def test_motion_coefficients_follow_the_kind() -> None:
                 {**pill, "motion": {"kind": "fixed_axis"}, "start": {"x": 2.0}},
                 {
                     **pill,
-                    "motion": {"kind": "free", "mass": 1e-4, "inertia": 4e-5},
+                    "motion": {"kind": "free", "mass": 1e-4, "inertia": 4e-5, "friction": 1e-4},
                     "start": {"x": -2.0, "velocity": [0.5, 0.0]},
                 },
             ],
