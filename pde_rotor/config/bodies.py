@@ -22,7 +22,7 @@ Inheritance: a key left null takes the run's value when the bodies are resolved
 (:meth:`BodyConfig.resolved`): a pill's ``supply`` the run's ``camphor.supply``; a
 motion's ``inertia`` the run's ``rotor.inertia``; a ``fixed_axis`` motion's ``friction``
 the run's ``rotor.friction`` (a free body's defaults to a camphor disk's own,
-:data:`FREE_FRICTION`, not to the paper rotor's 1e-4, 1760 times below a disk's onset);
+:data:`FREE_FRICTION`, not to the paper rotor's 1e-4, 1764 times below a disk's onset);
 ``noise_sigma`` the run's ``noise.sigma`` for a ``fixed_axis`` body and 0 otherwise;
 ``name`` is ``body{k}``. The positions and footprints here are what the config's checks
 need (bodies inside the dish and apart, pills inside their plate); the numpy indicators
@@ -196,7 +196,7 @@ A free disk of the paper's pill (rho = 0.1, the paper's camphor) rests for mu ab
 onset mu_c = K(0) / (pi rho^2) = 0.17635 and self-propels below it (a supercritical
 pitchfork, docs/bodies.md); 0.15 = 0.85 mu_c sets it off at the steady speed U* = 1.97,
 0.008 cells per step on the paper's grid (tests/config/test_bodies.py). The rotor's
-mu = 1e-4 lies 1760 times below mu_c: a free body given it runs away into the rim.
+mu = 1e-4 lies 1764 times below mu_c: a free body given it runs away into the rim.
 Larger disks have a lower onset (0.127 at rho = 0.2, 0.100 at 0.3) and rest at 0.15; they
 state their friction."""
 
