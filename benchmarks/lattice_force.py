@@ -59,7 +59,7 @@ def held_force(
             "bodies": [
                 {
                     **body,
-                    "motion": {"kind": "free", "mass": 1e-3},
+                    "motion": {"kind": "free", "mass": 1e-3, "friction": 1e-4},
                     "start": {"x": x, "y": y},
                     "protocol": {"t_ini": 0.0, "t_stop": relax, "t_release": 1.0, "cycles": 1},
                 }

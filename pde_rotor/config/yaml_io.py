@@ -71,6 +71,11 @@ def parse_yaml(text: str, source: str = "<string>") -> Any:
         mark = getattr(err, "problem_mark", None)
         where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
         problem = getattr(err, "problem", None) or str(err).splitlines()[0]
+        if "got '['" in problem and "'}'" in problem:
+            problem += (
+                "; inside {...} a key with a list index must be quoted, "
+                '{"bodies[0].start.x": 1}, or written in block style, one key a line'
+            )
         msg = f"{source}: invalid YAML{where}: {problem}"
         raise ConfigError(msg) from None
 
@@ -146,6 +151,14 @@ def parse_override(text: str) -> tuple[list[str], Any]:
     """
     key, sep, raw = text.partition("=")
     key = key.strip()
+    negative = re.search(r"\[-[0-9]+\]", key)
+    if sep and negative:
+        msg = (
+            f"--set {text!r}: {negative.group()} counts from the end, which a key path does "
+            "not (allowed: an index from 0, e.g. bodies[0], or the list's length to add an "
+            "entry)"
+        )
+        raise ConfigError(msg)
     if not sep or not _KEY_PATH.match(key):
         msg = (
             f"--set {text!r}: expected KEY.PATH=VALUE with a dotted key path, "

@@ -60,14 +60,14 @@ FOUR_BODIES = [
         "name": "disk",
         "plate": {"shape": "none"},
         "pills": [{"x": 0.0, "y": 0.0}],
-        "motion": {"kind": "free", "mass": 1e-5, "inertia": 5e-8},
+        "motion": {"kind": "free", "mass": 1e-5, "inertia": 5e-8, "friction": 1e-4},
         "start": {"x": 1.5, "y": 1.8, "angle": 0.2, "omega": -1.0, "velocity": [0.4, -0.3]},
     },
     {
         "name": "strip",
         "plate": {"shape": "strip", "length": 0.8, "width": 0.3},
         "pills": [{"x": 0.3, "y": 0.0, "radius": 0.06}, {"x": -0.3, "y": 0.0, "radius": 0.06}],
-        "motion": {"kind": "free", "mass": 3e-5},
+        "motion": {"kind": "free", "mass": 3e-5, "friction": 1e-4},
         "start": {"x": 1.5, "y": -1.5, "angle": 0.7, "omega": 2.0, "velocity": [-0.2, 0.1]},
     },
     {
@@ -84,14 +84,14 @@ CONSISTENT_BODIES = [
     *FOUR_BODIES[:3],
     {
         **FOUR_BODIES[3],
-        "motion": {"kind": "free", "mass": 1e-4},
+        "motion": {"kind": "free", "mass": 1e-4, "friction": 1e-4},
         "start": {"x": -1.5, "y": -2.0, "velocity": [0.1, 0.2]},
     },
     {
         "name": "pair",
         "plate": {"shape": "none"},
         "pills": [{"x": 0.3, "y": 0.0, "radius": 0.06}, {"x": -0.3, "y": 0.05, "radius": 0.08}],
-        "motion": {"kind": "free", "mass": 3e-5, "inertia": 1e-6},
+        "motion": {"kind": "free", "mass": 3e-5, "inertia": 1e-6, "friction": 1e-4},
         "start": {"x": 0.2, "y": 0.2, "angle": 0.7, "omega": 2.0, "velocity": [-0.2, 0.1]},
     },
 ]
@@ -228,7 +228,7 @@ def test_body_reaching_the_edge_ends_the_run_naming_it() -> None:
                 "name": "boat",
                 "plate": {"shape": "none"},
                 "pills": [{"x": 0.0, "y": 0.0}],
-                "motion": {"kind": "free", "mass": 1e-5},
+                "motion": {"kind": "free", "mass": 1e-5, "friction": 1e-4},
                 "start": {"x": 1.3, "y": 0.0, "velocity": [5.0, 0.0]},
             }
         ],
@@ -365,7 +365,7 @@ def test_free_body_momentum_balances_the_forces_of_the_fields() -> None:
         "name": "strip",
         "plate": {"shape": "strip", "length": 0.8, "width": 0.3},
         "pills": [{"x": 0.3, "y": 0.05, "radius": 0.06}],
-        "motion": {"kind": "free", "mass": 2e-4, "inertia": 4e-6},
+        "motion": {"kind": "free", "mass": 2e-4, "inertia": 4e-6, "friction": 1e-4},
         "start": {"x": -0.3, "y": 0.2, "angle": 0.3, "omega": 4.0, "velocity": [0.3, -0.2]},
     }
     config = surface_config([strip], grid={"domain_radius": 2.5})
@@ -492,7 +492,7 @@ def held_force(scheme: str, x: float, body: dict[str, Any] | None = None) -> flo
     (coarse grid, L = 2)."""
     held = {
         **(body or {"name": "disk", "pills": [{"x": 0.0, "y": 0.0}]}),
-        "motion": {"kind": "free", "mass": 1e-3},
+        "motion": {"kind": "free", "mass": 1e-3, "friction": 1e-4},
         "start": {"x": x, "y": 0.0},
         "protocol": {"t_ini": 0.0, "t_stop": 2.0, "t_release": 1.0, "cycles": 1},
     }

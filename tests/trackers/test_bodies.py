@@ -28,7 +28,7 @@ TWO_BODIES = {
         {
             "name": "boat",
             "pills": [{"x": 0.0, "y": 0.0}],
-            "motion": {"kind": "free", "mass": 1e-3},
+            "motion": {"kind": "free", "mass": 1e-3, "friction": 1e-4},
             "start": {"x": 1.2, "y": 0.0, "velocity": [0.0, 0.5]},
         },
     ],
