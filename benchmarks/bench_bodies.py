@@ -106,7 +106,7 @@ def profile(sim: Simulation, steps: int) -> dict[str, float]:
         kb.support_rows(box, n, domain[3], domain[4])
         for k in range(count):
             timed("area integrals", kb.body_integrals, cur, F, owner, coords, k, pose[k, 0],
-                  pose[k, 1], box, p.flow, out)  # fmt: skip
+                  pose[k, 1], box, p, out)  # fmt: skip
             if p.contour:
                 half = int(body[k]["window_half"])
                 ic = int(np.floor((pose[k, 0] - x0) * inv_dx)) + 1
@@ -115,7 +115,7 @@ def profile(sim: Simulation, steps: int) -> dict[str, float]:
                       min(n - 1, ic + half), max(1, jc - half), min(n - 1, jc + half),
                       tables[8])  # fmt: skip
                 timed("contour nodes", kb.body_contour, cur, coords, k, body, pills, pose,
-                      normals, centres, tables, p.smoothing, out)  # fmt: skip
+                      normals, centres, tables, p, out)  # fmt: skip
         timed("field update over the support", kb.euler_body_fields, cur, nxt, F, G, owner,
               domain, rates, p.dt, pose, p.flow)  # fmt: skip
         start = time.thread_time()

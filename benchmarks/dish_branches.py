@@ -25,7 +25,7 @@ import numpy as np
 
 from pde_rotor import RotorConfig
 from pde_rotor.gallery.onsets import disk_in_dish_config, dragged_orbit
-from pde_rotor.model.onsets import CamphorDisk, Wall, dish_hopf_onset
+from pde_rotor.theory import CamphorDisk, Wall, dish_hopf_onset
 
 RELAX = 6.0
 

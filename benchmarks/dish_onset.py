@@ -9,9 +9,9 @@ x. Its position then moves as a pair of modes e^{lambda t}, lambda = sigma + i o
 script fits lambda to (x, y) over [`--fit-start`, `--fit-end`] after the release
 (:func:`pde_rotor.gallery.onsets.hopf_rate`) at each friction mu (given as multiples of
 the theory's mu_c), prints it beside the linear stability's
-(:func:`pde_rotor.model.onsets.dish_hopf_rate`), and the friction where the simulated
+(:func:`pde_rotor.theory.dish.dish_hopf_rate`), and the friction where the simulated
 sigma changes sign (linear interpolation between the two frictions that bracket it) with
-the frequency there, beside mu_c and omega_c (:func:`~pde_rotor.model.onsets.dish_hopf_onset`).
+the frequency there, beside mu_c and omega_c (:func:`~pde_rotor.theory.dish.dish_hopf_onset`).
 
 Run:  python benchmarks/dish_onset.py [--dx 0.025 --dt 1e-4] [--factors 0.98 1.0 1.02]
 """
@@ -25,7 +25,7 @@ import numpy as np
 
 from pde_rotor import RotorConfig
 from pde_rotor.gallery.onsets import disk_in_dish_config, kick_hopf_rate
-from pde_rotor.model.onsets import CamphorDisk, Wall, dish_hopf_onset, dish_hopf_rate
+from pde_rotor.theory import CamphorDisk, Wall, dish_hopf_onset, dish_hopf_rate
 
 
 def main() -> None:

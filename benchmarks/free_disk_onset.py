@@ -6,7 +6,7 @@ for `--relax` time units while c relaxes to the rest state, then released with t
 velocity U0 along x; its velocity then grows or decays as e^{lambda t}. The script fits
 lambda to log |U| over [`--fit-start`, `--fit-end`] after the release, at each friction
 mu, and prints it beside the growth rate of the linear stability,
-m lambda = K(lambda) - mu pi rho^2 (:func:`pde_rotor.model.onsets.free_disk_growth_rate`),
+m lambda = K(lambda) - mu pi rho^2 (:func:`pde_rotor.theory.free_disk.free_disk_growth_rate`),
 and the critical friction where the simulated lambda changes sign (linear interpolation
 between the two frictions that bracket it) beside the closed form mu_c.
 
@@ -22,7 +22,7 @@ import numpy as np
 
 from pde_rotor import RotorConfig
 from pde_rotor.gallery.onsets import free_disk_config, kick_growth_rate
-from pde_rotor.model.onsets import (
+from pde_rotor.theory import (
     CamphorDisk,
     free_disk_critical_friction,
     free_disk_growth_rate,

@@ -67,7 +67,7 @@ def main(scheme: str = "paper", wall: str = "absorbing") -> None:
         (
             np.zeros((e, 1, 2, 1)),
             np.zeros((e, 2, 1)),
-            np.zeros((e, 1, 2, 3)),
+            np.zeros((e, 1, 2, 9)),
             np.zeros((e, 1, 6)),
             np.zeros((e, nn)),
         ),

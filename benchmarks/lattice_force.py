@@ -35,13 +35,13 @@ import math
 import numpy as np
 
 from pde_rotor import RotorConfig
-from pde_rotor.model.onsets import (
+from pde_rotor.solver.simulation import Simulation
+from pde_rotor.theory import (
     CamphorDisk,
     Wall,
     free_disk_displacement_force,
     free_disk_force_coefficient,
 )
-from pde_rotor.solver.simulation import Simulation
 
 GALLERY_KICK = 1e-4
 """The velocity gallery/bodies_onsets.py kicks the free disk to."""
@@ -59,7 +59,7 @@ def held_force(
             "bodies": [
                 {
                     **body,
-                    "motion": {"kind": "free", "mass": 1e-3},
+                    "motion": {"kind": "free", "mass": 1e-3, "friction": 1e-4},
                     "start": {"x": x, "y": y},
                     "protocol": {"t_ini": 0.0, "t_stop": relax, "t_release": 1.0, "cycles": 1},
                 }

@@ -28,7 +28,7 @@ from scipy.stats import norm
 from pde_rotor import RotorConfig
 from pde_rotor.decision.runs import _one_stop
 from pde_rotor.decision.table import diffusion_of, load_table
-from pde_rotor.sweep.estimators import period_steps
+from pde_rotor.sweep.estimators.restart import period_steps
 from pde_rotor.sweep.spec import RestartEstimator
 from pde_rotor.sweep.tasks import warm_state
 

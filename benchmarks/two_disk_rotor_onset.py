@@ -4,7 +4,7 @@ Two camphor disks of radius 0.1 at (+-l, 0) on a strip that does not touch the w
 (Koyano et al., PRE 96, 012609, 2017), turning about the dish centre, no flow. The rotor
 is held while c relaxes, released with omega = 1e-3, and the growth rate lambda of |omega|
 is fitted over [0.5, 1.5] after the release at 0.9 and 1.05 times the critical friction
-mu_c(l) of the linear stability (:func:`pde_rotor.model.onsets.rotor_critical_friction`),
+mu_c(l) of the linear stability (:func:`pde_rotor.theory.two_disk_rotor.rotor_critical_friction`),
 beside its growth rate I lambda = K_rot(lambda) - mu J; the sign change of the simulated
 lambda, interpolated linearly, is the simulated mu_c.
 
@@ -17,7 +17,7 @@ import argparse
 
 from pde_rotor import RotorConfig
 from pde_rotor.gallery.onsets import kick_rotation_rate, two_disk_rotor_config
-from pde_rotor.model.onsets import CamphorDisk, rotor_critical_friction, rotor_growth_rate
+from pde_rotor.theory import CamphorDisk, rotor_critical_friction, rotor_growth_rate
 
 
 def main() -> None:

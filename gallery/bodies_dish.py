@@ -7,8 +7,8 @@ dish of Koyano, Suematsu & Kitahata, PRE 99, 022211 (2019); configs/bodies/disk_
 * (a), (b) held while its camphor relaxes to the rest state, kicked, and the pair of modes
   e^{lambda t} fitted to its position (:func:`pde_rotor.gallery.onsets.kick_hopf_rate`):
   the growth rate sigma and the frequency omega against the friction mu, beside the
-  linear stability's Hopf pair (:func:`pde_rotor.model.onsets.dish_hopf_rate`) and its
-  onset mu_c, omega_c (:func:`~pde_rotor.model.onsets.dish_hopf_onset`);
+  linear stability's Hopf pair (:func:`pde_rotor.theory.dish.dish_hopf_rate`) and its
+  onset mu_c, omega_c (:func:`~pde_rotor.theory.dish.dish_hopf_onset`);
 * (c), (d) below the onset, the disk moved to (1, 0) and pushed to U = (0, 1) at the
   release: it swings through the centre, then settles into rotation about the centre at a
   constant radius; the orbit, and its radius and angle against time. The disk is nearly
@@ -37,7 +37,7 @@ import numpy as np
 from pde_rotor import RotorConfig
 from pde_rotor.gallery.common import TINY_DOMAIN_RADIUS, add_footer, new_figure, parse_args, save
 from pde_rotor.gallery.onsets import disk_in_dish_config, kick_hopf_rate, kick_orbit
-from pde_rotor.model.onsets import CamphorDisk, Wall, dish_hopf_onset, dish_hopf_rate
+from pde_rotor.theory import CamphorDisk, Wall, dish_hopf_onset, dish_hopf_rate
 
 NAME = "bodies_dish"
 MASS = 1e-4

@@ -5,7 +5,7 @@ Two bodies of docs/bodies.md, without flow (the limit the derivation takes) and 
 released with a small kick; the growth rate lambda of its speed is fitted over [0.5, 1.5]
 after the release (:mod:`pde_rotor.gallery.onsets`) and drawn against the friction mu,
 beside the growth rate of the linear stability
-(:func:`pde_rotor.model.onsets.free_disk_growth_rate`, ``rotor_growth_rate``) and its
+(:func:`pde_rotor.theory.free_disk.free_disk_growth_rate`, ``rotor_growth_rate``) and its
 critical friction mu_c, where lambda = 0:
 
 * (a) a free camphor disk (no plate, radius 0.1, mass 2e-3): it starts to move below
@@ -16,7 +16,7 @@ critical friction mu_c, where lambda = 0:
   critical rotor size below which it does not rotate; in this model that size is the l
   where mu_c(l) falls to the rotor's friction (docs/bodies.md);
 * (c) the free disk's steady speed below onset, U^2 against mu, beside the exact drive of
-  the co-moving problem (:func:`pde_rotor.model.onsets.free_disk_steady_speed`) and the
+  the co-moving problem (:func:`pde_rotor.theory.free_disk.free_disk_steady_speed`) and the
   supercritical pitchfork's tangent U^2 = pi rho^2 (mu_c - mu) / |K3|.
 
 Run: ``python gallery/bodies_onsets.py [--quick | --tiny]`` (full: the paper's grid
@@ -41,7 +41,7 @@ from pde_rotor.gallery.onsets import (
     released_speeds,
     two_disk_rotor_config,
 )
-from pde_rotor.model.onsets import (
+from pde_rotor.theory import (
     CamphorDisk,
     free_disk_critical_friction,
     free_disk_cubic_coefficient,
@@ -63,7 +63,8 @@ SPEED_FRICTIONS, SPEED_DISH = (0.14, 0.15, 0.16), 8.0
 
 def defined(theory: Callable[[float], float], mu: float) -> float:
     """The linear stability's growth rate at `mu`, nan where the mode decays faster than
-    the sublimation (no isolated rate: :func:`pde_rotor.model.onsets.rotor_growth_rate`)."""
+    the sublimation (no isolated rate:
+    :func:`pde_rotor.theory.two_disk_rotor.rotor_growth_rate`)."""
     try:
         return theory(mu)
     except ValueError:

@@ -14,9 +14,9 @@ Aitken limit of omega at 12, 18 and 24 (:func:`pde_rotor.gallery.onsets.extrapol
 near the onset the approach is slow). Drawn beside:
 
 * the critical half-length l_c of the rest state's linear stability, where mu_c(l) falls
-  to mu (:func:`pde_rotor.model.onsets.rotor_critical_half_length`, at the grid's delta);
+  to mu (:func:`pde_rotor.theory.two_disk_rotor.rotor_critical_half_length`, at the grid's delta);
 * the far-apart limit omega = U*(mu) / l, each disk running at the free disk's steady
-  speed (:func:`pde_rotor.model.onsets.free_disk_steady_speed`, sharp disks, no flow).
+  speed (:func:`pde_rotor.theory.free_disk.free_disk_steady_speed`, sharp disks, no flow).
 
 The simulated critical size is where omega^2, linear in l near a supercritical onset,
 reaches zero (a straight line through the three smallest l that turn).
@@ -34,7 +34,7 @@ import numpy as np
 
 from pde_rotor.gallery.common import CONFIGS, add_footer, new_figure, parse_args, save
 from pde_rotor.gallery.onsets import extrapolated_limit, rotation_samples, sized_rotor
-from pde_rotor.model.onsets import (
+from pde_rotor.theory import (
     CamphorDisk,
     free_disk_steady_speed,
     rotor_critical_half_length,

@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import logging
 import math
-import platform
 import secrets
 import time
 from collections.abc import Iterable, Mapping
@@ -27,6 +26,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from ._version import versions
 from .backends import backend_for, device_name, member_stepper
 from .config import ConfigError, RotorConfig, dump_config, load_config, validate_config
 from .io.output import (
@@ -44,23 +44,6 @@ PAPER = (
     "Koyano, Kitahata, Nakata, Gorecki: On a simple model that explains inversion of a "
     "self-propelled rotor under periodic stop-and-release operations, Chaos 30 (2020)"
 )
-
-
-def versions() -> dict[str, str]:
-    """Versions of pde_rotor and of the packages that determine its results."""
-    import numba
-    import pde
-
-    from ._version import __version__
-
-    return {
-        "pde_rotor": __version__,
-        "py-pde": pde.__version__,
-        "numba": numba.__version__,
-        "numpy": np.__version__,
-        "xarray": xr.__version__,
-        "python": platform.python_version(),
-    }
 
 
 def with_seed(config: RotorConfig) -> RotorConfig:
@@ -385,13 +368,17 @@ def run(
                 name: run_dir / name for name in RunDirectory.FILES if (run_dir / name).exists()
             }
             if error is None or isinstance(error, SimulationDivergedError):
-                result.write_summary()
+                try:
+                    result.write_summary()
+                except OSError as err:  # a full disk: the records are kept, say so
+                    _logger.error("writing summary.png failed: %s", err)
+                    error = err
         if error is not None and (check or not isinstance(error, SimulationDivergedError)):
             if isinstance(error, SimulationDivergedError) or not isinstance(error, Exception):
                 raise error
             t_last = ts_tracker.rows["time"][-1] if ts_tracker.rows["time"] else 0.0
             kept = f"; what was recorded before is in {run_dir.path}" if run_dir else ""
-            msg = f"run stopped after t = {t_last:g}: {type(error).__name__}: {error}{kept}"
+            msg = f"run stopped after t = {t_last:g}: {_describe(error)}{kept}"
             raise RunError(msg) from error
         return result
     finally:
@@ -418,7 +405,8 @@ def _run_bodies(
     from .solver.bodies import BodyContactError
     from .solver.rotor import SimulationDivergedError
     from .solver.simulation import Simulation
-    from .trackers.bodies import BodiesMovieTracker, BodiesTracker
+    from .trackers.bodies import BodiesLogTracker, BodiesMovieTracker, BodiesTracker
+    from .trackers.progress import ProgressBarTracker
 
     run_dir = RunDirectory.create(out, overwrite=overwrite) if out is not None else None
     attrs = {
@@ -435,6 +423,18 @@ def _run_bodies(
         write_text_atomic(run_dir.config, dump_config(cfg))
         log_handler = run_dir.attach_log()
     try:
+        grid = cfg.grid
+        _logger.info(
+            "bodies run %s: config hash %s, %d bodies (%s), scheme %s, t_end %g, dx %g, dt %g",
+            run_dir.path if run_dir else "(in memory)",
+            attrs["config_hash"],
+            len(cfg.bodies),
+            ", ".join(b.name for b in make_bodies(cfg)),
+            cfg.numerics.scheme,
+            cfg.protocol.t_end,
+            grid.dx,
+            grid.dt,
+        )
         if backend == "gpu":
             from .backends.gpu_bodies import gpu_bodies_stepper
 
@@ -448,8 +448,10 @@ def _run_bodies(
             checkpoint_seconds=cfg.output.checkpoint_seconds,
             attrs=attrs,
         )
-        trackers: list[Any] = [tracker]
         out_cfg = cfg.output
+        trackers: list[Any] = [tracker, BodiesLogTracker(cfg, out_cfg.timeseries_interval)]
+        if out_cfg.progress:
+            trackers.append(ProgressBarTracker(cfg))
         if run_dir is not None and out_cfg.movie:
             trackers.append(
                 BodiesMovieTracker(
@@ -501,6 +503,14 @@ def _run_bodies(
 class RunError(RuntimeError):
     """A run stopped by something other than the physics (a full disk, a failing writer);
     ``str(err)`` is one line saying when, why and where the records before it are."""
+
+
+def _describe(error: Exception) -> str:
+    """One line for what stopped a run: ``No space left on device (writing events.nc)``."""
+    if isinstance(error, OSError) and error.strerror:
+        where = f" (writing {Path(error.filename).name})" if error.filename else ""
+        return f"{error.strerror}{where}"
+    return f"{type(error).__name__}: {error}".splitlines()[0]
 
 
 def _events_from_csv(path: Path, commit_fraction: float) -> xr.Dataset:

@@ -28,6 +28,29 @@ from pde_rotor.config import RotorConfig
 from pde_rotor.model import filtering
 from pde_rotor.model.pde import RotorPDE
 
+QUICK = (
+    "tests/config/",
+    "tests/io/",
+    "tests/statistics/",
+    "tests/cli/test_common.py",
+    "tests/cli/test_user_errors.py",
+    "tests/sweep/test_cost.py",
+    "tests/test_layers.py",
+    "tests/test_docs.py",
+)
+"""The everyday subset, ``pytest -m quick``: configs and their one-line errors, the files a
+run writes, the statistics, the layering and the docs' numbers (README, Tests)."""
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """Mark the tests of :data:`QUICK` (not the slow ones) ``quick``."""
+    root = config.rootpath
+    for item in items:
+        where = item.path.relative_to(root).as_posix()
+        if where.startswith(QUICK) and item.get_closest_marker("slow") is None:
+            item.add_marker(pytest.mark.quick)
+
+
 COARSE: dict[str, Any] = {"grid": {"dx": 0.05, "dt": 4e-4}, "geometry": {"smoothing": 0.05}}
 """The coarse test resolution (about 0.26 ms per step with L = 3)."""
 

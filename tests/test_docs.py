@@ -98,6 +98,79 @@ def test_usage_config_reference_defaults_are_the_schemas():
             )
 
 
+RICHER_THAN_THE_ERROR = {
+    "bodies[k].name",
+    "bodies[k].plate.shape",
+    "bodies[k].motion.kind",
+    "bodies[k].start.velocity",
+    "bodies[k].protocol",
+}
+"""Keys whose docs row says more than the one-line error can (rules across keys)."""
+
+
+def test_usage_config_reference_ranges_are_the_errors():
+    """The allowed column of every key states the range its one-line error states (the
+    bodies' friction read 0.1 where the tool allows 1000)."""
+    from pde_rotor.config.messages import allowed_values
+
+    rows = [line for line in (DOCS / "usage.md").read_text().splitlines() if line.startswith("| `")]
+    checked = 0
+    for line in rows:
+        cells = [cell.strip() for cell in line.strip().strip("|").split(" | ")]
+        key = cells[0].strip("`")
+        if len(cells) != 4 or "." not in key or "/" in key or key in RICHER_THAN_THE_ERROR:
+            continue
+        path: list[str | int] = []
+        for part in key.split("."):
+            name, _, index = part.partition("[")
+            path += [name, 0] if index else [name]
+        tool = allowed_values(tuple(path)).removesuffix(" or null")
+        assert tool in cells[2], f"docs/usage.md: {key} allows {cells[2]!r}, the error {tool!r}"
+        checked += 1
+    assert checked > 50
+
+
+def test_usage_states_what_a_smoothed_pill_supplies():
+    """`camphor.supply` is s0, but a pill smoothed over delta supplies more: the row says
+    how much, and its numbers are the integral of the code's own pill indicator."""
+    import math
+    import re
+
+    import numpy as np
+
+    from pde_rotor.config import RotorConfig
+    from pde_rotor.model.geometry import RotorShape, pill_indicator
+
+    (row,) = [
+        line
+        for line in (DOCS / "usage.md").read_text().splitlines()
+        if line.startswith("| `camphor.supply`")
+    ]
+    assert "s0 (1 + pi^2 delta^2 / (12 rho^2))" in row
+    stated = re.findall(r"([0-9.]+) s0 at delta = ([0-9.]+)", row)
+    assert len(stated) == 2
+    h = 0.002
+    x = np.arange(-1.0, 1.0 + h / 2, h)
+    X, Y = np.meshgrid(x, x, indexing="ij")
+    for factor, delta in stated:
+        geometry = RotorConfig.model_validate({"geometry": {"smoothing": float(delta)}}).geometry
+        shape = RotorShape.from_config(geometry)
+        supplied = pill_indicator(X, Y, shape, 0.0).sum() * h * h / shape.n_corners
+        assert supplied / (math.pi * shape.pill_radius**2) == pytest.approx(
+            float(factor), abs=6e-4
+        ), (factor, delta)
+
+
+def test_the_readme_names_the_quick_subset_and_it_exists():
+    """README's everyday command selects the ``quick`` marker, and every path that marks
+    tests quick (tests/conftest.py) is there."""
+    from tests.conftest import QUICK
+
+    readme = (DOCS.parent / "README.md").read_text()
+    assert "python -m pytest -m quick -n 0" in readme
+    assert all((DOCS.parent / path).exists() for path in QUICK)
+
+
 def test_usage_shipped_configs_table_is_the_configs():
     """docs/usage.md's table of shipped configs: Delta, t_stop, cycles, grid
     and sigma of each file."""

@@ -2,9 +2,10 @@
 and no module imports itself back through others.
 
 The layers, from the bottom: the base (configuration, files, units, statistics, the
-paper's stated values), the physics core (kernels/core.py: each equation once, whose
-stop schedule and constants the numpy model uses too), the model in numpy, the compiled
-loops and their parameter record (the rest of kernels/), the solver, figure primitives,
+paper's stated values), the compiled physics (physics/: each equation once, whose
+stop schedule and constants the numpy model uses too), the model in numpy and, beside it,
+the exact theory of the onsets of motion (neither imports the other), the compiled
+loops and their parameter record (kernels/), the solver, figure primitives,
 trackers, ensemble backends, sweeps, the decision model, the Python API, the gallery's
 library and the command line (README, "Layout").
 """
@@ -19,13 +20,15 @@ PACKAGE = Path(__file__).resolve().parents[1] / "pde_rotor"
 
 LAYERS: dict[str, int] = {
     "_version": 0,
+    "_lazy": 0,
     "units": 0,
     "paper": 0,
     "io": 0,
     "statistics": 0,
     "config": 1,
-    "kernels.core": 2,
+    "physics": 2,
     "model": 3,
+    "theory": 3,
     "kernels": 4,
     "solver": 5,
     "plotting": 6,
@@ -33,6 +36,7 @@ LAYERS: dict[str, int] = {
     "backends": 8,
     "sweep": 9,
     "decision": 10,
+    "stability": 10,
     "api": 11,
     "gallery": 12,
     "cli": 13,
@@ -83,8 +87,6 @@ def known(module: str, modules: set[str]) -> str:
 
 def layer_of(module: str) -> str:
     parts = module.split(".")
-    if parts[1:3] == ["kernels", "core"]:
-        return "kernels.core"
     return parts[1] if len(parts) > 1 else ""
 
 
@@ -139,11 +141,14 @@ def test_the_package_top_holds_at_most_six_modules():
 
 
 def test_every_subpackage_says_what_each_of_its_modules_does():
-    """A newcomer reads a folder's __init__ first: it names every module of the folder."""
+    """A newcomer reads a folder's __init__ first: it names every module and every
+    subpackage of the folder (nested folders too)."""
     silent = []
-    for init in sorted(PACKAGE.glob("*/__init__.py")):
+    for init in sorted(PACKAGE.glob("*/**/__init__.py")):
         doc = ast.get_docstring(ast.parse(init.read_text(encoding="utf-8"))) or ""
-        for module in sorted(init.parent.glob("*.py")):
-            if module.name != "__init__.py" and f":mod:`.{module.stem}`" not in doc:
-                silent.append(f"{init.parent.name}/{module.name}")
+        modules = [p.stem for p in init.parent.glob("*.py") if p.name != "__init__.py"]
+        modules += [p.parent.name for p in init.parent.glob("*/__init__.py")]
+        for module in sorted(modules):
+            if f":mod:`.{module}`" not in doc:
+                silent.append(f"{init.parent.relative_to(PACKAGE)}/{module}")
     assert silent == []

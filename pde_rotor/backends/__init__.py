@@ -35,16 +35,19 @@ import importlib
 import logging
 import math
 from collections.abc import Callable, Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import numpy as np
+from .._lazy import lazy_exports
 
-from ..config import RotorConfig
-from ..model.pde import RotorPDE, RotorState, check_bodies_numerics
-from ..solver.rotor import MemberStepper, SimulationDivergedError, StepperFactory
-from .base import EnsembleBackend, EnsembleRunner
-from .batch import MemberRun, run_batch
-from .ensemble import EnsembleResult, EnsembleState
+if TYPE_CHECKING:  # imported on first use: `pde-rotor info` asks for the GPU quickly
+    import numpy as np
+
+    from ..config import RotorConfig
+    from ..model.pde import RotorPDE, RotorState
+    from ..solver.rotor import MemberStepper, StepperFactory
+    from .base import EnsembleBackend, EnsembleRunner
+    from .batch import MemberRun, run_batch
+    from .ensemble import EnsembleResult, EnsembleState
 
 _logger = logging.getLogger(__name__)
 
@@ -141,21 +144,16 @@ def backend_for(config: RotorConfig) -> str:
     The rotor's GPU kernel integrates with forward Euler only: with another
     ``numerics.integrator``, ``auto`` runs the rotor on the CPU and ``gpu`` is refused.
     Bodies (``bodies:``) run on either backend (the GPU's
-    :mod:`pde_rotor.backends.gpu_bodies`, Euler or Heun; the CPU's loop refuses what it
-    does not implement, :func:`pde_rotor.model.pde.check_bodies_numerics`). The CLI and
-    :func:`pde_rotor.run` ask here before they write anything.
+    :mod:`pde_rotor.backends.gpu_bodies`, and the CPU's loop, both with Euler or Heun).
+    The CLI and :func:`pde_rotor.run` ask here before they write anything.
 
     Raises:
         BackendError: "gpu" requested and no usable GPU, or an integrator the rotor's GPU
             kernel does not implement (one line, naming the key).
-        ConfigError: bodies on the CPU with numerics its loop does not implement (one line).
     """
     requested = config.solver.backend
     if config.bodies is not None:
-        backend = resolve_backend(requested)
-        if backend == "cpu":
-            check_bodies_numerics(config)
-        return backend
+        return resolve_backend(requested)
     integrator = config.numerics.integrator
     if requested != "cpu" and integrator != "euler":
         if requested == "auto":
@@ -190,6 +188,9 @@ def member_stepper(backend: str) -> StepperFactory:
         backend: ``gpu``, or ``cpu`` (the CPU ensemble backend: the same path, checked
             against the fused CPU solver by the tests).
     """
+
+    from ..solver.rotor import SimulationDivergedError
+    from .ensemble import EnsembleState
 
     def factory(pde: RotorPDE, dt: float, rng: np.random.Generator) -> MemberStepper:
         config = pde.config
@@ -262,3 +263,6 @@ def run_ensemble(
         progress=progress,
         **options,
     )
+
+
+__getattr__, __dir__ = lazy_exports(__name__)

@@ -5,7 +5,7 @@ parameters packed for the kernel, the noise drawn on the host, and the launches 
 chunks of steps with the records copied back. The kernel and what it computes per
 step are in :mod:`pde_rotor.kernels.cuda`: the same physics as the CPU solver
 (:mod:`pde_rotor.kernels.cpu`) from the same source, the physics core
-(:mod:`pde_rotor.kernels.core`).
+(:mod:`pde_rotor.physics`).
 
 The noise: one standard normal per step per member, drawn on the host from a numpy
 Generator seeded like the CPU solver's (``default_rng(noise.seed)``) in step order, so
@@ -21,22 +21,17 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..config import RotorConfig
 from ..kernels.cuda import MAX_CORNERS, advance_kernel
 from ..kernels.cuda_target import cuda, simulator_enabled
-from ..kernels.records import PARAMS, make_record
-from ..model.pde import RotorPDE
-from .ensemble import (
-    RECORD_FIELDS,
-    EnsemblePlan,
-    EnsembleResult,
-    EnsembleState,
-    default_rngs,
-    make_plan,
-)
+
+if TYPE_CHECKING:  # imported by the functions that use them: `pde-rotor info` asks quickly
+    from ..config import RotorConfig
+    from ..model.pde import RotorPDE
+    from .ensemble import EnsemblePlan, EnsembleResult, EnsembleState
 
 SIMULATOR_THREADS = 2
 """Default threads per block in numba's CUDA simulator (one Python thread each): the
@@ -74,6 +69,9 @@ def _member_arrays(
 ) -> tuple[np.ndarray, np.ndarray, tuple[np.ndarray, ...]]:
     """(params, support, tables): the members' parameter records (E,) and supports of F
     and G (E, 2, n), and the tables all members share (:meth:`Scheme.kernel_tables`)."""
+    from ..kernels.records import PARAMS, make_record
+    from ..model.pde import RotorPDE
+
     n = plan.domain.coords.size
     n_members = plan.n_members
     params = np.empty(n_members, dtype=PARAMS)
@@ -173,6 +171,8 @@ def run_ensemble(
         RuntimeError: no GPU (and no simulator if allowed).
         ValueError: invalid request (see :func:`~pde_rotor.backends.ensemble.make_plan`).
     """
+    from .ensemble import RECORD_FIELDS, EnsembleResult, EnsembleState, default_rngs, make_plan
+
     wall = time.perf_counter()
     reason = unavailable_reason(allow_simulator=allow_simulator)
     if reason is not None:

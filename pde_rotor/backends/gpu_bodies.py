@@ -133,7 +133,7 @@ class BodiesBatch:
         self.d_scratch = (
             cuda.to_device(np.zeros((e, k, 2, corners))),
             cuda.to_device(np.zeros((e, 2, n_pills))),
-            cuda.to_device(np.zeros((e, k, 2, 3))),
+            cuda.to_device(np.zeros((e, k, 2, 9))),
             cuda.to_device(np.zeros((e, k, 6))),
             cuda.to_device(np.zeros((e, nn if contour else 1))),
         )

@@ -5,5 +5,6 @@
 * :mod:`.sweep`: ``sweep`` and ``report``;
 * :mod:`.plot`: ``plot`` (the figure of a sweep report);
 * :mod:`.predict`: ``predict`` (the decision model);
-* :mod:`.gallery`: ``gallery`` (the paper's figures).
+* :mod:`.gallery`: ``gallery`` (the paper's figures);
+* :mod:`.stability`: ``stability`` (rest state, eigenvalues and onsets of a config).
 """

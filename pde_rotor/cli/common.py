@@ -2,11 +2,16 @@
 ``--set`` option.
 
 Exit codes: 0 success; 1 the simulation diverged or a figure failed; 2 bad input (always
-one line ``error: ...`` on stderr, before anything is computed); 130 interrupted.
+one line ``error: ...`` on stderr, before anything is computed); 3 a body reached the dish's
+edge or another body (the run ends there, everything recorded is kept); 130 interrupted.
 """
 
 from __future__ import annotations
 
+import logging
+import sys
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Annotated, NoReturn
 
@@ -30,6 +35,8 @@ if _typer_argument_type is not None:
 EXIT_BAD_INPUT = 2
 EXIT_FAILED = 1
 """A run diverged (NaN/Inf), sweep runs failed or a gallery figure failed."""
+EXIT_CONTACT = 3
+"""A body reached the dish's edge or two bodies' footprints met: the run ended there."""
 EXIT_INTERRUPTED = 130
 
 SetOption = Annotated[
@@ -47,6 +54,31 @@ def fail(message: str, code: int = EXIT_BAD_INPUT) -> NoReturn:
     """Print ``error: message`` on stderr and exit with `code`."""
     typer.echo(f"error: {message}", err=True)
     raise typer.Exit(code)
+
+
+class _WarningLine(logging.Handler):
+    """Prints each warning record of the package as one line ``warning: ...`` on stderr
+    (through tqdm, so that a progress bar on screen moves below it)."""
+
+    def emit(self, record: logging.LogRecord) -> None:
+        if record.levelno != logging.WARNING:
+            return  # errors reach the user as the command's own `error:` line
+        from tqdm import tqdm
+
+        tqdm.write(f"warning: {record.getMessage()}", file=sys.stderr)
+
+
+@contextmanager
+def warnings_shown() -> Iterator[None]:
+    """While inside, every warning the package logs (a body outrunning the lattice, a
+    ``--set protocol...`` that reaches no body) is also one line on stderr."""
+    logger = logging.getLogger("pde_rotor")
+    handler = _WarningLine(logging.WARNING)
+    logger.addHandler(handler)
+    try:
+        yield
+    finally:
+        logger.removeHandler(handler)
 
 
 def output_dir(path: Path, option: str = "--out") -> Path:

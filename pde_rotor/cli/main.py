@@ -2,9 +2,15 @@
 gallery: cli_gallery; predict: cli_predict).
 
 Exit codes: 0 success; 1 the simulation diverged (NaN/Inf; everything recorded up to
-then is kept); 2 bad input (config, --set, paths, backend), always one line
+then is kept) or its files could not be written (a full disk: one line, every file written
+until then readable); 2 bad input (config, --set, paths, backend), always one line
 ``error: ...`` naming the key path and the allowed values, printed before anything is
-compiled; 130 interrupted with Ctrl-C.
+compiled; 3 a body reached the dish's edge or another body (one line naming them; the run
+ends there and keeps what it recorded); 130 interrupted with Ctrl-C.
+
+Each command imports what it needs when it runs: ``--version``, ``--help``, ``check`` and
+``info`` never import the solver, py-pde, xarray or dask, and take under a second of CPU
+time.
 """
 
 from __future__ import annotations
@@ -12,22 +18,28 @@ from __future__ import annotations
 import os
 import sys
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
-from ..api import RunError, RunResult, versions
-from ..backends import BackendError, backend_for, gpu_unavailable_reason
-from ..config import ConfigError, dump_config, load_config
-from ..io.output import OutputError, RunDirectory
-from ..solver.threads import resolve_threads
-from ..sweep.cost import estimate_run
-from ..trackers.budget import check_budget
-from .common import EXIT_BAD_INPUT, EXIT_FAILED, EXIT_INTERRUPTED, SetOption, fail, output_file
+from .common import (
+    EXIT_BAD_INPUT,
+    EXIT_CONTACT,
+    EXIT_FAILED,
+    EXIT_INTERRUPTED,
+    SetOption,
+    fail,
+    output_file,
+    warnings_shown,
+)
 from .gallery import register as register_gallery_commands
 from .plot import register as register_plot_command
 from .predict import register as register_predict_commands
+from .stability import register as register_stability_command
 from .sweep import register as register_sweep_commands
+
+if TYPE_CHECKING:
+    from ..api import RunResult
 
 app = typer.Typer(
     name="pde-rotor",
@@ -61,6 +73,7 @@ def options(
 
 
 @app.command(short_help="Run a config into a run directory.")
+@warnings_shown()
 def run(
     config: Annotated[
         Path, typer.Argument(metavar="CONFIG", help="YAML config file (see configs/).")
@@ -99,6 +112,13 @@ def run(
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
 ) -> None:
     """Run CONFIG and write a run directory (config, time series, events, fields, movie)."""
+    from ..api import RunError
+    from ..backends import BackendError, backend_for
+    from ..config import ConfigError, load_config
+    from ..io.output import OutputError, RunDirectory
+    from ..sweep.cost import estimate_run
+    from ..trackers.budget import check_budget
+
     overrides = list(set_ or [])
     for option, value, key in (
         ("--seed", seed, "noise.seed"),
@@ -137,9 +157,13 @@ def run(
         fail(str(err))
     except RunError as err:
         fail(str(err), EXIT_FAILED)
+    except OSError as err:  # a full disk before the first step (config.yaml, reserve)
+        fail(f"cannot write the run's files in {run_dir}: {err.strerror or err}", EXIT_FAILED)
     _report(result)
     if result.status == "diverged":
         fail(result.message, EXIT_FAILED)
+    if result.status == "stopped":  # a body at the dish's edge or at another body
+        fail(result.message, EXIT_CONTACT)
     if result.status != "completed":
         fail(f"run {result.status}: {result.message}", EXIT_INTERRUPTED)
 
@@ -175,6 +199,10 @@ def show(
     display: Annotated[bool, typer.Option(help="Also open the figure in a window.")] = False,
 ) -> None:
     """Plot phi(t) and omega(t) with the stops shaded, the events table and a c/v snapshot."""
+    from ..api import RunResult
+    from ..config import ConfigError
+    from ..io.output import RunDirectory
+
     try:
         result = RunResult.load(run_dir)
     except ConfigError as err:
@@ -209,6 +237,7 @@ def show(
 
 
 @app.command(short_help="Validate configs; print the run cost.")
+@warnings_shown()
 def check(
     configs: Annotated[
         list[Path],
@@ -217,6 +246,10 @@ def check(
     set_: SetOption = None,
 ) -> None:
     """Validate CONFIG (with overrides); print it fully resolved, or one line per file."""
+    from ..config import ConfigError, dump_config, load_config
+    from ..sweep.cost import estimate_run
+    from ..trackers.budget import check_budget
+
     failed = 0
     for config in configs:
         try:
@@ -249,12 +282,17 @@ def check(
 @app.command(short_help="Versions, compute backend and threads.")
 def info() -> None:
     """Versions, compute backend and threads."""
-    import matplotlib as mpl
+    from importlib.metadata import version
+
     import numba
 
-    for name, version in versions().items():
-        typer.echo(f"{name:<12} {version}")
-    typer.echo(f"{'matplotlib':<12} {mpl.__version__}")
+    from .._version import versions
+    from ..backends import gpu_unavailable_reason
+    from ..solver.threads import resolve_threads
+
+    for name, number in versions().items():
+        typer.echo(f"{name:<12} {number}")
+    typer.echo(f"{'matplotlib':<12} {version('matplotlib')}")
     typer.echo("backend      cpu: numba fused kernel (solver.threads)")
     reason = gpu_unavailable_reason()
     typer.echo(f"gpu          {'available' if reason is None else 'unavailable: ' + reason}")
@@ -281,6 +319,7 @@ register_sweep_commands(app)  # pde-rotor sweep / report
 register_plot_command(app)  # pde-rotor plot
 register_gallery_commands(app)  # pde-rotor gallery
 register_predict_commands(app)  # pde-rotor predict
+register_stability_command(app)  # pde-rotor stability
 
 
 def main() -> None:

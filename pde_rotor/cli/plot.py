@@ -1,9 +1,11 @@
 """``pde-rotor plot``: the figure of a sweep report (:mod:`pde_rotor.sweep.plot`).
 
 PATH is a report file (``pde-rotor report``'s NetCDF), a sweep directory (its report.nc;
-where there is none yet, the report is gathered from its run files and written there)
-or a sweep file (its directory data/sweeps/<file stem>). Bad input is one line
-``error: ...`` and exit code 2, checked before anything is written.
+where there is none yet, the report is gathered from its run files) or a sweep file (its
+directory data/sweeps/<file stem>). PATH is only read: the figure goes to ``--out`` or,
+by default, into a new folder ``runs/<name>-plot-<time>/`` (with the report gathered for
+it, if any), never into the repository's data/ or another input folder. Bad input is one
+line ``error: ...`` and exit code 2, checked before anything is written.
 """
 
 from __future__ import annotations
@@ -12,15 +14,29 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
 
 import typer
-import xarray as xr
 
 from .common import fail, output_file
 
 if TYPE_CHECKING:
+    import xarray as xr
     from matplotlib.figure import Figure
 
 SWEEP_SUFFIXES = (".yaml", ".yml")
 """Suffixes of a sweep file."""
+
+
+def output_folder(name: str, command: str) -> Path:
+    """``runs/<name>-<command>-<YYYYmmdd-HHMMSS>``: where ``plot`` and ``report`` write
+    without ``--out`` (as ``run`` does), so that they never write into what they read."""
+    from ..io.output import RunDirectory
+
+    return RunDirectory.default_path(f"{name}-{command}")
+
+
+def report_name(path: Path) -> str:
+    """The name of what PATH holds: a report file's stem, a sweep directory's or sweep
+    file's name."""
+    return path.stem if path.is_file() else path.absolute().name
 
 
 def check_target(target: Path) -> None:
@@ -138,8 +154,9 @@ def register(app: typer.Typer) -> None:
                 "--out",
                 "-o",
                 metavar="FILE",
-                help="Image file, format by its suffix: png, pdf, svg [default: the report's "
-                "name with suffix png, e.g. SWEEP_DIR/report.png].",
+                help="Image file, format by its suffix: png, pdf, svg [default: "
+                "runs/NAME-plot-TIME/NAME.png, NAME: the report's or sweep's name; PATH is "
+                "never written to].",
             ),
         ] = None,
         x: Annotated[
@@ -153,12 +170,19 @@ def register(app: typer.Typer) -> None:
     ) -> None:
         """Draw P of a sweep against its axis with 95 % intervals (two axes: a heat map)."""
         from ..io.output import write_netcdf_atomic
+        from ..sweep.store import REPORT_FILE
 
         ds, report_path, gathered = sweep_report(path)
-        target = out if out is not None else report_path.with_suffix(".png")
+        name = report_name(path)
+        target = out if out is not None else output_folder(name, "plot") / f"{name}.png"
         check_target(target)
+        if gathered:  # the report drawn, kept beside the figure (not in the sweep's folder)
+            report_path = target.parent / REPORT_FILE
+            if report_path.exists():
+                fail(f"{report_path} exists: give another --out for the figure")
         fig = draw(ds, x, report_path)
         if gathered:
+            target.parent.mkdir(parents=True, exist_ok=True)
             write_netcdf_atomic(ds, report_path)
             typer.echo(f"report: {report_path}")
         save(fig, target)

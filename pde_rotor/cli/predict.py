@@ -97,6 +97,97 @@ def _sweep_outcomes(table, sweep_dirs: list[Path]) -> list:
     return outcomes
 
 
+def _stored_groups(data: Path | None, flow: str, scheme: str | None) -> tuple[list, list[str]]:
+    """Every stored ensemble under `data` (default: the repository's data/) with the
+    table under DATA/decision that predicts it, grouped by table, and one line per
+    report (or grid of one) that no table predicts. `flow`: on, off or all; `scheme`:
+    the ensembles' numerics.scheme (None: all)."""
+    import xarray as xr
+
+    from ..decision.check import is_ensemble, report_config, stored_matches
+    from ..gallery.common import DATA
+    from ..sweep.stored import load_report
+
+    data = data or DATA
+    if not (data / "decision").is_dir():
+        fail(f"--data {data}: holds no decision/ folder of tables")
+    reports = []
+    for path in sorted(data.glob("*.nc")):
+        try:
+            ds = load_report(path)
+        except (OSError, ValueError, KeyError) as err:
+            fail(f"{path}: not a readable report ({err})")
+        if not isinstance(ds, xr.Dataset) or not is_ensemble(ds):
+            continue
+        fixed = report_config(ds)
+        enabled = fixed.get("flow", {}).get("enabled", True)
+        if (flow == "all" or enabled == (flow == "on")) and scheme in (
+            None,
+            fixed["numerics"]["scheme"],
+        ):
+            reports.append((path, ds))
+    if not reports:
+        fail(
+            f"--data {data}: no stored restart or bank report with the flow {flow}"
+            + (f" and scheme {scheme}" if scheme else "")
+        )
+    pairs, left_out = stored_matches(reports, data / "decision")
+    if not pairs:
+        fail(
+            f"--data {data}: no table under {data / 'decision'} predicts any report ({left_out[0]})"
+        )
+    groups: dict[Path, tuple] = {}
+    for _, ds, table_path, table in pairs:
+        groups.setdefault(table_path, (table_path, table, []))[2].append(ds)
+    return list(groups.values()), left_out
+
+
+def _print_check(result, min_q: float, draws: int | None, seed: int | None) -> None:
+    """The headline tests, every point and the interval counts of `result` (`draws` and
+    `seed` of the bootstrap: None for :data:`pde_rotor.decision.goodness.DRAWS`, SEED)."""
+    from ..decision.goodness import DRAWS, SEED, goodness_of_fit
+
+    try:
+        fit = goodness_of_fit(
+            result,
+            min_q=min_q,
+            draws=DRAWS if draws is None else draws,
+            seed=SEED if seed is None else seed,
+        )
+    except ValueError:
+        fit = None  # protocol reports: intervals only
+    for line in fit.describe() if fit is not None else []:
+        typer.echo(line)
+    for row in result.rows:
+        typer.echo(
+            f"{row['sweep']}: t_stop = {row['t_stop']:g}, Delta = {row['asymmetry']:g}, "
+            f"sigma = {row['sigma']:g}: {row['column']} = {row['measured']:.3f} "
+            f"[{row['low']:.3f}, {row['high']:.3f}], model {row['predicted']:.3f}"
+            + ("" if row["inside"] else "  (outside)")
+        )
+    worst = result.largest_deviation()
+
+    def share(column: str | None = None) -> str:
+        value = result.coverage(column)
+        return "n/a" if value != value else f"{value:.2f}"
+
+    typer.echo(
+        f"coverage: P {share('P')}, P(inv|CCW) {share('P_ccw')}, "
+        f"P(inv|CW) {share('P_cw')}, all {share()} of "
+        f"{len(result.rows)} intervals; largest deviation "
+        f"{worst['predicted'] - worst['measured']:+.3f} ({worst['column']} at t_stop = "
+        f"{worst['t_stop']:g}, Delta = {worst['asymmetry']:g}, sigma = {worst['sigma']:g})"
+    )
+    conditionals = [r for r in result.rows if r["column"] != "P"]
+    open_ = [r for r in conditionals if 0.02 <= r["predicted"] <= 0.98]
+    typer.echo(
+        f"independent intervals (the conditionals; P is made of them): "
+        f"{sum(r['inside'] for r in conditionals)} of {len(conditionals)} hold the model, "
+        f"{sum(r['inside'] for r in open_)} of the {len(open_)} where it predicts "
+        "between 0.02 and 0.98"
+    )
+
+
 DwOption = Annotated[
     float | None,
     typer.Option("--dw", metavar="DW", help="Angular-velocity diffusion Dw = (sigma/I)^2."),
@@ -265,10 +356,64 @@ def register(app: typer.Typer) -> None:
 
     @predict.command("check", short_help="The model against stored sweep reports.")
     def check_command(
-        table_path: TableArgument,
-        report: Annotated[
-            list[Path], typer.Argument(metavar="REPORT...", help="Sweep reports (NetCDF).")
-        ],
+        paths: Annotated[
+            list[Path] | None,
+            typer.Argument(
+                metavar="[TABLE REPORT...]",
+                help="A decision table and the sweep reports (NetCDF) to test against it "
+                "[default: every stored ensemble under --data, each with the table under "
+                "DATA/decision that holds its physics].",
+                show_default=False,
+            ),
+        ] = None,
+        data: Annotated[
+            Path | None,
+            typer.Option(
+                metavar="DIR",
+                help="Where the stored reports (DIR/*.nc) and tables (DIR/decision/*.nc) "
+                "are found without TABLE [default: the repository's data/].",
+                show_default=False,
+            ),
+        ] = None,
+        flow: Annotated[
+            str,
+            typer.Option(
+                metavar="on|off|all",
+                help="Without TABLE: the ensembles with the flow on, off, or all.",
+            ),
+        ] = "on",
+        scheme: Annotated[
+            str | None,
+            typer.Option(
+                metavar="SCHEME",
+                help="Without TABLE: only the ensembles of this numerics.scheme "
+                "[default: every scheme, each against its own table].",
+                show_default=False,
+            ),
+        ] = None,
+        min_q: Annotated[
+            float,
+            typer.Option(
+                "--min-q",
+                metavar="Q",
+                help="Smallest q = min(p, 1 - p) of the combined X2 and G2 (0: every "
+                "conditional with q > 0).",
+            ),
+        ] = 0.0,
+        draws: Annotated[
+            int | None,
+            typer.Option(
+                metavar="N",
+                help="Parametric-bootstrap draws of the simulated null [default: 10000].",
+                show_default=False,
+            ),
+        ] = None,
+        seed: Annotated[
+            int | None,
+            typer.Option(
+                metavar="S", help="Seed of the bootstrap [default: 0].", show_default=False
+            ),
+        ] = None,
         plot: Annotated[
             Path | None,
             typer.Option(
@@ -277,66 +422,66 @@ def register(app: typer.Typer) -> None:
             ),
         ] = None,
     ) -> None:
-        """Compare the model with every point of stored sweep reports.
+        """Test the model against every conditional of stored sweep reports.
 
-        First the headline: an aggregate test (Pearson's X2 and G2 with their p-values)
-        over the informative conditionals P(inv | direction), and a calibration table
-        of the stops that went the less likely way, observed against expected by bins
-        of its predicted probability. Then every point, and the interval counts.
+        First the headline: every conditional P(inv | direction) by an exact binomial
+        test, with the count that fails at 5 % against its null; Pearson's X2 and G2
+        combined, with p-values from a parametric bootstrap of the model; and a
+        calibration table of the stops that went the less likely way, observed against
+        expected with 95 % binomial ranges, by bins of its predicted probability. Then
+        every point, and the interval counts. Without TABLE, every stored ensemble
+        (with the flow on, by default) against the table of its physics.
         """
-        from ..decision.check import compare, master_points
-        from ..decision.goodness import goodness_of_fit
-        from ..decision.map import draw_master
+        from ..decision.check import Comparison, compare, master_points
 
-        table = _table(table_path)
-        reports = _reports(report, "")
+        if flow not in ("on", "off", "all"):
+            fail(f"--flow {flow!r}: must be on, off or all")
+        if not 0 <= min_q < 0.5:
+            fail(f"--min-q {min_q:g}: must lie in [0, 0.5)")
+        if draws is not None and draws < 1:
+            fail(f"--draws {draws}: must be >= 1")
+        for name, value in (("--data", data), ("--scheme", scheme)):
+            if paths and value is not None:
+                fail(f"{name}: give it without TABLE (it selects the stored reports)")
         if plot is not None:
             output_dir(plot, "--plot")
-        try:
-            result = compare(table, reports)
-        except ValueError as err:
-            fail(str(err))
-        try:
-            fit = goodness_of_fit(result)
-        except ValueError:
-            fit = None  # protocol reports: intervals only
-        for line in fit.describe() if fit is not None else []:
-            typer.echo(line)
-        for row in result.rows:
-            typer.echo(
-                f"{row['sweep']}: t_stop = {row['t_stop']:g}, Delta = {row['asymmetry']:g}, "
-                f"sigma = {row['sigma']:g}: {row['column']} = {row['measured']:.3f} "
-                f"[{row['low']:.3f}, {row['high']:.3f}], model {row['predicted']:.3f}"
-                + ("" if row["inside"] else "  (outside)")
-            )
-        worst = result.largest_deviation()
-
-        def share(column: str | None = None) -> str:
-            value = result.coverage(column)
-            return "n/a" if value != value else f"{value:.2f}"
-
-        typer.echo(
-            f"coverage: P {share('P')}, P(inv|CCW) {share('P_ccw')}, "
-            f"P(inv|CW) {share('P_cw')}, all {share()} of "
-            f"{len(result.rows)} intervals; largest deviation "
-            f"{worst['predicted'] - worst['measured']:+.3f} ({worst['column']} at t_stop = "
-            f"{worst['t_stop']:g}, Delta = {worst['asymmetry']:g}, sigma = {worst['sigma']:g})"
-        )
-        conditionals = [r for r in result.rows if r["column"] != "P"]
-        open_ = [r for r in conditionals if 0.02 <= r["predicted"] <= 0.98]
-        typer.echo(
-            f"independent intervals (the conditionals; P is made of them): "
-            f"{sum(r['inside'] for r in conditionals)} of {len(conditionals)} hold the model, "
-            f"{sum(r['inside'] for r in open_)} of the {len(open_)} where it predicts "
-            "between 0.02 and 0.98"
-        )
+        if paths:
+            if len(paths) < 2:
+                fail(f"{paths[0]}: give the reports to check after the table")
+            table_path = paths[0]
+            table = _table(table_path)
+            reports = _reports(paths[1:], "")
+            try:
+                result = compare(table, reports)
+            except ValueError as err:
+                fail(str(err))
+            groups = [(table_path, table, reports)]
+        else:
+            groups, left_out = _stored_groups(data, flow, scheme)
+            for line in left_out:
+                typer.echo(f"left out: {line}")
+            try:
+                result = Comparison([row for _, t, r in groups for row in compare(t, r).rows])
+            except ValueError as err:
+                fail(str(err))
+            for path, _, reports in groups:
+                typer.echo(
+                    f"table {path.name}: "
+                    + ", ".join(sorted({ds.attrs.get("sweep", "?") for ds in reports}))
+                )
+        _print_check(result, min_q, draws, seed)
         if plot is not None:
             plot.mkdir(parents=True, exist_ok=True)
-            points = master_points(table, reports)
-            paths = draw_master(points, plot, footer=table_footer(table, table_path))
-            typer.echo(
-                f"master curve: {len(points)} conditionals; wrote " + ", ".join(map(str, paths))
-            )
+            from ..decision.map import draw_master
+
+            for table_path, table, reports in groups:
+                points = master_points(table, reports)
+                name = "master_curve" if len(groups) == 1 else f"master_curve_{table_path.stem}"
+                paths_out = draw_master(points, plot, name, footer=table_footer(table, table_path))
+                typer.echo(
+                    f"master curve: {len(points)} conditionals ({table_path.name}); wrote "
+                    + ", ".join(map(str, paths_out))
+                )
 
     @predict.command("map", short_help="Draw the predicted Fig. 9 map.")
     def map_command(

@@ -87,8 +87,14 @@ def register(app: typer.Typer) -> None:
         ] = False,
     ) -> None:
         """Run SWEEP on dask (resumable: finished runs are skipped), then write the report."""
+        from ..sweep.store import DEFAULT_ROOT, StoreBusyError, check_not_busy
+
+        if not dry_run:  # a second sweep on one directory: refused before anything else
+            try:
+                check_not_busy(out if out is not None else DEFAULT_ROOT / sweep.stem)
+            except StoreBusyError as err:
+                fail(str(err))
         from ..sweep import (
-            DEFAULT_ROOT,
             Sweep,
             SweepError,
             check_scheduler,
@@ -210,7 +216,11 @@ def register(app: typer.Typer) -> None:
         out: Annotated[
             Path | None,
             typer.Option(
-                "--out", "-o", metavar="FILE.nc", help="NetCDF file [default: SWEEP_DIR/report.nc]."
+                "--out",
+                "-o",
+                metavar="FILE.nc",
+                help="NetCDF file [default: runs/NAME-report-TIME/report.nc, NAME: the "
+                "sweep's; SWEEP is never written to].",
             ),
         ] = None,
         crossing: Annotated[
@@ -244,7 +254,7 @@ def register(app: typer.Typer) -> None:
             typer.Option(
                 "--plot",
                 help="Also draw the report (as `pde-rotor plot` does) into an image beside "
-                "it: the report's name with suffix png.",
+                "it: the report's file name with suffix png.",
             ),
         ] = False,
         explain: Annotated[
@@ -266,9 +276,10 @@ def register(app: typer.Typer) -> None:
         from ..statistics.crossing import report_crossings
         from ..sweep import DEFAULT_ROOT, Sweep, SweepError, report
         from ..sweep.reporting import GLOSSARY
-        from .plot import check_target, draw, save
+        from .plot import check_target, draw, output_folder, report_name, save
 
         design = None
+        name = report_name(sweep_dir)
         if sweep_dir.is_file():
             try:
                 design = Sweep.load(sweep_dir)
@@ -277,12 +288,15 @@ def register(app: typer.Typer) -> None:
             sweep_dir = DEFAULT_ROOT / sweep_dir.stem
         if not (sweep_dir / "sweep.yaml").is_file():
             fail(f"{sweep_dir} holds no sweep.yaml (not a sweep directory)")
-        target = output_file(out if out is not None else sweep_dir / "report.nc")
+        # SWEEP is only read: the report goes where --out says or into a new run folder
+        target = output_file(
+            out if out is not None else output_folder(name, "report") / "report.nc"
+        )
         figure = plot_out or (target.with_suffix(".png") if plot else None)
         if figure is not None:
             check_target(figure)
         try:
-            ds = report(sweep_dir, out, sweep=design)
+            ds = report(sweep_dir, target, sweep=design)
         except SweepError as err:
             fail(str(err))
         typer.echo(f"report: {target}")

@@ -13,12 +13,20 @@ Every invalid input raises :class:`ConfigError` whose message is one line that n
 the key path and the allowed values (:func:`format_validation_error`), before anything
 is compiled.
 
-* :mod:`.schema`: the pydantic schema (one model per section) with its bounds and
-  cross-field checks, and the constants the paper and the calibration fix;
+* :mod:`.schema`: the pydantic schema :class:`RotorConfig`, which joins the sections and
+  checks across them;
+* the sections, one module each with its bounds and the constants the paper and the
+  calibration fix: :mod:`.geometry` (the paper's rotor), :mod:`.surface` (camphor and
+  flow), :mod:`.rotor` (the rotor's dynamics and noise), :mod:`.grid` (grid and dish),
+  :mod:`.numerics` (the scheme and the solver), :mod:`.output` (what a run records);
 * :mod:`.bodies`: the ``bodies:`` list, the camphor objects on the surface (plates,
   pills, motions), of which the ``geometry:`` rotor is the shorthand for one;
 * :mod:`.protocol`: the stop-and-release section, the run's and each body's;
+* :mod:`.vessel`: ``grid.vessel``, the annular channel or rectangular tank that replaces
+  the dish;
 * :mod:`.fields`: the number types, the section base and the bounds they all share;
+* :mod:`.stable`: the dumps, hashes and run keys that a key added at its default leaves
+  unchanged;
 * :mod:`.yaml_io`: YAML in and out, ``--set`` overrides, the dotted-key setter;
 * :mod:`.messages`: one-line messages naming the key path and the allowed values;
 * :mod:`.errors`: the two errors of configuration input;
@@ -28,6 +36,7 @@ is compiled.
 from __future__ import annotations
 
 from .bodies import (
+    FREE_FRICTION,
     BodyConfig,
     DiskPlate,
     FixedAxisMotion,
@@ -41,27 +50,22 @@ from .bodies import (
 )
 from .compare import physics_differences
 from .errors import ConfigError, FieldError
+from .fields import X_SATURATION
+from .geometry import GeometryConfig
+from .grid import DISH_CENTRE, GridConfig
 from .messages import allowed_values, format_validation_error, key_text
+from .numerics import NumericsConfig, SolverConfig
+from .output import OutputConfig
 from .protocol import ProtocolConfig
-from .schema import (
+from .rotor import (
     CALIBRATED_SIGMA,
-    DISH_CENTRE,
     PAPER_SCHEME_SIGMA,
     PAPER_STEADY_OMEGA,
-    SHORTHAND_KEYS,
-    TIME_KEYS,
-    X_SATURATION,
-    CamphorConfig,
-    FlowConfig,
-    GeometryConfig,
-    GridConfig,
     NoiseConfig,
-    NumericsConfig,
-    OutputConfig,
-    RotorConfig,
     RotorDynamicsConfig,
-    SolverConfig,
 )
+from .schema import SHORTHAND_KEYS, TIME_KEYS, RotorConfig
+from .surface import CamphorConfig, FlowConfig
 from .yaml_io import (
     PROVENANCE_KEY,
     apply_overrides,
@@ -77,6 +81,7 @@ from .yaml_io import (
 __all__ = [
     "CALIBRATED_SIGMA",
     "DISH_CENTRE",
+    "FREE_FRICTION",
     "PAPER_SCHEME_SIGMA",
     "PAPER_STEADY_OMEGA",
     "PROVENANCE_KEY",

@@ -16,11 +16,15 @@ objects on one surface. Body k has
   Eq. (eq_motion); the paper's rotor is this at the origin) or ``free`` (translates
   with mass m and turns with inertia I; friction is the paper's coupling
   -mu int F_k (u_k - v) dA with the plate velocity u_k = U_k + omega_k z x (r - X_k));
-* optionally its own stop-and-release protocol and torque noise.
+* optionally its own stop-and-release protocol and torque noise, and an external load
+  (a constant force ``external_force`` on a free body and torque ``external_torque``
+  about X_k, added to the right-hand sides of Eq. (eq_motion)).
 
 Inheritance: a key left null takes the run's value when the bodies are resolved
 (:meth:`BodyConfig.resolved`): a pill's ``supply`` the run's ``camphor.supply``; a
-motion's ``inertia`` and ``friction`` the run's ``rotor.inertia`` and ``rotor.friction``;
+motion's ``inertia`` the run's ``rotor.inertia``; a ``fixed_axis`` motion's ``friction``
+the run's ``rotor.friction`` (a free body's defaults to a camphor disk's own,
+:data:`FREE_FRICTION`, not to the paper rotor's 1e-4, 1764 times below a disk's onset);
 ``noise_sigma`` the run's ``noise.sigma`` for a ``fixed_axis`` body and 0 otherwise;
 ``name`` is ``body{k}``. The positions and footprints here are what the config's checks
 need (bodies inside the dish and apart, pills inside their plate); the numpy indicators
@@ -36,6 +40,7 @@ from pydantic import Field, model_validator
 
 from .errors import FieldError
 from .fields import (
+    ANGLE_BOUND,
     OMEGA_BOUND,
     PAPER_FRICTION,
     PAPER_INERTIA,
@@ -43,6 +48,7 @@ from .fields import (
     PAPER_PILL_RADIUS,
     PAPER_PLATE_RADIUS,
     SCALE_BOUND,
+    VELOCITY_BOUND,
     X_SATURATION,
     FiniteFloat,
     Int,
@@ -185,6 +191,17 @@ far above the rotor's bound of SCALE_BOUND times the paper's value."""
 _Friction = Annotated[NonNegativeFloat, Field(le=BODY_FRICTION_BOUND)]
 """A body's mu: at most :data:`BODY_FRICTION_BOUND`."""
 
+FREE_FRICTION = 0.15
+"""Default mu of a free body: a camphor disk's own friction, not the paper rotor's.
+
+A free disk of the paper's pill (rho = 0.1, the paper's camphor) rests for mu above its
+onset mu_c = K(0) / (pi rho^2) = 0.17635 and self-propels below it (a supercritical
+pitchfork, docs/bodies.md); 0.15 = 0.85 mu_c sets it off at the steady speed U* = 1.97,
+0.008 cells per step on the paper's grid (tests/config/test_bodies.py). The rotor's
+mu = 1e-4 lies 1764 times below mu_c: a free body given it runs away into the rim.
+Larger disks have a lower onset (0.127 at rho = 0.2, 0.100 at 0.3) and rest at 0.15; they
+state their friction."""
+
 
 class FixedMotion(_Section):
     """A body that never moves: a stationary camphor source or an obstacle (u_k = 0)."""
@@ -212,8 +229,12 @@ class FreeMotion(_Section):
     inertia: _Inertia | None = Field(
         None, description="I: moment of inertia about X_k (null: the run's rotor.inertia)"
     )
-    friction: _Friction | None = Field(
-        None, description="mu: friction constant (null: the run's rotor.friction)"
+    friction: _Friction = Field(
+        FREE_FRICTION,
+        description=(
+            "mu: friction constant (default 0.15, 0.85 times the onset of a free camphor disk "
+            "of the paper's pill, which then self-propels at a steady speed; docs/bodies.md)"
+        ),
     )
 
 
@@ -221,16 +242,22 @@ MotionConfig = Annotated[FixedMotion | FixedAxisMotion | FreeMotion, Field(discr
 """How a body moves, by its ``kind``; each kind allows only its own keys."""
 
 
+_Speed = Annotated[FiniteFloat, Field(ge=-VELOCITY_BOUND, le=VELOCITY_BOUND)]
+"""A component of a body's start velocity: at most :data:`VELOCITY_BOUND` in size."""
+
+
 class StartConfig(_Section):
     """The body's pose and velocities at t = 0."""
 
     x: FiniteFloat = Field(0.0, description="X: x of the body's origin (its axis)")
     y: FiniteFloat = Field(0.0, description="Y: y of the body's origin (its axis)")
-    angle: FiniteFloat = Field(0.0, description="phi(0): angle of the body frame [rad]")
+    angle: FiniteFloat = Field(
+        0.0, ge=-ANGLE_BOUND, le=ANGLE_BOUND, description="phi(0): angle of the body frame [rad]"
+    )
     omega: FiniteFloat = Field(
         0.0, ge=-OMEGA_BOUND, le=OMEGA_BOUND, description="dphi/dt(0): angular velocity"
     )
-    velocity: tuple[FiniteFloat, FiniteFloat] = Field(
+    velocity: tuple[_Speed, _Speed] = Field(
         (0.0, 0.0), description="U(0) = [u_x, u_y]: velocity of a free body"
     )
 
@@ -261,6 +288,13 @@ class BodyConfig(_Section):
             "run's noise.sigma for a fixed_axis body, 0 otherwise)"
         ),
     )
+    external_force: tuple[FiniteFloat, FiniteFloat] = Field(
+        (0.0, 0.0),
+        description="[f_x, f_y]: a constant external force on a free body, Eq. (eq_motion)",
+    )
+    external_torque: FiniteFloat = Field(
+        0.0, description="a constant external torque about the body's origin, Eq. (eq_motion)"
+    )
 
     def extent(self) -> float:
         """Radius of the smallest disk about the body's origin holding plate and pills."""
@@ -270,6 +304,17 @@ class BodyConfig(_Section):
         """Footprint: radius about the body's origin beyond which F_k and G_k are 0 to
         4.3e-18, the plate's and pills' extent plus X_SATURATION delta."""
         return max([self.plate.reach(smoothing), *(p.reach(smoothing) for p in self.pills)])
+
+    def pill_overlap(self) -> tuple[int, int, float] | None:
+        """(i, j, distance) of the first pills i < j whose disks overlap (their sources
+        would add up there, Eq. (eqc)), or None; pills may touch."""
+        for j, pill in enumerate(self.pills):
+            for i in range(j):
+                other = self.pills[i]
+                apart = math.hypot(pill.x - other.x, pill.y - other.y)
+                if apart < pill.radius + other.radius - INSIDE_TOLERANCE:
+                    return i, j, apart
+        return None
 
     def friction_rates(self) -> list[float]:
         """Upper bounds of the body's friction relaxation rates (a resolved body).
@@ -306,9 +351,13 @@ class BodyConfig(_Section):
                     )
                     raise FieldError(f"pills[{j}]", [pill.x, pill.y], msg)
         start, kind = self.start, self.motion.kind
-        if kind != "free" and start.velocity != (0.0, 0.0):
-            msg = f"a {kind} body does not translate (allowed: [0, 0], or motion kind free)"
-            raise FieldError("start.velocity", list(start.velocity), msg)
+        for key, value in (
+            ("start.velocity", start.velocity),
+            ("external_force", self.external_force),
+        ):
+            if kind != "free" and value != (0.0, 0.0):
+                msg = f"a {kind} body does not translate (allowed: [0, 0], or motion kind free)"
+                raise FieldError(key, list(value), msg)
         if kind == "fixed":
             if start.omega != 0:
                 msg = "a fixed body does not turn (allowed: 0, or motion kind fixed_axis)"
@@ -319,6 +368,9 @@ class BodyConfig(_Section):
             if self.noise_sigma:
                 msg = "a fixed body does not turn, so no torque noise acts (allowed: 0 or null)"
                 raise FieldError("noise_sigma", self.noise_sigma, msg)
+            if self.external_torque:
+                msg = "a fixed body does not turn (allowed: 0, or motion kind fixed_axis)"
+                raise FieldError("external_torque", self.external_torque, msg)
         return self
 
     def resolved(
@@ -335,7 +387,7 @@ class BodyConfig(_Section):
             index: k, the body's index in ``bodies`` (its default name body{k}).
             supply: the run's camphor.supply.
             inertia: the run's rotor.inertia.
-            friction: the run's rotor.friction.
+            friction: the run's rotor.friction (the default of a fixed_axis body).
             sigma: the run's noise.sigma (the default of a fixed_axis body).
         """
         data = self.model_dump()
@@ -350,4 +402,4 @@ class BodyConfig(_Section):
                     motion[key] = value
         if data["noise_sigma"] is None:
             data["noise_sigma"] = sigma if motion["kind"] == "fixed_axis" else 0.0
-        return BodyConfig.model_validate(data)
+        return type(self).model_validate(data)

@@ -9,7 +9,9 @@ from __future__ import annotations
 
 from typing import Annotated, Any
 
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field
+from pydantic import BeforeValidator, ConfigDict, Field
+
+from .stable import StableModel
 
 X_SATURATION = 20.0
 """|x| beyond which float64 1/2 (1 + tanh(x)) is exactly 1 (1 - tanh(20) = 8.5e-18 < 2^-54)
@@ -41,6 +43,13 @@ for and the explicit step overflows float64 (``camphor.supply: 1e308``), so such
 is refused in one line at ``check`` instead of starting a run that cannot work."""
 OMEGA_BOUND = 1e4
 """Largest |omega0|: about 50 times the rotor's own steady angular velocity (176)."""
+ANGLE_BOUND = 1e4
+"""Largest |angle| of a start (rotor.phi0, a body's start.angle), in rad: about 1600
+turns. An angle counts modulo 2 pi; far beyond this bound float64 loses its fraction of a
+turn (at 1e16 rad nothing of it is left), so a larger one is a typo."""
+VELOCITY_BOUND = 1e3
+"""Largest |u_x|, |u_y| of a body's start velocity: ten times the rim speed of the paper's
+rotor (176 x 0.5 = 88) and 500 times a free camphor disk's steady speed (about 2)."""
 TIME_BOUND = 1e5
 """Longest t_ini, t_stop or t_release: 1e4 times the paper's 10."""
 CYCLES_BOUND = 100_000
@@ -58,7 +67,8 @@ PAPER_FRICTION = 1e-4
 """mu: the paper's friction constant of the rotor."""
 
 
-class _Section(BaseModel):
-    """Base of all config sections: unknown keys and silent coercions are errors."""
+class _Section(StableModel):
+    """Base of all config sections: unknown keys and silent coercions are errors; a key
+    added to the schema at its default is left out of every dump (:mod:`.stable`)."""
 
     model_config = ConfigDict(extra="forbid", strict=False, validate_assignment=True)

@@ -257,6 +257,15 @@ def _format_one(error: Mapping[str, Any]) -> str:
         if kind == "union_tag_not_found":
             return f"{path}.{key}: missing key {allowed}"
         return f"{path}.{key} = {_show(ctx.get('tag'))}: not one of the allowed values {allowed}"
+    if kind == "missing" and loc and isinstance(loc[-1], int):
+        # a position of a fixed-length list ([u_x, u_y]) that the value left out
+        values = error.get("input")
+        place = _resolve(loc[:-1])
+        size = len(get_args(_unwrap(place.annotation)[0])) if place is not None else 0
+        got = len(values) if isinstance(values, list | tuple) else 1
+        allowed = allowed_values(loc[:-1])
+        path = key_text(loc[:-1])
+        return f"{path} = {_show(values)}: expected {size} values, got {got} (allowed: {allowed})"
     if kind == "missing":
         allowed = allowed_values(loc)
         return f"{path}: missing key" + (f" (allowed: {allowed})" if allowed else "")

@@ -1,4 +1,9 @@
-"""The schema: one validated pydantic model holding every parameter of the model.
+"""The schema: :class:`RotorConfig`, one validated pydantic model of every parameter.
+
+Its sections live in one module each (:mod:`.geometry`, :mod:`.surface` for camphor and
+flow, :mod:`.rotor` for the rotor's dynamics and noise, :mod:`.protocol`, :mod:`.grid`,
+:mod:`.numerics` for numerics and solver, :mod:`.output`, :mod:`.bodies`); this module
+joins them and holds the checks across sections.
 
 Every default is the value used in the paper's section "Numerical results"
 (Koyano, Kitahata, Nakata & Gorecki, Chaos 2020). Scripts, tests and the CLI build
@@ -14,10 +19,10 @@ import fractions
 import hashlib
 import json
 import math
-from typing import Any, Literal
+from typing import Any
 
 import numpy as np
-from pydantic import Field, SerializerFunctionWrapHandler, model_serializer, model_validator
+from pydantic import Field, model_validator
 
 from .bodies import (
     BodyConfig,
@@ -28,382 +33,15 @@ from .bodies import (
     StartConfig,
 )
 from .errors import FieldError
-from .fields import (
-    OMEGA_BOUND,
-    PAPER_FRICTION,
-    PAPER_INERTIA,
-    PAPER_N_CORNERS,
-    PAPER_PILL_RADIUS,
-    PAPER_PLATE_RADIUS,
-    SCALE_BOUND,
-    X_SATURATION,
-    FiniteFloat,
-    Fraction,
-    Int,
-    NonNegativeFloat,
-    PositiveFloat,
-    _Section,
-)
+from .fields import X_SATURATION, _Section
+from .geometry import GeometryConfig
+from .grid import DISH_CENTRE, DISH_WALL, GridConfig
+from .numerics import NumericsConfig, SolverConfig
+from .output import OutputConfig
 from .protocol import ProtocolConfig
-
-
-class GeometryConfig(_Section):
-    """Rotor geometry: regular N-gon plate with N camphor pills (paper Fig. 1, Eqs. (rc), (rj))."""
-
-    n_corners: Int = Field(
-        PAPER_N_CORNERS, ge=3, le=24, description="N: number of plate corners and pills"
-    )
-    radius: PositiveFloat = Field(PAPER_PLATE_RADIUS, description="R: circumradius of the plate")
-    pill_radius: PositiveFloat = Field(
-        PAPER_PILL_RADIUS, description="rho: radius of one camphor pill"
-    )
-    pill_inset: NonNegativeFloat = Field(
-        0.05, description="p: extra inward shift of the pills, Eq. (rc)"
-    )
-    asymmetry: FiniteFloat = Field(
-        0.0,
-        description=(
-            "Delta: angular shift of every pill from its corner [rad], Eq. (rj); |Delta| < pi/N"
-        ),
-    )
-    smoothing: PositiveFloat = Field(0.025, description="delta: width of the tanh edges of F and G")
-
-    @property
-    def pill_distance(self) -> float:
-        """R_c = R - rho / cos(pi/N) - p, Eq. (rc)."""
-        return self.radius - self.pill_radius / math.cos(math.pi / self.n_corners) - self.pill_inset
-
-    @property
-    def support_radius(self) -> float:
-        """Radius outside which F = G = 0 to within 4.3e-18: R + X_SATURATION delta / cos(pi/N).
-
-        The plate's F is 1/2 [1 + tanh((R cos(pi/N) - h) / delta)] with the gauge
-        h >= |r| cos(pi/N), and the pills lie inside the plate.
-        """
-        return self.radius + X_SATURATION * self.smoothing / math.cos(math.pi / self.n_corners)
-
-    def edge_clearance(self) -> float:
-        """Distance from a pill centre to the nearer edge of its corner.
-
-        The two edges of a corner have normals at angles pi/N -/+ Delta from the pill
-        direction, so the clearance is R cos(pi/N) - R_c cos(pi/N - |Delta|).
-        """
-        half = math.pi / self.n_corners
-        return self.radius * math.cos(half) - self.pill_distance * math.cos(
-            half - abs(self.asymmetry)
-        )
-
-    def max_asymmetry(self) -> float:
-        """Largest |Delta| for which the pills stay inside the plate (nan if none does)."""
-        half = math.pi / self.n_corners
-        ratio = (self.radius * math.cos(half) - self.pill_radius) / self.pill_distance
-        if ratio < math.cos(half):
-            return math.nan
-        return half - math.acos(min(1.0, ratio))
-
-    @model_validator(mode="after")
-    def _pills_inside_plate(self) -> GeometryConfig:
-        half = math.pi / self.n_corners
-        if abs(self.asymmetry) >= half:
-            msg = (
-                f"a shift of pi/N or more moves each pill past the middle of its edge, nearer "
-                f"the next corner (Delta and Delta - 2 pi/N are the same rotor); allowed: "
-                f"|asymmetry| < pi/N = {half:.4g} rad for n_corners = {self.n_corners}"
-            )
-            raise FieldError("asymmetry", self.asymmetry, msg)
-        r_c = self.pill_distance
-        if r_c <= 0:
-            rho_max = (self.radius - self.pill_inset) * math.cos(math.pi / self.n_corners)
-            msg = (
-                f"pill distance R_c = R - rho/cos(pi/N) - p = {r_c:.4g} must be > 0 "
-                f"(allowed: pill_radius < {rho_max:.4g} for radius = {self.radius:g}, "
-                f"pill_inset = {self.pill_inset:g}, n_corners = {self.n_corners})"
-            )
-            raise FieldError("pill_radius", self.pill_radius, msg)
-        if self.edge_clearance() < self.pill_radius - 1e-12:
-            limit = self.max_asymmetry()
-            if math.isnan(limit) or abs(self.asymmetry) <= limit:
-                msg = (
-                    f"pills stick out of the plate even at asymmetry 0 (edge clearance "
-                    f"{self.edge_clearance():.4g} < pill_radius); increase pill_inset or "
-                    "reduce pill_radius"
-                )
-                raise FieldError("pill_radius", self.pill_radius, msg)
-            msg = (
-                f"pills stick out of the plate (edge clearance {self.edge_clearance():.4g} "
-                f"< pill_radius {self.pill_radius:g}); allowed: |asymmetry| <= {limit:.4g} "
-                f"rad for these radius, pill_radius, pill_inset"
-            )
-            raise FieldError("asymmetry", self.asymmetry, msg)
-        return self
-
-
-class CamphorConfig(_Section):
-    """Camphor surface concentration c, Eq. (eqc), and surface tension, Eq. (surfacetension)."""
-
-    diffusion: PositiveFloat = Field(
-        1.0, le=SCALE_BOUND, description="D: camphor diffusion coefficient"
-    )
-    evaporation: NonNegativeFloat = Field(
-        1.0, le=SCALE_BOUND, description="a: evaporation rate outside the plate"
-    )
-    supply: NonNegativeFloat = Field(
-        1.0, le=SCALE_BOUND, description="s0: camphor supply rate of one pill"
-    )
-    tension_slope: NonNegativeFloat = Field(
-        1.0,
-        le=SCALE_BOUND,
-        description="k: surface tension gamma = gamma0 - k c, Eq. (surfacetension)",
-    )
-
-
-class FlowConfig(_Section):
-    """Surface flow v, Eq. (eqv)."""
-
-    enabled: bool = Field(
-        True, description="false: v = 0 in Eqs. (eqc) and (eq_motion), the paper's Fig. 8"
-    )
-    drag: NonNegativeFloat = Field(
-        1.0, le=SCALE_BOUND, description="eta: relaxation of v to the plate velocity"
-    )
-    bulk_drag: NonNegativeFloat = Field(
-        1.0, le=SCALE_BOUND, description="eta_b: vertical viscous damping of v"
-    )
-    viscosity: PositiveFloat = Field(
-        1.0, le=SCALE_BOUND, description="D_eta: horizontal viscous diffusion of v"
-    )
-
-
-class RotorDynamicsConfig(_Section):
-    """Rotor dynamics, Eq. (eq_motion), and its initial condition."""
-
-    inertia: PositiveFloat = Field(
-        PAPER_INERTIA,
-        ge=PAPER_INERTIA / SCALE_BOUND,
-        le=PAPER_INERTIA * SCALE_BOUND,
-        description="I: moment of inertia",
-    )
-    friction: NonNegativeFloat = Field(
-        PAPER_FRICTION, le=PAPER_FRICTION * SCALE_BOUND, description="mu: friction constant"
-    )
-    phi0: FiniteFloat = Field(1.0, description="phi(0): initial angle [rad]")
-    omega0: FiniteFloat = Field(
-        0.1, ge=-OMEGA_BOUND, le=OMEGA_BOUND, description="dphi/dt(0): initial angular velocity"
-    )
-    torque: Literal["physical", "printed"] = Field(
-        "physical",
-        description=(
-            "physical: T = -k int F r x grad c dA (contour integral of gamma n); "
-            "printed: T = int_Omega r x (-grad gamma) dA as printed in Eq. (torque)"
-        ),
-    )
-
-
-CALIBRATED_SIGMA = 1.5e-7
-"""Noise intensity calibrated at the paper's resolution (dx = delta = 0.025, dt = 1e-4)
-on the default scheme (``consistent``): Dw = (sigma/I)^2 = 2.25e-4.
-
-With it the Delta = 2e-5 plateau at t_stop = 3 is the paper's 0.2 (Fig. 7b):
-configs/sweeps/science_calibration.yaml measured P = 0.197 [0.108, 0.332] here, from
-100 stops per direction at each of seven intensities (data/science_calibration.nc);
-fitted with the decision model, the crossing lies at sigma = 1.49e-7, 95 % range
-1.35e-7 to 1.62e-7 (docs/statistics.md). The paper-resolution configs
-(configs/paper_fig*.yaml, pde_rotor/bases/paper.yaml) carry this value;
-tests/test_config.py keeps them equal.
-"""
-
-PAPER_SCHEME_SIGMA = 2.0e-8
-"""The intensity once calibrated on the ``paper`` scheme, whose lattice torque alone
-gives the Delta = 2e-5 plateau 0.18 (so it calibrates the grid more than the noise;
-docs/statistics.md). The stored paper-scheme reports (data/calibration.nc,
-predictions.nc, predictions_no_flow.nc) hold it; the gallery draws them at it."""
-
-
-PAPER_STEADY_OMEGA = 176.06
-"""Steady angular velocity of the noise-free rotor at the paper's parameters and grid
-(docs/model.md: 176.0626; the paper: "~176"): the scale of the rotation against which
-:class:`RotorConfig` judges the noise."""
-
-
-class NoiseConfig(_Section):
-    """Torque noise xi(t) of Eq. (eq_motion), <xi(t) xi(s)> = 2 sigma^2 delta(t-s), Eq. (noiseav).
-
-    Integrated by Euler-Maruyama, so results do not depend on dt. The paper's
-    sigma = 0.1 taken literally destroys the rotation (docs/model.md); the default is
-    no noise, and :data:`CALIBRATED_SIGMA` is the intensity calibrated to the paper.
-    """
-
-    sigma: NonNegativeFloat = Field(0.0, description="sigma: torque noise intensity")
-    seed: Int | None = Field(
-        None, ge=0, description="seed of the numpy Generator (null: drawn and recorded per run)"
-    )
-
-
-DISH_CENTRE = (0.0, 0.0)
-"""Default centre of the dish: the origin, the paper rotor's axis."""
-DISH_WALL = "absorbing"
-"""Default wall of the dish: c = 0 on and outside the circle, the paper's."""
-
-
-class GridConfig(_Section):
-    """Cartesian grid covering the circular domain of radius L (v = 0 outside; c = 0 outside
-    with the absorbing wall, dc/dr = 0 at L with the no-flux wall)."""
-
-    domain_radius: PositiveFloat = Field(
-        3.0, le=100.0, description="L: radius of the circular domain"
-    )
-    dx: PositiveFloat = Field(0.025, description="grid spacing")
-    dt: PositiveFloat = Field(1e-4, description="explicit Euler time step")
-    domain_centre: tuple[FiniteFloat, FiniteFloat] = Field(
-        DISH_CENTRE,
-        description="[x, y]: centre of the circular domain (the dish) that holds the bodies",
-    )
-    wall: Literal["absorbing", "no_flux"] = Field(
-        DISH_WALL,
-        description=(
-            "the dish wall for the camphor: absorbing (c = 0 on and outside the circle, the "
-            "paper's) or no_flux (dc/dr = 0 at r = L on cut cells of the circle, the wall of "
-            "Koyano, Suematsu & Kitahata 2019; bodies only); v = 0 at the wall either way"
-        ),
-    )
-
-    @model_serializer(mode="wrap")
-    def _without_default_centre(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
-        """Leave out a domain_centre at the origin and the absorbing wall: the dumps, hashes
-        and physics of every config written before these keys existed stay as they were
-        (stored sweep runs)."""
-        data = handler(self)
-        if self.domain_centre == DISH_CENTRE:
-            data.pop("domain_centre", None)
-        if self.wall == DISH_WALL:
-            data.pop("wall", None)
-        return data
-
-
-class NumericsConfig(_Section):
-    """How F, G and the torque are discretised on the grid (docs/model.md, "Schemes")."""
-
-    scheme: Literal["paper", "consistent"] = Field(
-        "consistent",
-        description=(
-            "consistent: F and G through an isotropic prefilter and the torque in contour "
-            "form, almost free of the grid's lattice torque; paper: point values of F and "
-            "G and the area-form torque with central differences, as in the paper "
-            "(docs/model.md, Schemes)"
-        ),
-    )
-    integrator: Literal["euler", "heun"] = Field(
-        "euler",
-        description=(
-            "euler: forward Euler, the paper's method (first order in dt); heun: Heun's "
-            "second-order method at twice the cost per step (CPU backend only)"
-        ),
-    )
-    plate_filter_kernel: Literal["gaussian", "sharpened"] = Field(
-        "gaussian",
-        description=(
-            "consistent scheme: prefilter of the plate's F, the Gaussian N_eps (changes "
-            "the model at order eps^2) or sharpened 2 N_eps - N_(sqrt2 eps) (zero second "
-            "moment; docs/model.md, Schemes)"
-        ),
-    )
-    plate_filter_width: float = Field(
-        0.7,
-        ge=0.25,
-        le=2.0,
-        description="consistent scheme: width eps of the plate's prefilter, in units of dx",
-    )
-    pill_filter_kernel: Literal["gaussian", "sharpened"] = Field(
-        "sharpened",
-        description=(
-            "consistent scheme: prefilter of the pills' G (gaussian or sharpened, as "
-            "plate_filter_kernel); the sharpened kernel keeps the pills' second moment, "
-            "which the asymmetry torque feels (docs/model.md, Schemes)"
-        ),
-    )
-    pill_filter_width: float = Field(
-        0.95,
-        ge=0.25,
-        le=2.0,
-        description="consistent scheme: width eps of the pills' prefilter, in units of dx",
-    )
-    table_refinement: Int = Field(
-        8, ge=4, le=32, description="consistent scheme: nodes per dx of the plate's F table"
-    )
-    contour_nodes: Int = Field(
-        32, ge=4, le=256, description="consistent scheme: Gauss-Legendre nodes per plate edge"
-    )
-    band_nodes: Int = Field(
-        6,
-        ge=1,
-        le=24,
-        description="consistent scheme: Gauss nodes across the smoothed plate edge",
-    )
-
-    def acting(self) -> dict[str, Any]:
-        """The settings that change a result of this scheme (JSON values): every one for
-        ``consistent``, only ``scheme`` and ``integrator`` for ``paper``, whose point
-        values ignore the prefilter and contour settings."""
-        data = self.model_dump(mode="json")
-        if self.scheme == "paper":
-            return {key: data[key] for key in ("scheme", "integrator")}
-        return data
-
-
-class SolverConfig(_Section):
-    """Where the time steps run."""
-
-    backend: Literal["cpu", "gpu", "auto"] = Field(
-        "cpu",
-        description=(
-            "compute backend: cpu (fused numba kernel), gpu (needs the optional gpu extra "
-            "and a GPU), auto (gpu when available, else cpu)"
-        ),
-    )
-    threads: Int | None = Field(
-        None,
-        ge=1,
-        description=(
-            "threads one run's time steps use on the CPU (results are identical for any "
-            "number); null: every core this process may use (os.sched_getaffinity) that no "
-            "other process keeps busy when the run starts, at most numba's thread count "
-            "(NUMBA_NUM_THREADS; 1 in the worker processes of a sweep, pde-rotor sweep "
-            "--threads); bodies runs step on one thread"
-        ),
-    )
-
-
-class OutputConfig(_Section):
-    """What a run records (trackers of :mod:`pde_rotor.trackers`) and how often."""
-
-    timeseries_interval: PositiveFloat = Field(
-        0.01, description="time between rows of timeseries.nc (t, phi, omega, torque, ...)"
-    )
-    event_interval: PositiveFloat = Field(
-        0.01, description="time between omega samples used to detect the commit after a release"
-    )
-    commit_fraction: Fraction = Field(
-        0.5,
-        description=(
-            "a released rotor has committed to a direction once |omega| >= commit_fraction * "
-            "|omega before the stop|"
-        ),
-    )
-    snapshot_interval: PositiveFloat | None = Field(
-        10.0, description="time between field snapshots in snapshots.h5 (null: none)"
-    )
-    movie: bool = Field(True, description="render movie.mp4 while the run goes")
-    movie_interval: PositiveFloat = Field(0.05, description="simulated time between movie frames")
-    movie_fps: Int = Field(20, ge=1, le=120, description="frames per second of movie.mp4")
-    movie_dpi: Int = Field(100, ge=20, le=600, description="resolution of the movie frames")
-    movie_view: PositiveFloat = Field(
-        1.5, description="half width of the square shown in the movie (paper Fig. 3: 1.5)"
-    )
-    progress: bool = Field(True, description="show a progress bar (simulated time, ETA, omega)")
-    checkpoint_seconds: PositiveFloat = Field(
-        60.0, description="wall-clock seconds between rewrites of timeseries.nc during a run"
-    )
-
+from .rotor import CALIBRATED_SIGMA, PAPER_STEADY_OMEGA, NoiseConfig, RotorDynamicsConfig
+from .surface import CamphorConfig, FlowConfig
+from .vessel import check_vessel
 
 TIME_KEYS = (
     "protocol.t_ini",
@@ -458,13 +96,18 @@ class RotorConfig(_Section):
         ),
     )
 
-    @model_serializer(mode="wrap")
-    def _without_shorthand_bodies(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
-        """Leave out ``bodies: null``: the dumps, hashes and physics of every config of
-        the single rotor stay as they were before the key existed (stored sweep runs)."""
-        data = handler(self)
-        if self.bodies is None:
-            data.pop("bodies", None)
+    @model_validator(mode="before")
+    @classmethod
+    def _bodies_not_null(cls, data: Any) -> Any:
+        """A ``bodies`` key without a list (a bare ``bodies:`` line, or ``--set
+        bodies=null``) is refused as ``bodies: []`` is: the shorthand rotor is the config
+        without the key, never one whose list was lost."""
+        if isinstance(data, dict) and "bodies" in data and data["bodies"] is None:
+            msg = (
+                "a bodies key without entries (a bare `bodies:` line) (allowed: a list of at "
+                "least one body, or no bodies key for the rotor of geometry:)"
+            )
+            raise FieldError("bodies", None, msg)
         return data
 
     @model_validator(mode="after")
@@ -488,6 +131,7 @@ class RotorConfig(_Section):
                 raise FieldError("grid.wall", self.grid.wall, msg)
         else:
             self._bodies_in_dish()
+        check_vessel(self.grid, self.bodies is not None, self.body_list(), self.geometry.smoothing)
         limit = self.dt_limit()
         if self.grid.dt > limit:
             msg = f"above the explicit stability limit (allowed: dt <= {limit:.4g} for this dx)"
@@ -573,6 +217,17 @@ class RotorConfig(_Section):
         reach = [body.reach(smoothing) for body in bodies]
         names: dict[str, int] = {}
         for k, body in enumerate(bodies):
+            overlap = body.pill_overlap()
+            if overlap is not None:
+                i, j, apart = overlap
+                pills = body.pills
+                radii = pills[i].radius + pills[j].radius
+                msg = (
+                    f"overlaps pills[{i}] of body {body.name!r}: their centres lie {apart:.4g} "
+                    f"apart, less than the sum of their radii {radii:.4g}, where their sources "
+                    "would add up (allowed: pills apart, or one pill with the supply of both)"
+                )
+                raise FieldError(f"bodies[{k}].pills[{j}]", [pills[j].x, pills[j].y], msg)
             if body.name in names:
                 msg = f"the name of bodies[{names[body.name]}] too (allowed: a name of its own)"
                 raise FieldError(f"bodies[{k}].name", body.name, msg)
@@ -583,7 +238,7 @@ class RotorConfig(_Section):
         for k, body in enumerate(bodies):
             x, y = body.start.x, body.start.y
             off = math.hypot(x - cx, y - cy)
-            if off + reach[k] >= rim:
+            if off + reach[k] >= rim and self.grid.vessel is None:  # a vessel: check_vessel
                 allowed = (
                     f"|start - grid.domain_centre| < {rim - reach[k]:.4g}"
                     if rim > reach[k]
@@ -594,6 +249,10 @@ class RotorConfig(_Section):
                     f"footprint of radius {reach[k]:.4g}: {footprint}), not inside "
                     f"grid.domain_radius - dx = {rim:.4g} (allowed: {allowed})"
                 )
+                if (cx, cy) != DISH_CENTRE and math.hypot(x, y) + reach[k] < rim:
+                    # the body fits the dish about the origin: the moved centre is the cause
+                    msg = f"moves the dish off body {body.name!r} at start [{x:g}, {y:g}]: " + msg
+                    raise FieldError("grid.domain_centre", [cx, cy], msg)
                 raise FieldError(f"bodies[{k}].start", [x, y], msg)
             for i in range(k):
                 other = bodies[i]
@@ -667,6 +326,7 @@ class RotorConfig(_Section):
             start=StartConfig(angle=rotor.phi0, omega=rotor.omega0),
             protocol=self.protocol,
             noise_sigma=self.noise.sigma,
+            external_torque=rotor.external_torque,
         )
         return [body]
 

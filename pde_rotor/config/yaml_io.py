@@ -3,11 +3,17 @@
 :func:`load_config` reads a YAML file, applies ``--set key.path=value`` overrides
 (:func:`apply_overrides`) and validates the result; :func:`dump_config` writes a
 :class:`~pde_rotor.config.schema.RotorConfig` back so that it loads to an equal one.
+
+In a config with ``bodies:``, ``--set protocol.<key>=<value>`` also sets that key in the protocol of
+every body whose protocol is the run's (the shipped configs copy the run's protocol into the
+body that is stopped); where no body follows the run's protocol it sets the run's length
+only, and where some body has a protocol of its own one warning says so and names them.
 """
 
 from __future__ import annotations
 
 import json
+import logging
 import re
 from collections.abc import Iterable, Mapping
 from pathlib import Path
@@ -18,7 +24,10 @@ from pydantic import ValidationError
 
 from .errors import ConfigError
 from .messages import format_validation_error
+from .protocol import ProtocolConfig
 from .schema import RotorConfig
+
+_logger = logging.getLogger(__name__)
 
 PROVENANCE_KEY = "provenance"
 """Top-level key of a run's config.yaml holding versions and hash; ignored when loading."""
@@ -62,6 +71,11 @@ def parse_yaml(text: str, source: str = "<string>") -> Any:
         mark = getattr(err, "problem_mark", None)
         where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
         problem = getattr(err, "problem", None) or str(err).splitlines()[0]
+        if "got '['" in problem and "'}'" in problem:
+            problem += (
+                "; inside {...} a key with a list index must be quoted, "
+                '{"bodies[0].start.x": 1}, or written in block style, one key a line'
+            )
         msg = f"{source}: invalid YAML{where}: {problem}"
         raise ConfigError(msg) from None
 
@@ -137,6 +151,14 @@ def parse_override(text: str) -> tuple[list[str], Any]:
     """
     key, sep, raw = text.partition("=")
     key = key.strip()
+    negative = re.search(r"\[-[0-9]+\]", key)
+    if sep and negative:
+        msg = (
+            f"--set {text!r}: {negative.group()} counts from the end, which a key path does "
+            "not (allowed: an index from 0, e.g. bodies[0], or the list's length to add an "
+            "entry)"
+        )
+        raise ConfigError(msg)
     if not sep or not _KEY_PATH.match(key):
         msg = (
             f"--set {text!r}: expected KEY.PATH=VALUE with a dotted key path, "
@@ -216,11 +238,50 @@ def apply_overrides(data: Mapping[str, Any], overrides: Iterable[str]) -> dict[s
     result = json.loads(json.dumps(data, default=str)) if data else {}
     for text in overrides:
         path, value = parse_override(text)
+        followers = _protocol_followers(result, path, text)
         try:
             set_key(result, ".".join(path), value)
+            for i in followers:
+                set_key(result, ".".join([f"bodies[{i}]", *path]), value)
         except ConfigError as err:
             raise ConfigError(f"--set {text!r}: {err}") from None
     return result
+
+
+def _same_protocol(a: Any, b: Any) -> bool:
+    """Whether two protocol sections are the same protocol (defaults filled in)."""
+    if not isinstance(a, Mapping) or not isinstance(b, Mapping):
+        return False
+    try:
+        return ProtocolConfig.model_validate(dict(a)) == ProtocolConfig.model_validate(dict(b))
+    except ValidationError:
+        return dict(a) == dict(b)
+
+
+def _protocol_followers(data: Mapping[str, Any], path: list[str], text: str) -> list[int]:
+    """The bodies a ``protocol.<key>`` override also applies to: those whose protocol is the
+    run's; one warning when some body has its own protocol and none follows the run's."""
+    bodies = data.get("bodies")
+    if path[0] != "protocol" or len(path) < 2 or not isinstance(bodies, list) or not bodies:
+        return []
+    run = data.get("protocol") or {}
+    entries = [b if isinstance(b, Mapping) else {} for b in bodies]
+    followers = [i for i, b in enumerate(entries) if _same_protocol(b.get("protocol"), run)]
+    own = [
+        f"bodies[{i}]" + (f" ({b['name']})" if b.get("name") else "")
+        for i, b in enumerate(entries)
+        if b.get("protocol") is not None
+    ]
+    if own and not followers:
+        _logger.warning(
+            "--set %s changes the run's length (protocol.t_end) only: no body follows the "
+            "run's protocol; %s keep their own (set e.g. %s.%s)",
+            text,
+            ", ".join(own),
+            own[0].split()[0],
+            ".".join(path),
+        )
+    return followers
 
 
 def dump_config(config: RotorConfig, provenance: Mapping[str, Any] | None = None) -> str:

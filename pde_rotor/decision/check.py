@@ -42,20 +42,118 @@ PREDICTED = ("protocol.t_stop", "geometry.asymmetry", "noise.sigma")
 """The settings a table predicts over: every other physics setting is the table's own."""
 
 
-def table_for(ds: xr.Dataset, directory: Path) -> tuple[Path, DecisionTable] | None:
+DEFAULT_SCHEME = "consistent"
+"""The scheme of a report in the estimators' format (with the ``design`` attribute) that
+neither names nor records one: the default from 2026-11-23 until reports recorded their
+scheme (2026-11-28). A report of that format written on 2026-11-23 before the default
+changed would be misread; none is stored."""
+
+FORMER_SCHEME = "paper"
+"""The scheme of a report in the format before the estimators' rule (no ``design``
+attribute, before 2026-11-23) that names none: the only scheme there was, then the
+default (data/calibration.nc, predictions.nc and the *_quick reports)."""
+
+REPORT_SCHEME_ATTR = "scheme"
+"""A report's attribute with the scheme its runs used (written since reports record it)."""
+
+
+def report_scheme(ds: xr.Dataset) -> str:
+    """The ``numerics.scheme`` the runs of report `ds` used.
+
+    The scheme its ``base_config`` names, else the one its :data:`REPORT_SCHEME_ATTR`
+    attribute records, else the default of the report's time: :data:`FORMER_SCHEME`
+    for a report in the format before the estimators' rule (no ``design`` attribute),
+    :data:`DEFAULT_SCHEME` after it. A report that names no scheme is resolved, never
+    taken to match any table.
+    """
+    fixed = json.loads(ds.attrs.get("base_config", "{}"))
+    named = fixed.get("numerics", {}).get("scheme")
+    if named:
+        return str(named)
+    if REPORT_SCHEME_ATTR in ds.attrs:
+        return str(ds.attrs[REPORT_SCHEME_ATTR])
+    return DEFAULT_SCHEME if "design" in ds.attrs else FORMER_SCHEME
+
+
+def scheme_origin(ds: xr.Dataset) -> str:
+    """How :func:`report_scheme` found the scheme of report `ds`, in words."""
+    fixed = json.loads(ds.attrs.get("base_config", "{}"))
+    if fixed.get("numerics", {}).get("scheme"):
+        return "named by its base config"
+    if REPORT_SCHEME_ATTR in ds.attrs:
+        return f"recorded in its attribute {REPORT_SCHEME_ATTR!r}"
+    if "design" in ds.attrs:
+        return "named nowhere: the default of its report format"
+    return (
+        "named nowhere: its report format predates 2026-11-23, when the paper scheme "
+        "was the default"
+    )
+
+
+def report_config(ds: xr.Dataset) -> dict[str, Any]:
+    """The base config of report `ds` with its scheme resolved (:func:`report_scheme`)."""
+    fixed = json.loads(ds.attrs.get("base_config", "{}"))
+    fixed.setdefault("numerics", {})["scheme"] = report_scheme(ds)
+    return fixed
+
+
+def report_grids(ds: xr.Dataset) -> list[float]:
+    """The dx values of report `ds`: its dx axis, else its base grid.dx."""
+    if "dx" in ds.dims:
+        return [float(v) for v in ds["dx"].values]
+    return [float(report_config(ds).get("grid", {}).get("dx", RotorConfig().grid.dx))]
+
+
+def table_for(
+    ds: xr.Dataset, directory: Path, dx: float | None = None
+) -> tuple[Path, DecisionTable] | None:
     """The decision table under `directory` (``*.nc``, by name) that holds the model of
-    report `ds`: the same physics (:func:`pde_rotor.config.physics_differences`) in
-    every setting but :data:`PREDICTED`. None where no table does, e.g. for a report on
-    another grid, or one whose axes vary anything else (a grid comparison)."""
-    if set(ds["P"].dims) - {"t_stop", "asymmetry", "sigma"}:
+    report `ds` (at grid `dx` of a report along dx): the same physics
+    (:func:`pde_rotor.config.physics_differences`, the scheme resolved by
+    :func:`report_scheme`) in every setting but :data:`PREDICTED`. None where no table
+    does, e.g. for a report on another grid, or one whose axes vary anything else."""
+    if set(ds["P"].dims) - {"t_stop", "asymmetry", "sigma", "dx"}:
         return None
-    config = RotorConfig.model_validate(json.loads(ds.attrs.get("base_config", "{}")))
+    fixed = report_config(ds)
+    if dx is not None:
+        fixed.setdefault("grid", {})["dx"] = dx
+    elif "dx" in ds.dims:
+        return None
+    config = RotorConfig.model_validate(fixed)
     for path in sorted(Path(directory).glob("*.nc")):
         table = load_table(path)
         other = RotorConfig.model_validate_json(table.attrs["config"])
         if not physics_differences(config, other, ignore=PREDICTED):
             return path, table
     return None
+
+
+def is_ensemble(ds: xr.Dataset) -> bool:
+    """Whether report `ds` holds the conditionals' counts (a restart or bank ensemble)."""
+    return ds.attrs.get("estimator") in ("restart", "bank") and all(c in ds for c in COUNTS)
+
+
+def stored_matches(
+    reports: Sequence[tuple[Path, xr.Dataset]], directory: Path
+) -> tuple[list[tuple[Path, xr.Dataset, Path, DecisionTable]], list[str]]:
+    """Every (report, table) pair of `reports` that a table under `directory` predicts.
+
+    A report along dx is split by grid: each dx goes with its own table. Returns the
+    pairs and one line per report (or grid of one) that no table predicts."""
+    pairs, left_out = [], []
+    for path, ds in reports:
+        for dx in report_grids(ds):
+            found = table_for(ds, directory, dx if "dx" in ds.dims else None)
+            if found is None:
+                fixed = report_config(ds)
+                left_out.append(
+                    f"{path.name}: no table under {directory} holds its physics (dx = {dx:.4g}, "
+                    f"scheme {fixed['numerics']['scheme']}, flow "
+                    f"{'off' if fixed.get('flow', {}).get('enabled') is False else 'on'})"
+                )
+                continue
+            pairs.append((path, ds, *found))
+    return pairs, left_out
 
 
 def report_points(ds: xr.Dataset) -> list[dict[str, float]]:
@@ -162,12 +260,15 @@ def compare(table: DecisionTable, reports: Sequence[xr.Dataset]) -> Comparison:
     """The model's P, P(inv | CCW), P(inv | CW) at every point of `reports`.
 
     Raises:
-        ValueError: a report was computed with another grid, smoothing, flow or scheme,
+        ValueError: a report was computed with another grid, smoothing, flow or scheme
+            (a report that names no scheme has the one :func:`report_scheme` resolves),
             or a point's t_stop lies outside the table.
     """
     rows = []
     for ds in reports:
-        problem = mismatch(table, json.loads(ds.attrs.get("base_config", "{}")), list(ds.dims))
+        problem = mismatch(table, report_config(ds), list(ds.dims))
+        if problem and problem.startswith("numerics.scheme"):
+            problem += f" (the ensemble's scheme is {scheme_origin(ds)})"
         if problem:
             msg = f"report {ds.attrs.get('sweep', '?')}: {problem}"
             raise ValueError(msg)
@@ -193,6 +294,7 @@ def compare(table: DecisionTable, reports: Sequence[xr.Dataset]) -> Comparison:
                         else None,
                         "stops": int(stops) if column != "P" and stops is not None else None,
                         "sweep": ds.attrs.get("sweep", "?"),
+                        "dx": point["dx"],
                         "t_stop": t,
                         "asymmetry": d,
                         "sigma": point["sigma"],

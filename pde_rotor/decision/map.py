@@ -166,7 +166,7 @@ def draw_calibration(
 ) -> list[Path]:
     """The model's calibration: per bin of the predicted probability q of the less likely
     direction, the stops that went that way against the expected count, with the bin's
-    95 % Poisson range, and the aggregate test in the title (:mod:`.goodness`)."""
+    95 % binomial range, and the full test in the title (:mod:`.goodness`)."""
     fig = new_figure(7.0, 5.0)
     ax = fig.subplots()
     bins = [b for b in fit.bins if b.conditionals and b.expected > 0]
@@ -175,7 +175,7 @@ def draw_calibration(
     ratio = np.array([b.observed for b in bins]) / expected
     spread = np.array([[1 - b.range[0] / b.expected, b.range[1] / b.expected - 1] for b in bins])
     ax.errorbar(at, np.ones(len(bins)), yerr=spread.T, fmt="none", ecolor="0.6", elinewidth=8,
-                label="model: 1, with the 95 % range of a Poisson count")  # fmt: skip
+                label="model: 1, with the 95 % range of its count (sum of binomials)")  # fmt: skip
     colours = ["tab:blue" if b.holds else "tab:red" for b in bins]
     ax.scatter(at, ratio, c=colours, zorder=3, s=40, label="ensembles (red: outside the range)")
     for k, b in enumerate(bins):
@@ -187,10 +187,14 @@ def draw_calibration(
     ax.set_xlabel("predicted probability q of the less likely direction (bins)")
     ax.set_ylabel("stops that went that way: observed / expected")
     ax.legend(fontsize=8, loc="upper right")
+    widest = max(fit.bins, key=lambda b: b.scatter)
     ax.set_title(
-        f"Calibration of the decision model: X\u00b2 = {fit.pearson:.1f} on "
-        f"{fit.conditionals} conditionals (p = {fit.pearson_p:.2g})",
-        fontsize=10,
+        f"Decision model, {len(fit.conditionals)} conditionals: X\u00b2 p = "
+        f"{fit.pearson_p:.2g}, G\u00b2 p = {fit.g_p:.2g} (simulated null)\n{fit.failing} "
+        f"fail the exact test at 5 % ({fit.failing_expected:.1f} expected, p = "
+        f"{fit.failing_p:.2g}); x scatters {widest.scatter:.2f} in q \u2208 "
+        f"[{widest.low:g}, {widest.high:g})",
+        fontsize=9,
     )
     if footer:
         add_footer(fig, footer)

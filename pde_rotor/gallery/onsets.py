@@ -4,7 +4,7 @@
   the dish centre, held while c relaxes to the rest state (no flow unless asked);
 * :func:`kick_growth_rate`: the growth rate of its velocity after a small kick, the
   quantity the linear stability of docs/bodies.md predicts
-  (:func:`pde_rotor.model.onsets.free_disk_growth_rate`);
+  (:func:`pde_rotor.theory.free_disk.free_disk_growth_rate`);
 * :func:`disk_in_dish_config`, :func:`kick_orbit`, :func:`kick_hopf_rate`,
   :func:`dragged_orbit`: the disk in a no-flux dish, its Hopf pair after a kick, and the
   branch (rotation, or motion back and forth) it settles on after a given wake;

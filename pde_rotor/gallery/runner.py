@@ -31,7 +31,7 @@ from .common import GALLERY
 _logger = logging.getLogger(__name__)
 
 PUBLISHED_SUFFIXES = (".png", ".gif")
-"""Files that :func:`publish` copies from the output directory into gallery/."""
+"""Files that :func:`publish_files` copies from the output directory into gallery/."""
 
 
 class GalleryError(RuntimeError):

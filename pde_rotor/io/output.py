@@ -14,12 +14,15 @@ A run directory holds (names in :class:`RunDirectory`):
 Every file except the two append-only streams (events.csv, run.log) is written under
 the temporary name ``NAME.part`` in the same directory and renamed with
 :func:`os.replace` when complete, so a file with its final name is always complete. An
-interrupted run leaves ``*.part`` files, which never look finished.
+interrupted run leaves ``*.part`` files, which never look finished. While snapshots are
+written, ``.snapshots.h5.reserve`` holds the disk that closing them needs
+(:class:`pde_rotor.trackers.SnapshotTracker`).
 """
 
 from __future__ import annotations
 
 import csv
+import io
 import logging
 import os
 import tempfile
@@ -27,9 +30,10 @@ from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from datetime import datetime
 from pathlib import Path
-from typing import IO, Any
+from typing import IO, TYPE_CHECKING, Any
 
-import xarray as xr
+if TYPE_CHECKING:
+    import xarray as xr
 
 PART_SUFFIX = ".part"
 """Suffix of files being written; they are renamed to their final name when complete."""
@@ -164,15 +168,31 @@ def write_text_atomic(path: str | Path, text: str) -> None:
 
 
 def write_netcdf_atomic(dataset: xr.Dataset, path: str | Path) -> None:
-    """Write an xarray Dataset as NetCDF-4 (h5netcdf engine) atomically."""
-    with atomic_path(path) as tmp:
-        dataset.to_netcdf(tmp, engine="h5netcdf")
+    """Write an xarray Dataset as NetCDF-4 (h5netcdf engine) atomically.
+
+    The file is built in memory and written with plain file I/O: HDF5 never writes to
+    the disk itself. An HDF5 file whose write fails (a full disk) cannot be closed, and
+    the next file HDF5 opens under the same name then crashes the process
+    (segmentation fault); written this way a full disk is one ``OSError``
+    (``ENOSPC``), after which every later write works or fails cleanly.
+
+    Raises:
+        OSError: the file cannot be written (nothing is left under its name or its
+            ``.part`` name; an earlier complete file stays as it was).
+    """
+    data = dataset.to_netcdf(engine="h5netcdf")
+    try:
+        with atomic_path(path) as tmp, tmp.open("wb") as fh:
+            fh.write(data)
+    except OSError as err:
+        raise OSError(err.errno, err.strerror or str(err), str(path)) from err
 
 
 class AppendOnlyCSV:
     """CSV file written row by row; every row is flushed to disk when it is added.
 
-    A crash keeps the header and every complete row written so far.
+    A crash keeps the header and every complete row written so far; a row that cannot
+    be written whole (a full disk) is taken back, so the file never ends in half a row.
     """
 
     def __init__(self, path: str | Path, columns: Sequence[str]):
@@ -183,23 +203,35 @@ class AppendOnlyCSV:
         """
         self.path = Path(path)
         self.columns = list(columns)
-        self._file: IO[str] | None = self.path.open("w", newline="", encoding="utf-8")
-        self._writer = csv.writer(self._file)
-        self._writer.writerow(self.columns)
-        self._flush()
+        self._file: IO[bytes] | None = self.path.open("wb", buffering=0)
+        self._write(self.columns)
 
     def append(self, row: dict[str, Any]) -> None:
-        """Write one row (keys: the columns) and flush it to disk."""
+        """Write one row (keys: the columns) and flush it to disk.
+
+        Raises:
+            OSError: the row cannot be written (the file keeps the rows before it).
+        """
         if self._file is None:
             msg = f"{self.path} is closed"
             raise ValueError(msg)
-        self._writer.writerow([_csv_value(row[name]) for name in self.columns])
-        self._flush()
+        self._write([_csv_value(row[name]) for name in self.columns])
 
-    def _flush(self) -> None:
+    def _write(self, values: Sequence[str]) -> None:
         assert self._file is not None
-        self._file.flush()
-        os.fsync(self._file.fileno())
+        text = io.StringIO()
+        csv.writer(text).writerow(values)
+        data = text.getvalue().encode("utf-8")
+        end = self._file.tell()
+        try:
+            view = memoryview(data)
+            while view:
+                view = view[self._file.write(view) :]
+            os.fsync(self._file.fileno())
+        except OSError as err:
+            os.ftruncate(self._file.fileno(), end)
+            self._file.seek(end)
+            raise OSError(err.errno, err.strerror or str(err), str(self.path)) from err
 
     def close(self) -> None:
         """Close the file (idempotent)."""
@@ -285,6 +317,7 @@ class RunDirectory:
         for name in cls.FILES:
             (run.path / name).unlink(missing_ok=True)
             part_path(run.path / name).unlink(missing_ok=True)
+            (run.path / f".{name}.reserve").unlink(missing_ok=True)
         return run
 
     @staticmethod
@@ -344,7 +377,7 @@ class RunDirectory:
 
         Detach it with :func:`detach_log` when the run ends.
         """
-        handler = logging.FileHandler(self.log, mode="a", encoding="utf-8")
+        handler = _RunLogHandler(self.log, mode="a", encoding="utf-8")
         handler.setLevel(logging.INFO)
         handler.setFormatter(
             logging.Formatter("%(asctime)s %(levelname)s %(name)s: %(message)s", "%H:%M:%S")
@@ -358,6 +391,28 @@ class RunDirectory:
                 logger.setLevel(logging.INFO)
         handler.saved_levels = saved  # type: ignore[attr-defined]
         return handler
+
+
+class _RunLogHandler(logging.FileHandler):
+    """run.log's handler: a write that fails (a full disk) ends the log quietly.
+
+    logging's default prints a traceback to stderr for every record it cannot write; on
+    a full disk that buried the one line saying why the run stopped. The lines written
+    before stay in run.log.
+    """
+
+    failed = False
+
+    def emit(self, record: logging.LogRecord) -> None:
+        if not self.failed:
+            super().emit(record)
+
+    def handleError(self, record: logging.LogRecord) -> None:  # noqa: N802
+        self.failed = True
+        try:
+            self.close()
+        except OSError:  # the buffered rest cannot be written either
+            self.stream = None  # type: ignore[assignment]
 
 
 def detach_log(handler: logging.Handler, loggers: Sequence[str] = ("pde_rotor", "pde")) -> None:

@@ -3,24 +3,29 @@
 :func:`advance_bodies` is the loop of :func:`pde_rotor.kernels.cpu.advance` for the
 generalised model (docs/bodies.md): every step it
 
-1. freezes the bodies that are fixed or in a stop of their own schedule (``stopped_at``);
+1. holds the bodies that are fixed or in a stop of their own schedule (the motion's
+   ``held``, ``hold``);
 2. redraws F, G (filtered for ``consistent``) and the owner map of each body whose pose
    changed since it was last drawn (:func:`draw_body`; bodies may not overlap, so each
    cell belongs to one body at most, and the plate velocity of a cell is its owner's,
-   :func:`plate_velocity`);
+   the rates' ``plate_velocity``);
 3. takes each moving body's integrals over its plate (:func:`body_integrals`, area
    form with central differences, the ``paper`` scheme; for ``consistent`` the force
    and torque in contour form, :func:`body_contour`);
-4. advances c and v by one Euler step of Eqs. (eqc), (eqv) (the core's ``plate_rates``
+4. advances c and v by one Euler step of Eqs. (eqc), (eqv) (the rates' ``plate_rates``
    with the owner's plate velocity; behind a no-flux dish wall c on the cut cells of the
    circle, :func:`pde_rotor.kernels.wall.euler_walled_fields`);
-5. advances the bodies, Eq. (eq_motion) about X_k (the body core's
-   ``body_accelerations``), forward Euler, the noise kick of Eq. (noiseav) on omega.
+5. advances the bodies, Eq. (eq_motion) about X_k (the motion's ``body_loads``,
+   ``euler_pose``), forward Euler or Heun's method (the rotor's semantics, see
+   :func:`advance_bodies`), and the noise kick of Eq. (noiseav) on omega.
+
+The rotor's loop (:func:`pde_rotor.kernels.cpu.advance`) takes the same step's tail
+with the same functions of :mod:`pde_rotor.physics.motion`: the paper's rotor is the
+``fixed_axis`` body at the origin.
 
 A body that reaches the dish's edge or another body ends the run: the step, the body
 and the reason are returned (see :func:`advance_bodies`), and the solver raises with
-them. The physics is :mod:`pde_rotor.kernels.core` and :mod:`pde_rotor.kernels.body_core`;
-these loops only walk the grid.
+them. The physics is :mod:`pde_rotor.physics`; these loops only walk the grid.
 """
 
 from __future__ import annotations
@@ -31,38 +36,35 @@ import numba as nb
 import numpy as np
 
 from ..model.body_schemes import ARC_EDGES
-from .body_core import (
-    CPU_BODIES,
-    MOTION_FIXED,
-    MOTION_FREE,
-    PLATE_DISK,
-    PLATE_NONE,
-    PLATE_POLYGON,
-    PLATE_STRIP,
-)
-from .core import CPU, FASTMATH
+from ..physics.build import CPU, FASTMATH
+from ..physics.indicators import PLATE_DISK, PLATE_NONE, PLATE_POLYGON, PLATE_STRIP
+from ..physics.motion import MOTION_FIXED, N_INTEGRALS
 from .indicators import filtered_plate_row, plate_row
 from .spline import ROW_GROUP, spline_columns, spline_rows
 from .wall import euler_walled_fields
 
-_plate_rates = CPU.plate_rates
-_rate_coefficients = CPU.rate_coefficients
-_stopped_at = CPU.stopped_at
-_owner_plate = CPU_BODIES.owner_plate
-_body_plate_cell = CPU_BODIES.body_plate_cell
-_pill_term = CPU.pill_term
-_pill_reach = CPU.pill_reach
-_body_accelerations = CPU_BODIES.body_accelerations
-_euler_rotor = CPU.euler_rotor
-_noise_kick = CPU.noise_kick
-_filtered_pill_term = CPU.filtered_pill_term
-_filtered_pill_reach = CPU.filtered_pill_reach
-_edge_sums = CPU_BODIES.edge_sums
-_filtered_strip = CPU_BODIES.filtered_strip
-_arc_node = CPU_BODIES.arc_node
+_plate_rates = CPU.rates.plate_rates
+_rate_coefficients = CPU.rates.rate_coefficients
+_held = CPU.motion.held
+_hold = CPU.motion.hold
+_tension_integrand = CPU.tension.tension_integrand
+_friction_moments = CPU.motion.friction_moments
+_body_loads = CPU.motion.body_loads
+_finite_loads = CPU.motion.finite_loads
+_euler_pose = CPU.motion.euler_pose
+_heun_pose = CPU.motion.heun_pose
+_owner_plate = CPU.rates.owner_plate
+_body_plate_cell = CPU.indicators.body_plate_cell
+_pill_term = CPU.indicators.pill_term
+_pill_reach = CPU.indicators.pill_reach
+_noise_kick = CPU.motion.noise_kick
+_filtered_pill_term = CPU.indicators.filtered_pill_term
+_filtered_pill_reach = CPU.indicators.filtered_pill_reach
+_edge_sums = CPU.tension.edge_sums
+_polygon_band = CPU.tension.polygon_band
+_filtered_strip = CPU.indicators.filtered_strip
+_arc_node = CPU.tension.arc_node
 
-N_INTEGRALS = 10
-"""Integrals of a body per step (:func:`body_integrals`)."""
 
 STATUS_FINITE, STATUS_EDGE, STATUS_OVERLAP = 1, 2, 3
 """Why a run ended early (``status[0]``): non-finite state, a body at the dish's edge,
@@ -275,11 +277,12 @@ def draw_body(F, G, owner, domain, k, body, pills, pose, normals, centres, box, 
 
 
 @nb.njit(cache=True, nogil=True, fastmath=FASTMATH)
-def body_integrals(cur, F, owner, coords, k, x_k, y_k, box, flow, out):
+def body_integrals(cur, F, owner, coords, k, x_k, y_k, box, p, out):
     """The integrals of body k over its plate, area form (central differences) (compiled).
 
     out[:] = (int F grad c (x, y), int F (r - X) x grad c, int F, int F (r - X) (x, y),
-    int F |r - X|^2, int F (r - X) x v, int F v (x, y)), each times dA, summed over the
+    int F |r - X|^2, int F (r - X) x v, int F v (x, y)), each times dA (the tension's
+    ``tension_integrand`` and the motion's ``friction_moments``), summed over the
     cells body k owns in row-major order (the rotor's order: with X = 0 the torque's
     integrals are those of :func:`pde_rotor.kernels.cpu.rotor_integrals`).
     """
@@ -288,6 +291,8 @@ def body_integrals(cur, F, owner, coords, k, x_k, y_k, box, flow, out):
     nn = np.uint64(n * n)
     dx = coords[1] - coords[0]
     inv_2dx = 0.5 / dx
+    inv_sat = p.inv_saturation
+    flow = p.flow
     # the sums in locals, which stay in registers (out might alias cur or F)
     s0 = s1 = s2 = s3 = s4 = s5 = s6 = s7 = s8 = s9 = 0.0
     for i in range(box[k, 0], box[k, 1]):
@@ -300,21 +305,18 @@ def body_integrals(cur, F, owner, coords, k, x_k, y_k, box, flow, out):
             if f == 0.0:
                 continue
             ry = coords[j] - y_k
-            dcdx = (cur[o + sx] - cur[o - sx]) * inv_2dx
-            dcdy = (cur[o + np.uint64(1)] - cur[o - np.uint64(1)]) * inv_2dx
-            s0 += f * dcdx
-            s1 += f * dcdy
-            s2 += f * (rx * dcdy - ry * dcdx)
-            s3 += f
-            s4 += f * rx
-            s5 += f * ry
-            s6 += f * (rx * rx + ry * ry)
-            if flow:
-                vx = cur[o + nn]
-                vy = cur[o + nn + nn]
-                s7 += f * (rx * vy - ry * vx)
-                s8 += f * vx
-                s9 += f * vy
+            t0, t1, t2 = _tension_integrand(cur, o, sx, np.uint64(1), f, rx, ry, inv_2dx, inv_sat)
+            m0, m1, m2, m3, m4, m5, m6 = _friction_moments(cur, o, nn, f, rx, ry, flow)
+            s0 += t0
+            s1 += t1
+            s2 += t2
+            s3 += m0
+            s4 += m1
+            s5 += m2
+            s6 += m3
+            s7 += m4
+            s8 += m5
+            s9 += m6
     area = dx * dx
     out[0], out[1], out[2], out[3], out[4] = s0 * area, s1 * area, s2 * area, s3 * area, s4 * area
     out[5], out[6], out[7], out[8], out[9] = s5 * area, s6 * area, s7 * area, s8 * area, s9 * area
@@ -331,12 +333,12 @@ def spline_box(cur, coef, n, i0, i1, j0, j1, carry):
 
 
 @nb.njit(cache=True, nogil=True, fastmath=FASTMATH, error_model="numpy")
-def body_contour(cur, coords, k, body, pills, pose, normals, centres, tables, delta, out):
+def body_contour(cur, coords, k, body, pills, pose, normals, centres, tables, p, out):
     """int F_k grad c dA (x, y) and int F_k (r - X_k) x grad c dA in contour form
     (``consistent``; :mod:`pde_rotor.model.body_schemes`) into out[0:3] (compiled).
 
     The spline of c on the square window of half side ``window_half`` cells about the
-    cell of X_k (:func:`spline_box`), then the contour nodes of the body core: a
+    cell of X_k (:func:`spline_box`), then the contour nodes of the tension: a
     polygon's or a strip's edges (``edge_sums``; per (edge, band node) the sum along
     the edge, the pairs added in order, as the rotor's contour torque; a strip's four
     edges of two lengths, its band nodes without a parallel skipped), a disk plate's
@@ -346,6 +348,7 @@ def body_contour(cur, coords, k, body, pills, pose, normals, centres, tables, de
     for :func:`advance_bodies`.
     """
     quad_s, quad_t, _, pill_tab, _, _, rings, coef, carry = tables
+    delta, inv_sat = p.smoothing, p.inv_saturation
     _orient(k, body, pills, pose, normals, centres)  # scratch: a new stepper starts with 0
     b = body[k]
     n = coords.size
@@ -359,6 +362,7 @@ def body_contour(cur, coords, k, body, pills, pose, normals, centres, tables, de
     j0, j1 = max(1, jc - half), min(n - 1, jc + half)
     spline_box(cur, coef, n, i0, i1, j0, j1, carry)
     n_s, n_t = quad_s.shape[1], quad_t.shape[1]
+    grid = (0, n, x0, inv_dx)
     f_x = 0.0
     f_y = 0.0
     torque = 0.0
@@ -366,10 +370,9 @@ def body_contour(cur, coords, k, body, pills, pose, normals, centres, tables, de
         for j in range(b.n_corners):
             ex, ey = normals[0, j, k], normals[1, j, k]
             for m in range(n_s):
-                h = b.size_a - delta * quad_s[0, m]
-                pair_x, pair_y, pair_t = _edge_sums(
-                    coef, n, x0, inv_dx, x_k, y_k, ex, ey, h, h * b.tan_half, quad_s, quad_t, m
-                )
+                h, half = _polygon_band(b.size_a, delta, b.tan_half, quad_s, m)
+                edge = (x_k, y_k, ex, ey, h, half)
+                pair_x, pair_y, pair_t = _edge_sums(coef, grid, edge, quad_s, quad_t, m, inv_sat)
                 f_x += pair_x
                 f_y += pair_y
                 torque += pair_t
@@ -382,10 +385,8 @@ def body_contour(cur, coords, k, body, pills, pose, normals, centres, tables, de
                 h = -delta * quad_s[0, m]
                 if h <= -thinner:  # no parallel: the gauge is >= -W/2 (L/2) everywhere
                     continue
-                pair_x, pair_y, pair_t = _edge_sums(
-                    coef, n, x0, inv_dx, x_k, y_k, ex, ey, side + h, along + h, quad_s, quad_t,
-                    m,
-                )  # fmt: skip
+                edge = (x_k, y_k, ex, ey, side + h, along + h)
+                pair_x, pair_y, pair_t = _edge_sums(coef, grid, edge, quad_s, quad_t, m, inv_sat)
                 f_x += pair_x
                 f_y += pair_y
                 torque += pair_t
@@ -410,7 +411,7 @@ def body_contour(cur, coords, k, body, pills, pose, normals, centres, tables, de
                 for a_l in range(n_arc):
                     angle = phi + step * a_l
                     a, c = _arc_node(
-                        coef, n, x0, inv_dx, cx, cy, h, math.cos(angle), math.sin(angle), weight
+                        coef, grid, cx, cy, h, math.cos(angle), math.sin(angle), weight, inv_sat
                     )
                     q_x += a
                     q_y += c
@@ -466,124 +467,254 @@ def euler_body_fields(cur, nxt, F, G, owner, domain, coef, dt, pose, flow):
 
 
 @nb.njit(cache=True, nogil=True)
+def _draw_bodies(F, G, owner, domain, surface, bodies, p, scratch, taps, status):
+    """Draw every body whose pose changed since it was last drawn (:func:`draw_body`) and
+    the rows' support (compiled); `surface` is (wall, first: whether the support rows
+    must be redone anyway), `bodies` as for :func:`advance_bodies`.
+
+    Returns:
+        True, or False on a contact (the reason and bodies in `status`).
+    """
+    body, pills, pose, drawn, box, normals, centres, tables = bodies
+    redrawn = surface[1]
+    for k in range(body.shape[0]):
+        moved = pose[k, 0] != drawn[k, 0] or pose[k, 1] != drawn[k, 1]
+        if moved or pose[k, 2] != drawn[k, 2]:
+            code = draw_body(
+                F, G, owner, domain, k, body, pills, pose, normals, centres, box, tables, p,
+                scratch, taps, moved,
+            )  # fmt: skip
+            if code != 0:
+                status[0] = STATUS_EDGE if code > 0 else STATUS_OVERLAP
+                status[1] = k
+                status[2] = -1 - code if code < 0 else -1
+                return False
+            drawn[k, 0], drawn[k, 1], drawn[k, 2] = pose[k, 0], pose[k, 1], pose[k, 2]
+            redrawn = True
+    if redrawn:  # the support rows are scratch of each call
+        support_rows(box, domain[0].size, domain[3], domain[4])
+    return True
+
+
+@nb.njit(cache=True, nogil=True)
+def _loads(cur, F, owner, domain, bodies, p, integrals, loads, status):
+    """Each moving body's loads at its pose on the state `cur` into loads[k] (compiled):
+    its integrals (:func:`body_integrals`, and :func:`body_contour` for the contour form)
+    and the motion's ``body_loads``.
+
+    Returns:
+        True, or False where a body's accelerations are not finite (the body in `status`).
+    """
+    body, pills, pose, _, box, normals, centres, tables = bodies
+    coords = domain[0]
+    sign_k = p.torque_sign * p.tension_slope
+    for k in range(body.shape[0]):
+        b = body[k]
+        if b.motion == MOTION_FIXED:
+            continue
+        body_integrals(cur, F, owner, coords, k, pose[k, 0], pose[k, 1], box, p, integrals)
+        if p.contour:
+            body_contour(
+                cur, coords, k, body, pills, pose, normals, centres, tables, p,
+                integrals,
+            )  # fmt: skip
+        state = (pose[k, 0], pose[k, 1], pose[k, 2], pose[k, 3], pose[k, 4], pose[k, 5])
+        out = _body_loads(integrals, state, b, sign_k)
+        for m in range(9):
+            loads[k, m] = out[m]
+        if not _finite_loads(out):
+            status[0] = STATUS_FINITE
+            status[1] = k
+            return False
+    return True
+
+
+@nb.njit(cache=True, nogil=True)
+def _fields(cur, nxt, F, G, owner, domain, wall, p, pose, rhs):
+    """One Euler step of the fields from `cur` into `nxt` with the bodies at `pose`
+    (compiled): behind the no-flux wall :func:`~pde_rotor.kernels.wall.euler_walled_fields`,
+    else :func:`euler_body_fields`."""
+    coef = _rate_coefficients(p)
+    if wall[0].size > 0:
+        euler_walled_fields(cur, nxt, F, G, owner, domain, wall, coef, p.dt, pose, p.flow, rhs)
+    else:
+        euler_body_fields(cur, nxt, F, G, owner, domain, coef, p.dt, pose, p.flow)
+
+
+@nb.njit(cache=True, nogil=True)
+def _average(cur, stage, nxt, domain, wall, flow):
+    """nxt = (cur + stage) / 2 where a step writes (compiled): c on the interior cells (on
+    the cut cells' rows behind a no-flux wall), v on the interior cells with `flow`."""
+    coords, lo, hi, _, _ = domain
+    n = coords.size
+    nn = n * n
+    walled = wall[0].size > 0
+    c_lo, c_hi = (wall[5], wall[6]) if walled else (lo, hi)
+    for i in range(n):
+        for j in range(c_lo[i], c_hi[i]):
+            o = i * n + j
+            nxt[o] = 0.5 * (cur[o] + stage[o])
+    if flow:
+        for ch in range(1, 3):
+            for i in range(n):
+                for j in range(lo[i], hi[i]):
+                    o = ch * nn + i * n + j
+                    nxt[o] = 0.5 * (cur[o] + stage[o])
+
+
+@nb.njit(cache=True, nogil=True)
+def _set_poses(pose, poses):
+    """pose[:, :6] = the (K, 6) `poses`."""
+    for k in range(pose.shape[0]):
+        for m in range(6):
+            pose[k, m] = poses[k, m]
+
+
+@nb.njit(cache=True, nogil=True)
 def advance_bodies(
-    data, spare, F, G, owner, domain, wall, params, body, pills, pose, drawn, box, normals,
-    centres, tables, xi, status, step0, n_steps,
+    data, spare, stage, F, G, owner, domain, wall, params, bodies, xi, status, step0, n_steps,
 ):  # fmt: skip
-    """Advance c, v and every body by `n_steps` forward Euler steps (compiled).
+    """Advance c, v and every body by `n_steps` steps, forward Euler or Heun (compiled).
+
+    Each step, every body k:
+
+    1. held (``fixed``, or in a stop of its own schedule: the motion's ``held``): U = 0,
+       omega = 0 (``hold``), and the column ``stopped`` of its pose is 1;
+    2. F, G and the owner map redrawn where a pose changed (:func:`_draw_bodies`);
+    3. the loads of each moving body at the state y and pose P (:func:`_loads`, the
+       motion's ``body_loads``), recorded in its pose's force columns;
+    4. the fields' Euler step y~ = y + dt f(y, P) (:func:`_fields`).
+
+    Forward Euler (`stage` empty): 5. P <- ``euler_pose`` of every body not held.
+
+    Heun (`stage` of the data's shape), the rotor's semantics
+    (:func:`pde_rotor.kernels.cpu.advance`):
+
+    5. the predicted poses P~ = ``euler_pose`` (P for a held body, whose velocities stay 0);
+    6. F, G and the owner map redrawn at P~ (a contact there ends the run as at step 2);
+    7. the loads at (y~, P~) (step 3, not recorded);
+    8. a second Euler step of the fields from (y~, P~) into `stage`, y~ + dt f(y~, P~);
+    9. the fields' average y + dt (f(y, P) + f(y~, P~)) / 2 = (y + stage) / 2 on the
+       cells a step writes (:func:`_average`);
+    10. every body not held: P <- ``heun_pose`` (the trapezoid of X, phi with the
+        velocities at P and P~, of U, omega with the accelerations at both).
+
+    Then, both integrators: the noise kick of Eq. (noiseav) on omega of every body not
+    held (``noise_kick``, once per step, after the average), and on to the next step.
+    Every step ends with finite accelerations, or the run ends.
 
     Args:
         data: flat state (c, v_x, v_y), 3 n^2 values, updated in place.
         spare: scratch of the same shape.
+        stage: scratch of the same shape for Heun's method, or empty for Euler.
         F, G, owner: flat indicator arrays and the owner map (-1: no body), updated.
         domain: (coords, lo, hi, slo, shi); slo, shi are rewritten from the bodies' boxes.
         wall: the cut cells of a no-flux dish wall (:meth:`pde_rotor.model.wall.CutCells.arrays`;
             empty, :data:`pde_rotor.kernels.wall.NO_WALL`, for the absorbing wall).
         params: the run's parameter record (:func:`pde_rotor.kernels.records.make_record`).
-        body: the bodies' records (``BODY``), `pills` their pills (P, 7): body-frame x,
-            y, radius, relative source density, and polar form: distance from X and the
-            angle as two terms (the paper's corner angle 2 pi j / N and the shift Delta,
-            added in the rotor's order).
-        pose: (K, 13) poses (:data:`pde_rotor.model.surface.POSE_COLUMNS`), updated in place.
-        drawn: (K, 3) x, y, phi at which each body was last drawn (nan: never).
-        box: (K, 4) int rows and columns of each body's last drawn footprint.
-        normals, centres: scratch (2, max N, K) and (2, P).
-        tables: the ``consistent`` scheme's arrays
-            (:func:`pde_rotor.kernels.records.make_body_tables`): quadrature rules,
-            filter tables, spline scratch; read where the record's ``filtered`` and
-            ``contour`` are set (the scheme switch).
+        bodies: (body, pills, pose, drawn, box, normals, centres, tables):
+            the bodies' records (``BODY``), their pills (P, 7): body-frame x, y, radius,
+            relative source density, and polar form: distance from X and the angle as
+            two terms (the paper's corner angle 2 pi j / N and the shift Delta, added in
+            the rotor's order); the (K, 13) poses
+            (:data:`pde_rotor.model.surface.POSE_COLUMNS`), updated in place; (K, 3) x,
+            y, phi at which each body was last drawn (nan: never); (K, 4) int rows and
+            columns of each body's last drawn footprint; scratch (2, max N, K) and
+            (2, P); the ``consistent`` scheme's arrays
+            (:func:`pde_rotor.kernels.records.make_body_tables`), read where the
+            record's ``filtered`` and ``contour`` are set.
         xi: K standard normals per step for the noise (read where a body's kick != 0).
         status: (3,) ints: on an early end, the reason (``STATUS_*``) and the bodies.
         step0: global index of the first step; n_steps: number of steps.
 
     Returns:
-        -1 on success, else the index of the step at which the run ended (state left at
-        the start of that step; the reason in `status`).
+        -1 on success, else the index of the step at which the run ended (state and
+        poses left at the start of that step; the reason in `status`).
     """
     p = params[0]
     dt = p.dt
+    body, _, pose, _, _, _, _, _ = bodies
     n_bodies = body.shape[0]
     coords = domain[0]
     n = coords.size
     nn = n * n
-    coef = _rate_coefficients(p)
-    sign_k = p.torque_sign * p.tension_slope
     cur = data
     nxt = spare
+    heun = stage.size > 0
     integrals = np.zeros(N_INTEGRALS)
-    accel = np.zeros((n_bodies, 3))
-    no_flux = wall[0].size > 0
-    rhs = np.zeros(nn if no_flux else 0)
+    loads = np.zeros((n_bodies, 9))
+    loads_p = np.zeros((n_bodies, 9))
+    start = np.zeros((n_bodies, 6))
+    predicted = np.zeros((n_bodies, 6))
+    rhs = np.zeros(nn if wall[0].size > 0 else 0)
     scratch = np.empty((SCRATCH_ROWS, n))
     taps = np.empty(n, np.uint64)
     if not p.flow:
         data[nn:] = 0.0
         spare[nn:] = 0.0
+        if heun:
+            stage[nn:] = 0.0
     for s in range(n_steps):
-        redrawn = False
         for k in range(n_bodies):
-            b = body[k]
-            held = b.motion == MOTION_FIXED or _stopped_at(
-                step0 + s, b.n_ini, b.n_stop, b.n_period, b.cycles
-            )
-            pose[k, 12] = 1.0 if held else 0.0
-            if held:
-                pose[k, 3] = 0.0
-                pose[k, 4] = 0.0
-                pose[k, 5] = 0.0
-            if pose[k, 0] != drawn[k, 0] or pose[k, 1] != drawn[k, 1] or pose[k, 2] != drawn[k, 2]:
-                code = draw_body(
-                    F, G, owner, domain, k, body, pills, pose, normals, centres, box, tables, p,
-                    scratch, taps, pose[k, 0] != drawn[k, 0] or pose[k, 1] != drawn[k, 1],
-                )  # fmt: skip
-                if code != 0:
-                    status[0] = STATUS_EDGE if code > 0 else STATUS_OVERLAP
-                    status[1] = k
-                    status[2] = -1 - code if code < 0 else -1
-                    if s % 2 == 1:
-                        data[:] = spare
-                    return s
-                drawn[k, 0], drawn[k, 1], drawn[k, 2] = pose[k, 0], pose[k, 1], pose[k, 2]
-                redrawn = True
-        if redrawn or s == 0:  # the support rows are scratch of each call
-            support_rows(box, n, domain[3], domain[4])
-        for k in range(n_bodies):
-            b = body[k]
-            if b.motion == MOTION_FIXED:
-                continue
-            body_integrals(cur, F, owner, coords, k, pose[k, 0], pose[k, 1], box, p.flow, integrals)
-            if p.contour:
-                body_contour(
-                    cur, coords, k, body, pills, pose, normals, centres, tables, p.smoothing,
-                    integrals,
-                )  # fmt: skip
-            out = _body_accelerations(
-                integrals, pose[k, 3], pose[k, 4], pose[k, 5], sign_k, b.friction, b.mass,
-                b.inertia,
-            )  # fmt: skip
+            is_held = _held(step0 + s, body[k])
+            pose[k, 12] = 1.0 if is_held else 0.0
+            state = (pose[k, 0], pose[k, 1], pose[k, 2], pose[k, 3], pose[k, 4], pose[k, 5])
+            state = _hold(state, is_held)
             for m in range(6):
-                pose[k, 6 + m] = out[m]
-            accel[k, 0], accel[k, 1], accel[k, 2] = out[6], out[7], out[8]
-            if not (math.isfinite(out[6]) and math.isfinite(out[7]) and math.isfinite(out[8])):
-                status[0] = STATUS_FINITE
-                status[1] = k
+                start[k, m] = state[m]
+        _set_poses(pose, start)
+        ok = _draw_bodies(F, G, owner, domain, (wall, s == 0), bodies, p, scratch, taps, status)
+        if ok:
+            ok = _loads(cur, F, owner, domain, bodies, p, integrals, loads, status)
+        if not ok:
+            if s % 2 == 1:
+                data[:] = spare
+            return s
+        for k in range(n_bodies):
+            for m in range(6):
+                pose[k, 6 + m] = loads[k, m]
+        _fields(cur, nxt, F, G, owner, domain, wall, p, pose, rhs)
+        for k in range(n_bodies):
+            b = body[k]
+            state = (start[k, 0], start[k, 1], start[k, 2], start[k, 3], start[k, 4], start[k, 5])
+            load = (loads[k, 0], loads[k, 1], loads[k, 2], loads[k, 3], loads[k, 4],
+                    loads[k, 5], loads[k, 6], loads[k, 7], loads[k, 8])  # fmt: skip
+            if pose[k, 12] == 0.0:
+                state = _euler_pose(state, load, dt, b)
+            for m in range(6):
+                predicted[k, m] = state[m]
+        _set_poses(pose, predicted)
+        if heun:
+            ok = _draw_bodies(F, G, owner, domain, (wall, False), bodies, p, scratch, taps, status)
+            if ok:
+                ok = _loads(nxt, F, owner, domain, bodies, p, integrals, loads_p, status)
+            if not ok:
+                _set_poses(pose, start)
                 if s % 2 == 1:
                     data[:] = spare
                 return s
-        if no_flux:
-            euler_walled_fields(cur, nxt, F, G, owner, domain, wall, coef, dt, pose, p.flow, rhs)
-        else:
-            euler_body_fields(cur, nxt, F, G, owner, domain, coef, dt, pose, p.flow)
+            _fields(nxt, stage, F, G, owner, domain, wall, p, pose, rhs)
+            _average(cur, stage, nxt, domain, wall, p.flow)
+            for k in range(n_bodies):
+                if pose[k, 12] != 0.0:
+                    continue
+                state = (start[k, 0], start[k, 1], start[k, 2], start[k, 3], start[k, 4],
+                         start[k, 5])  # fmt: skip
+                load = (loads[k, 0], loads[k, 1], loads[k, 2], loads[k, 3], loads[k, 4],
+                        loads[k, 5], loads[k, 6], loads[k, 7], loads[k, 8])  # fmt: skip
+                guess = (predicted[k, 0], predicted[k, 1], predicted[k, 2], predicted[k, 3],
+                         predicted[k, 4], predicted[k, 5])  # fmt: skip
+                load_p = (loads_p[k, 0], loads_p[k, 1], loads_p[k, 2], loads_p[k, 3],
+                          loads_p[k, 4], loads_p[k, 5], loads_p[k, 6], loads_p[k, 7],
+                          loads_p[k, 8])  # fmt: skip
+                state = _heun_pose(state, load, guess, load_p, dt, body[k])
+                for m in range(6):
+                    pose[k, m] = state[m]
         for k in range(n_bodies):
             b = body[k]
-            if pose[k, 12] != 0.0:
-                continue
-            pose[k, 2], pose[k, 5] = _euler_rotor(pose[k, 2], pose[k, 5], accel[k, 2], dt)
-            if b.motion == MOTION_FREE:
-                pose[k, 0], pose[k, 3] = _euler_rotor(pose[k, 0], pose[k, 3], accel[k, 0], dt)
-                pose[k, 1], pose[k, 4] = _euler_rotor(pose[k, 1], pose[k, 4], accel[k, 1], dt)
-            if b.kick != 0.0:
-                pose[k, 5] = _noise_kick(pose[k, 5], xi[s * n_bodies + k], b)
+            if pose[k, 12] == 0.0 and b.kick != 0.0:
+                state = (pose[k, 0], pose[k, 1], pose[k, 2], pose[k, 3], pose[k, 4], pose[k, 5])
+                pose[k, 5] = _noise_kick(state, xi[s * n_bodies + k], b)[5]
         cur, nxt = nxt, cur
     if n_steps % 2 == 1:
         data[:] = spare

@@ -13,8 +13,8 @@ Time: forward Euler with step dt (the paper's "Euler method"), every right-hand 
 the old time level; or, with ``numerics.integrator: heun``, Heun's second-order method
 (predictor Euler step of fields and rotor, F, G and the torque recomputed at the predicted
 angle, trapezoidal average; docs/model.md, "Time integration"). Space and the rotor
-integrals: the physics core (:mod:`pde_rotor.kernels.core`) in the scheme of ``numerics.scheme``
-(:mod:`pde_rotor.model.schemes`). These loops only walk the grid and call the core; the GPU
+integrals: the compiled physics (:mod:`pde_rotor.physics`) in the scheme of ``numerics.scheme``
+(:mod:`pde_rotor.model.schemes`). These loops only walk the grid and call the physics; the GPU
 backend calls the same core from its threads. :mod:`pde_rotor.solver.rotor` binds them to a
 simulation and to py-pde.
 """
@@ -26,27 +26,32 @@ import math
 import numba as nb
 import numpy as np
 
-from .core import CPU, FASTMATH
+from ..physics.build import CPU, FASTMATH
 from .indicators import SCRATCH_ROWS, indicator_row
 from .spline import ROW_GROUP, spline_columns, spline_rows, spline_window
 
-_cell_rates = CPU.cell_rates
-_rate_coefficients = CPU.rate_coefficients
-_cell_integrals = CPU.cell_integrals
-_contour_place = CPU.contour_place
-_bspline_weights = CPU.bspline_weights
-_spline_sum = CPU.spline_sum
-_rotor_table = CPU.rotor_table
-_stopped_at = CPU.stopped_at
-_rotor_torques = CPU.rotor_torques
-_angular_acceleration = CPU.angular_acceleration
-_euler_rotor = CPU.euler_rotor
-_heun_rotor = CPU.heun_rotor
-_noise_kick = CPU.noise_kick
+_cell_rates = CPU.rates.cell_rates
+_rate_coefficients = CPU.rates.rate_coefficients
+_tension_integrand = CPU.tension.tension_integrand
+_surface_pressure = CPU.tension.surface_pressure
+_friction_moments = CPU.motion.friction_moments
+_polygon_band = CPU.tension.polygon_band
+_edge_place = CPU.tension.edge_place
+_bspline_weights = CPU.spline.bspline_weights
+_spline_sum = CPU.spline.spline_sum
+_rotor_table = CPU.indicators.rotor_table
+_held = CPU.motion.held
+_hold = CPU.motion.hold
+_body_loads = CPU.motion.body_loads
+_finite_loads = CPU.motion.finite_loads
+_euler_pose = CPU.motion.euler_pose
+_heun_pose = CPU.motion.heun_pose
+_noise_kick = CPU.motion.noise_kick
 
 
 _LOOP = {"cache": True, "nogil": True, "fastmath": FASTMATH, "error_model": "numpy"}
-"""numba options of the loops: fastmath without reassociation (:data:`.core.FASTMATH`)."""
+"""numba options of the loops: fastmath without reassociation
+(:data:`pde_rotor.physics.build.FASTMATH`)."""
 _PARALLEL = {**_LOOP, "parallel": True}
 """... and of the loops shared among threads (numba ``prange``)."""
 
@@ -97,13 +102,17 @@ def _euler_row(cur, nxt, F, G, i, coords, lo, hi, slo, shi, coef, dt, omega, flo
 
 
 @nb.njit(inline="always", **_LOOP)
-def _row_integrals(cur, F, i, coords, j0, j1, inv_2dx, flow, area, sums):
+def _row_integrals(cur, F, i, coords, j0, j1, steps, flow, area, sums):
     """Row i's sums of the integrands of Eq. (eq_motion) over its support cells [j0, j1)
-    (``cell_integrals``: F r x grad c, F |r|^2, F r x v, without dA) into sums[i]; the
+    (the torque's of ``tension_integrand``, F r x grad c, and of ``friction_moments``,
+    F |r|^2 and F r x v, without dA; the rotor is the body at X = 0) into sums[i]; the
     first only with `area` (a compile-time constant: without it, the torque's contour
-    form replaces the area form, whose sum is 0 and whose gradients LLVM drops)."""
+    form replaces the area form, whose sum is 0 and whose gradients LLVM drops); `steps`
+    is (1 / (2 dx), 1 / c_sat) (``surface_pressure`` of :mod:`pde_rotor.physics.tension`)."""
     n = coords.size
     x = coords[i]
+    inv_2dx, inv_sat = steps
+    linear = inv_sat == 0.0
     cross_grad = 0.0
     moment = 0.0
     cross_v = 0.0
@@ -112,11 +121,14 @@ def _row_integrals(cur, F, i, coords, j0, j1, inv_2dx, flow, area, sums):
         f = F[o]
         if f == 0.0:
             continue
-        grad, mom, vel = _cell_integrals(cur, o, n, 1, n * n, f, x, coords[j], inv_2dx, flow)
-        if area:
-            cross_grad += grad
-        moment += mom
-        cross_v += vel
+        y = coords[j]
+        if area and linear:  # the literal 0: the linear law's copy reads c with no division
+            cross_grad += _tension_integrand(cur, o, n, 1, f, x, y, inv_2dx, 0.0)[2]
+        elif area:
+            cross_grad += _tension_integrand(cur, o, n, 1, f, x, y, inv_2dx, inv_sat)[2]
+        moments = _friction_moments(cur, o, n * n, f, x, y, flow)
+        moment += moments[3]
+        cross_v += moments[4]
     sums[i, 0] = cross_grad
     sums[i, 1] = moment
     sums[i, 2] = cross_v
@@ -144,7 +156,7 @@ def _sweep_block(cur, nxt, F, G, domain, params, tab, tables, turned, omega, wor
     n = coords.size
     rates = _rate_coefficients(p)
     dt = p.dt
-    inv_2dx = 0.5 / (coords[1] - coords[0])
+    steps = (0.5 / (coords[1] - coords[0]), p.inv_saturation)
     w_lo, w_hi = p.window_lo, p.window_hi
     for g in range(b, (n + ROW_GROUP - 1) // ROW_GROUP, blocks):
         i0 = g * ROW_GROUP
@@ -154,9 +166,9 @@ def _sweep_block(cur, nxt, F, G, domain, params, tab, tables, turned, omega, wor
             if turned and j1 > j0:
                 indicator_row(F, G, i, coords, j0, j1, p, tab, tables, scratch, taps)
             if p.contour:  # two calls, so that `area` is a compile-time constant of each
-                _row_integrals(cur, F, i, coords, j0, j1, inv_2dx, p.flow, False, sums)
+                _row_integrals(cur, F, i, coords, j0, j1, steps, p.flow, False, sums)
             else:
-                _row_integrals(cur, F, i, coords, j0, j1, inv_2dx, p.flow, True, sums)
+                _row_integrals(cur, F, i, coords, j0, j1, steps, p.flow, True, sums)
         if p.flow:  # two loops, so that `flow` is a compile-time constant of each
             _euler_rows(cur, nxt, F, G, i0, i1, domain, rates, dt, omega, True)
         else:
@@ -219,24 +231,26 @@ def _window_columns(coef, n, lo, hi, taps_lo, taps_hi):
 def _contour_block(coef, coords, params, tab, quad_s, quad_t, sums, scratch, b, blocks):
     """Block b of the contour nodes: the sum over the nodes along the edge of each
     (edge j, band node m) of every `blocks`-th pair into sums[j M + m], in two passes
-    over a pair's nodes: the core's ``contour_place`` and ``bspline_weights`` of every
-    node (SIMD), then the 16-tap sums ``spline_sum`` times the weights, added in order
-    (the core's ``contour_point``, node by node)."""
+    over a pair's nodes: the tension's ``edge_place`` and ``bspline_weights`` of every
+    node (SIMD), then the 16-tap sums ``spline_sum`` times the torque's weights, added in
+    order (the torque of the tension's ``edge_node``, node by node)."""
     p = params[0]
     n = coords.size
     x0 = coords[0]
     inv_dx = 1.0 / p.dx
     n_s, n_t = quad_s.shape[1], quad_t.shape[1]
     apothem, delta, tan_half = p.apothem, p.smoothing, p.tan_half
+    inv_sat = p.inv_saturation
     taps, weights = scratch
     sx, sy = np.uint64(n), np.uint64(1)
+    grid = (0, n, x0, inv_dx)
     for pair in range(b, p.n_corners * n_s, blocks):
         j = pair // n_s
         m = pair - j * n_s
+        h, half = _polygon_band(apothem, delta, tan_half, quad_s, m)
+        edge = (0.0, 0.0, tab[0, j], tab[1, j], h, half)
         for k_t in range(n_t):
-            row, tx, ty, w = _contour_place(
-                n, x0, inv_dx, tab, apothem, delta, tan_half, quad_s, quad_t, j, m, k_t
-            )
+            row, tx, ty, _, w = _edge_place(grid, edge, quad_s, quad_t, m, k_t)
             wx0, wx1, wx2, wx3 = _bspline_weights(tx)
             wy0, wy1, wy2, wy3 = _bspline_weights(ty)
             taps[k_t] = np.uint64(row)
@@ -248,7 +262,7 @@ def _contour_block(coef, coords, params, tab, quad_s, quad_t, sums, scratch, b, 
             wx0, wx1, wx2, wx3 = weights[0, k_t], weights[1, k_t], weights[2, k_t], weights[3, k_t]
             wy0, wy1, wy2, wy3 = weights[4, k_t], weights[5, k_t], weights[6, k_t], weights[7, k_t]
             c = _spline_sum(coef, taps[k_t], sx, sy, wx0, wx1, wx2, wx3, wy0, wy1, wy2, wy3)
-            total += weights[8, k_t] * c
+            total += weights[8, k_t] * _surface_pressure(c, inv_sat)
         sums[pair] = total
 
 
@@ -258,7 +272,7 @@ def contour_torque(coef, coords, params, tab, tables, sums, threads):
     the rows of the spline window of c into `coef`: the window's columns
     (:func:`.spline.spline_columns`, 0.002 ms, on the calling thread: shared among threads
     they would cost a parallel loop's start and their cache lines' moves from core to
-    core), then the nodes of the physics core's ``contour_point`` (:func:`_contour_block`)
+    core), then the nodes of the tension's ``edge_node`` (:func:`_contour_block`)
     in `threads` blocks of (edge, band node) pairs; `sums` (N M) receives the pairs'
     sums, added in order (the same for any number of threads)."""
     p = params[0]
@@ -327,17 +341,20 @@ def _total_integrals(sums, coords):
 
 
 @nb.njit(inline="always", **_LOOP)
-def _step(cur, nxt, F, G, domain, params, tab, tables, phi, turned, omega, work, threads):
-    """A step's pass over the grid at angle phi, angular velocity omega: F and G anew if
+def _step(cur, nxt, F, G, domain, params, tab, tables, pose, turned, work, threads):
+    """A step's pass over the grid at the rotor's `pose` (angle phi, angular velocity
+    omega; the motion's pose of the body at X = 0): F and G anew if
     the plate `turned` since they were computed, the Euler step of the fields from `cur`
     into `nxt` (:func:`sweep_rows`) and the torques on `cur` (the contour form by
     :func:`contour_torque`), in `threads` blocks. `work` is (coef, row sums, pair sums)
     scratch.
 
     Returns:
-        (T, -mu int F (|r|^2 omega - r x v) dA), Eqs. (torque), (eq_motion).
+        The rotor's loads, Eqs. (torque), (eq_motion) (the motion's ``body_loads`` of the
+        body at X = 0).
     """
     p = params[0]
+    phi, omega = pose[2], pose[5]
     coef, sums, pair_sums = work
     if turned:
         _rotor_table(phi, p.n_corners, p.pill_distance, p.asymmetry, tab)
@@ -345,7 +362,8 @@ def _step(cur, nxt, F, G, domain, params, tab, tables, phi, turned, omega, work,
     cross_grad, moment, cross_v = _total_integrals(sums, domain[0])
     if p.contour:
         cross_grad = contour_torque(coef, domain[0], params, tab, tables, pair_sums, threads)
-    return _rotor_torques(cross_grad, moment, cross_v, omega, p)
+    integrals = (0.0, 0.0, cross_grad, 0.0, 0.0, 0.0, moment, cross_v, 0.0, 0.0)
+    return _body_loads(integrals, pose, p, p.torque_sign * p.tension_slope)
 
 
 @nb.njit(**_LOOP)
@@ -358,7 +376,9 @@ def advance(data, spare, stage, F, G, domain, params, tables, rotor, xi, step0, 
     angle and state, a second Euler step from there into `stage`, and the average
     y + dt (f(y) + f(y~)) / 2 (:func:`heun_average`); phi and omega likewise. The noise
     kick is additive, added once per step (stochastic Heun for additive noise). The
-    stop schedule, the torques and the rotor's update are the physics core's.
+    rotor is the ``fixed_axis`` body at the origin: the step's tail (stop, loads,
+    finiteness, step, kick) is the motion's (:mod:`pde_rotor.physics.motion`), the same
+    as every body's (:func:`pde_rotor.kernels.bodies.advance_bodies`).
 
     The grid's work is shared among `threads` blocks, run on numba's threads (numba
     ``prange``; the caller sets their number with ``numba.set_num_threads``): rows,
@@ -390,7 +410,7 @@ def advance(data, spare, stage, F, G, domain, params, tables, rotor, xi, step0, 
     """
     p = params[0]
     dt = p.dt
-    phi, omega = rotor[0], rotor[1]
+    pose = (0.0, 0.0, rotor[0], 0.0, 0.0, rotor[1])
     cur = data
     nxt = spare
     n = domain[0].size
@@ -408,41 +428,36 @@ def advance(data, spare, stage, F, G, domain, params, tables, rotor, xi, step0, 
         data[nn:] = 0.0
         spare[nn:] = 0.0
     for s in range(n_steps):
-        stopped = _stopped_at(step0 + s, p.n_ini, p.n_stop, p.n_period, p.cycles)
-        if stopped:
-            omega = 0.0
-        torque, friction = _step(
-            cur, nxt, F, G, domain, params, tab, tables, phi, phi != phi_f, omega, work, threads
+        stopped = _held(step0 + s, p)
+        pose = _hold(pose, stopped)
+        loads = _step(
+            cur, nxt, F, G, domain, params, tab, tables, pose, pose[2] != phi_f, work, threads
         )
-        phi_f = phi
-        if not (math.isfinite(torque) and math.isfinite(friction)):
+        phi_f = pose[2]
+        if not _finite_loads(loads):
             if s % 2 == 1:
                 data[:] = spare
-            rotor[0], rotor[1] = phi, omega
+            rotor[0], rotor[1] = pose[2], pose[5]
             return s
-        accel = _angular_acceleration(torque, friction, p)
         if heun:
-            phi_p, omega_p = phi, 0.0
-            if not stopped:
-                phi_p, omega_p = _euler_rotor(phi, omega, accel, dt)
-            turned = phi_p != phi_f
-            torque_p, friction_p = _step(
-                nxt, stage, F, G, domain, params, tab, tables, phi_p, turned, omega_p, work, threads
+            predicted = pose if stopped else _euler_pose(pose, loads, dt, p)
+            turned = predicted[2] != phi_f
+            loads_p = _step(
+                nxt, stage, F, G, domain, params, tab, tables, predicted, turned, work, threads
             )
-            phi_f = phi_p
+            phi_f = predicted[2]
             heun_average(cur, stage, nxt, domain, p.flow, threads)
             if not stopped:
-                accel_p = _angular_acceleration(torque_p, friction_p, p)
-                phi, omega = _heun_rotor(phi, omega, accel, omega_p, accel_p, dt)
+                pose = _heun_pose(pose, loads, predicted, loads_p, dt, p)
         elif not stopped:
-            phi, omega = _euler_rotor(phi, omega, accel, dt)
+            pose = _euler_pose(pose, loads, dt, p)
         if noisy and not stopped:
-            omega = _noise_kick(omega, xi[s], p)
+            pose = _noise_kick(pose, xi[s], p)
         cur, nxt = nxt, cur
-        rotor[2], rotor[3], rotor[4] = torque, friction, 1.0 if stopped else 0.0
+        rotor[2], rotor[3], rotor[4] = loads[2], loads[5], 1.0 if stopped else 0.0
     if n_steps % 2 == 1:
         data[:] = spare
-    rotor[0], rotor[1] = phi, omega
+    rotor[0], rotor[1] = pose[2], pose[5]
     return -1
 
 
@@ -488,8 +503,9 @@ def rotor_integrals(cur, F, domain, params, tab, tables, coef):
     n = coords.size
     inv_2dx = 0.5 / (coords[1] - coords[0])
     sums = np.zeros((n, 3))
+    steps = (inv_2dx, p.inv_saturation)
     for i in range(n):
-        _row_integrals(cur, F, i, coords, slo[i], shi[i], inv_2dx, p.flow, True, sums)
+        _row_integrals(cur, F, i, coords, slo[i], shi[i], steps, p.flow, True, sums)
     cross_grad, moment, cross_v = _total_integrals(sums, coords)
     if p.contour:
         spline_window(cur, coef, n, p.window_lo, p.window_hi, p.taps_lo, p.taps_hi)

@@ -3,20 +3,22 @@ of the rotor model advanced in one launch, block m advancing member m.
 
 The same physics as the CPU solver (:mod:`pde_rotor.kernels.cpu`), member by member, from
 the same source: the kernel below only maps cells to threads and calls the CUDA build
-of the physics core (:mod:`pde_rotor.kernels.core`, compiled here as device functions):
+of the compiled physics (:mod:`pde_rotor.physics`, compiled here as device functions):
 
 * F and G of the member's scheme at the angle phi of the step's start, computed on the
   fly on the support cells (``plate_cell``, ``pill_cell``, or ``filtered_plate``,
   ``filtered_pills`` from the filter tables of the ``consistent`` scheme, shared by all
   members);
-* the rotor integrals of Eqs. (eq_motion) and (torque) (``cell_integrals``, or
-  ``contour_node`` for the contour-form torque of the ``consistent`` scheme);
+* the rotor integrals of Eqs. (eq_motion) and (torque) (``tension_integrand`` and
+  ``friction_moments``, or ``polygon_node`` for the contour-form torque of the
+  ``consistent`` scheme);
 * one forward Euler step of Eqs. (eqc) and (eqv) on the interior cells
   (``cell_rates``), omega = 0 during a stop; without flow v is set to 0 and stays 0;
-* then the rotor's Euler step with the torques of Eq. (torque) and (eq_motion)
-  (``rotor_torques``, ``angular_acceleration``, ``euler_rotor``) plus the Euler-Maruyama
-  kick of Eq. (noiseav) (``noise_kick``), except in a stop phase, where omega stays 0;
-* the stop schedule in integer steps (``stopped_at``);
+* then the rotor's step, the tail of every body's step (:mod:`pde_rotor.physics.motion`,
+  the rotor is the ``fixed_axis`` body at the origin): the loads of Eqs. (torque) and
+  (eq_motion) (``body_loads``, ``finite_loads``), the Euler step (``euler_pose``) plus
+  the Euler-Maruyama kick of Eq. (noiseav) (``noise_kick``), except in a stop phase
+  (``held``, the stop schedule in integer steps), where omega stays 0;
 * the noise: one standard normal per step per member, drawn on the host from a numpy
   Generator seeded like the CPU solver's (``default_rng(noise.seed)``) in step order,
   so both backends use the identical noise sequence.
@@ -44,31 +46,32 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 
-from .core import Core, make_core
+from ..physics.build import Physics, make_physics
 from .cuda_target import cuda, device_function, float64, kernel
 
 MAX_CORNERS = 24
 """Largest N the kernel's shared geometry table holds (the config allows 3..24)."""
 
 
-GPU: Core = make_core(device_function)
-"""The physics core (:mod:`pde_rotor.kernels.core`) compiled as CUDA device functions."""
+GPU: Physics = make_physics(device_function)
+"""The physics (:mod:`pde_rotor.physics`) compiled as CUDA device functions."""
 
-_rotor_table = GPU.rotor_table
-_plate_cell = GPU.plate_cell
-_pill_cell = GPU.pill_cell
-_filtered_plate = GPU.filtered_plate
-_filtered_pills = GPU.filtered_pills
-_cell_rates = GPU.cell_rates
-_rate_coefficients = GPU.rate_coefficients
-_cell_integrals = GPU.cell_integrals
-_contour_node = GPU.contour_node
-_spline_line = GPU.spline_line
-_stopped_at = GPU.stopped_at
-_rotor_torques = GPU.rotor_torques
-_angular_acceleration = GPU.angular_acceleration
-_euler_rotor = GPU.euler_rotor
-_noise_kick = GPU.noise_kick
+_rotor_table = GPU.indicators.rotor_table
+_plate_cell = GPU.indicators.plate_cell
+_pill_cell = GPU.indicators.pill_cell
+_filtered_plate = GPU.indicators.filtered_plate
+_filtered_pills = GPU.indicators.filtered_pills
+_cell_rates = GPU.rates.cell_rates
+_rate_coefficients = GPU.rates.rate_coefficients
+_tension_integrand = GPU.tension.tension_integrand
+_friction_moments = GPU.motion.friction_moments
+_polygon_node = GPU.tension.polygon_node
+_spline_line = GPU.spline.spline_line
+_held = GPU.motion.held
+_body_loads = GPU.motion.body_loads
+_finite_loads = GPU.motion.finite_loads
+_euler_pose = GPU.motion.euler_pose
+_noise_kick = GPU.motion.noise_kick
 
 
 def _advance(
@@ -146,6 +149,7 @@ def _advance(
     corner_end = p.corner_end
     contour = p.contour
     tan_half = p.tan_half
+    polygon = (apothem, delta, tan_half)
     w_lo = p.window_lo
     width = p.window_hi - w_lo
     n_nodes = n_corners * quad_s.shape[1] * quad_t.shape[1] if contour else 0
@@ -172,7 +176,7 @@ def _advance(
         step = step0 + s
         p_cur = (parity0 + s) % 2
         p_nxt = 1 - p_cur
-        stopped = _stopped_at(step, p.n_ini, p.n_stop, p.n_period, p.cycles)
+        stopped = _held(step, p)
         phi = rot[0]
         omega = rot[1]
         if stopped:
@@ -222,10 +226,12 @@ def _advance(
                         f = _plate_cell(x, y, tab, n_corners, apothem, inv_delta)
                         g = _pill_cell(x, y, tab, n_corners, rho, inv_delta)
                     if f != 0.0:
-                        grad, mom, vel = _cell_integrals(buf, o, n, 1, nn, f, x, y, inv_2dx, flow)
-                        cross_grad += grad
-                        moment += mom
-                        cross_v += vel
+                        cross_grad += _tension_integrand(
+                            buf, o, n, 1, f, x, y, inv_2dx, p.inv_saturation
+                        )[2]
+                        moments = _friction_moments(buf, o, nn, f, x, y, flow)
+                        moment += moments[3]
+                        cross_v += moments[4]
                 rate_c, rate_x, rate_y = _cell_rates(
                     buf, o, n, 1, nn, f, g, omega, x, y, rates, flow, on_support
                 )
@@ -257,9 +263,9 @@ def _advance(
             cuda.syncthreads()
             cross_grad = 0.0
             for q in range(tid, n_nodes, n_threads):
-                cross_grad += _contour_node(
-                    coef, o_coef, n, x0, inv_dx, tab, apothem, delta, tan_half, quad_s, quad_t, q
-                )
+                cross_grad += _polygon_node(
+                    coef, (o_coef, n, x0, inv_dx), tab, polygon, quad_s, quad_t, q, p.inv_saturation
+                )[2]
 
         # block reduction of the rotor integrals in a fixed order
         red[tid] = cross_grad
@@ -283,21 +289,22 @@ def _advance(
             total_grad = red[0] if contour else red[0] * area
             total_moment = red[n_threads] * area
             total_v = red[2 * n_threads] * area
-            torque, friction = _rotor_torques(total_grad, total_moment, total_v, omega, p)
-            if not (math.isfinite(torque) and math.isfinite(friction)) or rot[5] != 0.0:
+            integrals = (0.0, 0.0, total_grad, 0.0, 0.0, 0.0, total_moment, total_v, 0.0, 0.0)
+            pose = (0.0, 0.0, phi, 0.0, 0.0, omega)
+            loads = _body_loads(integrals, pose, p, p.torque_sign * p.tension_slope)
+            if not _finite_loads(loads) or rot[5] != 0.0:
                 status[m] = step
                 rot[1] = omega
                 rot[5] = 1.0
             else:
                 if not stopped:
-                    accel = _angular_acceleration(torque, friction, p)
-                    phi, omega = _euler_rotor(phi, omega, accel, dt)
+                    pose = _euler_pose(pose, loads, dt, p)
                     if noisy:
-                        omega = _noise_kick(omega, xi[m, s], p)
-                rot[0] = phi
-                rot[1] = omega
-                rot[2] = torque
-                rot[3] = friction
+                        pose = _noise_kick(pose, xi[m, s], p)
+                rot[0] = pose[2]
+                rot[1] = pose[5]
+                rot[2] = loads[2]
+                rot[3] = loads[5]
                 rot[4] = 1.0 if stopped else 0.0
                 if (step + 1) % record_every == 0:
                     row_out = (step + 1) // record_every - record0

@@ -2,10 +2,10 @@
 advancing member m (the loop of :func:`pde_rotor.kernels.bodies.advance_bodies` on the
 GPU, with Heun's method besides forward Euler).
 
-The physics is the core's and the body core's (:mod:`pde_rotor.kernels.core`,
-:mod:`pde_rotor.kernels.body_core`), compiled here as CUDA device functions; this module
-only maps cells, bodies and sums to the threads of a block. Each evaluation of the
-right-hand side (:func:`_stage`: once per Euler step, twice per Heun step):
+The physics is :mod:`pde_rotor.physics` (indicators, rates, tension, motion), compiled
+as CUDA device functions (:data:`pde_rotor.kernels.cuda.GPU`); this module holds no
+physics of its own and only maps cells, bodies and sums to the threads of a block. Each
+evaluation of the right-hand side (:func:`_stage`: once per Euler step, twice per Heun step):
 
 1. every body whose pose changed since it was drawn is redrawn, one body after the other
    in their order (:func:`pde_rotor.kernels.cuda_body_draw.draw_body`): its old
@@ -16,22 +16,25 @@ right-hand side (:func:`_stage`: once per Euler step, twice per Heun step):
    ``filtered_pill_term``, ``filtered_strip``; the pills' terms ``pill_term``,
    ``filtered_pill_term``, on the cells the CPU gives them);
 2. the integrals of each moving body (:mod:`pde_rotor.kernels.cuda_body_sums`: the
-   cells of its box it owns, area form with central differences; for ``consistent`` the
-   tension force and torque in contour form: the spline of c on the body's window, then
-   its edges' or circles' nodes, ``edge_sums``, ``arc_node``), each a fixed-order tree
-   reduction in shared memory, and its accelerations (``body_accelerations``);
+   cells of its box it owns, area form, ``tension_integrand`` and ``friction_moments``;
+   for ``consistent`` the tension force and torque in contour form: the spline of c on
+   the body's window, then its edges' or circles' nodes, ``edge_sums``, ``arc_node``;
+   c read through the surface pressure of a saturating tension law), each a fixed-order
+   tree reduction in shared memory, and its loads (``body_loads``: tension, friction and
+   external load, the accelerations; ``finite_loads``);
 3. one Euler step of Eqs. (eqc), (eqv) from one buffer into another
    (:func:`_euler_fields`: ``plate_rates`` with the owner's plate velocity,
    ``owner_plate``; behind a no-flux dish wall ``cut_cell_inflow`` and ``local_rate``
    on the cut cells, then the implicit clusters, :func:`_walled_fields`).
 
-A step then moves the bodies that are not held (fixed, or in a stop of their own
-schedule, ``stopped_at``): forward Euler (``euler_rotor``), or Heun: the predictor's
-Euler step of fields and bodies, the right-hand side again at the predicted poses and
-fields into a stage buffer, the fields' trapezoid (:func:`_average`) and the bodies'
-(``heun_rotor``, the forces recorded those of the step's start), as the CPU rotor's
-:func:`pde_rotor.kernels.cpu.advance`. The noise kick (``noise_kick``) follows, once
-per step, for the bodies not held, from K standard normals per step drawn on the host.
+A step first holds the bodies that are fixed or in a stop of their own schedule
+(``held``, ``hold``), then moves the others: forward Euler (``euler_pose``), or Heun:
+the predictor's Euler step of fields and bodies, the right-hand side again at the
+predicted poses and fields into a stage buffer, the fields' trapezoid
+(:func:`_average`) and the bodies' (``heun_pose``, the forces recorded those of the
+step's start), as the CPU's :func:`pde_rotor.kernels.bodies.advance_bodies`. The noise
+kick (``noise_kick``) follows, once per step, for the bodies not held, from K standard
+normals per step drawn on the host.
 
 A run that ends early (a body at the dish's edge or at another body, non-finite
 accelerations) leaves the member at the start of that step and writes the step, the
@@ -46,26 +49,27 @@ CUDA simulator on the CPU.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 
+from ..physics.motion import MOTION_FIXED
 from .bodies import STATUS_EDGE, STATUS_FINITE, STATUS_OVERLAP
-from .body_core import MOTION_FIXED, MOTION_FREE
 from .cuda import GPU
-from .cuda_body_draw import GPU_BODIES, draw_body
+from .cuda_body_draw import draw_body
 from .cuda_body_sums import N_SUMS, area_sums, contour_sums
 from .cuda_target import cuda, device_function, float64, int64, kernel
 
-_plate_rates = GPU.plate_rates
-_rate_coefficients = GPU.rate_coefficients
-_cut_cell_inflow = GPU.cut_cell_inflow
-_local_rate = GPU.local_rate
-_stopped_at = GPU.stopped_at
-_euler_rotor = GPU.euler_rotor
-_heun_rotor = GPU.heun_rotor
-_noise_kick = GPU.noise_kick
-_owner_plate = GPU_BODIES.owner_plate
-_body_accelerations = GPU_BODIES.body_accelerations
+_plate_rates = GPU.rates.plate_rates
+_rate_coefficients = GPU.rates.rate_coefficients
+_cut_cell_inflow = GPU.rates.cut_cell_inflow
+_local_rate = GPU.rates.local_rate
+_owner_plate = GPU.rates.owner_plate
+_held = GPU.motion.held
+_hold = GPU.motion.hold
+_body_loads = GPU.motion.body_loads
+_finite_loads = GPU.motion.finite_loads
+_euler_pose = GPU.motion.euler_pose
+_heun_pose = GPU.motion.heun_pose
+_noise_kick = GPU.motion.noise_kick
 
 
 @device_function
@@ -104,13 +108,14 @@ def _euler_fields(src, dst, m, state, surface, bodies, p):
 @device_function
 def _walled_fields(src, dst, m, state, surface, bodies, wall, rhs, p):
     """One step of Eqs. (eqc), (eqv) behind the no-flux dish wall (all threads): the
-    explicit part on the cut cells (``cut_cell_inflow``, ``local_rate``), v on the
-    interior cells, then c' = inverse (kappa c') on each cluster of implicit faces
-    (:func:`pde_rotor.kernels.wall.euler_walled_fields`)."""
+    explicit part on the runs of cut cells of each row (``cut_cell_inflow``,
+    ``local_rate``), v on the cells that flow, then c' = inverse (kappa c') on each
+    cluster of implicit faces (:func:`pde_rotor.kernels.wall.euler_walled_fields`)."""
     buf, F, G, owner = state
-    coords, interior = surface
+    coords = surface[0]
     pose = bodies[2]
-    volume, pass_x, pass_y, open_x, open_y, wlo, whi, members, offsets, blocks, starts = wall
+    volume, pass_x, pass_y, open_x, open_y, row_start, span_lo, span_hi, flowing = wall[:9]
+    members, offsets, blocks, starts = wall[9:]
     tid = cuda.threadIdx.x
     n_threads = cuda.blockDim.x
     n = coords.size
@@ -122,24 +127,27 @@ def _walled_fields(src, dst, m, state, surface, bodies, wall, rhs, p):
     rm = rhs[m]
     for i in range(tid // lanes, n, n_threads // lanes):
         x = coords[i]
-        for j in range(wlo[i] + tid % lanes, whi[i], lanes):
-            o = i * n + j
-            plate = owner[m, o] >= 0
-            f, g, px, py = 0.0, 0.0, 0.0, 0.0
-            if plate:
-                f, g, px, py = _owner_plate(F[m], G[m], owner[m], pose[m], o, x, coords[j])
-            cc = buf[src + o]
-            kappa = volume[o]
-            q = _cut_cell_inflow(buf[src:], o, n, 1, nn, open_x, open_y, pass_x, pass_y, coef, flow)
-            r = kappa * cc + dt * (q + kappa * _local_rate(cc, f, g, coef, plate))
-            rm[o] = r
-            buf[dst + o] = r / kappa
-            if flow and interior[0, i] <= j and j < interior[1, i]:
-                _, rate_x, rate_y = _plate_rates(
-                    buf, src + o, n, 1, nn, f, g, px, py, coef, flow, plate
+        for s in range(row_start[i], row_start[i + 1]):
+            for j in range(span_lo[s] + tid % lanes, span_hi[s], lanes):
+                o = i * n + j
+                plate = owner[m, o] >= 0
+                f, g, px, py = 0.0, 0.0, 0.0, 0.0
+                if plate:
+                    f, g, px, py = _owner_plate(F[m], G[m], owner[m], pose[m], o, x, coords[j])
+                cc = buf[src + o]
+                kappa = volume[o]
+                q = _cut_cell_inflow(
+                    buf[src:], o, n, 1, nn, open_x, open_y, pass_x, pass_y, coef, flow
                 )
-                buf[dst + o + nn] = buf[src + o + nn] + dt * rate_x
-                buf[dst + o + 2 * nn] = buf[src + o + 2 * nn] + dt * rate_y
+                r = kappa * cc + dt * (q + kappa * _local_rate(cc, f, g, coef, plate))
+                rm[o] = r
+                buf[dst + o] = r / kappa
+                if flow and flowing[o]:
+                    _, rate_x, rate_y = _plate_rates(
+                        buf, src + o, n, 1, nn, f, g, px, py, coef, flow, plate
+                    )
+                    buf[dst + o + nn] = buf[src + o + nn] + dt * rate_x
+                    buf[dst + o + 2 * nn] = buf[src + o + 2 * nn] + dt * rate_y
     cuda.syncthreads()
     for c in range(tid, offsets.size - 1, n_threads):
         first = offsets[c]
@@ -159,18 +167,22 @@ def _average(cur, stage, dst, buf, surface, wall, p):
     """buf[dst:] = (buf[cur:] + buf[stage:]) / 2 on the cells the step writes (Heun's
     trapezoid, :func:`pde_rotor.kernels.cpu.heun_average`; all threads)."""
     coords, interior = surface
-    wlo, whi = wall[5], wall[6]
-    walled = wlo.size > 0
+    row_start, span_lo, span_hi = wall[5], wall[6], wall[7]
+    walled = wall[0].size > 0
     tid = cuda.threadIdx.x
     n_threads = cuda.blockDim.x
     n = coords.size
     nn = n * n
     for i in range(tid, n, n_threads):
-        lo_c = wlo[i] if walled else interior[0, i]
-        hi_c = whi[i] if walled else interior[1, i]
-        for j in range(lo_c, hi_c):
-            o = i * n + j
-            buf[dst + o] = 0.5 * (buf[cur + o] + buf[stage + o])
+        if walled:  # c on the runs of cut cells of the row
+            for s in range(row_start[i], row_start[i + 1]):
+                for j in range(span_lo[s], span_hi[s]):
+                    o = i * n + j
+                    buf[dst + o] = 0.5 * (buf[cur + o] + buf[stage + o])
+        else:
+            for j in range(interior[0, i], interior[1, i]):
+                o = i * n + j
+                buf[dst + o] = 0.5 * (buf[cur + o] + buf[stage + o])
         if p.flow:
             for j in range(interior[0, i], interior[1, i]):
                 for ch in range(1, 3):
@@ -183,15 +195,15 @@ def _average(cur, stage, dst, buf, surface, wall, p):
 def _stage(where, state, surface, bodies, scratch, tables, walls, p, shared):
     """One evaluation of the right-hand side of member m at the bodies' poses and the
     fields in buf[src:], `where` = (src, dst, stage, m) (all threads): the bodies
-    redrawn, the integrals and accelerations of the moving ones into accel[m, k, stage]
-    (at `stage` 0 their forces also into the pose's columns 6..11), and the fields'
-    Euler step into buf[dst:].
+    redrawn, the integrals and loads of the moving ones (the motion's ``body_loads``)
+    into loads[m, k, stage] (at `stage` 0 their forces also into the pose's columns
+    6..11), and the fields' Euler step into buf[dst:].
 
     Returns:
         0, or the reason the run ends (``STATUS_*``), the bodies in flags[2], flags[3].
     """
     body, _, pose, drawn, _ = bodies
-    accel = scratch[2]
+    loads = scratch[2]
     wall, rhs = walls
     red, flags, ints = shared
     src, dst, stage, m = where
@@ -224,7 +236,7 @@ def _stage(where, state, surface, bodies, scratch, tables, walls, p, shared):
         b = body[m][k]
         if b.motion == MOTION_FIXED:
             continue
-        area_sums(src, k, m, state, surface, bodies, red)
+        area_sums(src, k, m, state, surface, bodies, p, red)
         if tid == 0:
             for q in range(N_SUMS):
                 ints[q] = red[q * n_threads] * area
@@ -237,16 +249,15 @@ def _stage(where, state, surface, bodies, scratch, tables, walls, p, shared):
                 ints[2] = red[2 * n_threads]
         cuda.syncthreads()
         if tid == 0:
-            out = _body_accelerations(
-                ints, pose[m, k, 3], pose[m, k, 4], pose[m, k, 5], sign_k, b.friction, b.mass,
-                b.inertia,
-            )  # fmt: skip
+            here = (pose[m, k, 0], pose[m, k, 1], pose[m, k, 2], pose[m, k, 3], pose[m, k, 4],
+                    pose[m, k, 5])  # fmt: skip
+            out = _body_loads(ints, here, b, sign_k)
             if stage == 0:
                 pose[m, k, 6], pose[m, k, 7], pose[m, k, 8] = out[0], out[1], out[2]
                 pose[m, k, 9], pose[m, k, 10], pose[m, k, 11] = out[3], out[4], out[5]
-            accel[m, k, stage, 0], accel[m, k, stage, 1] = out[6], out[7]
-            accel[m, k, stage, 2] = out[8]
-            if not (math.isfinite(out[6]) and math.isfinite(out[7]) and math.isfinite(out[8])):
+            for q in range(9):
+                loads[m, k, stage, q] = out[q]
+            if not _finite_loads(out):
                 flags[1] = STATUS_FINITE
                 flags[2] = k
                 flags[3] = -1
@@ -261,48 +272,59 @@ def _stage(where, state, surface, bodies, scratch, tables, walls, p, shared):
 
 
 @device_function
-def _hold(step, m, bodies, scratch):
-    """Which bodies are held this step (fixed, or in a stop of their own schedule): the
-    pose's column 12, their velocities 0; each body's pose and velocities at the step's
-    start into start[m] (one thread)."""
+def _hold_bodies(step, m, bodies, scratch):
+    """Which bodies are held this step (the motion's ``held``: fixed, or in a stop of
+    their own schedule): the pose's column 12, their velocities 0 (``hold``); each
+    body's pose and velocities at the step's start into start[m] (one thread)."""
     body, _, pose, _, _ = bodies
     start = scratch[3]
     for k in range(body.shape[1]):
-        b = body[m][k]
-        held = b.motion == MOTION_FIXED or _stopped_at(
-            step, b.n_ini, b.n_stop, b.n_period, b.cycles
-        )
-        pose[m, k, 12] = 1.0 if held else 0.0
-        if held:
-            pose[m, k, 3] = 0.0
-            pose[m, k, 4] = 0.0
-            pose[m, k, 5] = 0.0
+        is_held = _held(step, body[m][k])
+        pose[m, k, 12] = 1.0 if is_held else 0.0
+        here = (pose[m, k, 0], pose[m, k, 1], pose[m, k, 2], pose[m, k, 3], pose[m, k, 4],
+                pose[m, k, 5])  # fmt: skip
+        here = _hold(here, is_held)
         for q in range(6):
-            start[m, k, q] = pose[m, k, q]
+            pose[m, k, q] = here[q]
+            start[m, k, q] = here[q]
 
 
 @device_function
 def _move(m, phase, bodies, scratch, dt):
-    """Move the bodies that are not held (one thread): `phase` 0, forward Euler from the
-    start with the start's accelerations (Euler's step and Heun's predictor); 1, Heun's
-    corrector from the start with the start's and the predicted rates (the predicted
-    velocities in the pose, the accelerations at the predicted point in accel[m, k, 1])."""
+    """Move the bodies that are not held (one thread): `phase` 0, the motion's
+    ``euler_pose`` from the start with the start's loads (Euler's step and Heun's
+    predictor); 1, ``heun_pose`` from the start with the start's loads and the predicted
+    pose (in the pose) and its loads (loads[m, k, 1])."""
     body, _, pose, _, _ = bodies
-    accel, start = scratch[2], scratch[3]
+    loads, start = scratch[2], scratch[3]
     for k in range(body.shape[1]):
         if pose[m, k, 12] != 0.0:
             continue
-        free = body[m][k].motion == MOTION_FREE
-        for axis in range(3):  # x with u, y with v, phi with omega
-            if axis < 2 and not free:
-                continue
-            x, u, a = start[m, k, axis], start[m, k, 3 + axis], accel[m, k, 0, axis]
-            if phase == 0:
-                x, u = _euler_rotor(x, u, a, dt)
-            else:
-                x, u = _heun_rotor(x, u, a, pose[m, k, 3 + axis], accel[m, k, 1, axis], dt)
-            pose[m, k, axis] = x
-            pose[m, k, 3 + axis] = u
+        b = body[m][k]
+        first = (start[m, k, 0], start[m, k, 1], start[m, k, 2], start[m, k, 3],
+                 start[m, k, 4], start[m, k, 5])  # fmt: skip
+        if phase == 0:
+            moved = _euler_pose(first, loads[m, k, 0], dt, b)
+        else:
+            guess = (pose[m, k, 0], pose[m, k, 1], pose[m, k, 2], pose[m, k, 3],
+                     pose[m, k, 4], pose[m, k, 5])  # fmt: skip
+            moved = _heun_pose(first, loads[m, k, 0], guess, loads[m, k, 1], dt, b)
+        for q in range(6):
+            pose[m, k, q] = moved[q]
+
+
+@device_function
+def _kick(m, s, bodies, xi):
+    """The noise kick of Eq. (noiseav) on omega of every body not held, after the step
+    (the motion's ``noise_kick``; one thread)."""
+    body, _, pose, _, _ = bodies
+    n_bodies = body.shape[1]
+    for k in range(n_bodies):
+        b = body[m][k]
+        if pose[m, k, 12] == 0.0 and b.kick != 0.0:
+            here = (pose[m, k, 0], pose[m, k, 1], pose[m, k, 2], pose[m, k, 3], pose[m, k, 4],
+                    pose[m, k, 5])  # fmt: skip
+            pose[m, k, 5] = _noise_kick(here, xi[m, s * n_bodies + k], b)[5]
 
 
 def _advance_bodies(state, surface, body, arrays, scratch, tables, walls, params, run, steps):
@@ -321,7 +343,8 @@ def _advance_bodies(state, surface, body, arrays, scratch, tables, walls, params
         arrays: (pills (E, P, 7), pose (E, K, 13) updated, drawn (E, K, 3) and box
             (E, K, 4) of the last drawing, kept between launches), as for
             :func:`pde_rotor.kernels.bodies.advance_bodies`.
-        scratch: (normals (E, K, 2, C), centres (E, 2, P), accel (E, K, 2, 3), start
+        scratch: (normals (E, K, 2, C), centres (E, 2, P), loads (E, K, 2, 9) (the
+            motion's ``body_loads`` at the start and at Heun's predicted pose), start
             (E, K, 6), spline coefficients (E, n^2)).
         tables: the bodies' scheme tables (quad_s, quad_t, profiles, pill table, corner
             tables, edge profiles, rings; :func:`pde_rotor.kernels.records.make_body_tables`),
@@ -371,7 +394,7 @@ def _advance_bodies(state, surface, body, arrays, scratch, tables, walls, params
         nxt = ((1 - parity) * n_members + m) * size
         stg = (2 * n_members + m) * size
         if tid == 0:
-            _hold(step, m, bodies, scratch)
+            _hold_bodies(step, m, bodies, scratch)
         cuda.syncthreads()
         code = _stage((cur, nxt, 0, m), state, surface, bodies, scratch, tables, walls, p, shared)
         if code == 0 and heun:
@@ -396,10 +419,7 @@ def _advance_bodies(state, surface, body, arrays, scratch, tables, walls, params
             return
         if tid == 0:
             _move(m, 1 if heun else 0, bodies, scratch, p.dt)
-            for k in range(n_bodies):
-                b = body[m][k]
-                if pose[m, k, 12] == 0.0 and b.kick != 0.0:
-                    pose[m, k, 5] = _noise_kick(pose[m, k, 5], xi[m, s * n_bodies + k], b)
+            _kick(m, s, bodies, xi)
         cuda.syncthreads()
 
 

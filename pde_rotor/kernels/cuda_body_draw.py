@@ -6,29 +6,27 @@ The footprint's rows are checked first (a cell outside the dish, a cell another 
 owns: the first such row decides, found by a min tree over the threads), then each cell
 takes the plate's value (``body_plate_cell``, or for ``consistent`` ``filtered_plate``,
 ``filtered_pill_term``, ``filtered_strip``) and the pills' terms (``pill_term``,
-``filtered_pill_term``) on the cells the CPU gives them. The physics is the core's and
-the body core's (:data:`GPU_BODIES`), compiled as CUDA device functions.
+``filtered_pill_term``) on the cells the CPU gives them. The physics is
+:mod:`pde_rotor.physics.indicators`, compiled as CUDA device functions
+(:data:`pde_rotor.kernels.cuda.GPU`).
 """
 
 from __future__ import annotations
 
 import math
 
+from ..physics.indicators import PLATE_DISK, PLATE_NONE, PLATE_POLYGON, PLATE_STRIP
 from .bodies import STATUS_EDGE
-from .body_core import PLATE_DISK, PLATE_NONE, PLATE_POLYGON, PLATE_STRIP, BodyCore, make_body_core
 from .cuda import GPU
 from .cuda_target import cuda, device_function
 
-GPU_BODIES: BodyCore = make_body_core(device_function, GPU)
-"""The body core (:mod:`pde_rotor.kernels.body_core`) compiled as CUDA device functions."""
-
-_pill_term = GPU.pill_term
-_pill_reach = GPU.pill_reach
-_filtered_pill_term = GPU.filtered_pill_term
-_filtered_pill_reach = GPU.filtered_pill_reach
-_filtered_plate = GPU.filtered_plate
-_body_plate_cell = GPU_BODIES.body_plate_cell
-_filtered_strip = GPU_BODIES.filtered_strip
+_pill_term = GPU.indicators.pill_term
+_pill_reach = GPU.indicators.pill_reach
+_filtered_pill_term = GPU.indicators.filtered_pill_term
+_filtered_pill_reach = GPU.indicators.filtered_pill_reach
+_filtered_plate = GPU.indicators.filtered_plate
+_body_plate_cell = GPU.indicators.body_plate_cell
+_filtered_strip = GPU.indicators.filtered_strip
 
 
 @device_function

@@ -12,17 +12,20 @@ from __future__ import annotations
 import math
 
 from ..model.body_schemes import ARC_EDGES
-from .body_core import PLATE_DISK, PLATE_POLYGON, PLATE_STRIP
+from ..physics.indicators import PLATE_DISK, PLATE_POLYGON, PLATE_STRIP
+from ..physics.motion import N_INTEGRALS
 from .cuda import GPU
-from .cuda_body_draw import GPU_BODIES
 from .cuda_target import cuda, device_function
 
-N_SUMS = 10
+N_SUMS = N_INTEGRALS
 """Integrals of a body per evaluation (those of :func:`pde_rotor.kernels.bodies.body_integrals`)."""
 
-_spline_line = GPU.spline_line
-_edge_sums = GPU_BODIES.edge_sums
-_arc_node = GPU_BODIES.arc_node
+_spline_line = GPU.spline.spline_line
+_tension_integrand = GPU.tension.tension_integrand
+_friction_moments = GPU.motion.friction_moments
+_polygon_band = GPU.tension.polygon_band
+_edge_sums = GPU.tension.edge_sums
+_arc_node = GPU.tension.arc_node
 
 
 @device_function
@@ -40,10 +43,11 @@ def reduce_sums(red, count, tid, n_threads):
 
 
 @device_function
-def area_sums(src, k, m, state, surface, bodies, red):
+def area_sums(src, k, m, state, surface, bodies, p, red):
     """Body k's integrals over the cells of its box it owns, area form with central
-    differences, into red[q n_threads] (q < :data:`N_SUMS`, not yet times dA; all
-    threads; the sums of :func:`pde_rotor.kernels.bodies.body_integrals`)."""
+    differences (the tension's ``tension_integrand``, the motion's ``friction_moments``),
+    into red[q n_threads] (q < :data:`N_SUMS`, not yet times dA; all threads; the sums
+    of :func:`pde_rotor.kernels.bodies.body_integrals`)."""
     buf, F, _, owner = state
     coords, _ = surface
     _, _, pose, _, box = bodies
@@ -52,6 +56,8 @@ def area_sums(src, k, m, state, surface, bodies, red):
     n = coords.size
     nn = n * n
     inv_2dx = 0.5 / (coords[1] - coords[0])
+    inv_sat = p.inv_saturation
+    flow = p.flow
     x_k, y_k = pose[m, k, 0], pose[m, k, 1]
     i0, j0 = box[m, k, 0], box[m, k, 2]
     width = box[m, k, 3] - j0
@@ -67,21 +73,18 @@ def area_sums(src, k, m, state, surface, bodies, red):
             continue
         rx = coords[i] - x_k
         ry = coords[j] - y_k
-        c = src + o
-        dcdx = (buf[c + n] - buf[c - n]) * inv_2dx
-        dcdy = (buf[c + 1] - buf[c - 1]) * inv_2dx
-        s0 += f * dcdx
-        s1 += f * dcdy
-        s2 += f * (rx * dcdy - ry * dcdx)
-        s3 += f
-        s4 += f * rx
-        s5 += f * ry
-        s6 += f * (rx * rx + ry * ry)
-        vx = buf[c + nn]
-        vy = buf[c + 2 * nn]
-        s7 += f * (rx * vy - ry * vx)
-        s8 += f * vx
-        s9 += f * vy
+        t0, t1, t2 = _tension_integrand(buf, src + o, n, 1, f, rx, ry, inv_2dx, inv_sat)
+        m0, m1, m2, m3, m4, m5, m6 = _friction_moments(buf, src + o, nn, f, rx, ry, flow)
+        s0 += t0
+        s1 += t1
+        s2 += t2
+        s3 += m0
+        s4 += m1
+        s5 += m2
+        s6 += m3
+        s7 += m4
+        s8 += m5
+        s9 += m6
     red[tid] = s0
     red[n_threads + tid] = s1
     red[2 * n_threads + tid] = s2
@@ -130,7 +133,8 @@ def contour_sums(src, k, m, state, surface, bodies, scratch, tables, p, red):
         _spline_line(cm, i0 * n + j0 + q, n, rows)
     cuda.syncthreads()
     n_s, n_t = quad_s.shape[1], quad_t.shape[1]
-    delta = p.smoothing
+    delta, inv_sat = p.smoothing, p.inv_saturation
+    grid = (0, n, x0, inv_dx)
     f_x = 0.0
     f_y = 0.0
     torque = 0.0
@@ -139,10 +143,9 @@ def contour_sums(src, k, m, state, surface, bodies, scratch, tables, p, red):
             j = q // n_s
             ms = q % n_s
             ex, ey = normals[m, k, 0, j], normals[m, k, 1, j]
-            h = b.size_a - delta * quad_s[0, ms]
-            a, c, e = _edge_sums(
-                cm, n, x0, inv_dx, x_k, y_k, ex, ey, h, h * b.tan_half, quad_s, quad_t, ms
-            )
+            h, half = _polygon_band(b.size_a, delta, b.tan_half, quad_s, ms)
+            edge = (x_k, y_k, ex, ey, h, half)
+            a, c, e = _edge_sums(cm, grid, edge, quad_s, quad_t, ms, inv_sat)
             f_x += a
             f_y += c
             torque += e
@@ -158,9 +161,8 @@ def contour_sums(src, k, m, state, surface, bodies, scratch, tables, p, red):
             for _ in range(j):  # the edges' normals e, z x e, -e, -z x e
                 ex, ey = -ey, ex
             side, along = (b.size_a, b.size_b) if j % 2 == 0 else (b.size_b, b.size_a)
-            a, c, e = _edge_sums(
-                cm, n, x0, inv_dx, x_k, y_k, ex, ey, side + h, along + h, quad_s, quad_t, ms
-            )
+            edge = (x_k, y_k, ex, ey, side + h, along + h)
+            a, c, e = _edge_sums(cm, grid, edge, quad_s, quad_t, ms, inv_sat)
             f_x += a
             f_y += c
             torque += e
@@ -191,7 +193,7 @@ def contour_sums(src, k, m, state, surface, bodies, scratch, tables, p, red):
             h = rings[0, ring]
             weight = rings[1, ring] * h * step
             angle = phi + step * (rest % n_arc)
-            a, c = _arc_node(cm, n, x0, inv_dx, cx, cy, h, math.cos(angle), math.sin(angle), weight)
+            a, c = _arc_node(cm, grid, cx, cy, h, math.cos(angle), math.sin(angle), weight, inv_sat)
             f_x += a
             f_y += c
             torque += (cx - x_k) * c - (cy - y_k) * a

@@ -33,8 +33,8 @@ def simulator_enabled() -> bool:
 
 
 def device_function(func: Callable) -> Callable:
-    """A CUDA device function, inlined into the kernels that call it (the physics core's
-    ``jit`` argument, :func:`pde_rotor.kernels.core.make_core`)."""
+    """A CUDA device function, inlined into the kernels that call it (the physics'
+    ``jit`` argument, :func:`pde_rotor.physics.build.make_physics`)."""
     return cuda.jit(device=True, inline=True)(func)
 
 

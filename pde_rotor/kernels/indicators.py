@@ -2,8 +2,8 @@
 
 Every step the plate turns, F and G (the equations after Eq. (rj) of Koyano et al.,
 Chaos 2020; filtered for the scheme ``consistent``, :mod:`pde_rotor.model.filtering`) are
-recomputed on the cells within reach of the plate. The terms are the physics core's
-(:mod:`pde_rotor.kernels.core`: the gauge and nearest-edge frame ``projection``,
+recomputed on the cells within reach of the plate. The terms are the physics'
+(:mod:`pde_rotor.physics`: the gauge and nearest-edge frame ``projection``,
 ``farther``, ``gauge_step``, ``tangential``, ``near_corner``, the pills' reach ``pill_reach``,
 ``filtered_pill_reach``, and ``plate_profile``, ``pill_term``, ``filtered_edge``,
 ``corner_taps``, ``corner_sum``, ``filtered_pill_term``), the same the GPU sums once per cell in
@@ -22,22 +22,22 @@ import math
 import numba as nb
 import numpy as np
 
-from .core import CPU, FASTMATH
+from ..physics.build import CPU, FASTMATH
 
-_rotor_table = CPU.rotor_table
-_projection = CPU.projection
-_gauge_step = CPU.gauge_step
-_farther = CPU.farther
-_tangential = CPU.tangential
-_near_corner = CPU.near_corner
-_pill_reach = CPU.pill_reach
-_filtered_pill_reach = CPU.filtered_pill_reach
-_plate_profile = CPU.plate_profile
-_pill_term = CPU.pill_term
-_filtered_edge = CPU.filtered_edge
-_corner_taps = CPU.corner_taps
-_corner_sum = CPU.corner_sum
-_filtered_pill_term = CPU.filtered_pill_term
+_rotor_table = CPU.indicators.rotor_table
+_projection = CPU.indicators.projection
+_gauge_step = CPU.indicators.gauge_step
+_farther = CPU.indicators.farther
+_tangential = CPU.indicators.tangential
+_near_corner = CPU.indicators.near_corner
+_pill_reach = CPU.indicators.pill_reach
+_filtered_pill_reach = CPU.indicators.filtered_pill_reach
+_plate_profile = CPU.indicators.plate_profile
+_pill_term = CPU.indicators.pill_term
+_filtered_edge = CPU.indicators.filtered_edge
+_corner_taps = CPU.indicators.corner_taps
+_corner_sum = CPU.indicators.corner_sum
+_filtered_pill_term = CPU.indicators.filtered_pill_term
 
 
 _ROW = {"cache": True, "nogil": True, "fastmath": FASTMATH, "error_model": "numpy"}
@@ -50,7 +50,7 @@ def plate_row(row_f, x, row_y, tab, n_corners, apothem, inv_delta, row_h):
     (x, row_y[j]) of the plate's frame (its centre at the origin, the edge normals `tab`
     (2, >= N) in the lab's axes).
 
-    The gauge (``projection``, ``gauge_step``) and profile of the physics core's
+    The gauge (``projection``, ``gauge_step``) and profile of the physics'
     ``plate_cell``, with the loop over the edges outside the loop over the row's cells,
     so that the row is computed four cells at a time (SIMD; the loops run over slices,
     whose indices numba knows to be non-negative). `row_h` (as long) is scratch. The
@@ -75,7 +75,7 @@ def filtered_plate_row(
     """F_eps of the scheme ``consistent`` on a row of cells (compiled): row_f[j] at the
     point (x, row_y[j]) of the plate's frame, as for :func:`plate_row`.
 
-    The physics core's ``filtered_plate`` (its arguments from `n_corners` to `t_inv`) in
+    The physics' ``filtered_plate`` (its arguments from `n_corners` to `t_inv`) in
     passes over the row, all but the last four cells at a time (SIMD, as
     :func:`plate_row`): the frame of the nearest edge (h, q) (``nearer_edge`` from
     ``projection``, ``farther`` and ``tangential``); the edge profile
@@ -96,7 +96,7 @@ def filtered_plate_row(
     for k in range(1, n_corners):
         ex, ey = tab[0, k], tab[1, k]
         for j in range(row_y.size):
-            # the core's nearer_edge, spelt out: LLVM vectorises this loop only so
+            # the physics' nearer_edge, spelt out: LLVM vectorises this loop only so
             proj = _projection(x, row_y[j], ex, ey)
             nearer = _farther(proj, row_h[j])
             row_q[j] = _tangential(x, row_y[j], ex, ey) if nearer else row_q[j]

@@ -1,11 +1,11 @@
 """The scalar parameters of the compiled kernels as one numpy record per run.
 
 :data:`PARAMS` is the structured dtype that the CPU loops (:mod:`pde_rotor.kernels.cpu`),
-the CUDA kernel (:mod:`pde_rotor.kernels.cuda`) and the physics core
-(:mod:`pde_rotor.kernels.core`) read by field name (numba compiles ``p.dt`` to a load of
+the CUDA kernel (:mod:`pde_rotor.kernels.cuda`) and the compiled physics
+(:mod:`pde_rotor.physics`) read by field name (numba compiles ``p.dt`` to a load of
 the record's field on both targets); :func:`make_record` is the one place that fills it
 from a run's configuration. Adding a parameter to the kernels touches the schema
-(:mod:`pde_rotor.config.schema`), this builder and the core function that uses it.
+(:mod:`pde_rotor.config.schema`), this builder and the physics function that uses it.
 
 The fields, by the equation that uses them (Koyano et al., Chaos 2020):
 
@@ -13,8 +13,13 @@ The fields, by the equation that uses them (Koyano et al., Chaos 2020):
 * Eq. (eqc): ``diffusion`` D, ``evaporation`` a, ``source`` s0 / (pi rho^2);
 * Eq. (eqv): ``flow`` (False: v = 0, Fig. 8), ``drag`` eta, ``bulk_drag`` eta_b,
   ``viscosity`` D_eta;
-* Eqs. (torque), (eq_motion), (noiseav): ``tension_slope`` k, ``torque_sign`` (+-1,
-  ``rotor.torque``), ``inertia`` I, ``friction`` mu, ``kick`` sqrt(2 dt) sigma / I;
+* Eqs. (torque), (eq_motion), (noiseav): ``tension_slope`` k, ``inv_saturation``
+  1 / c_sat of the saturating law (0: linear, :mod:`pde_rotor.physics.tension`),
+  ``torque_sign`` (+-1,
+  ``rotor.torque``), ``inertia`` I, ``friction`` mu, ``kick`` sqrt(2 dt) sigma / I, and
+  as for a body's record (the rotor is the ``fixed_axis`` body at the origin,
+  :mod:`pde_rotor.physics.motion`) ``motion``, ``mass`` (0: it does not translate) and
+  the external load ``external_force_x``, ``external_force_y`` (0) and ``external_torque``;
 * Eqs. (ejt0), (rc), (rj) and F, G: ``n_corners`` N, ``apothem`` R cos(pi/N),
   ``pill_radius`` rho, ``pill_distance`` R_c, ``asymmetry`` Delta, ``smoothing`` delta;
 * the stop schedule in steps: ``n_ini``, ``n_stop``, ``n_period``, ``cycles``;
@@ -43,6 +48,7 @@ from ..model.geometry import RotorShape
 from ..model.pde import TORQUE_SIGN
 from ..model.protocol import StopSchedule
 from ..model.schemes import Scheme
+from ..physics.motion import MOTION_FIXED_AXIS
 
 _F8, _I8, _B1 = np.float64, np.int64, np.bool_
 
@@ -57,6 +63,7 @@ CONFIG_FIELDS: dict[str, str] = {
     "viscosity": "flow.viscosity",
     "inertia": "rotor.inertia",
     "friction": "rotor.friction",
+    "external_torque": "rotor.external_torque",
     "n_corners": "geometry.n_corners",
     "pill_radius": "geometry.pill_radius",
     "pill_distance": "geometry.pill_distance",
@@ -77,6 +84,7 @@ PARAMS = np.dtype(
         ("bulk_drag", _F8),
         ("viscosity", _F8),
         ("tension_slope", _F8),
+        ("inv_saturation", _F8),
         ("torque_sign", _F8),
         ("inertia", _F8),
         ("friction", _F8),
@@ -91,6 +99,11 @@ PARAMS = np.dtype(
         ("n_stop", _I8),
         ("n_period", _I8),
         ("cycles", _I8),
+        ("motion", _I8),
+        ("mass", _F8),
+        ("external_force_x", _F8),
+        ("external_force_y", _F8),
+        ("external_torque", _F8),
         ("tan_half", _F8),
         ("window_lo", _I8),
         ("window_hi", _I8),
@@ -132,12 +145,15 @@ def make_record(config: RotorConfig, scheme: Scheme, dt: float) -> np.ndarray:
     rec["dt"] = dt
     rec["source"] = config.camphor.supply / (math.pi * rho**2)
     rec["torque_sign"] = TORQUE_SIGN[config.rotor.torque]
+    saturation = config.camphor.saturation
+    rec["inv_saturation"] = 0.0 if saturation is None else 1.0 / saturation
     rec["kick"] = config.kick_scale(dt)
     rec["apothem"] = RotorShape.from_config(config.geometry).apothem
     schedule = StopSchedule.from_config(config.protocol, dt)
     rec["n_ini"] = schedule.n_ini
     rec["n_stop"] = schedule.n_stop
     rec["n_period"] = schedule.n_period
+    rec["motion"] = MOTION_FIXED_AXIS
     rec["contour"] = scheme.contour
     rec["tan_half"] = scheme.tan_half
     rec["window_lo"], rec["window_hi"] = scheme.window
@@ -174,6 +190,9 @@ BODY = np.dtype(
         ("n_stop", _I8),
         ("n_period", _I8),
         ("cycles", _I8),
+        ("external_force_x", _F8),
+        ("external_force_y", _F8),
+        ("external_torque", _F8),
         ("tan_half", _F8),
         ("crease", _F8),
         ("corner_end", _F8),
@@ -193,10 +212,11 @@ BODY = np.dtype(
     align=True,
 )
 """One body of :func:`pde_rotor.kernels.bodies.advance_bodies`: plate kind
-(:data:`pde_rotor.kernels.body_core.PLATE_POLYGON`...), its corners and sizes (``size_a``:
+(:data:`pde_rotor.physics.indicators.PLATE_POLYGON`...), its corners and sizes (``size_a``:
 apothem, radius or half length; ``size_b``: half width), the footprint radius ``reach``,
 its pills' range in the pill table, motion kind, m, I, mu, the noise kick
-sqrt(2 dt) sigma / I, and its stop schedule in steps. For the ``consistent`` scheme
+sqrt(2 dt) sigma / I, its stop schedule in steps and its external force and torque.
+For the ``consistent`` scheme
 (:func:`make_body_tables`): tan(pi/N), the crease width and the corner table's end
 ``corner_end`` of a polygon, where its
 filtered tables lie in the flat arrays (a disk's F profile ``f_*``, a polygon's corner
@@ -247,6 +267,7 @@ def make_body_records(
         rec["motion"] = _MOTIONS[body.motion]
         rec["mass"], rec["inertia"], rec["friction"] = body.mass, body.inertia, body.friction
         rec["kick"] = math.sqrt(2.0 * dt) * body.noise_sigma / body.inertia
+        rec["external_force_x"], rec["external_force_y"], rec["external_torque"] = body.external
         if body.protocol is not None:
             schedule = StopSchedule.from_config(body.protocol, dt)
             rec["n_ini"], rec["n_stop"] = schedule.n_ini, schedule.n_stop

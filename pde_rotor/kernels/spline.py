@@ -6,7 +6,7 @@ recursive prefilter along both axes of a square window of cells around the plate
 (:class:`~pde_rotor.model.schemes.Scheme`, ``window``): first along y (the rows), then
 along x (the columns). Each line is a recursion, one sample after the other; filtered one
 line at a time, a line waits on the latency of each step. Here the steps of the physics
-core (:mod:`pde_rotor.kernels.core`: ``spline_causal``, ``spline_anticausal_start``,
+core (:mod:`pde_rotor.physics`: ``spline_causal``, ``spline_anticausal_start``,
 ``spline_anticausal``, ``spline_gain``, the steps of ``spline_line``) advance several
 lines side by side (:func:`spline_lines`): a group of rows together, and the columns
 together, where the lines lie next to each other in memory and LLVM computes them four
@@ -19,12 +19,12 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
-from .core import CPU
+from ..physics.build import CPU
 
-_spline_causal = CPU.spline_causal
-_spline_anticausal_start = CPU.spline_anticausal_start
-_spline_anticausal = CPU.spline_anticausal
-_spline_gain = CPU.spline_gain
+_spline_causal = CPU.spline.spline_causal
+_spline_anticausal_start = CPU.spline.spline_anticausal_start
+_spline_anticausal = CPU.spline.spline_anticausal
+_spline_gain = CPU.spline.spline_gain
 
 _LINES = {"cache": True, "nogil": True, "error_model": "numpy"}
 """numba options of the loops below (inlined into the time step that calls them): no
@@ -34,7 +34,7 @@ fastmath, so that no multiply-add is fused and each coefficient has the bits of
 
 @nb.njit(inline="always", **_LINES)
 def spline_lines(src, buf, o, stride, count, lane_stride, lanes, keep, carry):
-    """The core's ``spline_line`` on `lanes` lines at once, from `src` into `buf`.
+    """The physics' ``spline_line`` on `lanes` lines at once, from `src` into `buf`.
 
     Line r holds the `count` samples src[o + r lane_stride + k stride], its coefficients
     go to the same places of `buf` (which may be `src`); step k of every line is taken

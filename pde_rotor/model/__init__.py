@@ -1,14 +1,16 @@
 """The model in numpy: geometry, domain, protocol, schemes and the readable reference PDE.
 
 This layer says *what* is computed. It imports only :mod:`pde_rotor.config` and the
-scalar functions of :mod:`pde_rotor.kernels.core`, which it shares with the compiled
-loops so that every indicator is written once.
+stop schedule and spline constants of :mod:`pde_rotor.physics`, the compiled physics
+it is the independent reference of.
 
 * :mod:`.geometry`: the rotor's plate indicator F and pill indicator G (Eqs. (F), (G));
 * :mod:`.bodies`: the same for every body of a ``bodies:`` config (plates of any shape,
   pills anywhere, poses), with the plate velocity and the footprint;
 * :mod:`.domain`: the circular domain of radius L on a py-pde CartesianGrid;
 * :mod:`.wall`: the no-flux dish wall: cut cells of the circle, their fluxes and step;
+* :mod:`.vessel`: the cut cells of the other vessels (an annular channel, a rectangular
+  tank) for the same step;
 * :mod:`.protocol`: the stop-and-release schedule (section "Model");
 * :mod:`.schemes`, :mod:`.filtering`: the ``paper`` and ``consistent`` discretisations
   of F, G and the torque, and the prefilter tables of the latter;
@@ -17,8 +19,11 @@ loops so that every indicator is written once.
 * :mod:`.pde`: :class:`RotorPDE`, the py-pde PDE whose numpy right-hand side is the
   independent reference of Eqs. (eqc), (eqv) and (eq_motion);
 * :mod:`.surface`: :class:`SurfacePDE`, the same model with K bodies on one surface
-  (each body's force and torque, Eq. (eq_motion) about its position), and its state;
-* :mod:`.analysis`: what needs no time stepping (the stopped plate's steady state);
-* :mod:`.onsets`: the exact onsets of motion from linear stability (a free camphor disk,
-  a disk in a dish, the two-disk rotor), derived in docs/bodies.md.
+  (each body's force and torque, Eq. (eq_motion) about its position, a whole step of
+  fields and bodies), and its state;
+* :mod:`.motion`: the equation of motion of K bodies (accelerations, Euler and Heun
+  steps of the poses), the paper's rotor being the ``fixed_axis`` body at the origin;
+* :mod:`.analysis`: what needs no time stepping (the stopped plate's steady state).
+
+The exact onsets of motion the bodies are checked against are :mod:`pde_rotor.theory`'s.
 """

@@ -125,6 +125,7 @@ class Body:
         omega0: the angular velocity at t = 0.
         velocity0: the velocity U at t = 0.
         protocol: its stop-and-release schedule (None: never stopped).
+        external: its external force (x, y) and torque, Eq. (eq_motion).
     """
 
     name: str
@@ -138,6 +139,7 @@ class Body:
     omega0: float
     velocity0: tuple[float, float]
     protocol: ProtocolConfig | None
+    external: tuple[float, float, float]
 
     @classmethod
     def from_config(cls, body: BodyConfig, smoothing: float) -> Body:
@@ -160,6 +162,7 @@ class Body:
             omega0=start.omega,
             velocity0=start.velocity,
             protocol=body.protocol,
+            external=(*body.external_force, body.external_torque),
         )
 
 

@@ -62,7 +62,7 @@ import numpy as np
 from scipy.ndimage import map_coordinates
 
 from ..config import X_SATURATION, RotorConfig
-from ..kernels.core import SPLINE_MARGIN
+from ..physics.spline import SPLINE_MARGIN
 from .bodies import Body, BodyShape, Pose, pill_offsets
 from .filtering import (
     PROFILE_REFINEMENT,
@@ -76,7 +76,7 @@ from .filtering import (
     strip_table,
 )
 from .geometry import RotorShape, edge_normal_angles
-from .schemes import sech2_gauss
+from .schemes import sech2_gauss, surface_pressure
 
 ARC_EDGES = 4
 """A circle carries as many equally spaced contour nodes as this many straight edges
@@ -260,7 +260,7 @@ class BodyScheme:
     def window_half(self, shape: BodyShape, filt: BodyFilter) -> int:
         """Half the side, in cells, of the square window about X whose c is turned into
         spline coefficients: the contour's taps plus
-        :data:`~pde_rotor.kernels.core.SPLINE_MARGIN` cells (the rotor's window for a
+        :data:`~pde_rotor.physics.spline.SPLINE_MARGIN` cells (the rotor's window for a
         polygon at the origin)."""
         return math.ceil(self.contour_reach(shape, filt) / self.dx) + 2 + SPLINE_MARGIN
 
@@ -315,11 +315,12 @@ def _spline(c: np.ndarray, x0: float, y0: float, dx: float, x: np.ndarray, y: np
 def _edges(
     c: np.ndarray, origin: tuple[float, float], dx: float, pose: Pose, normals: np.ndarray,
     distance: np.ndarray, half: np.ndarray, s_weights: np.ndarray, quad_t: np.ndarray,
+    saturation: float | None,
 ) -> tuple[float, float, float]:  # fmt: skip
     """The straight edges of a contour form (see :func:`contour_integrals`): edge j's
     normal at the angle normals[j], its parallel of band node m at distance[j, m] from
     X, half[j, m] long each side of its foot; weight s_weights[m] across and the
-    Gauss-Legendre rule `quad_t` along.
+    Gauss-Legendre rule `quad_t` along; c read through :func:`surface_pressure`.
 
     Returns:
         the force integrals (x, y) and the torque integral about X.
@@ -330,17 +331,19 @@ def _edges(
     ey = np.sin(normals)[:, None, None]
     x = pose.x + distance[:, :, None] * ex - t * ey
     y = pose.y + distance[:, :, None] * ey + t * ex
-    values = _spline(c, *origin, dx, x, y)
+    values = surface_pressure(_spline(c, *origin, dx, x, y), saturation)
     weights = (s_weights * half)[:, :, None] * t_weights[None, None, :] * values
     return np.sum(weights * ex), np.sum(weights * ey), -np.sum(weights * t)
 
 
 def contour_integrals(
     c: np.ndarray, origin: tuple[float, float], dx: float, shape: BodyShape, pose: Pose,
-    scheme: BodyScheme, index: int,
+    scheme: BodyScheme, index: int, saturation: float | None = None,
 ) -> np.ndarray:  # fmt: skip
-    """int F grad c dA (x, y) and int F (r - X) x grad c dA of one body in contour form
-    (numpy reference, ``consistent``; see the module docstring).
+    """int F grad P dA (x, y) and int F (r - X) x grad P dA of one body in contour form
+    (numpy reference, ``consistent``; see the module docstring), P the surface pressure
+    per slope of c (:func:`~pde_rotor.model.schemes.surface_pressure`; c for the linear
+    law).
 
     Args:
         c: (n, n) concentration at the cell centres, axis 0 along x.
@@ -350,6 +353,7 @@ def contour_integrals(
         pose: its pose.
         scheme: a consistent scheme (its quadrature rules).
         index: the body's index in the scheme (its circles' radial rules).
+        saturation: c_sat of the saturating law (None: linear).
 
     Returns:
         (3,) the two force integrals and the torque integral (without s k).
@@ -362,7 +366,8 @@ def contour_integrals(
         normals = edge_normal_angles(shape.n_corners, pose.phi)
         distance = np.broadcast_to(h, (shape.n_corners, h.size))
         half = distance * math.tan(math.pi / shape.n_corners)
-        out[:] = _edges(c, origin, dx, pose, normals, distance, half, s_weights, scheme.quad_t)
+        quad_t = scheme.quad_t
+        out[:] = _edges(c, origin, dx, pose, normals, distance, half, s_weights, quad_t, saturation)
         return out
     if shape.plate == "strip":
         h = -delta * s_nodes
@@ -370,7 +375,8 @@ def contour_integrals(
         sides = np.array([shape.length, shape.width] * 2)[:, None] / 2
         distance, half = sides + h, sides[[1, 0, 3, 2]] + h
         kept = s_weights * (h > -min(shape.length, shape.width) / 2)
-        out[:] = _edges(c, origin, dx, pose, normals, distance, half, kept, scheme.quad_t)
+        quad_t = scheme.quad_t
+        out[:] = _edges(c, origin, dx, pose, normals, distance, half, kept, quad_t, saturation)
         return out
     n_arc = scheme.arc_nodes
     theta = pose.phi + 2.0 * math.pi * np.arange(n_arc) / n_arc
@@ -383,6 +389,7 @@ def contour_integrals(
     for (qx, qy), (radii, ring_weights) in zip(centres, rings, strict=True):
         h = radii[:, None]
         values = _spline(c, *origin, dx, pose.x + qx + h * ex, pose.y + qy + h * ey)
+        values = surface_pressure(values, saturation)
         weights = (ring_weights[:, None] * h * (2.0 * math.pi / n_arc)) * values
         f_x, f_y = np.sum(weights * ex), np.sum(weights * ey)
         out += (f_x, f_y, qx * f_y - qy * f_x)

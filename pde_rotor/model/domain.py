@@ -16,6 +16,12 @@ With ``grid.wall: no_flux`` the camphor field c lives on the cut cells of the ci
 instead (:mod:`pde_rotor.model.wall`, :attr:`Domain.cut_cells`): every cell the circle
 covers in part holds c, with its volume fraction and its faces' apertures, while v keeps
 v = 0 on the cells whose centre lies outside (the solid wall's no-slip).
+
+With ``grid.vessel`` (an annular channel or a rectangular tank about the centre) c lives
+on the vessel's cut cells (:mod:`pde_rotor.model.vessel`) and v on the cells whose centre
+lies inside it; :attr:`Domain.radius` is then ``grid.domain_radius``, the half side of
+the square that holds the vessel, and the rows' interior ranges span the vessel's cells of
+each row (an annulus' hole included: :attr:`Domain.interior_mask` leaves it out).
 """
 
 from __future__ import annotations
@@ -28,6 +34,7 @@ from pde import CartesianGrid
 
 from ..config import GridConfig
 from .geometry import RotorShape, support_rows
+from .vessel import make_vessel_cells
 from .wall import CutCells, make_cut_cells
 
 
@@ -48,7 +55,8 @@ class Domain:
             cells where F or G can be nonzero.
         centre: (x, y) of the dish centre (``grid.domain_centre``).
         cut_cells: the cut cells of the circle that hold c behind a no-flux wall
-            (``grid.wall: no_flux``); None with the absorbing wall.
+            (``grid.wall: no_flux``) or of the vessel (``grid.vessel``); None with the
+            absorbing dish wall.
     """
 
     grid: CartesianGrid
@@ -83,7 +91,10 @@ class Domain:
 
     @property
     def interior_mask(self) -> np.ndarray:
-        """Boolean (n, n) array, True on cells with centre radius < L."""
+        """Boolean (n, n) array, True on cells with centre radius < L (in a vessel: on
+        the cells whose centre lies inside it, where v evolves)."""
+        if self.cut_cells is not None:
+            return self.cut_cells.flowing
         x, y = np.meshgrid(self.coords, self.coords, indexing="ij")
         return x**2 + y**2 < self.radius**2
 
@@ -143,6 +154,13 @@ def make_domain(grid_config: GridConfig, shape: RotorShape) -> Domain:
     coords = np.asarray(CartesianGrid([[-half, half]], [n]).axes_coords[0], dtype=float)
     grid = CartesianGrid([[cx - half, cx + half], [cy - half, cy + half]], [n, n])
     interior_lo, interior_hi = support_rows(coords, radius)
+    cut_cells = make_cut_cells(coords, radius) if grid_config.wall == "no_flux" else None
+    if grid_config.vessel is not None:
+        cut_cells = make_vessel_cells(coords, grid_config.vessel)
+        wet = cut_cells.flowing
+        rows = wet.any(axis=1)
+        interior_lo = np.where(rows, np.argmax(wet, axis=1), 0).astype(np.int64)
+        interior_hi = np.where(rows, n - np.argmax(wet[:, ::-1], axis=1), 0).astype(np.int64)
     support_lo, support_hi = support_rows(coords, shape.support_radius, centre=(-cx, -cy))
     return Domain(
         grid=grid,
@@ -154,5 +172,5 @@ def make_domain(grid_config: GridConfig, shape: RotorShape) -> Domain:
         support_lo=support_lo,
         support_hi=support_hi,
         centre=(cx, cy),
-        cut_cells=make_cut_cells(coords, radius) if grid_config.wall == "no_flux" else None,
+        cut_cells=cut_cells,
     )

@@ -34,7 +34,7 @@ below is linear in its kernel and is built as the same sum of Gaussian filtering
   along +x), spacing dx / ``numerics.table_refinement``, filtered by
   :func:`scipy.ndimage.gaussian_filter` and stored as cubic B-spline coefficients. The
   kernels write each cell centre in the frame of its nearest edge
-  (:mod:`pde_rotor.kernels.core`, ``filtered_plate``), so F_eps has the hexagon's rotation and
+  (:mod:`pde_rotor.physics`, ``filtered_plate``), so F_eps has the hexagon's rotation and
   mirror symmetries exactly.
   Beyond the corners, where F_eps and the table's difference to the edge profile have
   fallen below CORNER_CUTOFF (from h = ``corner_end`` on, about a + 15 delta), the edge
@@ -48,7 +48,7 @@ below is linear in its kernel and is built as the same sum of Gaussian filtering
       g_eps(d) = int_0^inf g(s) (s / eps^2) exp(-(d - s)^2 / (2 eps^2)) I0e(d s / eps^2) ds,
 
   tabulated on d with spacing dx / 256 and interpolated linearly
-  (:mod:`pde_rotor.kernels.core`, ``filtered_pills``).
+  (:mod:`pde_rotor.physics`, ``filtered_pills``).
 """
 
 from __future__ import annotations

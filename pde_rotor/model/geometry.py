@@ -15,7 +15,7 @@ See docs/model.md.
 F and G are the smoothed indicators of the paper (the two unnumbered equations after
 Eq. (rj)). Both are 1/2 (1 + tanh(x)) of a signed distance x in units of delta. For
 |x| >= X_SATURATION (:mod:`pde_rotor.config`) they equal 0 or 1 to within
-exp(-2 X_SATURATION) = 4e-18, so the kernels (:mod:`pde_rotor.kernels.core`) evaluate them
+exp(-2 X_SATURATION) = 4e-18, so the kernels (:mod:`pde_rotor.physics`) evaluate them
 only inside the disk of :attr:`GeometryConfig.support_radius` (F) and within
 rho + X_SATURATION delta of each pill (G). This module holds the numpy reference
 versions (point values; the filtered fields of the ``consistent`` scheme are in

@@ -8,7 +8,7 @@ Controller and trackers see it, and a branch of a run starts from both.
 
 :meth:`RotorPDE.evolution_rate` and :meth:`RotorPDE.rotor_torques` are the executable
 specification used by the tests; :mod:`pde_rotor.kernels.cpu` computes the same right-hand
-side in one fused compiled loop from the physics core (:mod:`pde_rotor.kernels.core`).
+side in one fused compiled loop from :mod:`pde_rotor.physics`.
 
 Torque, Eq. (torque). The force that the surface exerts on the plate is the surface
 tension pulling on its contour, gamma n dl (n the outward normal). Its torque is
@@ -18,7 +18,8 @@ tension pulling on its contour, gamma n dl (n the outward normal). Its torque is
 
 by the divergence theorem applied to the field (x gamma, ... ) and gamma = gamma0 - k c,
 Eq. (surfacetension). The paper prints T = int r x (-grad gamma) dA, the opposite sign:
-that torque opposes the rotation and leaves the rotor at rest (tests/test_model.py).
+that torque opposes the rotation and leaves the rotor at rest
+(tests/model/test_pde.py::test_torque_sign_physical_spins_up_printed_decays).
 ``rotor.torque = "physical"`` (default) uses the derived sign, ``"printed"`` the printed.
 """
 
@@ -42,7 +43,7 @@ from .geometry import (
     pill_indicator,
     plate_indicator,
 )
-from .schemes import Scheme, contour_cross_grad
+from .schemes import Scheme, contour_cross_grad, surface_pressure
 
 BOUNDARY = {"value": 0}
 """py-pde boundary condition on the square; it never reaches an interior cell."""
@@ -122,24 +123,6 @@ def refuse_bodies(config: RotorConfig) -> None:
         msg = (
             f"grid.domain_centre = {list(config.grid.domain_centre)}: the rotor of geometry: "
             "turns at the dish centre (allowed: [0, 0]; a dish elsewhere holds bodies:)"
-        )
-        raise ConfigError(msg)
-
-
-def check_bodies_numerics(config: RotorConfig) -> None:
-    """Refuse, in one line, numerics the bodies' kernel does not implement (before any
-    compute): it integrates forward Euler (on either scheme, every plate).
-
-    Raises:
-        ConfigError: ``bodies:`` with numerics.integrator other than euler.
-    """
-    if config.bodies is None:
-        return
-    numerics = config.numerics
-    if numerics.integrator != "euler":
-        msg = (
-            f"numerics.integrator = {numerics.integrator}: bodies are integrated by forward "
-            "Euler only (allowed: euler)"
         )
         raise ConfigError(msg)
 
@@ -257,9 +240,11 @@ class RotorPDE(PDEBase):
                 normals,
                 self.shape.apothem,
                 self.shape.smoothing,
+                cfg.camphor.saturation,
             )
         else:
-            grad = c.gradient(BOUNDARY).data
+            pressure = ScalarField(c.grid, surface_pressure(c.data, cfg.camphor.saturation))
+            grad = pressure.gradient(BOUNDARY).data
             cross_grad = np.sum(F * (x * grad[1] - y * grad[0])) * area
         torque = TORQUE_SIGN[cfg.rotor.torque] * cfg.camphor.tension_slope * cross_grad
         cross_v = np.sum(F * (x * v.data[1] - y * v.data[0])) * area if cfg.flow.enabled else 0.0

@@ -4,7 +4,7 @@ The first stop starts at t_ini; stop m (m = 1..M) lasts from t_ini + (m-1) T to
 t_ini + t_stop + (m-1) T with T = t_stop + t_release. During a stop phi is frozen and
 dphi/dt = 0; c and v keep evolving. Times are handled as integer step counts so that
 the schedule does not drift with floating point round-off; the rule itself is the
-physics core's ``stopped_at`` (:mod:`pde_rotor.kernels.core`), which the kernels call.
+compiled physics' ``stopped_at`` (:mod:`pde_rotor.physics.motion`), which the kernels call.
 """
 
 from __future__ import annotations
@@ -14,7 +14,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..config import ProtocolConfig
-from ..kernels.core import CPU
+from ..physics.build import CPU
+
+_stopped_at = CPU.motion.stopped_at
 
 
 @dataclass(frozen=True)
@@ -48,7 +50,7 @@ class StopSchedule:
 
     def is_stopped(self, step: int) -> bool:
         """Whether step `step` (advancing t = step dt by dt) lies in a stop phase."""
-        return bool(CPU.stopped_at(step, self.n_ini, self.n_stop, self.n_period, self.cycles))
+        return bool(_stopped_at(step, self.n_ini, self.n_stop, self.n_period, self.cycles))
 
     def cycle(self, step: int) -> int:
         """Cycle number m (1..M) that `step` belongs to, 0 before the first stop."""

@@ -30,13 +30,13 @@ its angle (docs/model.md). Two schemes are offered (``numerics.scheme``):
       the same continuum torque. It is evaluated with a Gauss rule for the weight
       1/2 sech^2(s) (:func:`sech2_gauss`, ``numerics.band_nodes`` nodes) across the
       edge and Gauss-Legendre (``numerics.contour_nodes`` per edge) along it, with c
-      from its interpolating cubic spline (:mod:`pde_rotor.kernels.core`: ``spline_line``,
+      from its interpolating cubic spline (:mod:`pde_rotor.physics`: ``spline_line``,
       ``interpolate``). Every quadrature node turns with the plate, so only the
       interpolation error of c, O(dx^4), and the lattice error of c itself still see
       the lattice; the torque integrates the model's own F (unfiltered), the field
       equations see F_eps and G_eps (docs/model.md, "Schemes").
 
-The per-cell work of both schemes is in :mod:`pde_rotor.kernels.core`; this module only builds
+The per-cell work of both schemes is in :mod:`pde_rotor.physics`; this module only builds
 the numbers the kernels need (:func:`pde_rotor.kernels.records.make_record` packs them).
 """
 
@@ -50,9 +50,18 @@ import numpy as np
 from scipy.ndimage import map_coordinates
 
 from ..config import RotorConfig
-from ..kernels.core import SPLINE_MARGIN
+from ..physics.spline import SPLINE_MARGIN
 from .filtering import FilterTables, make_tables
 from .geometry import RotorShape
+
+
+def surface_pressure(c: np.ndarray, saturation: float | None) -> np.ndarray:
+    """Pi(c) / k = (gamma0 - gamma(c)) / k, the surface pressure per tension slope that
+    the tension integrals read (numpy reference): c for the paper's linear law
+    (`saturation` None), c / (1 + c / c_sat) for the saturating one."""
+    if saturation is None:
+        return c
+    return c / (1.0 + c / saturation)
 
 
 @lru_cache(maxsize=32)
@@ -103,7 +112,7 @@ class Scheme:
         tan_half: tan(pi / N).
         window: cell range [lo, hi), along both axes, whose c is turned into cubic
             spline coefficients each step: the contour's 4 x 4 taps plus
-            :data:`~pde_rotor.kernels.core.SPLINE_MARGIN` cells.
+            :data:`~pde_rotor.physics.spline.SPLINE_MARGIN` cells.
         taps: the cell range [lo, hi) within `window`, along both axes, of the contour's
             taps: the coefficients wanted (the window's margin only feeds the prefilter's
             recursions).
@@ -195,8 +204,10 @@ def contour_cross_grad(
     normal_angles: np.ndarray,
     apothem: float,
     smoothing: float,
+    saturation: float | None = None,
 ) -> float:
-    """int F r x grad c dA in the contour form of the ``consistent`` scheme (numpy reference).
+    """int F r x grad P dA in the contour form of the ``consistent`` scheme (numpy reference),
+    P = :func:`surface_pressure` of c (c itself for the linear law).
 
     Args:
         c: (n, n) concentration at the cell centres.
@@ -206,6 +217,7 @@ def contour_cross_grad(
         normal_angles: angles of the edge normals e_j at the current phi.
         apothem: R cos(pi/N).
         smoothing: delta.
+        saturation: c_sat of the saturating law (None: linear).
     """
     s_nodes, s_weights = scheme.quad_s
     t_nodes, t_weights = scheme.quad_t
@@ -216,6 +228,6 @@ def contour_cross_grad(
     ey = np.sin(normal_angles)[:, None, None]
     x = h[None, :, None] * ex - t[None] * ey
     y = h[None, :, None] * ey + t[None] * ex
-    values = interpolate_spline(c, x0, dx, x, y)
+    values = surface_pressure(interpolate_spline(c, x0, dx, x, y), saturation)
     weights = s_weights[:, None] * t_weights[None, :] * half[:, None] * t
     return float(-np.sum(weights[None] * values))

@@ -23,8 +23,10 @@ takes the tension force and torque in the area form above with central differenc
 F_k in both.
 
 :class:`SurfacePDE` holds the equations written plainly with numpy
-(:meth:`SurfacePDE.evolution_rate`, :meth:`SurfacePDE.body_forces`); the compiled loop
-:func:`pde_rotor.kernels.bodies.advance_bodies` computes the same from the physics core
+(:meth:`SurfacePDE.evolution_rate`, :meth:`SurfacePDE.body_forces`, the equation of
+motion of :mod:`pde_rotor.model.motion`, and a whole step of both,
+:meth:`SurfacePDE.reference_step`); the compiled loop
+:func:`pde_rotor.kernels.bodies.advance_bodies` computes the same from the compiled physics
 and is tested against them. :class:`SurfaceFields` carries the bodies' state with c and
 v, as :class:`pde_rotor.model.pde.RotorFields` carries the rotor.
 """
@@ -44,8 +46,9 @@ from .bodies import Body, Pose, make_bodies, pill_source, plate_indicator
 from .body_schemes import BodyScheme, contour_integrals, filtered_body_fields
 from .domain import Domain, make_domain
 from .geometry import RotorShape
+from .motion import Inertia, accelerations, euler_poses, held_bodies, heun_poses
 from .pde import BOUNDARY, TORQUE_SIGN
-from .schemes import Scheme
+from .schemes import Scheme, surface_pressure
 from .wall import make_wall_step, wall_fluxes, wall_rate
 
 POSE_COLUMNS = (
@@ -287,7 +290,9 @@ class SurfacePDE(PDEBase):
         c, v = state
         x, y = self.cell_coordinates()
         area = self.domain.cell_area
-        grad = c.gradient(BOUNDARY).data
+        saturation = cfg.camphor.saturation
+        pressure = ScalarField(c.grid, surface_pressure(c.data, saturation))
+        grad = pressure.gradient(BOUNDARY).data
         flow = v.data if cfg.flow.enabled else np.zeros_like(v.data)
         sign_k = TORQUE_SIGN[cfg.rotor.torque] * cfg.camphor.tension_slope
         out = np.zeros((len(self.bodies), 6))
@@ -314,6 +319,7 @@ class SurfacePDE(PDEBase):
                     state.bodies.pose(k),
                     self.body_scheme,
                     k,
+                    saturation,
                 )
             out[k] = (
                 *(sign_k * tension),
@@ -322,6 +328,45 @@ class SurfacePDE(PDEBase):
                 -mu * np.sum(f_k * (rx * slip_y - ry * slip_x)) * area,
             )
         return out
+
+    def reference_step(self, state: SurfaceFields, dt: float, step: int = 0) -> SurfaceFields:
+        """One step of the fields and every body from step `step`, written with numpy.
+
+        The bodies held in this step (:func:`~pde_rotor.model.motion.held_bodies`) get
+        U = 0, omega = 0; then forward Euler of Eqs. (eqc), (eqv) (:meth:`evolution_rate`)
+        and of Eq. (eq_motion) (:meth:`body_forces`,
+        :func:`~pde_rotor.model.motion.accelerations`,
+        :func:`~pde_rotor.model.motion.euler_poses`), or with ``numerics.integrator:
+        heun`` the same at the Euler-predicted state and poses, and the trapezoid of both
+        (:func:`~pde_rotor.model.motion.heun_poses`). No noise; the absorbing wall (the
+        no-flux wall's step is :meth:`camphor_step`). The force columns of the result
+        hold the forces at the step's start, ``stopped`` whether a body was held.
+
+        Returns:
+            The new state (`state` is not changed).
+        """
+        inertia = Inertia.of(self.bodies)
+        held = held_bodies(self.bodies, step, dt)
+        start = state.copy()
+        start.bodies.poses[held, 3:6] = 0.0
+        rate = self.evolution_rate(start).data
+        forces = self.body_forces(start)
+        accel = accelerations(forces, inertia)
+        poses = start.bodies.poses[:, :6]
+        new = start.copy()
+        new.data[...] = start.data + dt * rate
+        new.bodies.poses[:, :6] = euler_poses(poses, accel, held, inertia, dt)
+        if self.config.numerics.integrator == "heun":
+            rate_p = self.evolution_rate(new).data
+            accel_p = accelerations(self.body_forces(new), inertia)
+            predicted = new.bodies.poses[:, :6].copy()
+            new.data[...] = start.data + 0.5 * dt * (rate + rate_p)
+            new.bodies.poses[:, :6] = heun_poses(
+                poses, accel, predicted, accel_p, held, inertia, dt
+            )
+        new.bodies.poses[:, 6:12] = forces
+        new.bodies.poses[:, 12] = held
+        return new
 
 
 _NO_SUPPORT = RotorShape(

@@ -62,7 +62,11 @@ class CutCells:
         stiff: (n, n) True on the cells whose open apertures add up to more than 4 kappa.
         implicit_x, implicit_y: (n, n) True on the open faces (as ``aperture_x``,
             ``aperture_y``) of a stiff cell, where the diffusion is implicit.
-        lo, hi: per row i, the column range [lo, hi) of cells with kappa > 0.
+        row_start, span_lo, span_hi: the runs of cells with kappa > 0, row by row: the
+            runs of row i are [span_lo[s], span_hi[s]) for row_start[i] <= s <
+            row_start[i + 1] (one per row in a dish, two across an annulus' hole).
+        flowing: (n, n) True on the cells where v evolves (centre inside the vessel; v = 0,
+            the wall's no-slip, on the others).
         dx: grid spacing.
     """
 
@@ -72,14 +76,17 @@ class CutCells:
     stiff: np.ndarray
     implicit_x: np.ndarray
     implicit_y: np.ndarray
-    lo: np.ndarray
-    hi: np.ndarray
+    row_start: np.ndarray
+    span_lo: np.ndarray
+    span_hi: np.ndarray
+    flowing: np.ndarray
     dx: float
 
     def arrays(self, coefficient: float) -> tuple[np.ndarray, ...]:
         """The `wall` the compiled step takes (:mod:`pde_rotor.kernels.wall`), 2-D arrays
         flattened: (volume, aperture_x, aperture_y, explicit diffusion apertures along x
-        and y, lo, hi, cluster members, cluster offsets, inverse blocks, block offsets).
+        and y, row_start, span_lo, span_hi, flowing as 0/1, cluster members, cluster
+        offsets, inverse blocks, block offsets).
 
         Args:
             coefficient: dt D / dx^2 of the run (:func:`implicit_blocks`).
@@ -91,8 +98,10 @@ class CutCells:
             self.aperture_y.reshape(-1),
             np.where(self.implicit_x, 0.0, self.aperture_x).reshape(-1),
             np.where(self.implicit_y, 0.0, self.aperture_y).reshape(-1),
-            self.lo,
-            self.hi,
+            self.row_start,
+            self.span_lo,
+            self.span_hi,
+            self.flowing.reshape(-1).astype(np.uint8),
             members,
             offsets,
             blocks,
@@ -135,24 +144,25 @@ TINY = 1e-10
 """Volume fractions below this are round-off of a cell that touches the circle: 0."""
 
 
-def make_cut_cells(coords: np.ndarray, radius: float) -> CutCells:
-    """The cut cells of the circle of radius `radius` about 0 on the grid of `coords`.
+def cell_faces(coords: np.ndarray) -> tuple[np.ndarray, float]:
+    """The n + 1 face positions of the cells of `coords` along either axis, and dx."""
+    dx = float(coords[1] - coords[0])
+    return np.append(coords - dx / 2, coords[-1] + dx / 2), dx
+
+
+def disk_fractions(coords: np.ndarray, radius: float) -> tuple[np.ndarray, ...]:
+    """The exact volume and face fractions of the disk r < `radius` about 0 on the grid.
 
     Args:
-        coords: cell-centre coordinates along either axis (uniform, the same along both,
-            :attr:`pde_rotor.model.domain.Domain.coords`); the outermost ring of cells
-            must lie outside the circle.
-        radius: L.
+        coords: cell-centre coordinates along either axis (uniform, the same along both).
+        radius: the disk's radius.
 
     Returns:
-        The :class:`CutCells`.
-
-    Raises:
-        ValueError: if the circle reaches the grid's outermost ring of cells.
+        (volume, open_x, open_y): the part of each cell inside the disk, of the face
+        between cells (i, j) and (i + 1, j), and of the face between (i, j) and (i, j + 1),
+        each in units of dx^2 or dx (before the faces of dry cells are closed).
     """
-    n = coords.size
-    dx = float(coords[1] - coords[0])
-    faces = np.append(coords - dx / 2, coords[-1] + dx / 2)
+    faces, dx = cell_faces(coords)
     x0, x1 = faces[:-1, None], faces[1:, None]
     y0, y1 = faces[None, :-1], faces[None, 1:]
     area = (
@@ -163,32 +173,64 @@ def make_cut_cells(coords: np.ndarray, radius: float) -> CutCells:
     )
     far = np.maximum(x0**2, x1**2) + np.maximum(y0**2, y1**2)
     volume = np.where(far <= radius**2, 1.0, np.clip(area / dx**2, 0.0, 1.0))
-    volume = np.where(volume > TINY, volume, 0.0)
-    if volume[[0, -1], :].any() or volume[:, [0, -1]].any():
-        msg = f"the circle of radius {radius:g} reaches the grid's outermost cells"
-        raise ValueError(msg)
-    held = volume > 0
     # the face at x = faces[i + 1] between cells i and i + 1, open where y^2 < L^2 - x^2
     half = np.sqrt(np.clip((radius - faces[1:]) * (radius + faces[1:]), 0.0, None))
-    aperture_x = np.where(
-        held & np.roll(held, -1, axis=0),
-        np.minimum(_open_length(y0, y1, half[:, None]) / dx, 1.0),
-        0.0,
-    )
-    aperture_y = np.where(
-        held & np.roll(held, -1, axis=1),
-        np.minimum(_open_length(x0, x1, half[None, :]) / dx, 1.0),
-        0.0,
-    )
+    open_x = np.minimum(_open_length(y0, y1, half[:, None]) / dx, 1.0)
+    open_y = np.minimum(_open_length(x0, x1, half[None, :]) / dx, 1.0)
+    return volume, open_x, open_y
+
+
+def assemble_cut_cells(
+    volume: np.ndarray,
+    open_x: np.ndarray,
+    open_y: np.ndarray,
+    flowing: np.ndarray,
+    dx: float,
+    sink: np.ndarray | None = None,
+) -> CutCells:
+    """The :class:`CutCells` of a vessel from its cells' volume and face fractions.
+
+    A face is open by its fraction between two cells that hold camphor; a face between a
+    cell that holds camphor and a `sink` cell (a dry cell beyond an absorbing wall, where
+    c = 0) is fully open, so that camphor leaves through it as through the absorbing dish
+    wall; every other face is closed (no flux).
+
+    Args:
+        volume: (n, n) the part of each cell inside the vessel (:func:`disk_fractions`).
+        open_x: (n, n) the open part of each face along x (:func:`disk_fractions`).
+        open_y: (n, n) the same along y.
+        flowing: (n, n) the cells where v evolves.
+        dx: grid spacing.
+        sink: (n, n) the dry cells beyond an absorbing wall (None: no absorbing wall).
+
+    Returns:
+        The :class:`CutCells`.
+
+    Raises:
+        ValueError: if the vessel reaches the grid's outermost ring of cells.
+    """
+    n = volume.shape[0]
+    volume = np.where(volume > TINY, volume, 0.0)
+    if volume[[0, -1], :].any() or volume[:, [0, -1]].any():
+        msg = "the vessel reaches the grid's outermost cells"
+        raise ValueError(msg)
+    held = volume > 0
+    apertures = []
+    for axis, fraction in ((0, open_x), (1, open_y)):
+        ahead = np.roll(held, -1, axis=axis)
+        aperture = np.where(held & ahead, fraction, 0.0)
+        if sink is not None:
+            across = (held & np.roll(sink, -1, axis=axis)) | (ahead & sink)
+            aperture = np.where(across, 1.0, aperture)
+        apertures.append(aperture)
+    aperture_x, aperture_y = apertures
     open_sum = aperture_x + np.roll(aperture_x, 1, axis=0) + aperture_y
     open_sum = open_sum + np.roll(aperture_y, 1, axis=1)
     stiff = held & (open_sum > 4.0 * volume * (1.0 + 1e-9))
-    cols = np.arange(n)
-    lo = np.where(held.any(axis=1), np.argmax(held, axis=1), 0).astype(np.int64)
-    hi = np.where(held.any(axis=1), n - np.argmax(held[:, ::-1], axis=1), 0).astype(np.int64)
-    if not np.array_equal(held, (cols >= lo[:, None]) & (cols < hi[:, None])):
-        msg = "the cells inside the circle are not one run per row"
-        raise ValueError(msg)
+    starts = np.diff(held.astype(np.int8), axis=1, prepend=0, append=0)
+    rows, span_lo = np.nonzero(starts == 1)
+    _, span_hi = np.nonzero(starts == -1)
+    row_start = np.searchsorted(rows, np.arange(n + 1)).astype(np.int64)
     return CutCells(
         volume=volume,
         aperture_x=aperture_x,
@@ -196,10 +238,33 @@ def make_cut_cells(coords: np.ndarray, radius: float) -> CutCells:
         stiff=stiff,
         implicit_x=(aperture_x > 0) & (stiff | np.roll(stiff, -1, axis=0)),
         implicit_y=(aperture_y > 0) & (stiff | np.roll(stiff, -1, axis=1)),
-        lo=lo,
-        hi=hi,
+        row_start=row_start,
+        span_lo=span_lo.astype(np.int64),
+        span_hi=span_hi.astype(np.int64),
+        flowing=flowing & held,
         dx=dx,
     )
+
+
+def make_cut_cells(coords: np.ndarray, radius: float) -> CutCells:
+    """The cut cells of the circle of radius `radius` about 0 on the grid of `coords`.
+
+    Args:
+        coords: cell-centre coordinates along either axis (uniform, the same along both,
+            :attr:`pde_rotor.model.domain.Domain.coords`); the outermost ring of cells
+            must lie outside the circle.
+        radius: L.
+
+    Returns:
+        The :class:`CutCells` (v evolves on the cells whose centre lies inside).
+
+    Raises:
+        ValueError: if the circle reaches the grid's outermost ring of cells.
+    """
+    volume, open_x, open_y = disk_fractions(coords, radius)
+    x, y = np.meshgrid(coords, coords, indexing="ij")
+    _, dx = cell_faces(coords)
+    return assemble_cut_cells(volume, open_x, open_y, x**2 + y**2 < radius**2, dx)
 
 
 def wall_fluxes(

@@ -13,7 +13,7 @@ import numpy as np
 import xarray as xr
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
-from matplotlib.patches import Circle, Polygon
+from matplotlib.patches import Circle, Polygon, Rectangle
 
 from ..config import RotorConfig
 from ..model.bodies import Body, Pose, pill_centres
@@ -53,6 +53,22 @@ def draw_body(ax: Axes, body: Body, pose: Pose, color: str) -> None:
         ax.add_patch(Circle((px, py), rho, color=color, alpha=0.6, lw=0))
 
 
+def draw_vessel(ax: Axes, config: RotorConfig) -> None:
+    """The vessel's walls, dashed: the dish's circle, an annulus' two, a tank's sides."""
+    grid = config.grid
+    cx, cy = grid.domain_centre
+    vessel = grid.vessel
+    style = {"fill": False, "edgecolor": "0.5", "ls": "--"}
+    if vessel is None:
+        ax.add_patch(Circle((cx, cy), grid.domain_radius, **style))
+    elif vessel.shape == "annulus":
+        for radius in (vessel.inner_radius, vessel.outer_radius):
+            ax.add_patch(Circle((cx, cy), radius, **style))
+    else:
+        a, b = vessel.half_widths
+        ax.add_patch(Rectangle((cx - a, cy - b), 2 * a, 2 * b, **style))
+
+
 def bodies_summary(ds: xr.Dataset, config: RotorConfig, bodies: tuple[Body, ...]) -> Figure:
     """The summary figure of a run with bodies (bodies.nc as `ds`)."""
     fig = Figure(figsize=(11, 4.5), layout="constrained")
@@ -60,7 +76,7 @@ def bodies_summary(ds: xr.Dataset, config: RotorConfig, bodies: tuple[Body, ...]
     colors = [f"C{k}" for k in range(len(bodies))]
     cx, cy = config.grid.domain_centre
     radius = config.grid.domain_radius
-    dish.add_patch(Circle((cx, cy), radius, fill=False, edgecolor="0.5", ls="--"))
+    draw_vessel(dish, config)
     for k, body in enumerate(bodies):
         x, y = ds["x"].values[:, k], ds["y"].values[:, k]
         dish.plot(x, y, color=colors[k], lw=0.8)

@@ -40,6 +40,7 @@ class BodiesStepper:
     dt: float
     rng: np.random.Generator
     _record: np.ndarray = field(init=False, repr=False)
+    _stage: np.ndarray = field(init=False, repr=False)
     _bodies: np.ndarray = field(init=False, repr=False)
     _pills: np.ndarray = field(init=False, repr=False)
     _spare: np.ndarray = field(init=False, repr=False)
@@ -54,6 +55,8 @@ class BodiesStepper:
         self._record = make_record(pde.config, pde.scheme, self.dt)
         self._bodies, self._pills = make_body_records(pde.bodies, pde.config, self.dt)
         self._spare = np.zeros((3, *pde.domain.grid.shape))
+        heun = pde.config.numerics.integrator == "heun"
+        self._stage = np.zeros_like(self._spare) if heun else np.empty(0)
         k = len(pde.bodies)
         corners = max(1, *(b.shape.n_corners for b in pde.bodies))
         self._normals = np.zeros((2, corners, k))
@@ -90,20 +93,23 @@ class BodiesStepper:
         failed = advance_bodies(
             work.reshape(-1),
             self._spare.reshape(-1),
+            self._stage.reshape(-1),
             pde.F.reshape(-1),
             pde.G.reshape(-1),
             pde.owner.reshape(-1),
             (coords, lo, hi, *self._rows),
             self._wall,
             self._record,
-            self._bodies,
-            self._pills,
-            poses,
-            pde.drawn,
-            pde.box,
-            self._normals,
-            self._centres,
-            self._tables,
+            (
+                self._bodies,
+                self._pills,
+                poses,
+                pde.drawn,
+                pde.box,
+                self._normals,
+                self._centres,
+                self._tables,
+            ),
             self.normals(n_steps),
             status,
             step0,

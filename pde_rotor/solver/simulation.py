@@ -13,7 +13,7 @@ from pde import Controller
 from pde.trackers.base import TrackerBase
 
 from ..config import RotorConfig
-from ..model.pde import RotorFields, RotorPDE, RotorState, check_bodies_numerics
+from ..model.pde import RotorFields, RotorPDE, RotorState
 from ..model.surface import BodiesState, SurfaceFields, SurfacePDE
 from .bodies import make_bodies_stepper
 from .rotor import RotorSolver, StepperFactory, make_fused_stepper
@@ -51,10 +51,6 @@ class Simulation:
                 :func:`~pde_rotor.solver.bodies.make_bodies_stepper`);
                 :func:`pde_rotor.backends.member_stepper` for a GPU run (with bodies
                 :func:`pde_rotor.backends.gpu_bodies.gpu_bodies_stepper`).
-
-        Raises:
-            ConfigError: bodies with numerics the CPU's bodies loop does not implement,
-                with the default stepper (:func:`pde_rotor.model.pde.check_bodies_numerics`).
         """
         self.config = config
         self.pde: RotorPDE | SurfacePDE
@@ -62,8 +58,6 @@ class Simulation:
             self.pde = RotorPDE(config)
             default: StepperFactory = make_fused_stepper
         else:
-            if stepper is None:  # the CPU's bodies loop: refuse what it does not implement
-                check_bodies_numerics(config)
             self.pde = SurfacePDE(config)
             default = make_bodies_stepper
         self.state: RotorFields | SurfaceFields = self.pde.initial_state()

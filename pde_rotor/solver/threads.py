@@ -22,8 +22,6 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
-import numba
-
 from ..config import ConfigError
 
 LOADAVG = Path("/proc/loadavg")
@@ -101,6 +99,8 @@ def resolve_threads(requested: int | None) -> int:
         ConfigError: `requested` exceeds the threads numba may start in this process (one
             line naming ``solver.threads``, before any step).
     """
+    import numba
+
     if requested is None:
         allowed = numba.get_num_threads()
         return 1 if allowed == 1 else min(allowed, recent_free_cores())
@@ -119,6 +119,8 @@ def resolve_threads(requested: int | None) -> int:
 def running_on(threads: int) -> Iterator[None]:
     """Let numba's parallel loops started in this block use `threads` threads (then
     restore the calling thread's count)."""
+    import numba
+
     previous = numba.get_num_threads()
     if threads == previous:
         yield

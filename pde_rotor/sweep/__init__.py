@@ -23,8 +23,8 @@ One module per job:
 
 * :mod:`.spec`: the sweep file's schema, shipped bases, ``--set`` overrides;
 * :mod:`.plan`: points, runs, seeds and run keys (:class:`Sweep`, :class:`Run`);
-* :mod:`.estimators`: the restart, bank and protocol estimators, written once over the
-  ensemble interface for both the dask tasks and the GPU batches;
+* :mod:`.estimators`: the protocol, restart and bank estimators, one module each, written
+  once over the ensemble interface for both the dask tasks and the GPU batches;
 * :mod:`.tasks`: a group of runs on a dask worker (with its spin-up cache);
 * :mod:`.batch`: runs in batches on an ensemble backend (GPU);
 * :mod:`.store`: the append-only run logs of a sweep directory (default
@@ -63,51 +63,56 @@ value 2ab/(a+b) where Delta != 0 (:mod:`.estimates`).
 
 from __future__ import annotations
 
-from .estimates import CHAIN, P_DEFINITIONS, POOLED, mcnemar_p, point_statistics
-from .execution import (
-    SweepOutcome,
-    check_scheduler,
-    local_workers,
-    run_sweep,
-    sweep_backend,
-    usable_cores,
-)
-from .plan import SCHEMA_VERSION, SPEC_FILE, Run, Sweep, base_config, run_key, run_seed
-from .reporting import format_table, gather, report
-from .spec import (
-    BASES_DIR,
-    SWEEP_KEYS,
-    BankEstimator,
-    ProtocolEstimator,
-    RangeSpec,
-    RestartEstimator,
-    SweepError,
-    SweepSpec,
-    apply_sweep_overrides,
-    shipped_base,
-    shipped_bases,
-    sweep_format,
-)
-from .store import (
-    COMPACT_FILE,
-    DEFAULT_ROOT,
-    REPORT_FILE,
-    RUNS_DIR,
-    Compaction,
-    RunLog,
-    StoreBusyError,
-    StoreError,
-    compact,
-    lock,
-    read_runs,
-)
-from .tasks import (
-    execute,
-    execute_group,
-    stop_group,
-    warm_key,
-    warm_state,
-)
+from typing import TYPE_CHECKING
+
+from .._lazy import lazy_exports
+
+if TYPE_CHECKING:
+    from .estimates import CHAIN, P_DEFINITIONS, POOLED, mcnemar_p, point_statistics
+    from .execution import (
+        SweepOutcome,
+        check_scheduler,
+        local_workers,
+        run_sweep,
+        sweep_backend,
+        usable_cores,
+    )
+    from .plan import SCHEMA_VERSION, SPEC_FILE, Run, Sweep, base_config, run_key, run_seed
+    from .reporting import format_table, gather, report
+    from .spec import (
+        BASES_DIR,
+        SWEEP_KEYS,
+        BankEstimator,
+        ProtocolEstimator,
+        RangeSpec,
+        RestartEstimator,
+        SweepError,
+        SweepSpec,
+        apply_sweep_overrides,
+        shipped_base,
+        shipped_bases,
+        sweep_format,
+    )
+    from .store import (
+        COMPACT_FILE,
+        DEFAULT_ROOT,
+        REPORT_FILE,
+        RUNS_DIR,
+        Compaction,
+        RunLog,
+        StoreBusyError,
+        StoreError,
+        compact,
+        lock,
+        read_runs,
+    )
+    from .tasks import (
+        execute,
+        execute_group,
+        stop_group,
+        warm_key,
+        warm_state,
+    )
 
 __all__ = [
     "BASES_DIR",
@@ -160,3 +165,5 @@ __all__ = [
     "warm_key",
     "warm_state",
 ]
+
+__getattr__, __dir__ = lazy_exports(__name__)

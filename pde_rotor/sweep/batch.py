@@ -4,7 +4,7 @@ A batch is a list of runs of one estimator on one grid; they advance together as
 members of one ensemble and go to the estimators of :mod:`.estimators`, the code the
 per-run tasks (:mod:`.tasks`) call with the CPU backend, so a stored run means the same
 whichever backend computed it. A batch records every step of a restart's ensemble in
-one call per phase (:func:`.estimators.restart_runs` with ``every_step``): a call is
+one call per phase (:func:`.estimators.releases.restart_runs` with ``every_step``): a call is
 costly on a GPU.
 """
 
@@ -16,7 +16,9 @@ from typing import Any
 
 from ..backends.base import EnsembleRunner
 from ..config import RotorConfig
-from .estimators import protocol_runs, restart_runs, timed_contents
+from .estimators.base import timed_contents
+from .estimators.protocol import protocol_runs
+from .estimators.releases import restart_runs
 from .plan import Run
 
 
@@ -32,8 +34,8 @@ def batches(runs: Sequence[Run], size: int) -> list[list[Run]]:
 def execute_batch(runs: Sequence[Run], ensemble: EnsembleRunner) -> list[dict[str, Any]]:
     """Compute runs of one estimator as ensembles; their run-file contents.
 
-    Protocol runs go to :func:`.estimators.protocol_runs`, restart and bank runs to
-    :func:`.estimators.restart_runs`, recorded at every step.
+    Protocol runs go to :func:`.estimators.protocol.protocol_runs`, restart and bank runs
+    to :func:`.estimators.releases.restart_runs`, recorded at every step.
 
     Args:
         runs: runs sharing grid and numerics (:func:`batches`).

@@ -22,6 +22,13 @@ alike (paper: 0.062, 0.023, 0.041 ms/step; consistent: 0.090, 0.044, 0.066). Eve
 here is for one idle core of the project's machine (docs/results.md, 2026-11-26); the
 sweep estimate adds the load it finds on the machine (:class:`SweepEstimate`) and the
 threads of each run (:func:`thread_speedup`). Other machines differ by their speed.
+
+A run with ``bodies:`` steps another kernel (:func:`bodies_step_seconds`): the field update
+on every interior cell (with or without the flow, and the no-flux wall's cut cells), and
+per body its box of (2 R / dx)^2 cells (R its footprint), where the forces are integrated
+every step and F and G are redrawn while the body moves (not while it is fixed or held).
+``benchmarks/bodies_cost.py`` checks the estimate against the measured step of the shipped
+bodies configs (docs/results.md, 2026-11-28).
 """
 
 from __future__ import annotations
@@ -66,16 +73,35 @@ workers' start (imports, the compiled kernels read from numba's cache) and the r
 COMMIT_TIME = 0.8
 """Release time until a restart has committed to a direction: the mean ``t_commit`` of
 the 6814 releases stored under data/sweeps/ is 0.82 (0.77 to 0.87 by sweep)."""
+SECONDS_PER_BODIES_CELL_STEP: dict[bool, float] = {True: 4.0e-9, False: 1.95e-9}
+"""Wall time of one step of the bodies' kernel per interior cell, with (True) and without
+the flow: a dish of radius 4 at dx = 0.025 with one small fixed pill, 0.393 and 0.227
+ms/step (thread CPU time, 2026-11-28), less that pill's box."""
+SECONDS_PER_NO_FLUX_CELL_STEP = 3.3e-8
+"""What the no-flux wall's cut cells add per interior cell and step (radius 2 and 4 with
+one fixed pill, no flow: 0.76 and 2.86 ms/step)."""
+SECONDS_PER_BODY_BOX_CELL_STEP: dict[str, float] = {"paper": 3.05e-8, "consistent": 4.5e-8}
+"""Per cell of a body's box (2 R / dx)^2 and step, the force integrals of a body that is
+not redrawn (fixed or held): the paper's hexagon held fixed adds 0.156 ms over a fixed pill
+(boxes of 7424 and 2304 cells). The consistent scheme's split between this and
+:data:`SECONDS_PER_DRAWN_BOX_CELL_STEP` is assumed; their sum is measured (0.495 ms for the
+turning hexagon)."""
+SECONDS_PER_DRAWN_BOX_CELL_STEP: dict[str, float] = {"paper": 8.1e-9, "consistent": 2.2e-8}
+"""Per cell of a body's box and step, the redraw of F, G and the owner map while the body
+moves: the paper's hexagon turning costs 0.060 ms more than held fixed."""
 LONG_RUN_SECONDS = 600.0
 """Runs estimated to take longer than this announce their estimate before they start."""
 
 
 def cell_counts(config: RotorConfig) -> tuple[int, int]:
-    """(interior cells, support cells) of the config's grid: the disk areas over dx^2."""
+    """(interior cells, support cells) of the config's grid: the areas of the dish (or of
+    ``grid.vessel``, whose step walks only its wet cells) and of the support over dx^2."""
     dx2 = config.grid.dx**2
     support = RotorShape.from_config(config.geometry).support_radius
+    vessel = config.grid.vessel
+    area = math.pi * config.grid.domain_radius**2 if vessel is None else vessel.area()
     return (
-        round(math.pi * config.grid.domain_radius**2 / dx2),
+        round(area / dx2),
         round(math.pi * support**2 / dx2),
     )
 
@@ -93,9 +119,35 @@ def step_seconds(config: RotorConfig, stopped: bool = False) -> float:
     return interior * SECONDS_PER_CELL_STEP + support * table[config.numerics.scheme]
 
 
+def bodies_step_seconds(config: RotorConfig) -> float:
+    """Estimated wall time of one step of a run with ``bodies:``, averaged over the run:
+    each body redrawn while it moves (a fixed body never, a body with stops not while held).
+    """
+    interior = cell_counts(config)[0]
+    cell = SECONDS_PER_BODIES_CELL_STEP[config.flow.enabled]
+    if config.grid.wall == "no_flux":
+        cell += SECONDS_PER_NO_FLUX_CELL_STEP
+    scheme = config.numerics.scheme
+    seconds = interior * cell
+    t_end = config.protocol.t_end
+    for body in config.bodies or []:
+        box = (2 * body.reach(config.geometry.smoothing) / config.grid.dx) ** 2
+        moving = 0.0 if body.motion.kind == "fixed" else 1.0
+        if moving and body.protocol is not None and t_end > 0:
+            held = body.protocol.cycles * body.protocol.t_stop
+            moving = max(0.0, 1.0 - min(held, t_end) / t_end)
+        seconds += box * (
+            SECONDS_PER_BODY_BOX_CELL_STEP[scheme]
+            + moving * SECONDS_PER_DRAWN_BOX_CELL_STEP[scheme]
+        )
+    return seconds
+
+
 def protocol_seconds(config: RotorConfig) -> float:
     """Estimated wall time of the whole protocol (t_end), its M stops at the cost of a
-    stopped plate."""
+    stopped plate (with ``bodies:``, :func:`bodies_step_seconds` every step)."""
+    if config.bodies is not None:
+        return steps(config.protocol.t_end, config) * bodies_step_seconds(config)
     n_stopped = config.protocol.cycles * steps(config.protocol.t_stop, config)
     n_moving = steps(config.protocol.t_end, config) - n_stopped
     return n_moving * step_seconds(config) + n_stopped * step_seconds(config, stopped=True)

@@ -265,7 +265,7 @@ def _compute(
 ) -> None:
     """Compute `groups` (dask tasks, or `submit` in this process) and append each result
     to `log`."""
-    from tqdm.auto import tqdm
+    from ..trackers.progress import tqdm
 
     bar = tqdm(
         total=outcome.total,

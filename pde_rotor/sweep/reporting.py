@@ -184,6 +184,9 @@ def gather(sweep: Sweep, sweep_dir: str | Path) -> xr.Dataset:
         "base_config": json.dumps(sweep.base, sort_keys=True),
         "grid_dx": _grid_value(sweep, "dx"),
         "grid_dt": _grid_value(sweep, "dt"),
+        # the scheme the runs used, whether or not the base names it: a report stays
+        # readable against the right decision table when the default changes
+        "scheme": RotorConfig.model_validate(sweep.base).numerics.scheme,
         "paper": "Koyano, Kitahata, Nakata, Gorecki, Chaos 30 (2020), Figs. 5, 7, 8, 9",
     }
     return xr.Dataset(data_vars, coords=coords, attrs=attrs)

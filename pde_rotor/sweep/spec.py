@@ -14,9 +14,10 @@ from pathlib import Path
 from typing import Annotated, Any, Literal
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import ConfigDict, Field, ValidationError, model_validator
 
 from ..config import ConfigError, RotorConfig, parse_override, read_config_data, validate_config
+from ..config.stable import StableModel
 
 BASES_DIR = Path(__file__).resolve().parent.parent / "bases"
 """Base configurations shipped with the package; a sweep file names them by stem."""
@@ -28,7 +29,10 @@ class SweepError(ValueError):
     """Invalid sweep specification or sweep directory; ``str(err)`` is one line."""
 
 
-class _Strict(BaseModel):
+class _Strict(StableModel):
+    """Base of the sweep file's models: unknown keys are errors; an estimator key added at
+    its default enters no run key (:mod:`pde_rotor.config.stable`)."""
+
     model_config = ConfigDict(extra="forbid")
 
 

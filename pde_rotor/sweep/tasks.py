@@ -20,7 +20,10 @@ from ..backends import cpu
 from ..config import RotorConfig
 from ..solver.simulation import Simulation
 from ..solver.threads import running_on
-from .estimators import check_spin_up, protocol_runs, restart_runs, spin_up, timed_contents
+from .estimators.base import timed_contents
+from .estimators.protocol import protocol_runs
+from .estimators.releases import restart_runs
+from .estimators.restart import check_spin_up, spin_up
 from .plan import Run
 from .spec import RestartEstimator
 

@@ -24,17 +24,24 @@ on under one name, as py-pde's ``pde.trackers`` does.
 * :mod:`.movie`: the movie of c, v and the rotor, into an mp4;
 * :mod:`.bodies`: every body's pose, velocities and forces in bodies.nc, and the stops of
   each body with a protocol classified;
-* :mod:`.budget`: the memory and disk the records need, checked before a run.
+* :mod:`.budget`: the memory and disk the records need, checked before a run;
+* :mod:`.variables`: the variables of timeseries.nc and the columns of the events.
 """
 
 from __future__ import annotations
 
-from .budget import Budget, check_budget, estimate_budget
-from .events import EVENT_ATTRS, EVENT_COLUMNS, InversionEvent, InversionTracker
-from .movie import MovieTracker
-from .progress import ProgressBarTracker
-from .snapshots import SnapshotTracker
-from .timeseries import TIMESERIES_VARIABLES, TimeSeriesTracker
+from typing import TYPE_CHECKING
+
+from .._lazy import lazy_exports
+
+if TYPE_CHECKING:
+    from .budget import Budget, check_budget, estimate_budget
+    from .events import InversionEvent, InversionTracker
+    from .movie import MovieTracker
+    from .progress import ProgressBarTracker
+    from .snapshots import SnapshotTracker
+    from .timeseries import TimeSeriesTracker
+    from .variables import EVENT_ATTRS, EVENT_COLUMNS, TIMESERIES_VARIABLES
 
 __all__ = [
     "EVENT_ATTRS",
@@ -50,3 +57,5 @@ __all__ = [
     "check_budget",
     "estimate_budget",
 ]
+
+__getattr__, __dir__ = lazy_exports(__name__)

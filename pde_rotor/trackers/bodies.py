@@ -8,11 +8,14 @@ body's own protocol, and writes ``bodies.nc`` (dimensions ``time`` and ``body``)
 rule of :mod:`pde_rotor.statistics.inversion`, from the same samples the rotor's
 :class:`~pde_rotor.trackers.events.InversionTracker` reads (omega just before the stop,
 then every sample of the release until the body's next stop). :class:`BodiesMovieTracker`
-renders c, v and every body into movie.mp4 as the run goes.
+renders c, v and every body into movie.mp4 as the run goes. :class:`BodiesLogTracker`
+writes a line to the log (run.log) at every tenth of the run and warns once per body when
+it moves more than :data:`CELL_FRACTION` of a cell per step.
 """
 
 from __future__ import annotations
 
+import logging
 import time
 from pathlib import Path
 from typing import Any
@@ -49,6 +52,12 @@ BODY_VARIABLES: dict[str, dict[str, str]] = {
     "stopped": {"long_name": "1 if the body was held during the last step", "units": "1"},
 }
 """Variables of bodies.nc (dimensions time, body) with their attributes."""
+
+CELL_FRACTION = 0.2
+"""A body whose fastest point moves more than this fraction of a cell per step is warned
+about: its footprint jumps across the lattice and the force it feels follows the grid."""
+
+_logger = logging.getLogger(__name__)
 
 
 class BodiesTracker(RotorTracker):
@@ -215,3 +224,58 @@ class BodiesMovieTracker(RotorTracker):
     def _finish(self, status: dict[str, Any]) -> None:
         if self._writer is not None:
             self._writer.close()
+
+
+class BodiesLogTracker(RotorTracker):
+    """Logs the run's progress as it goes and warns when a body outruns the lattice.
+
+    Every ``interval`` (the time series' sampling) it checks each moving body's fastest
+    point, |U| + |omega| R with R the footprint's radius: beyond :data:`CELL_FRACTION`
+    dx per step it logs one warning for that body (time, speeds, dx, dt and what to
+    change). At every tenth of t_end it logs one line with each body's speed and
+    angular velocity, so run.log grows while the run goes.
+    """
+
+    def __init__(self, config: RotorConfig, interval: float):
+        """
+        Args:
+            config: the run's configuration (with ``bodies``).
+            interval: simulated time between checks (a multiple of dt).
+        """
+        dt, t_end = config.grid.dt, config.protocol.t_end
+        every = max(1, round(interval / dt))
+        steps = round(t_end / dt)
+        marks = np.unique(np.round(np.linspace(0, steps, 11)).astype(np.int64))
+        times = np.union1d(np.arange(0, steps + 1, every, dtype=np.int64), marks) * dt
+        super().__init__(config, FixedInterrupts(times))
+        self.bodies = make_bodies(config)
+        self.marks = set(int(m) for m in marks[1:])
+        self.warned: set[str] = set()
+
+    def handle(self, field: SurfaceFields, t: float) -> None:
+        """Warn about fast bodies; log a progress line at every tenth of the run."""
+        grid = self.config.grid
+        poses = field.bodies.poses
+        step = self.step_of(t)
+        for k, body in enumerate(self.bodies):
+            if body.motion == "fixed" or body.name in self.warned:
+                continue
+            speed = float(np.hypot(poses[k, 3], poses[k, 4]))
+            spin = abs(float(poses[k, 5]))
+            cells = (speed + spin * body.shape.reach) * grid.dt / grid.dx
+            if cells > CELL_FRACTION:
+                self.warned.add(body.name)
+                _logger.warning(
+                    "body %s moves %.2f of a cell per step at t = %.6g (|U| = %.4g, "
+                    "|omega| = %.4g, footprint radius %.3g; dx = %g, dt = %g): above %g, "
+                    "its force follows the lattice (lower grid.dt or raise its friction)",
+                    body.name, cells, t, speed, spin, body.shape.reach, grid.dx, grid.dt,
+                    CELL_FRACTION,
+                )  # fmt: skip
+        if step in self.marks:
+            state = "; ".join(
+                f"{b.name} |U| {np.hypot(poses[k, 3], poses[k, 4]):.4g} omega {poses[k, 5]:+.4g}"
+                for k, b in enumerate(self.bodies)
+                if b.motion != "fixed"
+            )
+            _logger.info("t = %.6g of %.6g: %s", t, self.config.protocol.t_end, state or "-")

@@ -16,14 +16,38 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..config import ConfigError, RotorConfig
-from .events import EVENT_COLUMNS
-from .timeseries import TIMESERIES_VARIABLES
+from .variables import EVENT_COLUMNS, TIMESERIES_VARIABLES
 
 BYTES_PER_MOVIE_FRAME = 60_000
 """Disk taken by one H.264 frame of the movie at the default size (generous: the
 quickstart's 215 frames take about 4 MB)."""
 SNAPSHOT_FIELDS = 3
 """Components written per snapshot: c, v_x and v_y."""
+NETCDF_BYTES = 24_000
+"""Disk taken by an empty NetCDF-4 file (header and HDF5 metadata; the quickstart's
+events.nc of three rows takes 18 kB)."""
+SUMMARY_BYTES = 300_000
+"""Disk taken by summary.png (the quickstart's takes 174 kB)."""
+TEXT_BYTES = 64_000
+"""config.yaml and run.log (a few kB each)."""
+SNAPSHOT_RESERVE_BYTES = 1 << 20
+"""Disk kept free for closing snapshots.h5 (HDF5 metadata and its 1 MiB chunk cache)."""
+
+
+def snapshot_bytes(config: RotorConfig) -> int:
+    """Bytes of one snapshot of the fields c, v_x, v_y (float64 on every cell)."""
+    cells = (2 * config.grid.domain_radius / config.grid.dx + 1) ** 2
+    return int(8 * SNAPSHOT_FIELDS * cells)
+
+
+def snapshot_reserve(config: RotorConfig) -> int:
+    """Disk that a run with snapshots holds in reserve until snapshots.h5 is closed.
+
+    HDF5 cannot close a file whose last write failed, and the process then crashes; the
+    snapshot tracker therefore keeps this much disk allocated (the chunk cache and two
+    snapshots) and frees it just before it closes the file.
+    """
+    return SNAPSHOT_RESERVE_BYTES + 2 * snapshot_bytes(config)
 
 
 @dataclass(frozen=True)
@@ -55,10 +79,12 @@ def estimate_budget(config: RotorConfig, movie: bool | None = None) -> Budget:
     # int64 sampling steps and float64 values of every variable, in memory and on disk
     series = 8 * samples * (1 + len(TIMESERIES_VARIABLES))
     events = 8 * p.cycles * len(EVENT_COLUMNS) * 2  # events.csv and events.nc
-    disk = series + events
+    # timeseries.nc is rewritten as the run goes: the new copy is complete before the
+    # old one is replaced, so both lie on the disk at once
+    disk = 2 * (series + NETCDF_BYTES) + events + NETCDF_BYTES + SUMMARY_BYTES + TEXT_BYTES
     if out.snapshot_interval is not None:
-        cells = (2 * config.grid.domain_radius / config.grid.dx + 1) ** 2
-        disk += int(8 * SNAPSHOT_FIELDS * cells * (t_end / out.snapshot_interval + 1))
+        disk += int(snapshot_bytes(config) * (t_end / out.snapshot_interval + 1))
+        disk += snapshot_reserve(config)
     if config.output.movie if movie is None else movie:
         disk += int(BYTES_PER_MOVIE_FRAME * (t_end / out.movie_interval + 1))
     return Budget(samples, series + events, disk)

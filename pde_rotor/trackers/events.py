@@ -33,37 +33,10 @@ from ..io.output import AppendOnlyCSV, write_netcdf_atomic
 from ..model.pde import RotorFields
 from ..model.protocol import StopSchedule
 from ..statistics.inversion import ReleaseWatch, direction
-from ..units import OMEGA_UNITS, TIME_UNITS
 from .base import RotorTracker, sampling_times
+from .variables import EVENT_ATTRS, EVENT_COLUMNS
 
 _logger = logging.getLogger(__name__)
-
-EVENT_COLUMNS = (
-    "cycle",
-    "t_stop",
-    "omega_before",
-    "direction_before",
-    "direction_after",
-    "inverted",
-    "committed",
-    "time_to_commit",
-    "omega_after",
-)
-"""Columns of events.csv / variables of events.nc (see module docstring)."""
-
-EVENT_ATTRS: dict[str, dict[str, str]] = {
-    "t_stop": {"long_name": "start time of the stop", "units": TIME_UNITS},
-    "omega_before": {"long_name": "omega just before the stop", "units": OMEGA_UNITS},
-    "direction_before": {"long_name": "sign of omega_before (+1: counterclockwise)"},
-    "direction_after": {"long_name": "sign of omega at commit (0: not committed)"},
-    "inverted": {"long_name": "committed and direction_after == -direction_before"},
-    "committed": {"long_name": "|omega| reached commit_fraction |omega_before| after release"},
-    "time_to_commit": {"long_name": "commit time minus release time", "units": TIME_UNITS},
-    "omega_after": {
-        "long_name": "omega at commit (or at the last sample of the release)",
-        "units": OMEGA_UNITS,
-    },
-}
 
 
 @dataclass

@@ -1,23 +1,33 @@
-"""A tqdm progress bar of a rotor run, with an ETA that leaves the compile time out."""
+"""A tqdm progress bar of a run (rotor or bodies), with an ETA that leaves the compile time out."""
 
 from __future__ import annotations
 
 import math
 import time
+import warnings
 from collections.abc import Callable
 from typing import Any
 
+import numpy as np
 from pde.trackers.base import InfoDict
 from pde.trackers.interrupts import RealtimeInterrupts
-from tqdm.auto import tqdm
+
+with warnings.catch_warnings():
+    # in a notebook without ipywidgets tqdm.auto warns, then draws its text bar: the
+    # same bar, without a warning in every executed notebook
+    warnings.filterwarnings("ignore", message="IProgress not found")
+    from tqdm.auto import tqdm
 
 from ..config import RotorConfig
 from ..model.pde import RotorFields
+from ..model.surface import SurfaceFields
 from .base import RotorTracker
 
 
 class ProgressBarTracker(RotorTracker):
     """tqdm progress bar: simulated time, ETA, current omega and protocol phase.
+
+    In a run with bodies it shows the fastest body's speed |U| and |omega| instead.
 
     Until the first steps have run (the first run compiles the solver, about 10 s) the
     bar says so instead of an ETA. The ETA is then the remaining simulated time over the
@@ -83,18 +93,22 @@ class ProgressBarTracker(RotorTracker):
         remaining = (self.bar.total - t) * (now - wall0) / (t - t0) if self.bar else math.nan
         return f"ETA {tqdm.format_interval(max(remaining, 0.0))}"
 
-    def handle(self, field: RotorFields, t: float) -> None:
-        """Advance the bar to t and show the ETA, omega, phase and cycle."""
+    def handle(self, field: RotorFields | SurfaceFields, t: float) -> None:
+        """Advance the bar to t and show the ETA, omega, phase and cycle (bodies: speeds)."""
         if self.bar is None:
             return
-        rotor = field.rotor
-        cycle = self.schedule.cycle(max(self.step_of(t) - 1, 0))
         self.bar.n = round(min(t, self.bar.total), 6)
-        self.bar.set_postfix_str(
-            f"{self.eta(t)}, omega={rotor.omega:+.1f} "
-            f"{'stopped' if rotor.stopped else 'running'} cycle {cycle}/{self.schedule.cycles}",
-            refresh=False,
-        )
+        if isinstance(field, SurfaceFields):
+            poses = field.bodies.poses
+            speed = float(np.hypot(poses[:, 3], poses[:, 4]).max())
+            spin = float(np.abs(poses[:, 5]).max())
+            state = f"max |U|={speed:.3g} max |omega|={spin:.3g}"
+        else:
+            rotor = field.rotor
+            cycle = self.schedule.cycle(max(self.step_of(t) - 1, 0))
+            phase = "stopped" if rotor.stopped else "running"
+            state = f"omega={rotor.omega:+.1f} {phase} cycle {cycle}/{self.schedule.cycles}"
+        self.bar.set_postfix_str(f"{self.eta(t)}, {state}", refresh=False)
         self.bar.refresh()
 
     def _finish(self, status: dict[str, Any]) -> None:

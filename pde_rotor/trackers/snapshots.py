@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import errno
+import os
 from pathlib import Path
 
 import numpy as np
@@ -15,6 +17,7 @@ from ..io.output import commit, part_path
 from ..model.pde import RotorFields
 from ..model.protocol import StopSchedule
 from .base import run_status, sampling_times
+from .budget import free_disk, snapshot_reserve
 
 
 class SnapshotTracker(StorageTracker):
@@ -23,6 +26,13 @@ class SnapshotTracker(StorageTracker):
     Written to ``snapshots.h5.part`` and renamed to its final name when the run ends.
     The rotor angle and velocity of every snapshot are stored as the file attributes
     ``rotor_phi`` and ``rotor_omega`` (lists in snapshot order).
+
+    A full disk: HDF5 cannot close a file whose write failed, and the process then
+    crashes (segmentation fault). So no snapshot is written unless the disk has room
+    for it, and the tracker holds :func:`~.budget.snapshot_reserve` bytes of disk in
+    ``.snapshots.h5.reserve`` from its start, freed just before the file is closed:
+    when another file fills the disk, snapshots.h5 still closes with every snapshot
+    written so far.
     """
 
     def __init__(
@@ -36,6 +46,13 @@ class SnapshotTracker(StorageTracker):
             info: extra attributes of the file (config hash, config YAML, versions).
         """
         self.path = Path(path)
+        self.reserve = self.path.with_name(f".{self.path.name}.reserve")
+        try:
+            with self.reserve.open("wb") as fh:  # written, not sparse: the blocks are taken
+                fh.write(bytes(snapshot_reserve(config)))
+        except OSError:
+            self.reserve.unlink(missing_ok=True)
+            raise
         storage = FileStorage(part_path(self.path), info=dict(info or {}), write_mode="truncate")
         schedule = StopSchedule.from_config(config.protocol, config.grid.dt)
         times = sampling_times(schedule, interval, config.protocol.t_end)
@@ -50,7 +67,15 @@ class SnapshotTracker(StorageTracker):
         self._finalized = False
 
     def handle(self, field: RotorFields, t: float) -> None:
-        """Store the fields and the rotor angle."""
+        """Store the fields and the rotor angle.
+
+        Raises:
+            OSError: ``ENOSPC`` where the disk has no room for the snapshot (nothing is
+                written; :meth:`finalize` then closes the file with the earlier ones).
+        """
+        room = free_disk(self.path.parent)
+        if room < 2 * field.data.nbytes:
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(part_path(self.path)))
         super().handle(field, t)
         self.phi.append(field.rotor.phi)
         self.omega.append(field.rotor.omega)
@@ -60,6 +85,7 @@ class SnapshotTracker(StorageTracker):
         if self._finalized:
             return
         self._finalized = True
+        self.reserve.unlink(missing_ok=True)
         status = run_status(info)
         self.storage.info.update(
             rotor_phi=self.phi, rotor_omega=self.omega, status=status["status"]

@@ -14,47 +14,9 @@ from ..config import RotorConfig
 from ..io.output import write_netcdf_atomic
 from ..model.pde import RotorFields, RotorState
 from ..model.protocol import StopSchedule
-from ..units import OMEGA_UNITS, TIME_UNITS
+from ..units import TIME_UNITS
 from .base import RotorTracker, sampling_times
-
-TIMESERIES_VARIABLES: dict[str, dict[str, str]] = {
-    "phi": {
-        "long_name": "rotor angle phi",
-        "units": "rad",
-        "equation": "Eq. (eq_motion): dphi/dt = omega",
-    },
-    "omega": {
-        "long_name": "angular velocity dphi/dt",
-        "units": OMEGA_UNITS,
-        "equation": "Eq. (eq_motion)",
-    },
-    "torque": {
-        "long_name": "surface tension torque T (of the last step)",
-        "units": "model units (k, D, a = 1)",
-        "equation": "Eq. (torque)",
-    },
-    "friction": {
-        "long_name": "friction torque -mu int F (|r|^2 omega - r x v) dA (of the last step)",
-        "units": "model units (k, D, a = 1)",
-        "equation": "Eq. (eq_motion)",
-    },
-    "camphor_total": {
-        "long_name": "total camphor int c dA over the domain",
-        "units": "model units",
-        "equation": "Eq. (eqc)",
-    },
-    "stopped": {
-        "long_name": "1 if the last step was in a stop phase (phi frozen, omega = 0)",
-        "units": "1",
-        "equation": "protocol (section Model)",
-    },
-    "cycle": {
-        "long_name": "stop-and-release cycle m of the last step (0: before the first stop)",
-        "units": "1",
-        "equation": "protocol (section Model)",
-    },
-}
-"""Variables of timeseries.nc with their attributes."""
+from .variables import TIMESERIES_VARIABLES
 
 
 class TimeSeriesTracker(RotorTracker):

@@ -9,7 +9,7 @@ the same checks on the hardware.
 
 Checked properties: one physics, two backends. Without noise phi(t), omega(t), the
 torques and the fields agree to 1e-10 relative with the CPU solver (both compile
-the one physics core, pde_rotor.kernels.core) for members that
+the one physics core, pde_rotor.physics) for members that
 differ in Delta, t_stop, t_ini and flow; with noise the same seed gives the same
 trajectory (the host draws the CPU solver's noise sequence); the result does not
 depend on the launch configuration or on splitting a run; a member whose state stops
@@ -130,7 +130,7 @@ def test_members_match_their_own_cpu_runs(small_config: Callable[..., RotorConfi
 def test_consistent_scheme_matches_cpu_to_1e10(small_config: Callable[..., RotorConfig]) -> None:
     """Filtered F, G and the contour torque: GPU and CPU builds of one core agree.
 
-    Both backends compile the same physics core (:mod:`pde_rotor.kernels.core`), so the
+    Both backends compile the same physics core (:mod:`pde_rotor.physics`), so the
     ``consistent`` scheme's members follow their CPU runs to 1e-10 relative through a
     stop, as the ``paper`` scheme's do.
     """

@@ -6,12 +6,19 @@ import pytest
 import typer
 from typer.testing import CliRunner
 
-from pde_rotor.cli.common import EXIT_BAD_INPUT, EXIT_FAILED, EXIT_INTERRUPTED, SetOption, fail
+from pde_rotor.cli.common import (
+    EXIT_BAD_INPUT,
+    EXIT_CONTACT,
+    EXIT_FAILED,
+    EXIT_INTERRUPTED,
+    SetOption,
+    fail,
+)
 
 
 def test_exit_codes_are_distinct_and_nonzero():
-    codes = {EXIT_BAD_INPUT, EXIT_FAILED, EXIT_INTERRUPTED}
-    assert len(codes) == 3
+    codes = {EXIT_BAD_INPUT, EXIT_FAILED, EXIT_CONTACT, EXIT_INTERRUPTED}
+    assert len(codes) == 4
     assert 0 not in codes
 
 

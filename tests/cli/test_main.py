@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import csv
 import math
+import subprocess
 import sys
 import types
 from pathlib import Path
@@ -404,6 +405,7 @@ COMMANDS = (
     "plot",
     "gallery",
     "predict",
+    "stability",
 )
 SUBCOMMANDS = (
     "predict measure",
@@ -464,3 +466,42 @@ def test_check_takes_several_files(tmp_path):
     assert errors[1].startswith(f"error: {sweep} is a sweep file")
     assert len(errors) == 2
     assert invoke("check", good, good).exit_code == 0
+
+
+@pytest.mark.parametrize(
+    ("code", "heavy"),
+    [
+        ("import pde_rotor.cli.main", ("numba", "xarray", "dask", "pde", "matplotlib")),
+        ("import pde_rotor; pde_rotor.__version__", ("numba", "xarray", "dask", "pde")),
+        (
+            "from pde_rotor.cli.main import app; app(['check', 'configs/quickstart.yaml'])",
+            ("numba", "xarray", "dask", "pde", "matplotlib"),
+        ),
+    ],
+)
+def test_the_command_line_starts_without_the_solver_stack(code, heavy):
+    """--version, --help and check import neither the solver nor numba, py-pde, xarray,
+    dask or matplotlib (seconds of imports on a loaded machine): each command imports
+    what it needs when it runs."""
+    probe = (
+        "import sys\n"
+        f"try:\n    {code}\nexcept SystemExit:\n    pass\n"
+        f"print(sorted(m for m in {heavy!r} if m in sys.modules))\n"
+    )
+    root = Path(__file__).resolve().parents[2]
+    done = subprocess.run(
+        [sys.executable, "-c", probe], capture_output=True, text=True, cwd=root, check=False
+    )
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip().splitlines()[-1] == "[]", done.stdout
+
+
+def test_the_lazy_package_names_are_the_real_objects():
+    import pde_rotor
+    from pde_rotor.api import run
+    from pde_rotor.config import RotorConfig
+
+    assert pde_rotor.run is run and pde_rotor.RotorConfig is RotorConfig
+    assert set(pde_rotor.__all__) <= set(dir(pde_rotor))
+    with pytest.raises(AttributeError, match="no attribute 'nothing'"):
+        _ = pde_rotor.nothing

@@ -58,12 +58,25 @@ def listing(root: Path) -> list[str]:
     return sorted(str(p.relative_to(root)) for p in root.rglob("*"))
 
 
-def test_a_stored_report_is_drawn_next_to_it_or_into_out(tmp_path, drawn) -> None:
+def written_to(result) -> Path:
+    """The file a command reported writing last ("wrote FILE")."""
+    return Path(result.output.splitlines()[-1].removeprefix("wrote "))
+
+
+def test_a_stored_report_is_drawn_into_a_run_folder_or_into_out(
+    tmp_path, monkeypatch, drawn
+) -> None:
+    """Without --out the figure goes into a new folder runs/<name>-plot-<time>/, never
+    beside the report it reads (the repository's data/ stays clean)."""
+    monkeypatch.chdir(tmp_path)
     shutil.copy(DATA / "fig5.nc", tmp_path / "fig5.nc")
     result = invoke("plot", tmp_path / "fig5.nc")
     assert result.exit_code == 0, result.output
-    assert result.output == f"wrote {tmp_path / 'fig5.png'}\n"
-    assert (tmp_path / "fig5.png").read_bytes()[:4] == b"\x89PNG"
+    figure = written_to(result)
+    assert figure.name == "fig5.png" and figure.parent.name.startswith("fig5-plot-")
+    assert figure.parent.parent == Path("runs")
+    assert figure.read_bytes()[:4] == b"\x89PNG"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["fig5.nc", "runs"]
     (fig,) = drawn
     assert len(p_line(fig.axes[0])) == 16
     result = invoke("plot", DATA / "fig9.nc", "--out", tmp_path / "new" / "fig9.svg")
@@ -79,15 +92,21 @@ def test_x_picks_the_axis(tmp_path, drawn) -> None:
     assert drawn[0].axes[0].get_xlabel().startswith("asymmetry")
 
 
-def test_a_sweep_directory_without_report_gets_one(tmp_path, drawn) -> None:
+def test_a_sweep_directory_without_report_gets_one_beside_the_figure(
+    tmp_path, monkeypatch, drawn
+) -> None:
+    monkeypatch.chdir(tmp_path)
     store = sweep_dir(tmp_path / "store", [0.2, 0.6, 1.2])
+    before = listing(store)
     result = invoke("plot", store)
     assert result.exit_code == 0, result.output
+    figure = written_to(result)
     assert result.output.splitlines() == [
-        f"report: {store / REPORT_FILE}",
-        f"wrote {store / 'report.png'}",
+        f"report: {figure.parent / REPORT_FILE}",
+        f"wrote {figure}",
     ]
-    written = xr.load_dataset(store / REPORT_FILE, engine="h5netcdf")
+    assert figure.name == "store.png" and listing(store) == before
+    written = xr.load_dataset(figure.parent / REPORT_FILE, engine="h5netcdf")
     sweep = tiny_sweep(samples=4, axes={"protocol.t_stop": [0.2, 0.6, 1.2]})
     xr.testing.assert_identical(written, gather(sweep, store))
     np.testing.assert_allclose(p_line(drawn[0].axes[0])[:, 1], written["P"].values)
@@ -102,17 +121,38 @@ def test_a_sweep_file_is_drawn_from_its_default_directory(tmp_path, monkeypatch,
     assert missing.exit_code == 2
     assert "its sweep directory data/sweeps/mine does not exist" in missing.stderr
     sweep_dir(tmp_path / "data" / "sweeps" / "mine", [0.2, 1.2])
+    before = listing(tmp_path / "data")
     result = invoke("plot", path)
     assert result.exit_code == 0, result.output
-    assert Path("data/sweeps/mine/report.png").is_file()
+    assert written_to(result).name == "mine.png" and listing(tmp_path / "data") == before
     assert len(p_line(drawn[0].axes[0])) == 2
 
 
-def test_report_plot_draws_the_report_it_writes(tmp_path, drawn) -> None:
+def test_plot_and_report_of_the_shipped_sweeps_leave_the_repository_unchanged(
+    tmp_path, monkeypatch, drawn
+) -> None:
+    """``plot`` and ``report`` of a stored sweep, with no --out, only read the folder:
+    everything they write goes into runs/ of the working directory."""
+    monkeypatch.chdir(tmp_path)
+    store = DATA / "sweeps" / "fig7b"
+    before = {p: p.stat().st_mtime_ns for p in store.rglob("*")}
+    for command in (["plot", store], ["report", store, "--plot"]):
+        result = invoke(*command)
+        assert result.exit_code == 0, result.output
+    assert {p: p.stat().st_mtime_ns for p in store.rglob("*")} == before
+    assert [p.name for p in tmp_path.iterdir()] == ["runs"]
+
+
+def test_report_plot_draws_the_report_it_writes(tmp_path, monkeypatch, drawn) -> None:
+    monkeypatch.chdir(tmp_path)
     store = sweep_dir(tmp_path / "store", [0.2, 1.2])
+    before = listing(store)
     result = invoke("report", store, "--plot")
     assert result.exit_code == 0, result.output
-    assert result.output.splitlines()[-1] == f"wrote {store / 'report.png'}"
+    figure = written_to(result)
+    assert figure.parent.name.startswith("store-report-") and figure.name == "report.png"
+    assert f"report: {figure.parent / REPORT_FILE}" in result.output
+    assert listing(store) == before
     assert len(p_line(drawn[0].axes[0])) == 2
     result = invoke("report", store, "-o", tmp_path / "r.nc", "--plot-out", tmp_path / "r.pdf")
     assert result.exit_code == 0, result.output

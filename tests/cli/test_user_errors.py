@@ -10,6 +10,7 @@ import time
 from pathlib import Path
 
 import pytest
+import xarray as xr
 import yaml
 from typer.testing import CliRunner
 
@@ -261,8 +262,6 @@ def test_a_full_disk_mid_run_stops_with_one_line_and_keeps_what_was_written(
     stops, says when and why in one line (exit 1), and the last checkpoint stays readable."""
     import errno
 
-    import xarray as xr
-
     from pde_rotor.trackers import timeseries
 
     written = timeseries.write_netcdf_atomic
@@ -286,6 +285,77 @@ def test_a_full_disk_mid_run_stops_with_one_line_and_keeps_what_was_written(
     assert "No space left on device" in result.stderr and str(out) in result.stderr
     with xr.open_dataset(out / "timeseries.nc", engine="h5netcdf") as ds:
         assert ds.sizes["time"] >= 1 and ds.attrs["status"] == "running"
+
+
+def test_the_disk_budget_holds_every_file_and_the_rewritten_time_series_twice(
+    tmp_path, tiny_config
+):
+    """timeseries.nc is rewritten as the run goes, the new copy beside the old one: the
+    up-front disk check counts both, and every other file the run writes."""
+    out = tmp_path / "run"
+    no_fields = ("--no-movie", "--set", "output.snapshot_interval=null")
+    assert invoke("run", tiny_config, "--out", out, "-q", *no_fields).exit_code == 0
+    config = RotorConfig.model_validate(yaml.safe_load(TINY_YAML))
+    config = config.model_copy(
+        update={"output": config.output.model_copy(update={"snapshot_interval": None})}
+    )
+    sizes = {p.name: p.stat().st_size for p in out.iterdir()}
+    assert {"timeseries.nc", "events.nc", "summary.png"} <= set(sizes)
+    need = sum(sizes.values()) + sizes["timeseries.nc"]
+    assert budget.estimate_budget(config, movie=False).disk >= need
+
+
+def test_a_disk_that_fills_while_snapshots_are_written_keeps_them_readable(
+    tmp_path, tiny_config, monkeypatch
+):
+    """HDF5 crashes the process when it closes a file whose write failed: no snapshot is
+    written without room for it, and the reserve held since the start lets the file
+    close with every snapshot so far, readable."""
+    from pde.storage import FileStorage
+
+    from pde_rotor.trackers import snapshots
+
+    calls = []
+
+    def filling(directory):
+        calls.append(directory)
+        return 1 << 40 if len(calls) < 3 else 0
+
+    monkeypatch.setattr(snapshots, "free_disk", filling)
+    out = tmp_path / "run"
+    result = invoke("run", tiny_config, "--out", out, "-q", "--no-movie")
+    assert result.exit_code == 1, result.output
+    assert result.stderr.count("\n") == 1 and "Traceback" not in result.output
+    assert "No space left on device (writing snapshots.h5.part)" in result.stderr
+    assert sorted(p.name for p in out.iterdir()) == [
+        "config.yaml", "events.csv", "events.nc", "run.log", "snapshots.h5", "timeseries.nc"
+    ]  # fmt: skip
+    storage = FileStorage(out / "snapshots.h5", write_mode="readonly")
+    try:
+        assert len(storage) == 2 and storage.times[1] == pytest.approx(0.4)
+    finally:
+        storage.close()
+    with xr.open_dataset(out / "timeseries.nc", engine="h5netcdf") as ds:
+        assert ds.attrs["status"] == "failed"
+
+
+def test_a_full_disk_at_the_summary_is_one_line_and_keeps_the_records(
+    tmp_path, tiny_config, monkeypatch
+):
+    import errno
+
+    from pde_rotor.api import RunResult
+
+    def full(self):
+        raise OSError(errno.ENOSPC, "No space left on device", str(self.run_dir / "summary.png"))
+
+    monkeypatch.setattr(RunResult, "write_summary", full)
+    out = tmp_path / "run"
+    result = invoke("run", tiny_config, "--out", out, "-q", "--no-movie")
+    assert result.exit_code == 1, result.output
+    assert result.stderr.count("\n") == 1 and "Traceback" not in result.output
+    assert "No space left on device (writing summary.png)" in result.stderr
+    assert RunResult.load(out).events.sizes["cycle"] == 2
 
 
 def test_crossings_are_read_along_any_axis_rising_or_falling(tmp_path):

@@ -3,13 +3,16 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
 import xarray as xr
+from typer.testing import CliRunner
 
+from pde_rotor.cli.main import app
 from pde_rotor.config import RotorConfig
-from pde_rotor.decision.check import compare, report_points, table_for
+from pde_rotor.decision.check import compare, report_points, report_scheme, table_for
 from pde_rotor.decision.table import diffusion_of
 from tests.decision.test_table import synthetic
 
@@ -30,6 +33,7 @@ def model_report(shift: float = 0.0, **base: dict) -> xr.Dataset:
     ds = xr.Dataset(data, coords={"t_stop": t_stop, "sigma": sigma})
     ds.attrs["base_config"] = json.dumps({"geometry": {"asymmetry": 2e-5}, **base})
     ds.attrs["sweep"] = "model"
+    ds.attrs["design"] = "independent: every run has its own stop"  # today's report format
     return ds
 
 
@@ -128,3 +132,111 @@ def test_the_table_of_a_report_is_the_one_holding_its_model(tmp_path) -> None:
     assert table_for(model_report(grid={"dx": 0.05}), tmp_path) is None
     grids = xr.concat([model_report(), model_report()], dim=xr.DataArray([0.025, 0.05], dims="dx"))
     assert table_for(grids, tmp_path) is None
+
+
+def test_a_report_that_names_no_scheme_has_the_scheme_of_its_time() -> None:
+    """Named in the base config or recorded in the attribute: that one; named nowhere:
+    the default of its format (a report without the estimators' ``design`` attribute
+    predates the default scheme and ran the paper's)."""
+    assert report_scheme(model_report()) == "consistent"
+    assert report_scheme(model_report(numerics={"scheme": "paper"})) == "paper"
+    old = model_report()
+    del old.attrs["design"]
+    assert report_scheme(old) == "paper"
+    old.attrs["scheme"] = "consistent"
+    assert report_scheme(old) == "consistent"
+
+
+def test_a_report_of_another_scheme_is_refused_even_when_it_names_none() -> None:
+    table = synthetic()  # the default (consistent) scheme
+    old = model_report()
+    del old.attrs["design"]
+    with pytest.raises(ValueError, match=r"numerics\.scheme = 'paper' in the ensemble"):
+        compare(table, [old])
+    with pytest.raises(ValueError, match=r"numerics\.scheme = 'paper'"):
+        compare(table, [model_report(numerics={"scheme": "paper"})])
+    assert compare(table, [model_report()]).coverage() == 1.0
+
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def test_the_cli_refuses_the_stored_paper_scheme_reports_in_one_line() -> None:
+    """data/calibration.nc and predictions.nc name no scheme; they ran the paper's."""
+    data = ROOT / "data"
+    result = CliRunner().invoke(
+        app,
+        [
+            "predict",
+            "check",
+            str(data / "decision" / "dx40.nc"),
+            str(data / "calibration.nc"),
+            str(data / "predictions.nc"),
+        ],
+    )
+    assert result.exit_code == 2, result.output
+    assert result.stderr.count("\n") == 1 and result.stderr.startswith("error: report calibration")
+    assert "numerics.scheme = 'paper' in the ensemble, 'consistent' in the table" in result.stderr
+    assert "observed" not in result.stdout
+
+
+def counted_report(shift: float = 0.0, **base: dict) -> xr.Dataset:
+    """:func:`model_report` with the counts of 100 stops per direction behind its
+    conditionals (rounded model values plus `shift`), as a restart ensemble."""
+    ds = model_report(shift, **base)
+    for column, direction in (("P_ccw", "ccw"), ("P_cw", "cw")):
+        k = np.clip(np.round(100 * ds[column].values), 0, 100).astype(int)
+        ds[f"inversions_{direction}"] = (("t_stop", "sigma"), k)
+        ds[f"stops_{direction}"] = (("t_stop", "sigma"), np.full(k.shape, 100))
+    ds["stops"] = (("t_stop", "sigma"), np.full((3, 2), 200))
+    ds["inversions"] = ds["inversions_ccw"] + ds["inversions_cw"]
+    ds.attrs["estimator"] = "restart"
+    return ds
+
+
+def test_the_cli_finds_every_stored_ensemble_and_its_table(tmp_path) -> None:
+    """Without TABLE: every restart or bank report of DATA with the flow on against the
+    table of its physics; one on a grid no table holds is named as left out; the flow-off
+    report only with --flow off."""
+    (tmp_path / "decision").mkdir()
+    synthetic().save(tmp_path / "decision" / "table.nc")
+    counted_report().to_netcdf(tmp_path / "near.nc", engine="h5netcdf")
+    counted_report(shift=0.3).to_netcdf(tmp_path / "far.nc", engine="h5netcdf")
+    counted_report(grid={"dx": 0.05}).to_netcdf(tmp_path / "coarse.nc", engine="h5netcdf")
+    off = counted_report(flow={"enabled": False})
+    off.attrs["sweep"] = "no_flow"
+    off.to_netcdf(tmp_path / "off.nc", engine="h5netcdf")
+    runner = CliRunner()
+    result = runner.invoke(app, ["predict", "check", "--data", str(tmp_path), "--draws", "200"])
+    assert result.exit_code == 0, result.output
+    assert "left out: coarse.nc: no table" in result.stdout and "dx = 0.05" in result.stdout
+    assert "table table.nc: model" in result.stdout
+    assert "24 conditionals" in result.stdout  # near and far, 12 each
+    assert "200 parametric-bootstrap draws" in result.stdout
+    assert "no_flow" not in result.stdout
+    result = runner.invoke(app, ["predict", "check", "--data", str(tmp_path), "--flow", "off"])
+    assert result.exit_code == 2 and result.stderr.count("\n") == 1
+    assert "no table" in result.stderr and "off.nc" in result.stderr
+
+
+def test_a_new_report_records_its_scheme_whether_or_not_its_base_names_it(tmp_path) -> None:
+    """The report of a sweep whose base names no scheme records the one its runs used,
+    so the default can change without the report changing meaning."""
+    from pde_rotor.statistics.proportions import CCW, CW
+    from pde_rotor.sweep import gather
+    from tests.sweep.test_sweep import fake_restarts, tiny_sweep
+
+    sweep = tiny_sweep(samples=2, axes={"protocol.t_stop": [0.5]})
+    fake_restarts(tmp_path, sweep, {CCW: 1, CW: 0})
+    report = gather(sweep, tmp_path)
+    assert "scheme" not in json.loads(report.attrs["base_config"]).get("numerics", {})
+    assert report.attrs["scheme"] == RotorConfig().numerics.scheme
+    report.attrs["scheme"] = "paper"  # as if the default had been another
+    assert report_scheme(report) == "paper"
+
+
+def test_the_help_states_the_bootstraps_defaults() -> None:
+    from pde_rotor.decision.goodness import DRAWS, SEED
+
+    text = " ".join(CliRunner().invoke(app, ["predict", "check", "--help"]).stdout.split())
+    assert f"[default: {DRAWS}]" in text and f"[default: {SEED}]" in text

@@ -52,6 +52,7 @@ EXPECTED = (
     "master_curve",
     "movie_inversion",
     "phase_diagram",
+    "stability_onsets",
 )
 """The gallery scripts: paper Figs. 1 and 3-9, the movie and the convergence page."""
 

@@ -138,3 +138,88 @@ def test_log_handler_writes_and_detaches(tmp_path):
     assert "hello 42" in text
     assert "after detach" not in text
     assert logging.getLogger("pde_rotor").level == level
+
+
+FULL_DISK_SCRIPT = """
+import resource, signal, sys
+from pathlib import Path
+import numpy as np, xarray as xr
+from pde_rotor.io.output import AppendOnlyCSV, write_netcdf_atomic
+
+signal.signal(signal.SIGXFSZ, signal.SIG_IGN)  # EFBIG instead of a signal
+small, path = xr.Dataset({"a": ("t", np.arange(10.0))}), Path(sys.argv[1])
+write_netcdf_atomic(small, path)  # a complete earlier copy
+table = AppendOnlyCSV(path.with_name("rows.csv"), ["i", "x"])
+resource.setrlimit(resource.RLIMIT_FSIZE, (20_000, resource.RLIM_INFINITY))
+large = xr.Dataset({k: ("t", np.arange(5000.0)) for k in "abcd"})
+for attempt in range(3):
+    try:
+        write_netcdf_atomic(large, path)
+    except OSError as err:
+        print("failed", err.errno, err.filename)
+try:
+    for i in range(10_000):
+        table.append({"i": i, "x": 0.5 * i})
+except OSError as err:
+    print("row failed", i)
+table.close()
+"""
+
+
+def test_writes_on_a_full_disk_fail_cleanly_and_keep_the_complete_files(tmp_path):
+    """A disk that fills up: HDF5 cannot close a file whose write failed, and writing the
+    same file again then crashed the process (segmentation fault). Here the file-size
+    limit stands in for the full disk (EFBIG instead of ENOSPC, the same failing write):
+    every write raises OSError naming its file, the earlier complete copy stays, and
+    the CSV ends with its last whole row."""
+    import subprocess
+    import sys
+
+    path = tmp_path / "timeseries.nc"
+    done = subprocess.run(
+        [sys.executable, "-c", FULL_DISK_SCRIPT, str(path)],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert done.stdout.count(f"failed 27 {path}") == 3, done.stdout
+    assert done.stderr == ""
+    with xr.open_dataset(path, engine="h5netcdf") as ds:
+        assert ds["a"].values.tolist() == list(range(10))
+    assert not part_path(path).exists()
+    rows = list(csv.DictReader((tmp_path / "rows.csv").open(newline="")))
+    last = int(done.stdout.split("row failed ")[1])
+    assert len(rows) == last and rows[-1] == {"i": str(last - 1), "x": repr(0.5 * (last - 1))}
+
+
+def test_a_log_that_cannot_be_written_goes_quiet(tmp_path, capsys):
+    """logging prints a traceback to stderr for every record a full disk refuses; the
+    run's log stops instead, keeping what it wrote, so that the one error line of the
+    run is all a user sees."""
+    import errno
+    import logging
+
+    from pde_rotor.io.output import detach_log
+
+    run = RunDirectory.create(tmp_path / "run")
+    handler = run.attach_log()
+    logger = logging.getLogger("pde_rotor")
+    logger.info("before")
+
+    class FullDisk:
+        def write(self, text: str) -> None:
+            raise OSError(errno.ENOSPC, "No space left on device")
+
+        def flush(self) -> None:
+            raise OSError(errno.ENOSPC, "No space left on device")
+
+        def close(self) -> None:
+            self.flush()
+
+    handler.stream = FullDisk()  # type: ignore[assignment]
+    logger.info("lost")
+    logger.error("lost too")
+    detach_log(handler)
+    assert capsys.readouterr().err == ""
+    assert "before" in run.log.read_text() and "lost" not in run.log.read_text()

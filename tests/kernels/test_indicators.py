@@ -15,15 +15,15 @@ import numba as nb
 import numpy as np
 import pytest
 
-from pde_rotor.kernels.core import CPU
 from pde_rotor.kernels.records import make_record
 from pde_rotor.model.pde import RotorPDE
+from pde_rotor.physics.build import CPU
 from tests.conftest import compiled_indicators
 
-_plate_cell = CPU.plate_cell
-_pill_cell = CPU.pill_cell
-_filtered_plate = CPU.filtered_plate
-_filtered_pills = CPU.filtered_pills
+_plate_cell = CPU.indicators.plate_cell
+_pill_cell = CPU.indicators.pill_cell
+_filtered_plate = CPU.indicators.filtered_plate
+_filtered_pills = CPU.indicators.filtered_pills
 
 
 @nb.njit

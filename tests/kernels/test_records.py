@@ -27,6 +27,7 @@ PHYSICAL_SECTIONS = ("geometry", "camphor", "flow", "rotor", "noise", "protocol"
 DERIVED: dict[str, str] = {
     "camphor.supply": "source = s0 / (pi rho^2)",
     "rotor.torque": "torque_sign",
+    "camphor.saturation": "inv_saturation = 1 / c_sat (0: linear)",
     "noise.sigma": "kick = sqrt(2 dt) sigma / I",
     "geometry.radius": "apothem = R cos(pi/N)",
     "geometry.pill_inset": "pill_distance, Eq. (rc)",
@@ -52,9 +53,15 @@ NOT_IN_KERNELS: dict[str, str] = {
 
 VARIED: dict[str, Any] = {
     "geometry": {"n_corners": 5, "asymmetry": 0.03, "smoothing": 0.03, "pill_radius": 0.09},
-    "camphor": {"diffusion": 0.9, "evaporation": 1.1, "supply": 1.3, "tension_slope": 0.7},
+    "camphor": {
+        "diffusion": 0.9,
+        "evaporation": 1.1,
+        "supply": 1.3,
+        "tension_slope": 0.7,
+        "saturation": 0.4,
+    },
     "flow": {"drag": 1.2, "bulk_drag": 0.8, "viscosity": 0.6},
-    "rotor": {"inertia": 2e-5, "friction": 3e-4, "torque": "printed"},
+    "rotor": {"inertia": 2e-5, "friction": 3e-4, "torque": "printed", "external_torque": 1e-6},
     "noise": {"sigma": 1e-7},
     "protocol": {"t_ini": 0.4, "t_stop": 0.2, "t_release": 0.6, "cycles": 3},
 }
@@ -89,6 +96,7 @@ def test_record_holds_every_parameter_of_the_schema(
     assert rec["dt"] == dt
     assert rec["source"] == cfg.camphor.supply / (math.pi * geo.pill_radius**2)
     assert rec["torque_sign"] == TORQUE_SIGN[cfg.rotor.torque] == 1.0
+    assert rec["inv_saturation"] == 1.0 / 0.4
     assert rec["kick"] == math.sqrt(2.0 * dt) * cfg.noise.sigma / cfg.rotor.inertia
     assert rec["apothem"] == geo.radius * math.cos(math.pi / geo.n_corners)
     assert rec["pill_distance"] == geo.radius - geo.pill_radius / math.cos(

@@ -22,7 +22,7 @@ BODIES = [
         "name": "strip",
         "plate": {"shape": "strip", "length": 0.8, "width": 0.3},
         "pills": [{"x": 0.3, "y": 0.0, "radius": 0.06}, {"x": -0.3, "y": 0.0, "radius": 0.06}],
-        "motion": {"kind": "free", "mass": 3e-5},
+        "motion": {"kind": "free", "mass": 3e-5, "friction": 1e-4},
         "start": {"x": 1.4, "y": -1.2, "angle": 0.7, "omega": 2.0, "velocity": [-0.2, 0.1]},
     },
 ]
@@ -85,7 +85,11 @@ def test_walled_step_conserves_camphor_with_moving_bodies_and_flow() -> None:
     """With no sublimation and no supply, the camphor in the dish (sum of kappa c dA)
     stays what it was while the bodies turn and move and the flow advects it."""
     dry = [{**b, "pills": [{**p, "supply": 0.0} for p in b["pills"]]} for b in BODIES]
-    dry[1]["motion"] = {"kind": "free", "mass": 1e-2}  # drifts with its start velocity
+    dry[1]["motion"] = {
+        "kind": "free",
+        "mass": 1e-2,
+        "friction": 1e-4,
+    }  # drifts with its start velocity
     sim = walled(dry, camphor={"evaporation": 0.0})
     domain = sim.pde.domain
     start = domain.camphor_total(sim.state.data[0])

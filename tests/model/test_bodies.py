@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from pde_rotor.config import RotorConfig, validate_config
+from pde_rotor.config import FREE_FRICTION, RotorConfig, validate_config
 from pde_rotor.model.bodies import (
     MOTIONLESS,
     Body,
@@ -271,7 +271,8 @@ def test_footprint_holds_every_nonzero_value(body: dict[str, Any]) -> None:
 def test_motion_coefficients_follow_the_kind() -> None:
     """A fixed body neither turns nor translates, a fixed_axis body does not translate
     (infinite mass and inertia make force / m and torque / I vanish); a free body has its
-    mass, and inertia and friction from the rotor section where it leaves them out."""
+    mass, its inertia from the rotor section and a camphor disk's friction where it leaves
+    them out."""
     pill = {"pills": [{}]}
     config = validate_config(
         {
@@ -292,7 +293,7 @@ def test_motion_coefficients_follow_the_kind() -> None:
     fixed, axis, free = make_bodies(config)
     assert (fixed.mass, fixed.inertia, fixed.friction) == (MOTIONLESS, MOTIONLESS, 0.0)
     assert (axis.mass, axis.inertia, axis.friction) == (MOTIONLESS, 2e-5, 3e-4)
-    assert (free.mass, free.inertia, free.friction) == (1e-4, 4e-5, 3e-4)
+    assert (free.mass, free.inertia, free.friction) == (1e-4, 4e-5, FREE_FRICTION)
     assert [b.noise_sigma for b in (fixed, axis, free)] == [0.0, 1e-7, 0.0]
     assert [b.name for b in (fixed, axis, free)] == ["body0", "body1", "body2"]
     assert free.velocity0 == (0.5, 0.0)

@@ -24,28 +24,28 @@ BODIES = [
         "name": "pair",
         "plate": {"shape": "none"},
         "pills": [{"x": 0.3, "y": 0.1}, {"x": -0.2, "y": 0.0, "radius": 0.15}],
-        "motion": {"kind": "free", "mass": 1e-3},
+        "motion": {"kind": "free", "mass": 1e-3, "friction": 1e-4},
         "start": {"x": 0.31, "y": -1.2, "angle": 0.3},
     },
     {
         "name": "disk",
         "plate": {"shape": "disk", "radius": 0.3},
         "pills": [{"x": 0.1, "y": 0.0}],
-        "motion": {"kind": "free", "mass": 1e-3},
+        "motion": {"kind": "free", "mass": 1e-3, "friction": 1e-4},
         "start": {"x": -1.3, "y": 1.3, "angle": 0.3},
     },
     {
         "name": "hexagon",
         "plate": {"shape": "polygon", "n_corners": 6, "radius": 0.5},
         "pills": [{"x": 0.3, "y": 0.0}],
-        "motion": {"kind": "free", "mass": 1e-3},
+        "motion": {"kind": "free", "mass": 1e-3, "friction": 1e-4},
         "start": {"x": 1.3, "y": 1.6, "angle": 0.3},
     },
     {
         "name": "strip",
         "plate": {"shape": "strip", "length": 0.7, "width": 0.2},
         "pills": [{"x": 0.1, "y": 0.0}],
-        "motion": {"kind": "free", "mass": 1e-3},
+        "motion": {"kind": "free", "mass": 1e-3, "friction": 1e-4},
         "start": {"x": -1.8, "y": -1.2, "angle": -0.7},
     },
 ]
@@ -145,7 +145,9 @@ def test_square_strip_is_the_square_polygon() -> None:
         },
     ]
     for body in square:
-        body.update(pills=[{"x": 0.05, "y": 0.0}], motion={"kind": "free", "mass": 1e-3})
+        body.update(
+            pills=[{"x": 0.05, "y": 0.0}], motion={"kind": "free", "mass": 1e-3, "friction": 1e-4}
+        )
     bodies, scheme, axis = consistent_surface(square, 3.0)
     x, y = np.meshgrid(axis, axis, indexing="ij")
     c, _, _ = smooth_c(x, y)

@@ -17,13 +17,13 @@ import numpy as np
 import pytest
 
 from pde_rotor.config import RotorConfig
-from pde_rotor.kernels.core import CPU
 from pde_rotor.kernels.cpu import rotor_integrals, spline_window
 from pde_rotor.kernels.records import make_record
 from pde_rotor.model.analysis import stopped_concentration, stopped_torque
 from pde_rotor.model.geometry import edge_normal_angles, plate_indicator
 from pde_rotor.model.pde import RotorPDE
 from pde_rotor.model.schemes import contour_cross_grad, interpolate_spline, sech2_gauss
+from pde_rotor.physics.build import CPU
 
 
 @pytest.mark.parametrize("n_nodes", [2, 4, 8])
@@ -58,13 +58,13 @@ def test_core_spline_equals_scipy_and_is_fourth_order() -> None:
         px, py = rng.uniform(-0.6, 0.6, (2, 100))
         got = np.array(
             [
-                CPU.interpolate(coef, 0, n, axis[0], 1 / dx, a, b)
+                CPU.spline.interpolate(coef, 0, n, axis[0], 1 / dx, a, b)
                 for a, b in zip(px, py, strict=True)
             ]
         )
         want = interpolate_spline(field, axis[0], dx, px, py)
         np.testing.assert_allclose(got, want, rtol=0, atol=1e-12)
-        node = CPU.interpolate(coef, 0, n, axis[0], 1 / dx, axis[n // 2], axis[n // 2 + 3])
+        node = CPU.spline.interpolate(coef, 0, n, axis[0], 1 / dx, axis[n // 2], axis[n // 2 + 3])
         assert node == pytest.approx(field[n // 2, n // 2 + 3], abs=1e-13)
         exact = np.exp(-(px * px + 2 * py * py)) * np.cos(2 * px + py)
         errors.append(np.abs(got - exact).max())

@@ -15,6 +15,8 @@ from pde.trackers import CallbackTracker
 from scipy.stats import chi2
 
 from pde_rotor import RotorConfig, Simulation
+from pde_rotor.model.bodies import make_bodies
+from pde_rotor.model.motion import Inertia, accelerations, euler_poses, held_bodies
 from pde_rotor.model.pde import RotorPDE
 from pde_rotor.solver.rotor import RotorSolver, SimulationDivergedError
 
@@ -43,7 +45,8 @@ def test_fused_step_equals_numpy_reference(
 
     Reference: c' = c + dt rate_c, v' = v + dt rate_v from ``evolution_rate`` (Eqs. (eqc),
     (eqv)); phi' = phi + dt omega, omega' = omega + dt (T + friction) / I from
-    ``rotor_torques`` (Eq. (eq_motion)). In a stop phase omega = 0 enters the flow term
+    ``rotor_torques`` and the equation of motion of :mod:`pde_rotor.model.motion`
+    (Eq. (eq_motion)). In a stop phase omega = 0 enters the flow term
     and the friction, phi and omega stay frozen (omega' = 0). Checked on a random smooth
     state with an asymmetric rotor, with the flow on and off; increments agree to 1e-12
     relative.
@@ -76,15 +79,20 @@ def test_fused_step_equals_numpy_reference(
     assert new.rotor.torque == pytest.approx(torque, rel=1e-11)  # a sum with cancellations
     assert new.rotor.friction == pytest.approx(friction, rel=1e-12, abs=1e-300)
     assert new.rotor.stopped is stopped
-    inertia = cfg.rotor.inertia
+    # the equation of motion of the numpy reference: the rotor is the fixed_axis body at 0
+    bodies = make_bodies(cfg)
+    inertia = Inertia.of(bodies)
+    held = held_bodies(bodies, 0, dt)
+    assert bool(held[0]) is stopped
+    pose = np.array([[0.0, 0.0, phi, 0.0, 0.0, 0.0 if stopped else omega]])
+    accel = accelerations(np.array([[0.0, 0.0, torque, 0.0, 0.0, friction]]), inertia)
+    want = euler_poses(pose, accel, held, inertia, dt)[0]
+    assert new.rotor.phi == pytest.approx(want[2], rel=1e-15)
     if stopped:
         assert new.rotor.phi == phi
-        assert new.rotor.omega == 0.0
+        assert new.rotor.omega == 0.0 == want[5]
     else:
-        assert new.rotor.phi == pytest.approx(phi + dt * omega, rel=1e-15)
-        assert (new.rotor.omega - omega) / dt == pytest.approx(
-            (torque + friction) / inertia, rel=1e-10
-        )
+        assert (new.rotor.omega - omega) / dt == pytest.approx((want[5] - omega) / dt, rel=1e-10)
 
 
 def discrete_boundary_flux(pde: RotorPDE, c: np.ndarray, v: np.ndarray | None) -> float:
@@ -419,3 +427,61 @@ def test_the_corner_tables_end_moves_a_run_by_less_than_1e_12(
     np.testing.assert_allclose(sim.state.data, full.state.data, rtol=0, atol=1e-12 * scale)
     np.testing.assert_allclose(sim.pde.F, full.pde.F, rtol=0, atol=2e-13)
     np.testing.assert_array_equal(sim.pde.G, full.pde.G)
+
+
+def test_external_torque_without_camphor_turns_the_rotor_at_torque_over_friction(
+    small_config: Callable[..., RotorConfig],
+) -> None:
+    """Without camphor (supply 0) and flow, Eq. (eq_motion) is I domega/dt = T_ext - mu J
+    omega, J = int F |r|^2 dA: the rotor under a constant external torque reaches
+    omega = T_ext / (mu J) (15 relaxation times I / (mu J) here), turning either way."""
+    for torque in (1e-3, -5e-4):
+        cfg = small_config(
+            {
+                "camphor": {"supply": 0.0},
+                "flow": {"enabled": False},
+                "rotor": {"external_torque": torque, "omega0": 0.0},
+            }
+        )
+        sim = Simulation(cfg)
+        pde: RotorPDE = sim.pde
+        x, y = pde.cell_coordinates()
+        F, _ = pde.indicators(0.0)
+        polar = float(np.sum(F * (x**2 + y**2)) * pde.domain.cell_area)
+        mu = cfg.rotor.friction
+        t_end = 15 * cfg.rotor.inertia / (mu * polar)
+        sim.run(round(t_end / cfg.grid.dt) * cfg.grid.dt)
+        assert np.abs(sim.state.data).max() == 0.0  # no camphor, no flow
+        assert sim.rotor.omega == pytest.approx(torque / (mu * polar), rel=1e-3)
+
+
+@pytest.mark.parametrize("scheme", ["paper", "consistent"])
+def test_saturating_tension_torque_equals_numpy_reference(
+    scheme: str,
+    small_config: Callable[..., RotorConfig],
+    random_state: Callable[..., FieldCollection],
+) -> None:
+    """With gamma(c) = gamma0 - k c / (1 + c / c_sat) the fused step's torque is
+    RotorPDE's (area form, and contour form with the spline of c read through the
+    surface pressure) to 1e-11; on the paper scheme it is the linear law's torque of the
+    field c / (1 + c / c_sat) itself (the area form reads c only through Pi); and it
+    tends to the linear law's torque as c_sat grows."""
+    torques = {}
+    for saturation in (0.5, 1e3, None):
+        cfg = small_config({"numerics": {"scheme": scheme}, "camphor": {"saturation": saturation}})
+        pde = RotorPDE(cfg)
+        state = random_state(pde, np.random.default_rng(2))
+        state.rotor.phi, state.rotor.omega = 0.4, 3.0
+        torque, _ = pde.rotor_torques(state)
+        new = one_solver_step(pde, state)
+        assert new.rotor.torque == pytest.approx(torque, rel=1e-11)
+        torques[saturation] = torque
+        if saturation == 0.5 and scheme == "paper":
+            linear = RotorPDE(small_config({"numerics": {"scheme": scheme}}))
+            pressed = state.copy()
+            pressed.data[0] = state.data[0] / (1.0 + state.data[0] / saturation)
+            assert one_solver_step(linear, pressed).rotor.torque == pytest.approx(
+                new.rotor.torque, rel=1e-13
+            )
+    assert abs(torques[0.5] - torques[None]) > 0.1 * abs(torques[None])
+    assert abs(torques[1e3] - torques[None]) < 1e-2 * abs(torques[None])

@@ -2,7 +2,7 @@
 
 A prescribed omega(t) with five stop-and-release cycles runs through the run tracker
 (:class:`~pde_rotor.trackers.InversionTracker`), the sweep's restart/bank commit rule
-(``pde_rotor.sweep.estimators.release_outcome``), the ensemble backends' classification
+(``pde_rotor.sweep.estimators.restart.release_outcome``), the ensemble backends' classification
 (:meth:`~pde_rotor.backends.ensemble.EnsembleResult.release_events`) and the paper's
 protocol estimator (:func:`~pde_rotor.statistics.proportions.protocol_counts`). The cycles cover a
 commitment in the old direction, an inversion, a release that never commits, a
@@ -26,7 +26,7 @@ from pde_rotor.model.protocol import StopSchedule
 from pde_rotor.statistics.inversion import Release, classify_release, commits, direction
 from pde_rotor.statistics.proportions import protocol_counts, restart_counts
 from pde_rotor.sweep import RestartEstimator
-from pde_rotor.sweep.estimators import Timing, release_outcome
+from pde_rotor.sweep.estimators.restart import Timing, release_outcome
 from pde_rotor.trackers import InversionTracker
 
 FRACTION = 0.5
@@ -93,7 +93,8 @@ def by_tracker() -> list[tuple[int, int, bool, bool]]:
 
 
 def by_sweep_release() -> list[tuple[int, int, bool, bool]]:
-    """The same per cycle from the restart/bank estimators' commit rule (sweep.estimators)."""
+    """The same per cycle from the restart/bank estimators' commit rule
+    (sweep.estimators.restart)."""
     estimator = RestartEstimator(commit_fraction=FRACTION, check_interval=CHECK)
     out = []
     for start in SCHEDULE.stop_steps():

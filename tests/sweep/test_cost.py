@@ -46,6 +46,31 @@ def test_cell_counts_are_those_of_the_solver_grid(data):
     assert support == pytest.approx(domain.support_mask.sum(), rel=5e-3)
 
 
+@pytest.mark.parametrize(
+    "vessel",
+    [
+        {"shape": "annulus", "inner_radius": 0.5, "outer_radius": 3.0},
+        {"shape": "rectangle", "half_widths": [3.0, 1.5]},
+    ],
+)
+def test_cell_counts_of_a_vessel_are_its_wet_cells(vessel):
+    """In a vessel the interior cells are those its step walks: its area over dx^2 (the
+    sum of the volume fractions), the cells it wets within 5 % (its cut cells count
+    whole)."""
+    start = {"x": 1.75} if vessel["shape"] == "annulus" else {}
+    config = validate_config(
+        {
+            **COARSE,
+            "grid": {**COARSE["grid"], "vessel": vessel},
+            "bodies": [{"pills": [{}], "start": start}],
+        }
+    )
+    domain = make_domain(config.grid, RotorShape.from_config(config.geometry))
+    interior, _ = cell_counts(config)
+    assert interior == pytest.approx(domain.cut_cells.volume.sum(), rel=5e-3)
+    assert interior == pytest.approx(domain.cut_cells.mask.sum(), rel=5e-2)
+
+
 def test_step_cost_scales_with_the_cells_of_each_kind():
     """Halving dx at fixed delta puts four times the cells of both kinds on the grid
     and costs four times as much per step; a larger domain adds interior cells only, a

@@ -295,9 +295,12 @@ def test_a_second_sweep_on_a_busy_directory_is_refused_in_one_line(tmp_path, mon
         )
         with pytest.raises(StoreBusyError):
             compact(sweep_dir)
-        result = CliRunner().invoke(app, ["sweep", str(path), "-o", str(sweep_dir), "-q"])
+        # refused at once: before the sweep file is read, any header or any work
+        with monkeypatch.context() as patch:
+            patch.setattr(Sweep, "load", classmethod(lambda *a, **k: pytest.fail("loaded")))
+            result = CliRunner().invoke(app, ["sweep", str(path), "-o", str(sweep_dir), "-q"])
         assert result.exit_code == 2
-        assert result.output.splitlines()[-1] == f"error: {message}"
+        assert result.output == f"error: {message}\n"
         assert files(sweep_dir) == untouched
     finally:
         holder.communicate("done\n", timeout=60)

@@ -743,9 +743,9 @@ def test_a_subset_run_keeps_the_directory_design(two_worker_sweep, tmp_path, mon
     grown = runner.invoke(app, ["report", str(store), "-o", "grown.nc"])
     assert grown.exit_code == 0, grown.output
     assert list(xr.load_dataset("grown.nc", engine="h5netcdf").t_stop) == [0.2, 2.2]
-    whole = runner.invoke(app, ["report", str(path)])
+    whole = runner.invoke(app, ["report", str(path), "-o", "whole.nc"])
     assert whole.exit_code == 0, whole.output
-    xr.testing.assert_identical(xr.load_dataset(store / "report.nc", engine="h5netcdf"), ds)
+    xr.testing.assert_identical(xr.load_dataset("whole.nc", engine="h5netcdf"), ds)
     missing = runner.invoke(app, ["report", str(write_sweep(tmp_path / "other.yaml", TINY_SWEEP))])
     assert missing.exit_code == 2 and "data/sweeps/other holds no sweep.yaml" in missing.output
 

@@ -34,13 +34,13 @@ from pde_rotor.sweep import (
     SweepError,
     SweepSpec,
     batch,
-    estimators,
     execution,
     gather,
     read_runs,
     run_sweep,
     tasks,
 )
+from pde_rotor.sweep.estimators import restart
 
 TINY_GPU: dict[str, Any] = {
     "grid": {"dx": 0.1, "dt": 1e-3, "domain_radius": 1.6},
@@ -155,7 +155,7 @@ def test_restart_and_bank_batches_read_the_runs_the_tasks_compute(
     )
     run_sweep(sweep, tmp_path / "tasks", workers=1, progress=False)
     recorder = Recorder()
-    monkeypatch.setattr(estimators, "_WARM", OrderedDict())  # no state of another test
+    monkeypatch.setattr(restart, "_WARM", OrderedDict())  # no state of another test
     outcome = run_sweep(sweep, tmp_path / "batch", ensemble=recorder, progress=False)
     assert (outcome.computed, outcome.failed) == (12, [])
     # one ensemble of the spin-ups (per configuration without noise, and direction)
@@ -232,9 +232,9 @@ def test_the_dask_tasks_and_the_cpu_batches_store_the_same_runs(monkeypatch, est
     groups: dict[str, list] = {}
     for run in runs:
         groups.setdefault(tasks.stop_group(run), []).append(run)
-    monkeypatch.setattr(estimators, "_WARM", OrderedDict())  # each path spins up its own
+    monkeypatch.setattr(restart, "_WARM", OrderedDict())  # each path spins up its own
     by_task = {c["key"]: c for group in groups.values() for c in tasks.execute_group(group)}
-    monkeypatch.setattr(estimators, "_WARM", OrderedDict())
+    monkeypatch.setattr(restart, "_WARM", OrderedDict())
     by_batch = {
         c["key"]: c
         for part in batch.batches(runs, 3)

@@ -7,8 +7,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
+from matplotlib.figure import Figure
 
 from pde_rotor import RotorConfig, run
+from pde_rotor.plotting.bodies import draw_vessel
 
 TWO_BODIES = {
     "grid": {"domain_radius": 3.0, "dx": 0.05, "dt": 2e-4},
@@ -26,7 +28,7 @@ TWO_BODIES = {
         {
             "name": "boat",
             "pills": [{"x": 0.0, "y": 0.0}],
-            "motion": {"kind": "free", "mass": 1e-3},
+            "motion": {"kind": "free", "mass": 1e-3, "friction": 1e-4},
             "start": {"x": 1.2, "y": 0.0, "velocity": [0.0, 0.5]},
         },
     ],
@@ -62,3 +64,29 @@ def test_bodies_run_writes_every_body_and_its_stops(tmp_path: Path) -> None:
     before = [float(omega.sel(time=t_stop, method="nearest")) for t_stop in (0.1, 0.2)]
     np.testing.assert_array_equal(events["direction_before"].values, np.sign(before))
     np.testing.assert_array_equal(events["omega_before"].values, before)
+
+
+@pytest.mark.parametrize(
+    ("vessel", "walls"),
+    [
+        (None, [("Circle", 3.0)]),
+        (
+            {"shape": "annulus", "inner_radius": 1.0, "outer_radius": 3.0},
+            [("Circle", 1.0), ("Circle", 3.0)],
+        ),
+        ({"shape": "rectangle", "half_widths": [3.0, 1.5]}, [("Rectangle", (6.0, 3.0))]),
+    ],
+)
+def test_the_summary_draws_the_vessels_walls(vessel: dict | None, walls: list) -> None:
+    """The summary's first panel draws the dish's circle, an annulus' two circles or a
+    tank's sides, where the walls are."""
+    grid = {"vessel": vessel} if vessel else {}
+    start = {"x": 2.0} if vessel else {}
+    config = RotorConfig.model_validate({"grid": grid, "bodies": [{"pills": [{}], "start": start}]})
+    ax = Figure().subplots()
+    draw_vessel(ax, config)
+    drawn = [
+        (type(p).__name__, p.radius if hasattr(p, "radius") else (p.get_width(), p.get_height()))
+        for p in ax.patches
+    ]
+    assert drawn == walls

@@ -1,21 +1,26 @@
-"""The physics core's building blocks: the polynomial expm1, the logistic profile and the
-cubic spline of a table.
+"""The indicators' building blocks (pde_rotor.physics.indicators): the polynomial expm1,
+the logistic profile, the cubic spline of a table and a strip's filtered F.
 
-The row loops of F and G against the core's cell functions: tests/test_indicators.py.
+The row loops of F and G against the cell functions: tests/kernels/test_indicators.py.
 """
 
 from __future__ import annotations
 
+import math
+
 import numba as nb
 import numpy as np
+import pytest
 from scipy.ndimage import map_coordinates, spline_filter
 from scipy.special import expit
 
-from pde_rotor.kernels.core import CPU, X_SATURATION
+from pde_rotor.config import X_SATURATION
+from pde_rotor.model.filtering import filtered_strip, strip_table
+from pde_rotor.physics.build import CPU
 
-_expm1 = CPU.vector_expm1
-_logistic = CPU.logistic
-_filtered_corner = CPU.filtered_corner
+_expm1 = CPU.indicators.vector_expm1
+_logistic = CPU.indicators.logistic
+_filtered_corner = CPU.indicators.filtered_corner
 
 
 @nb.njit
@@ -81,3 +86,29 @@ def test_the_corner_table_is_its_cubic_spline_and_0_where_its_taps_leave_it() ->
     h, q = t_x0 + outside[0] * step, t_x0 + outside[1] * step
     got = corner_values(h, q, coef, t_n, t_x0, 1.0 / step)
     assert np.all(got == 0.0)
+
+
+@pytest.mark.parametrize("phi", [0.0, 0.7, -2.2])
+def test_filtered_strip_equals_the_numpy_reference(phi: float) -> None:
+    """The compiled F_eps of a strip (the B-spline of its mirrored quadrant
+    coefficients) equals scipy's spline of the table's values (its own prefilter,
+    mirrored) at points inside, on its axes, across its edges and beyond its table,
+    to 1e-12; both are 0 beyond the table."""
+    dx = 0.025
+    table = strip_table(0.6, 0.3, dx, dx, 8, ("gaussian", 0.7))
+    rng = np.random.default_rng(3)
+    u = np.concatenate([rng.uniform(-1.0, 1.0, 300), np.zeros(20), rng.uniform(-0.4, 0.4, 20)])
+    v = np.concatenate([rng.uniform(-0.9, 0.9, 300), rng.uniform(-0.3, 0.3, 20), np.zeros(20)])
+    c, s = math.cos(phi), math.sin(phi)
+    x, y = u * c - v * s, u * s + v * c
+    want = filtered_strip(table, x, y, phi)
+    got = np.array(
+        [
+            CPU.indicators.filtered_strip(
+                a, b, c, s, table.coef, table.rows, table.columns, table.x0, 1.0 / table.step
+            )
+            for a, b in zip(x, y, strict=True)
+        ]
+    )
+    np.testing.assert_allclose(got, want, rtol=0, atol=1e-12)
+    assert (want == 0.0).sum() > 50 and (want > 0.99).sum() > 10  # beyond and inside

@@ -1,0 +1,139 @@
+"""Cost of a crowd: 20 small free camphor disks against the same surface without bodies.
+
+Twenty free disks (pill radius rho = 0.1, no plate, mass 1e-3, friction 1, so that they
+stay slow: the friction relaxation rate mu pi rho^2 / m = 31 and a speed of order
+|F| / (mu pi rho^2) ~ 0.02) spread over a dish of radius 4 on the paper's grid
+(dx = 0.025, dt = 1e-4) on rings that keep them apart, one disk at the dish's centre, and the same
+surface's field update without bodies (:func:`pde_rotor.kernels.bodies.euler_body_fields`
+with no body rows: Eqs. (eqc), (eqv) alone). Each is timed alternately with the others
+(`--repeats` rounds, least kept) over `--steps` steps after a compiling warm-up, in CPU
+time of the stepping thread; printed: ms/step of each and the ratios to the surface
+without bodies (goal: 20 disks <= 1.5x). With `--profile`, the phases of the 20 disks'
+step per body (``benchmarks/bench_bodies.py``'s profile: drawing, area integrals,
+spline window and contour nodes, field update over the support).
+
+Run:  NUMBA_NUM_THREADS=1 python benchmarks/bench_crowd.py [--steps 300] [--repeats 3]
+      [--scheme paper consistent] [--profile]
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import time
+from functools import partial
+
+import numpy as np
+from bench_bodies import profile
+
+from pde_rotor import RotorConfig
+from pde_rotor.kernels import bodies as kb
+from pde_rotor.solver.bodies import make_bodies_stepper
+from pde_rotor.solver.simulation import Simulation
+
+RINGS = [(0.0, 1), (1.25, 6), (2.6, 13)]
+"""(radius, count) of the rings the 20 disks sit on: neighbours >= 1.2 apart (a disk's
+footprint, pill and smoothing reach, is 0.6), 0.8 from the rim of the dish of radius 4."""
+
+
+def disk(x: float, y: float) -> dict:
+    """One small free camphor disk at (x, y), at rest."""
+    return {
+        "plate": {"shape": "none"},
+        "pills": [{"radius": 0.1}],
+        "motion": {"kind": "free", "mass": 1e-3, "inertia": 5e-6, "friction": 1.0},
+        "start": {"x": x, "y": y},
+    }
+
+
+def places(count: int) -> list[tuple[float, float]]:
+    """The first `count` places on :data:`RINGS`."""
+    spots = [
+        (r * math.cos(2 * math.pi * m / n), r * math.sin(2 * math.pi * m / n))
+        for r, n in RINGS
+        for m in range(n)
+    ]
+    return spots[:count]
+
+
+def config(count: int, scheme: str) -> RotorConfig:
+    """`count` free disks on the paper's dish and grid, `scheme`."""
+    bodies = [{**disk(x, y), "name": f"disk{k}"} for k, (x, y) in enumerate(places(count))]
+    return RotorConfig.model_validate(
+        {
+            "grid": {"domain_radius": 4.0, "dx": 0.025, "dt": 1e-4},
+            "numerics": {"scheme": scheme},
+            "protocol": {"t_ini": 100.0, "cycles": 0},
+            "bodies": bodies,
+        }
+    )
+
+
+def ms_per_step(sim: Simulation, steps: int) -> float:
+    """Milliseconds of the thread's CPU time per step over `steps` steps of `sim`."""
+    start = time.thread_time()
+    sim.run(sim.t + steps * sim.config.grid.dt)
+    return 1e3 * (time.thread_time() - start) / steps
+
+
+def bare_surface(sim: Simulation):
+    """A timer of the field update of `sim`'s surface without bodies: returns
+    ms_per_step(steps), the thread CPU time of `steps` updates."""
+    pde = sim.pde
+    step = make_bodies_stepper(pde, sim.config.grid.dt, np.random.default_rng(0))
+    p = step._record.view(np.recarray)[0]
+    coords, lo, hi, _, _ = pde.domain.arrays()
+    empty = np.zeros(coords.size, dtype=np.int64)
+    domain = (coords, lo, hi, empty, empty.copy())
+    cur = np.ascontiguousarray(sim.state.data).reshape(-1).copy()
+    nxt = np.zeros_like(cur)
+    F, G, owner = pde.F.reshape(-1), pde.G.reshape(-1), pde.owner.reshape(-1)
+    pose = sim.bodies.poses.copy()
+    coef = kb._rate_coefficients(p)
+
+    def timer(steps: int) -> float:
+        nonlocal cur, nxt
+        start = time.thread_time()
+        for _ in range(steps):
+            kb.euler_body_fields(cur, nxt, F, G, owner, domain, coef, p.dt, pose, p.flow)
+            cur, nxt = nxt, cur
+        return 1e3 * (time.thread_time() - start) / steps
+
+    return timer
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--steps", type=int, default=300)
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--scheme", nargs="+", default=["paper", "consistent"])
+    parser.add_argument("--profile", action="store_true", help="phases of the crowd's step")
+    args = parser.parse_args()
+    for scheme in args.scheme:
+        crowd, one = Simulation(config(20, scheme)), Simulation(config(1, scheme))
+        bare = bare_surface(one)
+        runs = {
+            "20 disks": partial(ms_per_step, crowd),
+            "1 disk": partial(ms_per_step, one),
+            "no bodies": bare,
+        }
+        for run in runs.values():
+            run(20)  # compile and warm up
+        best = dict.fromkeys(runs, float("inf"))
+        for _ in range(args.repeats):
+            for name, run in runs.items():
+                best[name] = min(best[name], run(args.steps))
+        base = best["no bodies"]
+        cells = crowd.pde.domain.coords.size
+        print(f"paper grid, dish L = 4 ({cells}^2 cells), {scheme} scheme, thread CPU time")
+        for name, ms in best.items():
+            print(f"{name:>9}: {ms:.4f} ms/step, {ms / base:.3f} x the surface without bodies")
+        print(f"ratio 20 disks / no bodies = {best['20 disks'] / base:.3f} (goal <= 1.5)")
+        if args.profile:
+            print(f"phases of the 20 disks' step, ms per body ({scheme} scheme, thread CPU)")
+            for phase, ms in profile(crowd, args.steps).items():
+                print(f"  {phase:36s} {ms:.4f}")
+
+
+if __name__ == "__main__":
+    main()

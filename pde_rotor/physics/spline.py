@@ -1,0 +1,179 @@
+"""The cubic spline of c, written once for the compiled targets.
+
+The contour form of the tension integral (:mod:`.tension`) and the filtered tables of
+the ``consistent`` scheme (:mod:`.indicators`) read a field between its cell centres
+through its interpolating cubic spline: Unser's recursive B-spline prefilter
+(:func:`spline_line` from its steps :func:`spline_causal`, :func:`spline_anticausal_start`,
+:func:`spline_anticausal`, :func:`spline_gain`), the B-spline weights and taps
+(:func:`bspline_weights`, :func:`spline_node`, :func:`spline_sum`) and the value at a
+point (:func:`interpolate`). ``scipy.ndimage`` does the same outside compiled code
+(:func:`pde_rotor.model.schemes.interpolate_spline`, the test oracle).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import NamedTuple
+
+SPLINE_POLE = math.sqrt(3.0) - 2.0
+"""Pole of the cubic B-spline prefilter (Unser, IEEE Signal Process. Mag. 1999)."""
+
+SPLINE_MARGIN = 24
+"""Cells the spline window extends beyond the contour's taps: |pole|^24 = 2e-14."""
+
+
+class Spline(NamedTuple):
+    """The compiled spline functions for one target (see the module docstring)."""
+
+    spline_causal: Callable
+    spline_anticausal_start: Callable
+    spline_anticausal: Callable
+    spline_gain: Callable
+    spline_line: Callable
+    bspline_weights: Callable
+    spline_node: Callable
+    spline_sum: Callable
+    interpolate: Callable
+
+
+def make_spline(jit: Callable[[Callable], Callable]) -> Spline:
+    """Compile the spline functions with `jit`.
+
+    Args:
+        jit: decorator turning a scalar Python function into a compiled one that other
+            compiled functions of the same target can call (numba ``njit`` or
+            ``cuda.jit(device=True)``, :func:`pde_rotor.physics.build.make_physics`).
+
+    Returns:
+        The compiled functions.
+    """
+
+    @jit
+    def spline_causal(prev, value):
+        """One step of the causal recursion of the cubic B-spline prefilter (Unser's
+        recursive filter, pole z = sqrt(3) - 2): the sample `value` plus z times the
+        previous output `prev`; the first output is the first sample."""
+        return value + SPLINE_POLE * prev
+
+    @jit
+    def spline_anticausal_start(last):
+        """The first (last-sample) output of the anticausal recursion, from the causal
+        output `last` there: -z / (1 - z^2) times it (the samples beyond taken as 0)."""
+        z = SPLINE_POLE
+        return -z / (1.0 - z * z) * last
+
+    @jit
+    def spline_anticausal(nxt, causal):
+        """One step of the anticausal recursion back along the line: z (next - causal),
+        from the output `nxt` one sample on and the causal output `causal` here."""
+        return SPLINE_POLE * (nxt - causal)
+
+    @jit
+    def spline_gain(anticausal):
+        """The B-spline coefficient from the anticausal output: times 6 (the filter's gain)."""
+        return 6.0 * anticausal
+
+    @jit
+    def spline_line(buf, o, stride, count):
+        """Cubic B-spline prefilter, in place, of `count` samples buf[o + k stride].
+
+        Turns samples into the coefficients of the interpolating cubic spline (Unser's
+        recursive filter: :func:`spline_causal` forward, :func:`spline_anticausal_start`
+        and :func:`spline_anticausal` back, :func:`spline_gain`), taking the samples
+        beyond both ends as 0: a coefficient then errs by |z|^k = 0.268^k times the
+        values k cells beyond the line's ends, so lines cut from a larger field need a
+        margin. Written out because it runs inside the numba and CUDA kernels, which
+        cannot call scipy.ndimage's prefilter (``map_coordinates`` applies it in
+        :func:`pde_rotor.model.schemes.interpolate_spline`;
+        tests/model/test_schemes.py compares them). The CPU filters many lines at once
+        with the same steps (:mod:`pde_rotor.kernels.spline`).
+        """
+        prev = buf[o]
+        for k in range(1, count):
+            prev = spline_causal(prev, buf[o + k * stride])
+            buf[o + k * stride] = prev
+        last = o + (count - 1) * stride
+        nxt = spline_anticausal_start(buf[last])
+        buf[last] = spline_gain(nxt)
+        for k in range(count - 2, -1, -1):
+            nxt = spline_anticausal(nxt, buf[o + k * stride])
+            buf[o + k * stride] = spline_gain(nxt)
+
+    @jit
+    def bspline_weights(t):
+        """The 4 cubic B-spline weights of the nodes -1, 0, 1, 2 at t in [0, 1)."""
+        u = 1.0 - t
+        t2 = t * t
+        return (
+            u * u * u / 6.0,
+            (t2 * (3.0 * t - 6.0) + 4.0) / 6.0,
+            (t * (t * (3.0 - 3.0 * t) + 3.0) + 1.0) / 6.0,
+            t2 * t / 6.0,
+        )
+
+    @jit
+    def spline_node(x0, inv_dx, x):
+        """(k, t): the node k = floor((x - x0) inv_dx) at or before the coordinate x on
+        the nodes x0 + k / inv_dx, and the fraction t in [0, 1) of the way to the next;
+        the cubic spline's taps along that axis are the nodes k - 1 .. k + 2, with the
+        weights :func:`bspline_weights` of t."""
+        f = (x - x0) * inv_dx
+        # int(): numba-cuda types math.floor as float64, numba's CPU target as int64
+        k = int(math.floor(f))  # noqa: RUF046
+        return k, f - k
+
+    @jit
+    def spline_sum(coef, row, sx, sy, wx0, wx1, wx2, wx3, wy0, wy1, wy2, wy3):
+        """sum_(a, b) wx_a wy_b coef[row + a sx + b sy], a, b = 0 .. 3: the 4 x 4 taps
+        of a cubic spline from its first, `row`, the offsets `sx`, `sy` of the next node
+        along x and y all of the caller's integer type (unsigned on the CPU: no index
+        needs a negative-wraparound check), summed along y first."""
+        r1 = row + sy
+        r2 = r1 + sy
+        r3 = r2 + sy
+        acc = wx0 * (wy0 * coef[row] + wy1 * coef[r1] + wy2 * coef[r2] + wy3 * coef[r3])
+        row += sx
+        r1 += sx
+        r2 += sx
+        r3 += sx
+        acc += wx1 * (wy0 * coef[row] + wy1 * coef[r1] + wy2 * coef[r2] + wy3 * coef[r3])
+        row += sx
+        r1 += sx
+        r2 += sx
+        r3 += sx
+        acc += wx2 * (wy0 * coef[row] + wy1 * coef[r1] + wy2 * coef[r2] + wy3 * coef[r3])
+        row += sx
+        r1 += sx
+        r2 += sx
+        r3 += sx
+        acc += wx3 * (wy0 * coef[row] + wy1 * coef[r1] + wy2 * coef[r2] + wy3 * coef[r3])
+        return acc
+
+    @jit
+    def interpolate(coef, o0, n, x0, inv_dx, x, y):
+        """Cubic spline at (x, y) from the n x n B-spline coefficients at offset o0.
+
+        x0 is the coordinate of cell 0's centre; the 4 x 4 taps (:func:`spline_node`,
+        :func:`spline_sum`) must lie in the prefiltered window (:func:`spline_line`
+        along both axes). Written out because it runs inside the compiled kernels, where
+        ``scipy.ndimage.map_coordinates`` cannot be called.
+        """
+        i, tx = spline_node(x0, inv_dx, x)
+        j, ty = spline_node(x0, inv_dx, y)
+        wx0, wx1, wx2, wx3 = bspline_weights(tx)
+        wy0, wy1, wy2, wy3 = bspline_weights(ty)
+        row = o0 + (i - 1) * n + j - 1
+        return spline_sum(coef, row, n, 1, wx0, wx1, wx2, wx3, wy0, wy1, wy2, wy3)
+
+    return Spline(
+        spline_causal=spline_causal,
+        spline_anticausal_start=spline_anticausal_start,
+        spline_anticausal=spline_anticausal,
+        spline_gain=spline_gain,
+        spline_line=spline_line,
+        bspline_weights=bspline_weights,
+        spline_node=spline_node,
+        spline_sum=spline_sum,
+        interpolate=interpolate,
+    )
