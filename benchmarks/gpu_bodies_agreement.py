@@ -1,9 +1,11 @@
 """Bodies on the GPU against the CPU in numba's CUDA simulator: the figures behind
 tests/backends/test_gpu_bodies.py, printed (docs/gpu.md, docs/results.md).
 
-* Euler, a free disk and a fixed_axis hexagon (the test's ``TWO_BODIES``: flow, a stop,
-  noise), 6 steps from smooth fields, both schemes: the largest pose difference and the
-  largest field difference relative to max |c, v|;
+* Euler and Heun, a free disk and a fixed_axis hexagon (the test's ``TWO_BODIES``: flow, a
+  stop, noise), 6 steps from smooth fields, both schemes: the largest pose difference and
+  the largest field difference relative to max |c, v|;
+* Heun, the same two bodies with external forces and torques and the saturating tension
+  law (the test's ``LOADED``, c_sat = 0.5), 4 steps, both schemes: the same differences;
 * Heun, the paper's small rotor as one fixed_axis body on the GPU against the CPU rotor's
   Heun, 9 steps through two stops with noise, both schemes: phi, omega (relative), fields;
 * Heun's order: a free disk's pose and velocities at t = 0.008 for dt = 1e-3, 5e-4,
@@ -37,12 +39,28 @@ def main() -> None:
     from pde_rotor.solver.simulation import Simulation
 
     for scheme in ("paper", "consistent"):
-        cpu, gpu = t.pair(t.config(t.TWO_BODIES, numerics={"scheme": scheme}))
-        cpu.run(0.006)
-        gpu.run(0.006)
+        for integrator in ("euler", "heun"):
+            numerics = {"scheme": scheme, "integrator": integrator}
+            cpu, gpu = t.pair(t.config(t.TWO_BODIES, numerics=numerics))
+            cpu.run(0.006)
+            gpu.run(0.006)
+            pose = np.abs(cpu.bodies.poses - gpu.bodies.poses).max()
+            fields = np.abs(cpu.state.data - gpu.state.data).max() / np.abs(cpu.state.data).max()
+            print(
+                f"{integrator}, two bodies, {scheme}: poses {pose:.2e}, fields {fields:.2e}",
+                flush=True,
+            )
+        numerics = {"scheme": scheme, "integrator": "heun"}
+        cpu, gpu = t.pair(t.config(t.LOADED, numerics=numerics, camphor={"saturation": 0.5}))
+        cpu.run(0.004)
+        gpu.run(0.004)
         pose = np.abs(cpu.bodies.poses - gpu.bodies.poses).max()
         fields = np.abs(cpu.state.data - gpu.state.data).max() / np.abs(cpu.state.data).max()
-        print(f"euler, two bodies, {scheme}: poses {pose:.2e}, fields {fields:.2e}", flush=True)
+        print(
+            f"heun, two bodies, external loads, c_sat 0.5, {scheme}: poses {pose:.2e}, "
+            f"fields {fields:.2e}",
+            flush=True,
+        )
         rotor, body = t.rotor_configs("heun", scheme)
         a = Simulation(rotor)
         b = Simulation(body, stepper=t.gpu_bodies_stepper)

@@ -5,11 +5,11 @@ The kernel of :mod:`pde_rotor.kernels.cuda_bodies` runs here on the CPU
 (``NUMBA_ENABLE_CUDASIM=1``, set below before numba-cuda is imported), on small grids
 (dx = 0.1) for a few steps. Checked: a free disk and a fixed_axis hexagon with pills,
 stops and noise advance as the CPU's bodies loop advances them, on both schemes, with
-forward Euler, to 1e-10 (poses, velocities, forces, c and v), and so do a strip, a
-body without a plate and a fixed body; with Heun one fixed_axis
-body is the CPU rotor's Heun, and a free disk's trajectory converges at second order in
-dt; the no-flux dish; an early end at the dish's edge; an ensemble of members; and
-``pde-rotor run --backend gpu`` with a bodies: list.
+forward Euler and Heun, to 1e-10 (poses, velocities, forces, c and v), also with external
+forces and torques and the saturating tension law, and so do a strip, a body without a
+plate and a fixed body; with Heun one fixed_axis body is the CPU rotor's Heun, and a free
+disk's trajectory converges at second order in dt; the no-flux dish; an early end at the
+dish's edge; an ensemble of members; and ``pde-rotor run --backend gpu`` with a bodies: list.
 """
 
 from __future__ import annotations
@@ -109,18 +109,49 @@ def assert_same(cpu: Simulation, gpu: Simulation, tol: float = 1e-10) -> None:
     assert np.abs(gpu.state.data - cpu.state.data).max() <= tol * scale
 
 
+@pytest.mark.parametrize("integrator", ["euler", "heun"])
 @pytest.mark.parametrize("scheme", ["paper", "consistent"])
-def test_two_bodies_with_euler_agree_with_the_cpu(scheme: str) -> None:
+def test_two_bodies_agree_with_the_cpu(scheme: str, integrator: str) -> None:
     """A free disk and a fixed_axis hexagon, flow on, the hexagon through a stop and the
     disk kicked by noise: after each of two calls (the indicators kept between them) the
-    GPU's poses, velocities, forces, c and v are the CPU's to 1e-10."""
-    cpu, gpu = pair(config(TWO_BODIES, numerics={"scheme": scheme}))
+    GPU's poses, velocities, forces, c and v are the CPU's to 1e-10, with forward Euler
+    and with Heun's method."""
+    cpu, gpu = pair(config(TWO_BODIES, numerics={"scheme": scheme, "integrator": integrator}))
     for t in (0.003, 0.006):  # in the hexagon's stop, then after its release
         cpu.run(t)
         gpu.run(t)
         assert_same(cpu, gpu)
     assert cpu.bodies.poses[0, 6] != 0.0 and cpu.bodies.poses[1, 8] != 0.0  # forces seen
     assert cpu.bodies.poses[1, 5] != 0.0  # the hexagon turns again after its stop
+
+
+LOADED: list[dict[str, Any]] = [
+    {**TWO_BODIES[0], "external_force": [0.02, -0.01], "external_torque": 3e-4},
+    {**TWO_BODIES[1], "external_torque": -2e-4},
+]
+"""The two bodies with external loads: a force and a torque on the disk, a torque on the
+hexagon."""
+
+
+@pytest.mark.parametrize("scheme", ["paper", "consistent"])
+def test_external_loads_and_saturating_tension_agree_with_the_cpu(scheme: str) -> None:
+    """With external forces and torques and the saturating tension law (c_sat = 0.5, so
+    that the surface pressure c / (1 + c / c_sat) is far from c) the GPU's run is the
+    CPU's to 1e-10, Heun's method; and the loads and the law change the run (against
+    the same run without them, the disk's velocity differs by more than 1e-6)."""
+    cfg = config(
+        LOADED,
+        numerics={"scheme": scheme, "integrator": "heun"},
+        camphor={"saturation": 0.5},
+    )
+    cpu, gpu = pair(cfg)
+    cpu.run(0.004)
+    gpu.run(0.004)
+    assert_same(cpu, gpu)
+    plain, _ = pair(config(TWO_BODIES, numerics={"scheme": scheme, "integrator": "heun"}))
+    plain.run(0.004)
+    assert np.abs(cpu.bodies.poses[0, 3:6] - plain.bodies.poses[0, 3:6]).max() > 1e-6
+    assert abs(cpu.bodies.poses[0, 6] - plain.bodies.poses[0, 6]) > 1e-9  # the tension law
 
 
 STRIP_AND_PILLS: list[dict[str, Any]] = [
