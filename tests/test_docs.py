@@ -104,6 +104,7 @@ RICHER_THAN_THE_ERROR = {
     "bodies[k].motion.kind",
     "bodies[k].start.velocity",
     "bodies[k].protocol",
+    "grid.vessel",
 }
 """Keys whose docs row says more than the one-line error can (rules across keys)."""
 

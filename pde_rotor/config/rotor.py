@@ -61,7 +61,7 @@ configs/sweeps/science_calibration.yaml measured P = 0.197 [0.108, 0.332] here, 
 fitted with the decision model, the crossing lies at sigma = 1.49e-7, 95 % range
 1.35e-7 to 1.62e-7 (docs/statistics.md). The paper-resolution configs
 (configs/paper_fig*.yaml, pde_rotor/bases/paper.yaml) carry this value;
-tests/test_config.py keeps them equal.
+tests/config/test_config.py keeps them equal.
 """
 
 PAPER_SCHEME_SIGMA = 2.0e-8

@@ -41,7 +41,7 @@ class DummyCamphor(CamphorConfig):
 class DummyBody(BodyConfig):
     """A body with one more key, as an external force would add."""
 
-    external_force: tuple[FiniteFloat, FiniteFloat] = Field((0.0, 0.0), description="new")
+    dummy_force: tuple[FiniteFloat, FiniteFloat] = Field((0.0, 0.0), description="new")
 
 
 class DummyConfig(RotorConfig):
@@ -83,14 +83,14 @@ def test_a_new_key_set_away_from_its_default_is_dumped_and_hashed() -> None:
         DummyConfig.model_validate({"bodies": _disk_bodies(), "dummy": {"level": 1.0}}),
     ]
     bodies = _disk_bodies()
-    bodies[1]["external_force"] = [0.5, 0.0]
+    bodies[1]["dummy_force"] = [0.5, 0.0]
     changed.append(DummyConfig.model_validate({"bodies": bodies}))
     hashes = {base.config_hash(), *(c.config_hash() for c in changed)}
     assert len(hashes) == 4
     for config in changed:
         assert DummyConfig.model_validate(config.model_dump(mode="json")) == config
     assert changed[0].model_dump()["camphor"]["saturation"] == 2.0
-    assert changed[2].model_dump(mode="json")["bodies"][1]["external_force"] == [0.5, 0.0]
+    assert changed[2].model_dump(mode="json")["bodies"][1]["dummy_force"] == [0.5, 0.0]
 
 
 def test_the_committed_keys_are_dumped_at_any_value() -> None:

@@ -28,7 +28,9 @@ def test_a_vessel_left_out_is_not_dumped_and_a_set_one_enters_the_hash() -> None
     moved = validate_config(at)
     hashes = {c.config_hash() for c in (ring, leaky, tank, moved)}
     assert len(hashes) == 4
-    assert ring.physics()["grid"]["vessel"]["inner_wall"] == "no_flux"
+    assert ring.grid.vessel.inner_wall == "no_flux"  # a default: left out of the dump
+    assert "inner_wall" not in ring.physics()["grid"]["vessel"]
+    assert leaky.physics()["grid"]["vessel"]["inner_wall"] == "absorbing"
     assert validate_config(yaml.safe_load(dump_config(tank))) == tank
 
 
