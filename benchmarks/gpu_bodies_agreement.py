@@ -6,6 +6,8 @@ tests/backends/test_gpu_bodies.py, printed (docs/gpu.md, docs/results.md).
   the largest field difference relative to max |c, v|;
 * Heun, the same two bodies with external forces and torques and the saturating tension
   law (the test's ``LOADED``, c_sat = 0.5), 4 steps, both schemes: the same differences;
+* Euler and Heun, a free disk in an annular channel with two no-flux walls (the test's
+  ``vessel_pair``), 3 steps: the same differences;
 * Heun, the paper's small rotor as one fixed_axis body on the GPU against the CPU rotor's
   Heun, 9 steps through two stops with noise, both schemes: phi, omega (relative), fields;
 * Heun's order: a free disk's pose and velocities at t = 0.008 for dt = 1e-3, 5e-4,
@@ -73,6 +75,15 @@ def main() -> None:
             f"heun, rotor as a body against the rotor, {scheme}: phi {phi:.2e}, "
             f"omega {omega:.2e}, fields {fields:.2e}",
             flush=True,
+        )
+    for integrator in ("euler", "heun"):
+        cpu, gpu = t.vessel_pair(integrator)
+        cpu.run(0.003)
+        gpu.run(0.003)
+        pose = np.abs(cpu.bodies.poses - gpu.bodies.poses).max()
+        fields = np.abs(cpu.state.data - gpu.state.data).max() / np.abs(cpu.state.data).max()
+        print(
+            f"{integrator}, disk in an annulus: poses {pose:.2e}, fields {fields:.2e}", flush=True
         )
     for integrator in ("heun", "euler"):
         x1, x2, x4 = (t.free_disk_x(integrator, dt) for dt in (1e-3, 5e-4, 2.5e-4))

@@ -7,9 +7,10 @@ The kernel of :mod:`pde_rotor.kernels.cuda_bodies` runs here on the CPU
 stops and noise advance as the CPU's bodies loop advances them, on both schemes, with
 forward Euler and Heun, to 1e-10 (poses, velocities, forces, c and v), also with external
 forces and torques and the saturating tension law, and so do a strip, a body without a
-plate and a fixed body; with Heun one fixed_axis body is the CPU rotor's Heun, and a free
-disk's trajectory converges at second order in dt; the no-flux dish; an early end at the
-dish's edge; an ensemble of members; and ``pde-rotor run --backend gpu`` with a bodies: list.
+plate and a fixed body, and a disk in an annular channel; with Heun one fixed_axis body
+is the CPU rotor's Heun, and a free disk's trajectory converges at second order in dt; the
+no-flux dish; an early end at the dish's edge; an ensemble of members; and
+``pde-rotor run --backend gpu`` with a bodies: list.
 """
 
 from __future__ import annotations
@@ -213,6 +214,35 @@ def test_no_flux_dish_agrees_with_the_cpu(integrator: str) -> None:
     cpu.run(0.003)
     gpu.run(0.003)
     assert_same(cpu, gpu)
+
+
+VESSEL = {
+    "shape": "annulus",
+    "inner_radius": 0.5,
+    "outer_radius": 4.0,
+    "inner_wall": "no_flux",
+    "outer_wall": "no_flux",
+}
+"""An annular channel whose two no-flux walls hold the camphor in (cut cells of both
+circles)."""
+
+
+def vessel_pair(integrator: str) -> tuple[Simulation, Simulation]:
+    """The CPU's and the GPU's run of the free disk in the channel :data:`VESSEL`."""
+    disk = {**DISK, "start": {**DISK["start"], "x": 2.2, "y": 0.1}}
+    numerics = {"scheme": "paper", "integrator": integrator}
+    return pair(config([disk], grid={"domain_radius": 4.0, "vessel": VESSEL}, numerics=numerics))
+
+
+@pytest.mark.parametrize("integrator", ["euler", "heun"])
+def test_annular_vessel_agrees_with_the_cpu(integrator: str) -> None:
+    """In an annular channel (the spans of cut cells of two circles in a row) the GPU's
+    run is the CPU's, with Euler and with Heun."""
+    cpu, gpu = vessel_pair(integrator)
+    cpu.run(0.003)
+    gpu.run(0.003)
+    assert_same(cpu, gpu)
+    assert cpu.bodies.poses[0, 6] != 0.0
 
 
 def rotor_configs(integrator: str, scheme: str) -> tuple[RotorConfig, RotorConfig]:
