@@ -13,16 +13,20 @@ Records, in one results file (``gpu_check_results.json`` and a text copy,
    the first call's wall time (compilation and warm-up) reported separately;
 4. a small restart sweep (configs/sweeps/fig5_quick.yaml, 2 samples at 2 stop durations)
    once on the GPU (``set.solver.backend=gpu``) and once on the CPU (dask), each run's
-   stored outcome compared (discrete values equal, floats to ``--rtol``).
+   stored outcome compared (discrete values equal, floats to ``--rtol``);
+5. bodies: a free disk and a fixed_axis hexagon (:data:`BODIES`) advanced on the GPU
+   and on the CPU from the same smooth fields, poses, velocities, forces, c and v
+   compared (to :data:`BODIES_TOLERANCE`), and the wall time per step of each.
 
 Exits 1 if a check fails (no device, a failed test, a rate hidden by timing noise, a
-sweep outcome that differs), 0 otherwise; the goal of 5e5 member-steps/s is reported,
-not enforced. ``--tiny`` runs the same steps in numba's CUDA simulator on a tiny grid, a
-few members and steps, one test and a protocol sweep of two runs: the check of this
-script itself on a machine without a GPU.
+sweep outcome or a bodies run that differs), 0 otherwise; the goal of 5e5
+member-steps/s is reported, not enforced. ``--tiny`` runs the same steps in numba's
+CUDA simulator on a tiny grid, a few members and steps, one test, a protocol sweep of
+two runs and 3 bodies steps: the check of this script itself on a machine without a
+GPU.
 
 Run:  python benchmarks/gpu_check.py [--tiny] [--out DIR] [--sizes 64,128,256]
-      [--steps 2000] [--cpu-steps 2000] [--rtol 1e-6]
+      [--steps 2000] [--cpu-steps 2000] [--rtol 1e-6] [--body-steps 200]
 """
 
 from __future__ import annotations
@@ -75,6 +79,35 @@ TINY_SWEEP: dict[str, Any] = {
 }
 """Two protocol runs of 40 steps, one stop, on the tiny grid of tests/sweep/test_sweep_gpu.py."""
 
+BODIES: list[dict[str, Any]] = [
+    {
+        "name": "disk",
+        "plate": {"shape": "disk", "radius": 0.2},
+        "pills": [{"x": 0.1, "y": 0.0, "radius": 0.06}],
+        "motion": {"kind": "free", "mass": 1e-3, "inertia": 1e-4},
+        "start": {"x": -1.3, "y": 0.05, "angle": 0.3, "omega": 2.0, "velocity": [0.3, -0.2]},
+    },
+    {
+        "name": "hexagon",
+        "plate": {"shape": "polygon", "n_corners": 6, "radius": 0.3},
+        "pills": [{"x": 0.2, "y": 0.05, "radius": 0.06}, {"x": -0.15, "y": -0.1, "radius": 0.06}],
+        "motion": {"kind": "fixed_axis"},
+        "start": {"x": 1.45, "y": -0.05, "angle": 0.4, "omega": 3.0},
+    },
+]
+"""The bodies case: one free disk, one fixed_axis hexagon with two pills (flow on)."""
+
+BODIES_GRID = {
+    True: {"dx": 0.1, "dt": 1e-3, "domain_radius": 3.1},
+    False: {"dx": 0.025, "dt": 1e-4, "domain_radius": 3.1},
+}
+"""The bodies case's grid: tiny (62 x 62 cells, paper scheme) or the paper's dx and dt
+(consistent scheme)."""
+
+BODIES_TOLERANCE = 1e-10
+"""Largest difference of the GPU's bodies run from the CPU's: poses, velocities and forces
+absolute, c and v relative to their largest value."""
+
 SWEEP_FILE = "configs/sweeps/fig5_quick.yaml"
 SWEEP_SETS = ["samples=2", "axes.protocol.t_stop=[0.5,1.0]"]
 """The sweep of the full check: 2 stop durations x 2 samples x 2 directions = 8 restarts
@@ -91,7 +124,7 @@ def device_info(tiny: bool) -> dict[str, Any]:
     else:
         done = subprocess.run([smi], capture_output=True, text=True, check=False)
         smi_text = (done.stdout + done.stderr).strip()
-    from numba import cuda
+    from pde_rotor.kernels.cuda_target import cuda
 
     buffer = io.StringIO()
     with contextlib.redirect_stdout(buffer):
@@ -125,7 +158,7 @@ def run_tests(out: Path, tiny: bool) -> dict[str, Any]:
     of the backend choice, which asserts which of the two it runs on)."""
     files = ["tests/backends/test_gpu.py"]
     if not tiny:
-        files.append("tests/sweep/test_sweep_gpu.py")
+        files += ["tests/backends/test_gpu_bodies.py", "tests/sweep/test_sweep_gpu.py"]
     xml = out / "tests_junit.xml"
     xml.unlink(missing_ok=True)  # no counts of an earlier run
     command = [sys.executable, "-m", "pytest", *files, "-n", "0", "-q", "-p", "no:cacheprovider"]
@@ -331,6 +364,50 @@ def sweep_check(out: Path, tiny: bool, rtol: float) -> dict[str, Any]:
     return result
 
 
+def bodies_check(tiny: bool, steps: int) -> dict[str, Any]:
+    """:data:`BODIES` on the GPU and on the CPU, `steps` steps from the same smooth fields:
+    the largest differences and each backend's wall time (compilation included)."""
+    import numpy as np
+
+    from pde_rotor import RotorConfig
+    from pde_rotor.backends.gpu_bodies import gpu_bodies_stepper
+    from pde_rotor.solver.simulation import Simulation
+
+    config = RotorConfig.model_validate(
+        {
+            "grid": BODIES_GRID[tiny],
+            "geometry": {"smoothing": 0.05},
+            "numerics": {"scheme": "paper" if tiny else "consistent"},
+            "protocol": {"t_ini": 1.0, "cycles": 0},
+            "bodies": BODIES,
+        }
+    )
+    result: dict[str, Any] = {"grid": BODIES_GRID[tiny], "scheme": config.numerics.scheme}
+    result["steps"] = steps
+    sims = {}
+    for backend in ("gpu", "cpu"):
+        sim = Simulation(config, stepper=gpu_bodies_stepper if backend == "gpu" else None)
+        x, y = sim.pde.cell_coordinates()
+        mask = sim.pde.domain.interior_mask
+        sim.state.data[0] = mask * (1 + 0.5 * np.sin(1.3 * x + 0.2) * np.cos(0.7 * y + 0.1))
+        sim.state.data[1] = mask * 0.3 * np.sin(0.9 * y) * np.cos(0.4 * x)
+        sim.state.data[2] = mask * 0.2 * np.cos(1.1 * x) * np.sin(0.5 * y)
+        start = time.perf_counter()
+        sim.run(steps * config.grid.dt)
+        result[f"{backend}_s"] = time.perf_counter() - start
+        sims[backend] = sim
+    gpu, cpu = sims["gpu"], sims["cpu"]
+    result["max_pose_deviation"] = float(np.abs(gpu.bodies.poses - cpu.bodies.poses).max())
+    scale = float(np.abs(cpu.state.data).max())
+    result["max_field_deviation"] = float(np.abs(gpu.state.data - cpu.state.data).max()) / scale
+    result["tolerance"] = BODIES_TOLERANCE
+    result["agree"] = (
+        result["max_pose_deviation"] <= BODIES_TOLERANCE
+        and result["max_field_deviation"] <= BODIES_TOLERANCE
+    )
+    return result
+
+
 def checks_of(results: dict[str, Any]) -> dict[str, bool]:
     """The pass/fail checks of a results dictionary (the goal is not one of them)."""
     tests = results["tests"]
@@ -339,6 +416,7 @@ def checks_of(results: dict[str, Any]) -> dict[str, bool]:
         "tests": tests["returncode"] == 0 and tests.get("passed", 0) > 0,
         "throughput": results["throughput"]["measured"],
         "sweep": results["sweep"]["agree"],
+        "bodies": results["bodies"]["agree"],
     }
 
 
@@ -353,7 +431,7 @@ def summary(results: dict[str, Any]) -> str:
         f"device: {dev['name']}" + (f" (unavailable: {dev['reason']})" if dev["reason"] else ""),
     ]
     if not dev["available"]:
-        return "\n".join([*lines, "tests, throughput, sweep: not run (no device)", checks])
+        return "\n".join([*lines, "tests, throughput, sweep, bodies: not run (no device)", checks])
     lines += [
         f"tests on the {tests['on']}: {tests.get('passed', 0)} passed, "
         f"{tests.get('failures', 0)} failed, {tests.get('errors', 0)} errors, "
@@ -384,6 +462,15 @@ def summary(results: dict[str, Any]) -> str:
         + ("agree" if sweep["agree"] else f"DIFFER ({len(sweep['mismatches'])} mismatches)"),
     ]
     lines += [f"  {line}" for line in sweep["mismatches"][:10]]
+    bodies = results["bodies"]
+    lines.append(
+        f"bodies (free disk, fixed_axis hexagon) at dx = {bodies['grid']['dx']}, "
+        f"dt = {bodies['grid']['dt']}, scheme {bodies['scheme']}, {bodies['steps']} steps: "
+        f"gpu {bodies['gpu_s']:.3g} s, cpu {bodies['cpu_s']:.3g} s (compilation included); "
+        f"max deviation poses {bodies['max_pose_deviation']:.2e}, fields "
+        f"{bodies['max_field_deviation']:.2e} (tolerance {bodies['tolerance']:g}): "
+        + ("agree" if bodies["agree"] else "DIFFER")
+    )
     install = "-" if results["install_s"] is None else f"{results['install_s']:.0f} s"
     lines.append(f"wall time: install {install}, checks {results['check_s']:.0f} s")
     return "\n".join([*lines, checks])
@@ -405,6 +492,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         "--cpu-steps", type=int, default=None, help="timed CPU steps [2000; tiny: 1000]"
     )
     parser.add_argument("--rtol", type=float, default=1e-6, help="sweep float tolerance")
+    parser.add_argument(
+        "--body-steps", type=int, default=None, help="steps of the bodies case [200; tiny: 3]"
+    )
     args = parser.parse_args(argv)
     tiny = args.tiny
     sizes = [int(v) for v in (args.sizes or ("2" if tiny else "64,128,256")).split(",")]
@@ -434,10 +524,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         results["throughput"] = throughput(sizes, steps, cpu_steps, tiny)
         print("sweep: on the GPU, then on the CPU", flush=True)
         results["sweep"] = sweep_check(out, tiny, args.rtol)
+        print("bodies: on the GPU, then on the CPU", flush=True)
+        results["bodies"] = bodies_check(tiny, args.body_steps or (3 if tiny else 200))
     else:  # nothing to test, time or compare
         results["tests"] = {"returncode": None}
         results["throughput"] = {"measured": False}
         results["sweep"] = {"agree": False}
+        results["bodies"] = {"agree": False}
     install = os.environ.get("GPU_CHECK_INSTALL_S")
     results["install_s"] = float(install) if install else None
     results["check_s"] = time.perf_counter() - start

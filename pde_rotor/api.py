@@ -235,7 +235,7 @@ def run(
     cfg = with_seed(cfg)
     backend = backend_for(cfg)
     if cfg.bodies is not None:
-        return _run_bodies(cfg, out, overwrite=overwrite, check=check)
+        return _run_bodies(cfg, out, backend, overwrite=overwrite, check=check)
     device = device_name(backend)
     from . import trackers as tr
 
@@ -387,7 +387,7 @@ def run(
 
 
 def _run_bodies(
-    cfg: RotorConfig, out: str | Path | None, *, overwrite: bool, check: bool
+    cfg: RotorConfig, out: str | Path | None, backend: str, *, overwrite: bool, check: bool
 ) -> RunResult:
     """:func:`run` for a config with ``bodies:``: bodies.nc, the events of every body
     with stops, config.yaml, run.log, summary.png and (``output.movie``) movie.mp4
@@ -395,7 +395,10 @@ def _run_bodies(
 
     The result's ``timeseries`` is bodies.nc (time, body), its ``events`` the stops of
     every body with a protocol. A body at the dish's edge or at another body ends the
-    run with status "stopped" and the message naming it; what was recorded is kept.
+    run with status "stopped" and the message naming it; what was recorded is kept. On
+    the GPU (`backend` "gpu") the bodies advance on
+    :func:`pde_rotor.backends.gpu_bodies.gpu_bodies_stepper` under the same Controller
+    and trackers.
     """
     from .model.bodies import make_bodies
     from .plotting.bodies import bodies_summary
@@ -411,6 +414,8 @@ def _run_bodies(
         "source": f"pde_rotor {versions()['pde_rotor']}",
         "references": PAPER,
         "config_hash": cfg.config_hash(),
+        "backend": backend,
+        "device": device_name(backend),
         "config": dump_config(cfg),
     }
     log_handler = None
@@ -430,7 +435,12 @@ def _run_bodies(
             grid.dx,
             grid.dt,
         )
-        sim = Simulation(cfg)
+        if backend == "gpu":
+            from .backends.gpu_bodies import gpu_bodies_stepper
+
+            sim = Simulation(cfg, stepper=gpu_bodies_stepper)
+        else:
+            sim = Simulation(cfg)
         tracker = BodiesTracker(
             cfg,
             cfg.output.timeseries_interval,
@@ -471,7 +481,7 @@ def _run_bodies(
             message=message or (tracker.status or {}).get("message", ""),
             run_dir=run_dir.path if run_dir else None,
             wall_time=time.perf_counter() - start,
-            backend="cpu",
+            backend=backend,
         )
         said = f": {result.message}" if result.message else ""
         _logger.info("bodies run %s after %.1f s%s", status, result.wall_time, said)

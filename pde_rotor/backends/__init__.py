@@ -23,6 +23,8 @@ without the ``gpu`` extra.
 * :mod:`.base`: the interface (runtime-checkable Protocols) both backends implement;
 * :mod:`.ensemble`: the plan, state and result of an ensemble shared by the backends;
 * :mod:`.batch`: a sweep's members in batches, classified by the inversion rule;
+* :mod:`.gpu_bodies`: ``bodies:`` configs on the GPU, a single run's stepper and an
+  ensemble of members (kernel: :mod:`pde_rotor.kernels.cuda_bodies`);
 * this package: :func:`run_ensemble`, the backend choice and :func:`member_stepper`,
   which runs a single configuration as one member under py-pde's Controller.
 """
@@ -139,24 +141,19 @@ def resolve_backend(requested: str) -> str:
 def backend_for(config: RotorConfig) -> str:
     """The backend that will run `config`: ``solver.backend`` resolved for its numerics.
 
-    The GPU kernel integrates with forward Euler only: with another
-    ``numerics.integrator``, ``auto`` runs on the CPU and ``gpu`` is refused. No backend
-    runs bodies yet (:func:`pde_rotor.model.pde.refuse_bodies`): the CLI and
-    :func:`pde_rotor.run` ask here before they write anything.
+    The rotor's GPU kernel integrates with forward Euler only: with another
+    ``numerics.integrator``, ``auto`` runs the rotor on the CPU and ``gpu`` is refused.
+    Bodies (``bodies:``) run on either backend (the GPU's
+    :mod:`pde_rotor.backends.gpu_bodies`, and the CPU's loop, both with Euler or Heun).
+    The CLI and :func:`pde_rotor.run` ask here before they write anything.
 
     Raises:
-        BackendError: "gpu" requested and no usable GPU, or an integrator the GPU kernel
-            does not implement (one line, naming the key).
+        BackendError: "gpu" requested and no usable GPU, or an integrator the rotor's GPU
+            kernel does not implement (one line, naming the key).
     """
     requested = config.solver.backend
     if config.bodies is not None:
-        if requested == "gpu":
-            msg = (
-                "solver.backend = 'gpu' with bodies: the GPU ensemble runs the rotor of "
-                "geometry: only (allowed: solver.backend = cpu or auto)"
-            )
-            raise BackendError(msg)
-        return "cpu"
+        return resolve_backend(requested)
     integrator = config.numerics.integrator
     if requested != "cpu" and integrator != "euler":
         if requested == "auto":

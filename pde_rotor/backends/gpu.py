@@ -24,9 +24,9 @@ from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING
 
 import numpy as np
-from numba import cuda
 
-from ..kernels.cuda import MAX_CORNERS, advance_kernel, simulator_enabled
+from ..kernels.cuda import MAX_CORNERS, advance_kernel
+from ..kernels.cuda_target import cuda, simulator_enabled
 
 if TYPE_CHECKING:  # imported by the functions that use them: `pde-rotor info` asks quickly
     from ..config import RotorConfig

@@ -13,5 +13,10 @@ none of their own.
 * :mod:`.bodies`: the step of K bodies and the fields on the CPU (Euler or Heun, both
   schemes);
 * :mod:`.wall`: the step of the fields behind a no-flux dish wall (cut cells of the circle);
-* :mod:`.cuda`: the batched CUDA kernel of an ensemble (:mod:`pde_rotor.backends.gpu`).
+* :mod:`.cuda_target`: the CUDA compiler (numba-cuda), imported in this one place;
+* :mod:`.cuda`: the batched CUDA kernel of an ensemble (:mod:`pde_rotor.backends.gpu`);
+* :mod:`.cuda_bodies`: the batched CUDA kernel of K bodies, Euler or Heun
+  (:mod:`pde_rotor.backends.gpu_bodies`), with :mod:`.cuda_body_draw` (a body's F, G and
+  owner drawn by a block) and :mod:`.cuda_body_sums` (a body's integrals, area and
+  contour form).
 """

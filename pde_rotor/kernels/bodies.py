@@ -544,16 +544,23 @@ def _fields(cur, nxt, F, G, owner, domain, wall, p, pose, rhs):
 @nb.njit(cache=True, nogil=True)
 def _average(cur, stage, nxt, domain, wall, flow):
     """nxt = (cur + stage) / 2 where a step writes (compiled): c on the interior cells (on
-    the cut cells' rows behind a no-flux wall), v on the interior cells with `flow`."""
+    the runs of cut cells of each row behind a no-flux wall or in a vessel), v on the
+    interior cells with `flow`."""
     coords, lo, hi, _, _ = domain
     n = coords.size
     nn = n * n
-    walled = wall[0].size > 0
-    c_lo, c_hi = (wall[5], wall[6]) if walled else (lo, hi)
-    for i in range(n):
-        for j in range(c_lo[i], c_hi[i]):
-            o = i * n + j
-            nxt[o] = 0.5 * (cur[o] + stage[o])
+    if wall[0].size > 0:
+        row_start, span_lo, span_hi = wall[5], wall[6], wall[7]
+        for i in range(n):
+            for s in range(row_start[i], row_start[i + 1]):
+                for j in range(span_lo[s], span_hi[s]):
+                    o = i * n + j
+                    nxt[o] = 0.5 * (cur[o] + stage[o])
+    else:
+        for i in range(n):
+            for j in range(lo[i], hi[i]):
+                o = i * n + j
+                nxt[o] = 0.5 * (cur[o] + stage[o])
     if flow:
         for ch in range(1, 3):
             for i in range(n):

@@ -46,27 +46,14 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 
-from numba import cuda, float64
-
 from ..physics.build import Physics, make_physics
+from .cuda_target import cuda, device_function, float64, kernel
 
 MAX_CORNERS = 24
 """Largest N the kernel's shared geometry table holds (the config allows 3..24)."""
 
 
-def simulator_enabled() -> bool:
-    """Whether numba runs CUDA kernels in its CPU simulator (``NUMBA_ENABLE_CUDASIM=1``)."""
-    from numba.cuda.core import config as cuda_config
-
-    return bool(cuda_config.ENABLE_CUDASIM)
-
-
-def _gpu_jit(func: Callable) -> Callable:
-    """numba-cuda device function, inlined into the kernel."""
-    return cuda.jit(device=True, inline=True)(func)
-
-
-GPU: Physics = make_physics(_gpu_jit)
+GPU: Physics = make_physics(device_function)
 """The physics (:mod:`pde_rotor.physics`) compiled as CUDA device functions."""
 
 _rotor_table = GPU.indicators.rotor_table
@@ -352,9 +339,6 @@ def advance_kernel(threads_per_block: int, min_blocks_per_sm: int = 0) -> Callab
     """
     key = (threads_per_block, min_blocks_per_sm)
     if key not in _KERNELS:
-        if simulator_enabled():
-            _KERNELS[key] = cuda.jit(_advance)
-        else:
-            bounds = (threads_per_block, min_blocks_per_sm) if min_blocks_per_sm else None
-            _KERNELS[key] = cuda.jit(launch_bounds=bounds)(_advance)
+        bounds = (threads_per_block, min_blocks_per_sm) if min_blocks_per_sm else None
+        _KERNELS[key] = kernel(_advance, bounds)
     return _KERNELS[key]

@@ -49,7 +49,8 @@ class Simulation:
             stepper: what advances the run (:class:`RotorSolver`): the fused CPU kernel
                 by default (the rotor's, or with ``bodies:`` the bodies'
                 :func:`~pde_rotor.solver.bodies.make_bodies_stepper`);
-                :func:`pde_rotor.backends.member_stepper` for a GPU run.
+                :func:`pde_rotor.backends.member_stepper` for a GPU run (with bodies
+                :func:`pde_rotor.backends.gpu_bodies.gpu_bodies_stepper`).
         """
         self.config = config
         self.pde: RotorPDE | SurfacePDE

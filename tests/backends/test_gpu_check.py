@@ -71,7 +71,13 @@ def test_the_tiny_run_records_every_figure(tiny_run):
     assert sweep["gpu"]["runs"] == sweep["cpu"]["runs"] == sweep["gpu"]["computed"] == 2
     assert sweep["agree"] and sweep["mismatches"] == []
     assert 0 <= sweep["max_rel_deviation"] <= sweep["rtol"]
-    assert results["checks"] == dict.fromkeys(("device", "tests", "throughput", "sweep"), True)
+    bodies = results["bodies"]
+    assert bodies["grid"] == gpu_check.BODIES_GRID[True] and bodies["steps"] == 3
+    assert bodies["agree"] and bodies["gpu_s"] > 0 and bodies["cpu_s"] > 0
+    assert bodies["max_pose_deviation"] <= gpu_check.BODIES_TOLERANCE
+    assert bodies["max_field_deviation"] <= gpu_check.BODIES_TOLERANCE
+    checks = ("device", "tests", "throughput", "sweep", "bodies")
+    assert results["checks"] == dict.fromkeys(checks, True)
     assert results["ok"]
     assert results["install_s"] is None and results["check_s"] > 0  # PYTHON given: no install
     text = (out / "gpu_check_results.txt").read_text()
@@ -83,6 +89,7 @@ def test_the_tiny_run_records_every_figure(tiny_run):
         "x cpu",
         "goal 5e+05",
         "agree",
+        "bodies (free disk, fixed_axis hexagon)",
         "checks: device ok",
     ):
         assert figure in text, figure
@@ -98,6 +105,7 @@ def test_every_failed_check_fails_the_run(tiny_run):
         "tests": ("tests", "returncode", 1),
         "throughput": ("throughput", "measured", False),
         "sweep": ("sweep", "agree", False),
+        "bodies": ("bodies", "agree", False),
     }
     for check, (section, key, value) in failures.items():
         broken = {**results, section: {**results[section], key: value}}

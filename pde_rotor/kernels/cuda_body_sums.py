@@ -1,0 +1,204 @@
+"""A body's integrals on the GPU, for the kernel of :mod:`pde_rotor.kernels.cuda_bodies`:
+the area form over the cells of its box it owns (central differences; the CPU's
+:func:`pde_rotor.kernels.bodies.body_integrals`) and, for ``consistent``, the tension
+force and torque in contour form (the spline of c on the body's window, then its edges'
+or circles' nodes, ``edge_sums``, ``arc_node``; the CPU's
+:func:`pde_rotor.kernels.bodies.body_contour`), each split among a block's threads and
+summed by a fixed-order tree in shared memory (:func:`reduce_sums`).
+"""
+
+from __future__ import annotations
+
+import math
+
+from ..model.body_schemes import ARC_EDGES
+from ..physics.indicators import PLATE_DISK, PLATE_POLYGON, PLATE_STRIP
+from ..physics.motion import N_INTEGRALS
+from .cuda import GPU
+from .cuda_target import cuda, device_function
+
+N_SUMS = N_INTEGRALS
+"""Integrals of a body per evaluation (those of :func:`pde_rotor.kernels.bodies.body_integrals`)."""
+
+_spline_line = GPU.spline.spline_line
+_tension_integrand = GPU.tension.tension_integrand
+_friction_moments = GPU.motion.friction_moments
+_polygon_band = GPU.tension.polygon_band
+_edge_sums = GPU.tension.edge_sums
+_arc_node = GPU.tension.arc_node
+
+
+@device_function
+def reduce_sums(red, count, tid, n_threads):
+    """Sum `count` rows of `n_threads` partial sums in shared memory into their first
+    entries, a tree in a fixed order (every thread of the block calls it)."""
+    cuda.syncthreads()
+    half = n_threads // 2
+    while half > 0:
+        if tid < half:
+            for q in range(count):
+                red[q * n_threads + tid] += red[q * n_threads + tid + half]
+        cuda.syncthreads()
+        half //= 2
+
+
+@device_function
+def area_sums(src, k, m, state, surface, bodies, p, red):
+    """Body k's integrals over the cells of its box it owns, area form with central
+    differences (the tension's ``tension_integrand``, the motion's ``friction_moments``),
+    into red[q n_threads] (q < :data:`N_SUMS`, not yet times dA; all threads; the sums
+    of :func:`pde_rotor.kernels.bodies.body_integrals`)."""
+    buf, F, _, owner = state
+    coords, _ = surface
+    _, _, pose, _, box = bodies
+    tid = cuda.threadIdx.x
+    n_threads = cuda.blockDim.x
+    n = coords.size
+    nn = n * n
+    inv_2dx = 0.5 / (coords[1] - coords[0])
+    inv_sat = p.inv_saturation
+    flow = p.flow
+    x_k, y_k = pose[m, k, 0], pose[m, k, 1]
+    i0, j0 = box[m, k, 0], box[m, k, 2]
+    width = box[m, k, 3] - j0
+    s0 = s1 = s2 = s3 = s4 = s5 = s6 = s7 = s8 = s9 = 0.0
+    for q in range(tid, (box[m, k, 1] - i0) * width, n_threads):
+        i = i0 + q // width
+        j = j0 + q % width
+        o = i * n + j
+        if owner[m, o] != k:
+            continue
+        f = F[m, o]
+        if f == 0.0:
+            continue
+        rx = coords[i] - x_k
+        ry = coords[j] - y_k
+        t0, t1, t2 = _tension_integrand(buf, src + o, n, 1, f, rx, ry, inv_2dx, inv_sat)
+        m0, m1, m2, m3, m4, m5, m6 = _friction_moments(buf, src + o, nn, f, rx, ry, flow)
+        s0 += t0
+        s1 += t1
+        s2 += t2
+        s3 += m0
+        s4 += m1
+        s5 += m2
+        s6 += m3
+        s7 += m4
+        s8 += m5
+        s9 += m6
+    red[tid] = s0
+    red[n_threads + tid] = s1
+    red[2 * n_threads + tid] = s2
+    red[3 * n_threads + tid] = s3
+    red[4 * n_threads + tid] = s4
+    red[5 * n_threads + tid] = s5
+    red[6 * n_threads + tid] = s6
+    red[7 * n_threads + tid] = s7
+    red[8 * n_threads + tid] = s8
+    red[9 * n_threads + tid] = s9
+    reduce_sums(red, N_SUMS, tid, n_threads)
+
+
+@device_function
+def contour_sums(src, k, m, state, surface, bodies, scratch, tables, p, red):
+    """Body k's int F_k grad c dA (x, y) and int F_k (r - X_k) x grad c dA in contour form
+    (``consistent``) into red[0], red[n_threads], red[2 n_threads] (all threads; the
+    sums of :func:`pde_rotor.kernels.bodies.body_contour`)."""
+    buf = state[0]
+    coords, _ = surface
+    body, _, pose, _, _ = bodies
+    normals, centres, coef = scratch[0], scratch[1], scratch[4]
+    quad_s, quad_t, _, pill_tab, _, _, rings = tables
+    tid = cuda.threadIdx.x
+    n_threads = cuda.blockDim.x
+    n = coords.size
+    x0 = coords[0]
+    inv_dx = 1.0 / (coords[1] - x0)
+    b = body[m][k]
+    x_k, y_k, phi = pose[m, k, 0], pose[m, k, 1], pose[m, k, 2]
+    half = b.window_half
+    ic = int(math.floor((x_k - x0) * inv_dx)) + 1  # noqa: RUF046
+    jc = int(math.floor((y_k - x0) * inv_dx)) + 1  # noqa: RUF046
+    i0, i1 = max(1, ic - half), min(n - 1, ic + half)
+    j0, j1 = max(1, jc - half), min(n - 1, jc + half)
+    rows, cols = i1 - i0, j1 - j0
+    cm = coef[m]
+    for q in range(tid, rows * cols, n_threads):
+        o = (i0 + q // cols) * n + j0 + q % cols
+        cm[o] = buf[src + o]
+    cuda.syncthreads()
+    for q in range(tid, rows, n_threads):
+        _spline_line(cm, (i0 + q) * n + j0, 1, cols)
+    cuda.syncthreads()
+    for q in range(tid, cols, n_threads):
+        _spline_line(cm, i0 * n + j0 + q, n, rows)
+    cuda.syncthreads()
+    n_s, n_t = quad_s.shape[1], quad_t.shape[1]
+    delta, inv_sat = p.smoothing, p.inv_saturation
+    grid = (0, n, x0, inv_dx)
+    f_x = 0.0
+    f_y = 0.0
+    torque = 0.0
+    if b.plate == PLATE_POLYGON:
+        for q in range(tid, b.n_corners * n_s, n_threads):
+            j = q // n_s
+            ms = q % n_s
+            ex, ey = normals[m, k, 0, j], normals[m, k, 1, j]
+            h, half = _polygon_band(b.size_a, delta, b.tan_half, quad_s, ms)
+            edge = (x_k, y_k, ex, ey, h, half)
+            a, c, e = _edge_sums(cm, grid, edge, quad_s, quad_t, ms, inv_sat)
+            f_x += a
+            f_y += c
+            torque += e
+    elif b.plate == PLATE_STRIP:
+        thinner = min(b.size_a, b.size_b)
+        for q in range(tid, 4 * n_s, n_threads):
+            j = q // n_s
+            ms = q % n_s
+            h = -delta * quad_s[0, ms]
+            if h <= -thinner:
+                continue
+            ex, ey = normals[m, k, 0, 0], normals[m, k, 1, 0]
+            for _ in range(j):  # the edges' normals e, z x e, -e, -z x e
+                ex, ey = -ey, ex
+            side, along = (b.size_a, b.size_b) if j % 2 == 0 else (b.size_b, b.size_a)
+            edge = (x_k, y_k, ex, ey, side + h, along + h)
+            a, c, e = _edge_sums(cm, grid, edge, quad_s, quad_t, ms, inv_sat)
+            f_x += a
+            f_y += c
+            torque += e
+    else:  # a disk plate's circles about X_k, or each pill's about its centre
+        n_arc = ARC_EDGES * n_t
+        step = 2.0 * math.pi / n_arc
+        first, last = b.pill_start, b.pill_start + b.pill_count
+        if b.plate == PLATE_DISK:
+            first, last = 0, 1
+        total = 0
+        for q in range(first, last):
+            total += (b.ring_count if b.plate == PLATE_DISK else pill_tab[q, 5]) * n_arc
+        for node in range(tid, total, n_threads):  # (circle, ring node, angle) in order
+            rest = node
+            q = first
+            r0, r_count = b.ring_start, b.ring_count
+            for each in range(first, last):
+                q = each
+                if b.plate != PLATE_DISK:
+                    r0, r_count = pill_tab[each, 4], pill_tab[each, 5]
+                if rest < r_count * n_arc:
+                    break
+                rest -= r_count * n_arc
+            cx, cy = x_k, y_k
+            if b.plate != PLATE_DISK:
+                cx, cy = centres[m, 0, q], centres[m, 1, q]
+            ring = r0 + rest // n_arc
+            h = rings[0, ring]
+            weight = rings[1, ring] * h * step
+            angle = phi + step * (rest % n_arc)
+            a, c = _arc_node(cm, grid, cx, cy, h, math.cos(angle), math.sin(angle), weight, inv_sat)
+            f_x += a
+            f_y += c
+            torque += (cx - x_k) * c - (cy - y_k) * a
+    cuda.syncthreads()
+    red[tid] = f_x
+    red[n_threads + tid] = f_y
+    red[2 * n_threads + tid] = torque
+    reduce_sums(red, 3, tid, n_threads)
