@@ -630,7 +630,7 @@ def test_the_model_line_is_the_decision_table_of_the_curves_model(tmp_path, monk
     (tmp_path / "decision").mkdir()
     table = synthetic()
     table.save(tmp_path / "decision" / "dx40.nc")
-    base = {"noise": {"sigma": 1.5e-7}}
+    base = {"noise": {"sigma": 1.5e-7}, "numerics": {"scheme": "consistent"}}
     axes = {"asymmetry": [0.0, 2e-5], "t_stop": [0.5, 1.5, 3.0]}
     ds = sweeps.curve(_report(axes, base, 0.4), "t_stop", asymmetry=2e-5)
     ax = Figure().add_subplot()

@@ -48,6 +48,7 @@ NOT_IN_KERNELS: dict[str, str] = {
     "grid.domain_radius": "the domain's loop ranges",
     "grid.domain_centre": "the domain's frame (the kernels loop over coords about it)",
     "grid.wall": "the domain's cut cells, passed to the bodies' step as arrays",
+    "grid.vessel": "the vessel's cut cells and wet spans, passed to the bodies' step as arrays",
 }
 """Config keys of the physical sections that are not kernel parameters (key -> why)."""
 
