@@ -23,15 +23,17 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..config import RotorConfig
-from ..kernels.bodies import STATUS_EDGE, STATUS_OVERLAP
 from ..kernels.cuda_bodies import N_SUMS, bodies_kernel
 from ..kernels.cuda_target import cuda, simulator_enabled
 from ..kernels.records import make_body_records, make_body_tables, make_record
 from ..kernels.wall import NO_WALL
 from ..model.protocol import steps_of
 from ..model.surface import POSE_COLUMNS, BodiesState, SurfacePDE
-from ..solver.bodies import BodyContactError
-from ..solver.rotor import SimulationDivergedError
+from ..solver.bodies import raise_early_end
+
+GPU_END = " on the gpu backend"
+"""How an early end's message names this backend
+(:func:`pde_rotor.solver.bodies.raise_early_end`)."""
 
 SIMULATOR_THREADS = 2
 """Threads per block in numba's CUDA simulator (each a Python thread)."""
@@ -239,39 +241,11 @@ class GpuBodiesStepper:
         data[...] = fields[0]
         bodies.poses[...] = poses[0]
         if status[0] >= 0:
-            _ended(self.pde, status[0] * self.dt, status[1:], bodies, data)
+            raise_early_end(self.pde, status[0] * self.dt, status[1:], bodies, data, GPU_END)
         if not np.isfinite(data).all():
-            _ended(self.pde, (step0 + n_steps) * self.dt, status[1:], bodies, data)
-
-
-def _ended(
-    pde: SurfacePDE, t: float, status: np.ndarray, bodies: BodiesState, data: np.ndarray
-) -> None:
-    """Raise the error of an early end, worded as the CPU stepper words it."""
-    reason, k, other = (int(s) for s in status)
-    names = bodies.names
-    if reason == STATUS_EDGE:
-        x, y = bodies.poses[k, :2]
-        msg = (
-            f"body {names[k]} reached the dish's edge at t = {t:.6g} (at x = {x:.4g}, "
-            f"y = {y:.4g}; grid.domain_radius = {pde.config.grid.domain_radius:g}): "
-            "the run ends there (enlarge the dish or start the body further in)"
-        )
-        raise BodyContactError(msg)
-    if reason == STATUS_OVERLAP:
-        msg = (
-            f"bodies {names[k]} and {names[other]} touched at t = {t:.6g} (their "
-            "footprints met): the model has no contact force, the run ends there"
-        )
-        raise BodyContactError(msg)
-    fields = ("c", "v_x", "v_y")
-    bad = [n for n, arr in zip(fields, data, strict=True) if not np.isfinite(arr).all()]
-    what = ", ".join(bad) if bad else f"motion of body {names[max(k, 0)]}"
-    msg = (
-        f"simulation diverged at t = {t:.6g} on the gpu backend: non-finite {what} "
-        f"(dt = {pde.config.grid.dt:g}, stability limit {pde.config.dt_limit():.4g})"
-    )
-    raise SimulationDivergedError(msg)
+            raise_early_end(
+                self.pde, (step0 + n_steps) * self.dt, status[1:], bodies, data, GPU_END
+            )
 
 
 def gpu_bodies_stepper(pde: SurfacePDE, dt: float, rng: np.random.Generator) -> GpuBodiesStepper:

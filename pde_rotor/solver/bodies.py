@@ -121,35 +121,48 @@ class BodiesStepper:
         poses[:, 1] += cy
         bodies.poses[...] = poses
         if failed >= 0:
-            self._ended((step0 + failed) * self.dt, status, bodies, data)
+            raise_early_end(self.pde, (step0 + failed) * self.dt, status, bodies, data)
         if not np.isfinite(data).all():
-            self._ended((step0 + n_steps) * self.dt, status, bodies, data)
+            raise_early_end(self.pde, (step0 + n_steps) * self.dt, status, bodies, data)
 
-    def _ended(self, t: float, status: np.ndarray, bodies: BodiesState, data: np.ndarray) -> None:
-        reason, k, other = (int(s) for s in status)
-        names = bodies.names
-        if reason == STATUS_EDGE:
-            x, y = bodies.poses[k, :2]
-            msg = (
-                f"body {names[k]} reached the dish's edge at t = {t:.6g} (at x = {x:.4g}, "
-                f"y = {y:.4g}; grid.domain_radius = {self.pde.config.grid.domain_radius:g}): "
-                "the run ends there (enlarge the dish or start the body further in)"
-            )
-            raise BodyContactError(msg)
-        if reason == STATUS_OVERLAP:
-            msg = (
-                f"bodies {names[k]} and {names[other]} touched at t = {t:.6g} (their "
-                "footprints met): the model has no contact force, the run ends there"
-            )
-            raise BodyContactError(msg)
-        fields = ("c", "v_x", "v_y")
-        bad = [n for n, arr in zip(fields, data, strict=True) if not np.isfinite(arr).all()]
+
+def raise_early_end(
+    pde: SurfacePDE,
+    t: float,
+    status: np.ndarray,
+    bodies: BodiesState,
+    data: np.ndarray,
+    where: str = "",
+) -> None:
+    """Raise the error of a bodies run that ended early, as the compiled step's `status`
+    (reason, body, other body) says: a body at the dish's edge or two bodies touching
+    (:class:`BodyContactError`), else non-finite fields or motion
+    (:class:`SimulationDivergedError`). `where` names the backend in the message (empty
+    for the CPU), so that the CPU and GPU steppers word an end alike."""
+    reason, k, other = (int(s) for s in status)
+    names = bodies.names
+    if reason == STATUS_EDGE:
+        x, y = bodies.poses[k, :2]
         msg = (
-            f"simulation diverged at t = {t:.6g}: non-finite "
-            f"{', '.join(bad) if bad else 'motion of body ' + names[k]} (dt = {self.dt:g}, "
-            f"stability limit {self.pde.config.dt_limit():.4g})"
+            f"body {names[k]} reached the dish's edge at t = {t:.6g} (at x = {x:.4g}, "
+            f"y = {y:.4g}; grid.domain_radius = {pde.config.grid.domain_radius:g}): "
+            "the run ends there (enlarge the dish or start the body further in)"
         )
-        raise SimulationDivergedError(msg)
+        raise BodyContactError(msg)
+    if reason == STATUS_OVERLAP:
+        msg = (
+            f"bodies {names[k]} and {names[other]} touched at t = {t:.6g} (their "
+            "footprints met): the model has no contact force, the run ends there"
+        )
+        raise BodyContactError(msg)
+    fields = ("c", "v_x", "v_y")
+    bad = [n for n, arr in zip(fields, data, strict=True) if not np.isfinite(arr).all()]
+    what = ", ".join(bad) if bad else f"motion of body {names[max(k, 0)]}"
+    msg = (
+        f"simulation diverged at t = {t:.6g}{where}: non-finite {what} "
+        f"(dt = {pde.config.grid.dt:g}, stability limit {pde.config.dt_limit():.4g})"
+    )
+    raise SimulationDivergedError(msg)
 
 
 def make_bodies_stepper(pde: SurfacePDE, dt: float, rng: np.random.Generator) -> BodiesStepper:
