@@ -450,7 +450,7 @@ def euler_body_fields(cur, nxt, F, G, owner, domain, coef, dt, pose, flow):
         x = coords[i]
         for j in range(lo[i], hi[i]):
             o = np.uint64(i * n + j)
-            plate = slo[i] <= j < shi[i]
+            plate = slo[i] <= j < shi[i] and owner[o] >= 0
             f, g, px, py = 0.0, 0.0, 0.0, 0.0
             if plate:
                 f, g, px, py = _owner_plate(F, G, owner, pose, o, x, coords[j])

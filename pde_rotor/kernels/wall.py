@@ -64,7 +64,7 @@ def euler_walled_fields(cur, nxt, F, G, owner, domain, wall, coef, dt, pose, flo
         for s in range(row_start[i], row_start[i + 1]):
             for j in range(span_lo[s], span_hi[s]):
                 o = np.uint64(i * n + j)
-                plate = slo[i] <= j < shi[i]
+                plate = slo[i] <= j < shi[i] and owner[o] >= 0
                 f, g, px, py = 0.0, 0.0, 0.0, 0.0
                 if plate:
                     f, g, px, py = _owner_plate(F, G, owner, pose, o, x, coords[j])
