@@ -218,7 +218,7 @@ def run_ensemble(
     d_rotor = cuda.to_device(state.rotor.copy())
     d_status = cuda.to_device(np.full(n_members, -1, dtype=np.int64))
     contour = params["contour"]
-    d_coef = cuda.device_array(n_members * dom.coords.size**2 if contour.any() else 1)
+    d_coef = cuda.device_array(2 * n_members * dom.coords.size**2 if contour.any() else 1)
     records = np.full((n_members, plan.record_steps.size, len(RECORD_FIELDS)), np.nan)
     records[:, 0, :5] = state.rotor
     records[:, 0, 5] = state.data[:, 0].sum(axis=(1, 2)) * dom.cell_area

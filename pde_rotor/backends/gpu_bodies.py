@@ -137,7 +137,7 @@ class BodiesBatch:
             cuda.to_device(np.zeros((e, 2, n_pills))),
             cuda.to_device(np.zeros((e, k, 2, 9))),
             cuda.to_device(np.zeros((e, k, 6))),
-            cuda.to_device(np.zeros((e, nn if contour else 1))),
+            cuda.to_device(np.zeros((e, 2 * nn if contour else 1))),
         )
         self.d_tables = tuple(cuda.to_device(np.ascontiguousarray(t)) for t in tables)
         self.d_walls = (

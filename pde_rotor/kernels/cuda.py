@@ -116,7 +116,8 @@ def _advance(
             (step + 1) // record_every - record0.
         status: (E,) -1, or the step at which the member's state stopped being finite
             (the member is then left at the start of that step and not advanced again).
-        coef: (E n^2) scratch for the spline coefficients of c (contour form only).
+        coef: (2 E n^2) scratch for the spline coefficients of c (contour form only):
+            member m's at 2 m n^2, its rows' prefiltered c after them.
         step0: global index of the first step.
         n_steps: number of steps.
         parity0: buffer holding the state at step0.
@@ -249,17 +250,15 @@ def _advance(
                     if not (math.isfinite(new_x) and math.isfinite(new_y)):
                         bad = True
         if contour:  # the contour form replaces the area form of int F r x grad c dA
-            o_coef = m * nn
-            for q in range(tid, width * width, n_threads):
-                i = w_lo + q // width
-                j = w_lo + q % width
-                coef[o_coef + i * n + j] = buf[cur + i * n + j]
+            o_coef = 2 * m * nn
+            o_rows = o_coef + nn  # the rows' coefficients, which the columns filter
+            for q in range(tid, width, n_threads):
+                o = (w_lo + q) * n + w_lo
+                _spline_line(buf, cur + o, coef, o_rows + o, 1, width)
             cuda.syncthreads()
             for q in range(tid, width, n_threads):
-                _spline_line(coef, o_coef + (w_lo + q) * n + w_lo, 1, width)
-            cuda.syncthreads()
-            for q in range(tid, width, n_threads):
-                _spline_line(coef, o_coef + w_lo * n + w_lo + q, n, width)
+                o = w_lo * n + w_lo + q
+                _spline_line(coef, o_rows + o, coef, o_coef + o, n, width)
             cuda.syncthreads()
             cross_grad = 0.0
             for q in range(tid, n_nodes, n_threads):

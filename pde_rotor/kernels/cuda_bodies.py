@@ -345,7 +345,8 @@ def _advance_bodies(state, surface, body, arrays, scratch, tables, walls, params
             :func:`pde_rotor.kernels.bodies.advance_bodies`.
         scratch: (normals (E, K, 2, C), centres (E, 2, P), loads (E, K, 2, 9) (the
             motion's ``body_loads`` at the start and at Heun's predicted pose), start
-            (E, K, 6), spline coefficients (E, n^2)).
+            (E, K, 6), spline coefficients (E, 2 n^2): the coefficients, then the rows'
+            prefiltered c).
         tables: the bodies' scheme tables (quad_s, quad_t, profiles, pill table, corner
             tables, edge profiles, rings; :func:`pde_rotor.kernels.records.make_body_tables`),
             shared by the members.

@@ -122,15 +122,14 @@ def contour_sums(src, k, m, state, surface, bodies, scratch, tables, p, red):
     j0, j1 = max(1, jc - half), min(n - 1, jc + half)
     rows, cols = i1 - i0, j1 - j0
     cm = coef[m]
-    for q in range(tid, rows * cols, n_threads):
-        o = (i0 + q // cols) * n + j0 + q % cols
-        cm[o] = buf[src + o]
-    cuda.syncthreads()
+    nn = n * n  # the rows' prefiltered c after the coefficients, which the columns filter
     for q in range(tid, rows, n_threads):
-        _spline_line(cm, (i0 + q) * n + j0, 1, cols)
+        o = (i0 + q) * n + j0
+        _spline_line(buf, src + o, cm, nn + o, 1, cols)
     cuda.syncthreads()
     for q in range(tid, cols, n_threads):
-        _spline_line(cm, i0 * n + j0 + q, n, rows)
+        o = i0 * n + j0 + q
+        _spline_line(cm, nn + o, cm, o, n, rows)
     cuda.syncthreads()
     n_s, n_t = quad_s.shape[1], quad_t.shape[1]
     delta, inv_sat = p.smoothing, p.inv_saturation

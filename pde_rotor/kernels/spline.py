@@ -2,12 +2,13 @@
 
 The contour form of the torque (scheme ``consistent``, :mod:`pde_rotor.model.schemes`)
 interpolates c with its cubic spline, whose B-spline coefficients come from Unser's
-recursive prefilter along both axes of a square window of cells around the plate
+recursive prefilter, written as two recursions from the line's two ends so that it
+commutes with mirroring bit for bit, along both axes of a square window of cells around the plate
 (:class:`~pde_rotor.model.schemes.Scheme`, ``window``): first along y (the rows), then
 along x (the columns). Each line is a recursion, one sample after the other; filtered one
 line at a time, a line waits on the latency of each step. Here the steps of the physics
-core (:mod:`pde_rotor.physics`: ``spline_causal``, ``spline_anticausal_start``,
-``spline_anticausal``, ``spline_gain``, the steps of ``spline_line``) advance several
+core (:mod:`pde_rotor.physics`: ``spline_reach`` and ``spline_coefficient``, the steps
+of ``spline_line``) advance several
 lines side by side (:func:`spline_lines`): a group of rows together, and the columns
 together, where the lines lie next to each other in memory and LLVM computes them four
 or eight at a time (SIMD). Each line's arithmetic is that of ``spline_line``, so the
@@ -21,10 +22,8 @@ import numpy as np
 
 from ..physics.build import CPU
 
-_spline_causal = CPU.spline.spline_causal
-_spline_anticausal_start = CPU.spline.spline_anticausal_start
-_spline_anticausal = CPU.spline.spline_anticausal
-_spline_gain = CPU.spline.spline_gain
+_spline_reach = CPU.spline.spline_reach
+_spline_coefficient = CPU.spline.spline_coefficient
 
 _LINES = {"cache": True, "nogil": True, "error_model": "numpy"}
 """numba options of the loops below (inlined into the time step that calls them): no
@@ -37,66 +36,71 @@ def spline_lines(src, buf, o, stride, count, lane_stride, lanes, keep, carry):
     """The physics' ``spline_line`` on `lanes` lines at once, from `src` into `buf`.
 
     Line r holds the `count` samples src[o + r lane_stride + k stride], its coefficients
-    go to the same places of `buf` (which may be `src`); step k of every line is taken
-    before step k + 1 of any, so the recursions run side by side. Only the coefficients
-    k >= `keep` (< count) are wanted: the causal recursion stores from there on, the
-    anticausal one stops there (the earlier places of `buf` keep what they held). `carry`
-    (>= lanes) holds each line's last output (the anticausal outputs before their gain).
-    Indexed with unsigned offsets (no slices, which would count references on each
-    step, and no negative-wraparound checks).
+    go to the same places of `buf` (another array than `src`); step k of every line is
+    taken before step k + 1 of any, so the recursions run side by side. Only the
+    coefficients k >= `keep` (< count) are wanted: the backward recursion stops there,
+    the forward one stores from there on (the earlier places of `buf` keep what they
+    held). `carry` (>= lanes) holds each line's reach (``spline_reach``). Indexed with
+    unsigned offsets (no slices, which would count references on each step, and no
+    negative-wraparound checks).
     """
     o = np.uint64(o)
     stride = np.uint64(stride)
     lane_stride = np.uint64(lane_stride)
     for r in range(lanes):
-        carry[r] = src[o + np.uint64(r) * lane_stride]
-    if keep == 0:
-        for r in range(lanes):
-            buf[o + np.uint64(r) * lane_stride] = carry[r]
-    at = o
-    for k in range(1, count):
-        at += stride
-        if k < keep:
-            for r in range(lanes):
-                carry[r] = _spline_causal(carry[r], src[at + np.uint64(r) * lane_stride])
-        else:
-            for r in range(lanes):
-                value = _spline_causal(carry[r], src[at + np.uint64(r) * lane_stride])
-                carry[r] = value
-                buf[at + np.uint64(r) * lane_stride] = value
-    for r in range(lanes):
-        value = _spline_anticausal_start(buf[at + np.uint64(r) * lane_stride])
-        carry[r] = value
-        buf[at + np.uint64(r) * lane_stride] = _spline_gain(value)
-    for _ in range(count - 2, keep - 1, -1):
+        carry[r] = 0.0
+    at = o + np.uint64(count) * stride
+    for _ in range(count - 1, keep - 1, -1):
         at -= stride
         for r in range(lanes):
-            value = _spline_anticausal(carry[r], buf[at + np.uint64(r) * lane_stride])
-            carry[r] = value
-            buf[at + np.uint64(r) * lane_stride] = _spline_gain(value)
+            place = at + np.uint64(r) * lane_stride
+            buf[place] = carry[r]
+            carry[r] = _spline_reach(src[place] + carry[r])
+    for r in range(lanes):
+        carry[r] = 0.0
+    at = o
+    for _ in range(keep):
+        for r in range(lanes):
+            carry[r] = _spline_reach(src[at + np.uint64(r) * lane_stride] + carry[r])
+        at += stride
+    for _ in range(keep, count):
+        for r in range(lanes):
+            place = at + np.uint64(r) * lane_stride
+            sample = src[place]
+            buf[place] = _spline_coefficient(carry[r], buf[place], sample)
+            carry[r] = _spline_reach(sample + carry[r])
+        at += stride
 
 
 @nb.njit(inline="always", **_LINES)
 def adjacent_lines(buf, o, stride, count, lanes, keep, carry):
     """:func:`spline_lines` in place for lines next to each other (lane_stride 1): the
     same steps over contiguous slices, which LLVM computes several lanes at a time (SIMD);
-    the coefficients k >= `keep` are wanted (before, the causal outputs are left)."""
-    prev = buf[o : o + lanes]
-    for k in range(1, count):
-        line = buf[o + k * stride : o + k * stride + lanes]
-        for r in range(lanes):
-            line[r] = _spline_causal(prev[r], line[r])
-        prev = line
+    the coefficients k >= `keep` are wanted (before, the samples are left). The backward
+    reaches wait in an array of their own until the forward pass needs them with the
+    samples they would have replaced."""
+    back = np.empty((count - keep) * lanes)
     for r in range(lanes):
-        value = _spline_anticausal_start(prev[r])
-        carry[r] = value
-        prev[r] = _spline_gain(value)
-    for k in range(count - 2, keep - 1, -1):
+        carry[r] = 0.0
+    for k in range(count - 1, keep - 1, -1):
+        line = buf[o + k * stride : o + k * stride + lanes]
+        reach = back[(k - keep) * lanes : (k - keep + 1) * lanes]
+        for r in range(lanes):
+            reach[r] = carry[r]
+            carry[r] = _spline_reach(line[r] + carry[r])
+    for r in range(lanes):
+        carry[r] = 0.0
+    for k in range(keep):
         line = buf[o + k * stride : o + k * stride + lanes]
         for r in range(lanes):
-            value = _spline_anticausal(carry[r], line[r])
-            carry[r] = value
-            line[r] = _spline_gain(value)
+            carry[r] = _spline_reach(line[r] + carry[r])
+    for k in range(keep, count):
+        line = buf[o + k * stride : o + k * stride + lanes]
+        reach = back[(k - keep) * lanes : (k - keep + 1) * lanes]
+        for r in range(lanes):
+            sample = line[r]
+            line[r] = _spline_coefficient(carry[r], reach[r], sample)
+            carry[r] = _spline_reach(sample + carry[r])
 
 
 @nb.njit(inline="always", **_LINES)

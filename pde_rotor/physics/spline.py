@@ -2,9 +2,9 @@
 
 The contour form of the tension integral (:mod:`.tension`) and the filtered tables of
 the ``consistent`` scheme (:mod:`.indicators`) read a field between its cell centres
-through its interpolating cubic spline: Unser's recursive B-spline prefilter
-(:func:`spline_line` from its steps :func:`spline_causal`, :func:`spline_anticausal_start`,
-:func:`spline_anticausal`, :func:`spline_gain`), the B-spline weights and taps
+through its interpolating cubic spline: Unser's recursive B-spline prefilter, symmetric
+under mirroring (:func:`spline_line` from its steps :func:`spline_reach`,
+:func:`spline_coefficient`), the B-spline weights and taps
 (:func:`bspline_weights`, :func:`spline_node`, :func:`spline_sum`) and the value at a
 point (:func:`interpolate`). ``scipy.ndimage`` does the same outside compiled code
 (:func:`pde_rotor.model.schemes.interpolate_spline`, the test oracle).
@@ -19,6 +19,9 @@ from typing import NamedTuple
 SPLINE_POLE = math.sqrt(3.0) - 2.0
 """Pole of the cubic B-spline prefilter (Unser, IEEE Signal Process. Mag. 1999)."""
 
+SPLINE_GAIN = math.sqrt(3.0)
+"""-6 z / (1 - z^2) for the pole z: the gain of the prefilter's partial fractions."""
+
 SPLINE_MARGIN = 24
 """Cells the spline window extends beyond the contour's taps: |pole|^24 = 2e-14."""
 
@@ -26,10 +29,8 @@ SPLINE_MARGIN = 24
 class Spline(NamedTuple):
     """The compiled spline functions for one target (see the module docstring)."""
 
-    spline_causal: Callable
-    spline_anticausal_start: Callable
-    spline_anticausal: Callable
-    spline_gain: Callable
+    spline_reach: Callable
+    spline_coefficient: Callable
     spline_line: Callable
     bspline_weights: Callable
     spline_node: Callable
@@ -50,55 +51,50 @@ def make_spline(jit: Callable[[Callable], Callable]) -> Spline:
     """
 
     @jit
-    def spline_causal(prev, value):
-        """One step of the causal recursion of the cubic B-spline prefilter (Unser's
-        recursive filter, pole z = sqrt(3) - 2): the sample `value` plus z times the
-        previous output `prev`; the first output is the first sample."""
-        return value + SPLINE_POLE * prev
+    def spline_reach(prev):
+        """The pole's share z y of the previous output `y` of a recursion of the cubic
+        B-spline prefilter (pole z = sqrt(3) - 2): a recursion's output is its sample
+        plus this, y_k = s_k + z y_(k -/+ 1); the first output is the first sample."""
+        return SPLINE_POLE * prev
 
     @jit
-    def spline_anticausal_start(last):
-        """The first (last-sample) output of the anticausal recursion, from the causal
-        output `last` there: -z / (1 - z^2) times it (the samples beyond taken as 0)."""
-        z = SPLINE_POLE
-        return -z / (1.0 - z * z) * last
+    def spline_coefficient(forward, backward, sample):
+        """The B-spline coefficient sqrt(3) ((p_k + m_k) + s_k) of sample s_k from the
+        reaches p_k of the forward recursion and m_k of the backward one
+        (:func:`spline_reach`): the prefilter 6 / (q + 4 + 1/q) split into partial
+        fractions, -6 z / (1 - z^2) (1 / (1 - z/q) + 1 / (1 - z q) - 1), where
+        -6 z / (1 - z^2) = sqrt(3). p_k and m_k add first, so that the coefficient
+        does not depend on the line's direction: a mirrored line has mirrored
+        coefficients, bit for bit."""
+        return SPLINE_GAIN * ((forward + backward) + sample)
 
     @jit
-    def spline_anticausal(nxt, causal):
-        """One step of the anticausal recursion back along the line: z (next - causal),
-        from the output `nxt` one sample on and the causal output `causal` here."""
-        return SPLINE_POLE * (nxt - causal)
-
-    @jit
-    def spline_gain(anticausal):
-        """The B-spline coefficient from the anticausal output: times 6 (the filter's gain)."""
-        return 6.0 * anticausal
-
-    @jit
-    def spline_line(buf, o, stride, count):
-        """Cubic B-spline prefilter, in place, of `count` samples buf[o + k stride].
+    def spline_line(src, so, dst, o, stride, count):
+        """Cubic B-spline prefilter of `count` samples src[so + k stride] into the
+        coefficients dst[o + k stride] (another place than the samples).
 
         Turns samples into the coefficients of the interpolating cubic spline (Unser's
-        recursive filter: :func:`spline_causal` forward, :func:`spline_anticausal_start`
-        and :func:`spline_anticausal` back, :func:`spline_gain`), taking the samples
-        beyond both ends as 0: a coefficient then errs by |z|^k = 0.268^k times the
+        recursive filter as two independent recursions, :func:`spline_reach`, one from
+        each end, joined by :func:`spline_coefficient`): the backward reaches m_k go to
+        dst first, the forward pass then finishes each coefficient. The samples beyond
+        both ends are taken as 0: a coefficient then errs by |z|^k = 0.268^k times the
         values k cells beyond the line's ends, so lines cut from a larger field need a
-        margin. Written out because it runs inside the numba and CUDA kernels, which
-        cannot call scipy.ndimage's prefilter (``map_coordinates`` applies it in
+        margin. The same steps from either end make the filter commute with mirroring
+        exactly. Written out because it runs inside the CUDA kernels, which cannot call
+        scipy.ndimage's prefilter (``map_coordinates`` applies it in
         :func:`pde_rotor.model.schemes.interpolate_spline`;
         tests/model/test_schemes.py compares them). The CPU filters many lines at once
         with the same steps (:mod:`pde_rotor.kernels.spline`).
         """
-        prev = buf[o]
-        for k in range(1, count):
-            prev = spline_causal(prev, buf[o + k * stride])
-            buf[o + k * stride] = prev
-        last = o + (count - 1) * stride
-        nxt = spline_anticausal_start(buf[last])
-        buf[last] = spline_gain(nxt)
-        for k in range(count - 2, -1, -1):
-            nxt = spline_anticausal(nxt, buf[o + k * stride])
-            buf[o + k * stride] = spline_gain(nxt)
+        reach = 0.0
+        for k in range(count - 1, -1, -1):
+            dst[o + k * stride] = reach
+            reach = spline_reach(src[so + k * stride] + reach)
+        reach = 0.0
+        for k in range(count):
+            sample = src[so + k * stride]
+            dst[o + k * stride] = spline_coefficient(reach, dst[o + k * stride], sample)
+            reach = spline_reach(sample + reach)
 
     @jit
     def bspline_weights(t):
@@ -167,10 +163,8 @@ def make_spline(jit: Callable[[Callable], Callable]) -> Spline:
         return spline_sum(coef, row, n, 1, wx0, wx1, wx2, wx3, wy0, wy1, wy2, wy3)
 
     return Spline(
-        spline_causal=spline_causal,
-        spline_anticausal_start=spline_anticausal_start,
-        spline_anticausal=spline_anticausal,
-        spline_gain=spline_gain,
+        spline_reach=spline_reach,
+        spline_coefficient=spline_coefficient,
         spline_line=spline_line,
         bspline_weights=bspline_weights,
         spline_node=spline_node,

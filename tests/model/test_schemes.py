@@ -24,6 +24,7 @@ from pde_rotor.model.geometry import edge_normal_angles, plate_indicator
 from pde_rotor.model.pde import RotorPDE
 from pde_rotor.model.schemes import contour_cross_grad, interpolate_spline, sech2_gauss
 from pde_rotor.physics.build import CPU
+from pde_rotor.physics.spline import make_spline
 
 
 @pytest.mark.parametrize("n_nodes", [2, 4, 8])
@@ -69,6 +70,52 @@ def test_core_spline_equals_scipy_and_is_fourth_order() -> None:
         exact = np.exp(-(px * px + 2 * py * py)) * np.cos(2 * px + py)
         errors.append(np.abs(got - exact).max())
     assert 10.0 < errors[0] / errors[1] < 24.0
+
+
+def scalar_spline(field: np.ndarray, lo: int, hi: int) -> np.ndarray:
+    """The coefficients of field[lo:hi, lo:hi] from the physics' one-line ``spline_line``
+    (the GPU kernels' filter) run as plain Python: rows into a buffer, then columns."""
+    spline = make_spline(lambda f: f)
+    n = field.shape[0]
+    flat = np.ascontiguousarray(field).reshape(-1)
+    rows = np.zeros(n * n)
+    coef = np.zeros(n * n)
+    for i in range(lo, hi):
+        spline.spline_line(flat, i * n + lo, rows, i * n + lo, 1, hi - lo)
+    for j in range(lo, hi):
+        spline.spline_line(rows, lo * n + j, coef, lo * n + j, n, hi - lo)
+    return coef.reshape(n, n)[lo:hi, lo:hi]
+
+
+def test_prefilter_commutes_with_mirroring_bit_for_bit() -> None:
+    """The prefilter of a field mirrored along x, along y or both is the mirror image of
+    its prefilter, bit for bit, so that a mirror-symmetric c has mirror-symmetric
+    coefficients (a held disk at the dish's centre then reads the same c on both
+    sides); the CPU's lines side by side (spline_window, with the window's margin
+    left out) have the bits of the one-line filter of the GPU kernels."""
+    n, lo, hi, keep = 64, 3, 61, 27
+    field = np.random.default_rng(4).standard_normal((n, n))
+    whole = np.zeros((n, n))
+    mirrors = {"x": (slice(None, None, -1), slice(None)), "y": (slice(None), slice(None, None, -1))}
+    mirrors["both"] = (slice(None, None, -1), slice(None, None, -1))
+    window = (slice(lo, hi), slice(lo, hi))
+    for flip in mirrors.values():
+        got = {}
+        for name, values in (("field", field), ("mirrored", field[flip])):
+            coef = np.zeros(n * n)
+            spline_window(np.ascontiguousarray(values).reshape(-1), coef, n, lo, hi, lo, hi)
+            got[name] = coef.reshape(n, n)
+        np.testing.assert_array_equal(got["mirrored"][window], got["field"][flip][window])
+        symmetric = field + field[flip]
+        coef = np.zeros(n * n)
+        spline_window(symmetric.reshape(-1), coef, n, lo, hi, lo, hi)
+        whole[window] = coef.reshape(n, n)[window]
+        np.testing.assert_array_equal(whole, whole[flip])
+        np.testing.assert_array_equal(whole[window], scalar_spline(symmetric, lo, hi))
+        taps = np.zeros(n * n)
+        spline_window(symmetric.reshape(-1), taps, n, lo, hi, keep, n - keep)
+        inner = (slice(keep, n - keep), slice(keep, n - keep))
+        np.testing.assert_array_equal(taps.reshape(n, n)[inner], whole[inner])
 
 
 def analytic_field(x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
