@@ -141,30 +141,15 @@ def resolve_backend(requested: str) -> str:
 def backend_for(config: RotorConfig) -> str:
     """The backend that will run `config`: ``solver.backend`` resolved for its numerics.
 
-    The rotor's GPU kernel integrates with forward Euler only: with another
-    ``numerics.integrator``, ``auto`` runs the rotor on the CPU and ``gpu`` is refused.
-    Bodies (``bodies:``) run on either backend (the GPU's
-    :mod:`pde_rotor.backends.gpu_bodies`, and the CPU's loop, both with Euler or Heun).
+    Every run goes on either backend with Euler or Heun: bodies (``bodies:``) on the
+    GPU's :mod:`pde_rotor.backends.gpu_bodies` or the CPU's loop, the rotor on its own
+    kernels, or with Heun on the GPU as its ``fixed_axis`` body (:func:`member_stepper`).
     The CLI and :func:`pde_rotor.run` ask here before they write anything.
 
     Raises:
-        BackendError: "gpu" requested and no usable GPU, or an integrator the rotor's GPU
-            kernel does not implement (one line, naming the key).
+        BackendError: "gpu" requested and no usable GPU (one line, with the reason).
     """
-    requested = config.solver.backend
-    if config.bodies is not None:
-        return resolve_backend(requested)
-    integrator = config.numerics.integrator
-    if requested != "cpu" and integrator != "euler":
-        if requested == "auto":
-            return "cpu"
-        msg = (
-            f"solver.backend = 'gpu' with numerics.integrator = {integrator}: the GPU kernel "
-            "integrates with forward Euler only (allowed: numerics.integrator = euler, or "
-            "solver.backend = cpu)"
-        )
-        raise BackendError(msg)
-    return resolve_backend(requested)
+    return resolve_backend(config.solver.backend)
 
 
 def device_name(backend: str) -> str:
@@ -182,7 +167,10 @@ def member_stepper(backend: str) -> StepperFactory:
     Controller drives the run and calls the same trackers as on the CPU, and between two
     interrupts the member advances on the ensemble backend from the state the Controller
     holds (fields and rotor), with the run's noise stream drawn in step order, as the CPU
-    solver draws it. This is how ``solver.backend: gpu`` runs a single configuration.
+    solver draws it. This is how ``solver.backend: gpu`` runs a single configuration;
+    with ``numerics.integrator: heun`` on the GPU the rotor runs as its ``fixed_axis``
+    body on the bodies' kernel instead (:func:`pde_rotor.backends.gpu_bodies.gpu_rotor_stepper`:
+    the rotor's own kernel has forward Euler only).
 
     Args:
         backend: ``gpu``, or ``cpu`` (the CPU ensemble backend: the same path, checked
@@ -194,6 +182,9 @@ def member_stepper(backend: str) -> StepperFactory:
 
     def factory(pde: RotorPDE, dt: float, rng: np.random.Generator) -> MemberStepper:
         config = pde.config
+        if backend == "gpu" and config.numerics.integrator == "heun":
+            gpu_bodies = importlib.import_module("pde_rotor.backends.gpu_bodies")
+            return gpu_bodies.gpu_rotor_stepper(pde, dt, rng)
 
         def step(data: np.ndarray, rotor: RotorState, step0: int, n_steps: int) -> None:
             initial = EnsembleState(

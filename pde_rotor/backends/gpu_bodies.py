@@ -3,12 +3,15 @@
 :class:`BodiesBatch` holds E members of the bodies' model (one ``bodies:`` config each,
 sharing the grid, the numerics, the number of bodies and pills, and the scheme's
 tables) in device memory, and advances them in one launch per call, block m advancing
-member m, with forward Euler or Heun (``numerics.integrator``). Two users:
+member m, with forward Euler or Heun (``numerics.integrator``). Three users:
 
 * :func:`gpu_bodies_stepper`: the stepper of one run (``pde-rotor run CONFIG --backend
   gpu`` with ``bodies:``), driven by py-pde's Controller between the trackers'
   interrupts exactly as the CPU's :class:`pde_rotor.solver.bodies.BodiesStepper`, whose
   noise stream (K standard normals per step, in step order) and early ends it shares;
+* :func:`gpu_rotor_stepper`: the paper's rotor as its ``fixed_axis`` body, how a rotor
+  run (no ``bodies:``) integrates with Heun on the GPU (the rotor's own kernel,
+  :mod:`pde_rotor.kernels.cuda`, has forward Euler only);
 * :func:`run_bodies_ensemble`: E members (a sweep's points, seeds) to a common end
   time, every body's pose and forces recorded at a fixed interval
   (:class:`BodiesEnsembleResult`).
@@ -27,9 +30,16 @@ from ..kernels.cuda_bodies import N_SUMS, bodies_kernel
 from ..kernels.cuda_target import cuda, simulator_enabled
 from ..kernels.records import make_body_records, make_body_tables, make_record
 from ..kernels.wall import NO_WALL
+from ..model.pde import RotorPDE, RotorState
 from ..model.protocol import steps_of
 from ..model.surface import POSE_COLUMNS, BodiesState, SurfacePDE
 from ..solver.bodies import raise_early_end
+from ..solver.rotor import SimulationDivergedError
+
+PHI, OMEGA, TORQUE, FRICTION, STOPPED = (
+    POSE_COLUMNS.index(name) for name in ("phi", "omega", "torque", "friction", "stopped")
+)
+"""The pose's columns that hold the rotor's state (:class:`~pde_rotor.model.pde.RotorState`)."""
 
 GPU_END = " on the gpu backend"
 """How an early end's message names this backend
@@ -251,6 +261,61 @@ class GpuBodiesStepper:
 def gpu_bodies_stepper(pde: SurfacePDE, dt: float, rng: np.random.Generator) -> GpuBodiesStepper:
     """The stepper factory of a bodies run on the GPU (:class:`GpuBodiesStepper`)."""
     return GpuBodiesStepper(pde=pde, dt=dt, rng=rng)
+
+
+@dataclass
+class GpuRotorStepper:
+    """The paper's rotor stepped on the bodies' kernel, the signature of the rotor's
+    steppers (:func:`pde_rotor.backends.member_stepper`): the rotor is the
+    ``fixed_axis`` body at the origin (:meth:`~pde_rotor.config.RotorConfig.body_list`),
+    so this is how a rotor run integrates with Heun's method on the GPU, through the
+    same motion (:mod:`pde_rotor.physics.motion`: ``heun_pose``) as every body. The
+    noise stream is the rotor's: one standard normal per step, in step order.
+
+    Attributes:
+        pde: the rotor's model.
+        dt: time step.
+        rng: Generator of the noise.
+    """
+
+    pde: RotorPDE
+    dt: float
+    rng: np.random.Generator
+
+    def __post_init__(self) -> None:
+        config = self.pde.config
+        heun = config.numerics.integrator == "heun"
+        self.batch = BodiesBatch([SurfacePDE(config)], self.dt, heun)
+
+    def __call__(self, data: np.ndarray, rotor: RotorState, step0: int, n_steps: int) -> None:
+        """Advance `data` and `rotor` together by `n_steps` steps from step `step0`.
+
+        Raises:
+            SimulationDivergedError: the state became NaN/Inf (with the time).
+        """
+        batch = self.batch
+        pose = np.zeros((1, 1, len(POSE_COLUMNS)))
+        pose[0, 0, PHI], pose[0, 0, OMEGA] = rotor.phi, rotor.omega
+        batch.put(data[None], pose)
+        status = batch.advance(step0, n_steps, batch.normals([self.rng], n_steps))[0]
+        fields, poses = batch.get()
+        data[...] = fields[0]
+        rotor.update_from(poses[0, 0, [PHI, OMEGA, TORQUE, FRICTION, STOPPED]])
+        failed = status[0] if status[0] >= 0 else -1
+        if failed < 0 and not np.isfinite(data).all():
+            failed = step0 + n_steps
+        if failed >= 0:
+            config = self.pde.config
+            msg = (
+                f"simulation diverged at t = {failed * self.dt:.6g} on the gpu backend: "
+                f"non-finite state (dt = {self.dt:g}, stability limit {config.dt_limit():.4g})"
+            )
+            raise SimulationDivergedError(msg)
+
+
+def gpu_rotor_stepper(pde: RotorPDE, dt: float, rng: np.random.Generator) -> GpuRotorStepper:
+    """The stepper factory of a rotor run on the bodies' kernel (:class:`GpuRotorStepper`)."""
+    return GpuRotorStepper(pde=pde, dt=dt, rng=rng)
 
 
 @dataclass(frozen=True)

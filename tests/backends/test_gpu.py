@@ -38,10 +38,18 @@ from pde.storage import FileStorage
 from typer.testing import CliRunner
 
 from pde_rotor.api import RunResult
-from pde_rotor.backends import cpu, gpu_available, resolve_backend, run_ensemble
+from pde_rotor.backends import (
+    backend_for,
+    cpu,
+    gpu_available,
+    member_stepper,
+    resolve_backend,
+    run_ensemble,
+)
 from pde_rotor.backends import gpu as gpu_backend
 from pde_rotor.cli.main import app
 from pde_rotor.config import RotorConfig
+from pde_rotor.solver.simulation import Simulation
 
 TINY: dict[str, Any] = {
     "grid": {"dx": 0.1, "dt": 1e-3, "domain_radius": 1.6},
@@ -162,6 +170,40 @@ def test_heun_integrator_is_refused_before_any_step(
     cfg = small_config(TINY, {"numerics": {"integrator": "heun"}})
     with pytest.raises(ValueError, match=r"numerics\.integrator = heun"):
         gpu_backend.run_ensemble([cfg], 0.01, record_interval=RECORD)
+
+
+@pytest.mark.parametrize("scheme", ["paper", "consistent"])
+def test_rotor_run_with_heun_on_the_gpu_is_the_cpus_heun(
+    small_config: Callable[..., RotorConfig], scheme: str
+) -> None:
+    """``solver.backend: gpu`` with Heun is accepted for the rotor and runs it as its
+    fixed_axis body on the bodies' kernel (``member_stepper``), which follows the CPU
+    rotor's Heun through two stops with noise to 1e-10: phi, omega, the torques, the
+    stop flag and c, v, on both schemes."""
+    cfg = small_config(
+        TINY,
+        {
+            "numerics": {"scheme": scheme, "integrator": "heun"},
+            "rotor": {"omega0": 50.0},
+            "noise": {"sigma": 1e-5, "seed": 3},
+            "protocol": {"t_ini": 0.003, "t_stop": 0.002, "t_release": 0.001, "cycles": 2},
+            "solver": {"backend": "gpu"},
+        },
+    )
+    assert backend_for(cfg) == "gpu"
+    cpu_run, gpu_run = Simulation(cfg), Simulation(cfg, stepper=member_stepper("gpu"))
+    for t in (0.004, 0.009):  # in the first stop, then after the second release
+        cpu_run.run(t)
+        gpu_run.run(t)
+        want, got = cpu_run.rotor, gpu_run.rotor
+        assert got.phi == pytest.approx(want.phi, rel=1e-10, abs=1e-12)
+        assert got.omega == pytest.approx(want.omega, rel=1e-10, abs=1e-10)
+        assert got.torque == pytest.approx(want.torque, rel=1e-9, abs=1e-15)
+        assert got.friction == pytest.approx(want.friction, rel=1e-9, abs=1e-15)
+        assert got.stopped == want.stopped
+        scale = np.abs(cpu_run.state.data).max()
+        assert np.abs(gpu_run.state.data - cpu_run.state.data).max() <= 1e-10 * scale
+    assert cpu_run.rotor.omega != 0.0 and not cpu_run.rotor.stopped
 
 
 def test_noise_same_seed_same_trajectory(small_config: Callable[..., RotorConfig]) -> None:

@@ -272,19 +272,6 @@ def test_gpu_backend_without_gpu_exits_2(tmp_path, monkeypatch):
     assert not (tmp_path / "o").exists()
 
 
-def test_gpu_backend_with_an_integrator_it_lacks_exits_2(tmp_path):
-    """The GPU kernel is forward Euler only: heun on gpu is refused before anything runs."""
-    path = tmp_path / "c.yaml"
-    path.write_text(TINY_YAML)
-    out = tmp_path / "o"
-    args = ("--backend", "gpu", "--set", "numerics.integrator=heun", "--out", out)
-    result = invoke("run", path, *args)
-    assert result.exit_code == 2
-    assert result.stderr.count("\n") == 1
-    assert "numerics.integrator = heun" in result.stderr
-    assert not out.exists()
-
-
 def test_auto_backend_records_the_backend_that_ran(monkeypatch):
     """solver.backend = auto: the files and the result name the backend that really ran.
 
