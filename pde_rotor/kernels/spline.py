@@ -3,16 +3,16 @@
 The contour form of the torque (scheme ``consistent``, :mod:`pde_rotor.model.schemes`)
 interpolates c with its cubic spline, whose B-spline coefficients come from Unser's
 recursive prefilter, written as two recursions from the line's two ends so that it
-commutes with mirroring bit for bit, along both axes of a square window of cells around the plate
-(:class:`~pde_rotor.model.schemes.Scheme`, ``window``): first along y (the rows), then
-along x (the columns). Each line is a recursion, one sample after the other; filtered one
-line at a time, a line waits on the latency of each step. Here the steps of the physics
-core (:mod:`pde_rotor.physics`: ``spline_reach`` and ``spline_coefficient``, the steps
-of ``spline_line``) advance several
-lines side by side (:func:`spline_lines`): a group of rows together, and the columns
-together, where the lines lie next to each other in memory and LLVM computes them four
-or eight at a time (SIMD). Each line's arithmetic is that of ``spline_line``, so the
-coefficients do not depend on how lines are grouped (or shared among threads).
+commutes with mirroring bit for bit, along both axes of a square window of cells around
+the plate (:class:`~pde_rotor.model.schemes.Scheme`, ``window``): first along y (the
+rows), then along x (the columns). Each line is a recursion, one sample after the other;
+filtered one line at a time, a line waits on the latency of each step. Here the steps of
+the physics core (:mod:`pde_rotor.physics`: ``spline_reach`` and ``spline_coefficient``,
+the steps of ``spline_line``) advance several lines side by side (:func:`spline_lines`):
+a group of rows together, and the columns together, where the lines lie next to each
+other in memory and LLVM computes them four or eight at a time (SIMD). Each line's
+arithmetic is that of ``spline_line``, so the coefficients do not depend on how lines
+are grouped (or shared among threads).
 """
 
 from __future__ import annotations
