@@ -1,8 +1,8 @@
 """The paper's rotor with Heun on the GPU against the CPU, in numba's CUDA simulator.
 
 A rotor run with ``numerics.integrator: heun`` on the GPU steps as the rotor's fixed_axis
-body on the bodies' kernel (:func:`pde_rotor.backends.gpu_bodies.gpu_rotor_stepper`,
-chosen by :func:`pde_rotor.backends.member_stepper`). The small rotor of
+body on the bodies' kernel (:func:`pde_rotor.backends.gpu_bodies.run_rotor_ensemble`,
+through :func:`pde_rotor.backends.member_stepper` for a single run). The small rotor of
 tests/backends/test_gpu.py (omega0 = 50, noise, two stops), 9 steps, both schemes: phi,
 omega, the torques (relative) and c, v (relative to their largest value) against the CPU
 rotor's Heun (docs/gpu.md, docs/results.md).

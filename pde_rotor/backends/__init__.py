@@ -143,7 +143,8 @@ def backend_for(config: RotorConfig) -> str:
 
     Every run goes on either backend with Euler or Heun: bodies (``bodies:``) on the
     GPU's :mod:`pde_rotor.backends.gpu_bodies` or the CPU's loop, the rotor on its own
-    kernels, or with Heun on the GPU as its ``fixed_axis`` body (:func:`member_stepper`).
+    kernels, or with Heun on the GPU as its ``fixed_axis`` body
+    (:func:`pde_rotor.backends.gpu_bodies.run_rotor_ensemble`).
     The CLI and :func:`pde_rotor.run` ask here before they write anything.
 
     Raises:
@@ -167,10 +168,9 @@ def member_stepper(backend: str) -> StepperFactory:
     Controller drives the run and calls the same trackers as on the CPU, and between two
     interrupts the member advances on the ensemble backend from the state the Controller
     holds (fields and rotor), with the run's noise stream drawn in step order, as the CPU
-    solver draws it. This is how ``solver.backend: gpu`` runs a single configuration;
-    with ``numerics.integrator: heun`` on the GPU the rotor runs as its ``fixed_axis``
-    body on the bodies' kernel instead (:func:`pde_rotor.backends.gpu_bodies.gpu_rotor_stepper`:
-    the rotor's own kernel has forward Euler only).
+    solver draws it. This is how ``solver.backend: gpu`` runs a single configuration
+    (with ``numerics.integrator: heun`` as the rotor's ``fixed_axis`` body on the bodies'
+    kernel, :func:`pde_rotor.backends.gpu_bodies.run_rotor_ensemble`).
 
     Args:
         backend: ``gpu``, or ``cpu`` (the CPU ensemble backend: the same path, checked
@@ -182,9 +182,6 @@ def member_stepper(backend: str) -> StepperFactory:
 
     def factory(pde: RotorPDE, dt: float, rng: np.random.Generator) -> MemberStepper:
         config = pde.config
-        if backend == "gpu" and config.numerics.integrator == "heun":
-            gpu_bodies = importlib.import_module("pde_rotor.backends.gpu_bodies")
-            return gpu_bodies.gpu_rotor_stepper(pde, dt, rng)
 
         def step(data: np.ndarray, rotor: RotorState, step0: int, n_steps: int) -> None:
             initial = EnsembleState(

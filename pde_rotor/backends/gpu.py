@@ -149,6 +149,12 @@ def run_ensemble(
 ) -> EnsembleResult:
     """Advance every member on the GPU (arguments: :func:`pde_rotor.backends.run_ensemble`).
 
+    The kernel below integrates with forward Euler; with ``numerics.integrator: heun``
+    the members run as their ``fixed_axis`` bodies on the bodies' kernel
+    (:func:`pde_rotor.backends.gpu_bodies.run_rotor_ensemble`; `min_blocks_per_sm` and
+    `chunk_steps` do not apply, a launch per record interval; `threads_per_block`
+    defaults to that kernel's).
+
     Args:
         configs: one configuration per member (common ``grid`` section).
         t_end: final time (default: latest protocol end).
@@ -177,6 +183,7 @@ def run_ensemble(
     reason = unavailable_reason(allow_simulator=allow_simulator)
     if reason is not None:
         raise RuntimeError(f"GPU backend unavailable: {reason}")
+    asked_threads = threads_per_block
     if threads_per_block is None:
         threads_per_block = SIMULATOR_THREADS if simulator_enabled() else 256
     if not 1 <= threads_per_block <= 1024 or threads_per_block & (threads_per_block - 1):
@@ -185,16 +192,14 @@ def run_ensemble(
     if chunk_steps < 1:
         raise ValueError(f"chunk_steps = {chunk_steps} must be >= 1")
     plan = make_plan(configs, t_end, record_interval, initial)
-    if plan.configs[0].numerics.integrator != "euler":
-        msg = (
-            f"numerics.integrator = {plan.configs[0].numerics.integrator}: the GPU kernel "
-            "integrates with forward Euler only (allowed here: euler; run heun on the CPU)"
-        )
-        raise ValueError(msg)
     rngs = default_rngs(plan.configs) if rngs is None else list(rngs)
     if len(rngs) != plan.n_members:
         raise ValueError(f"{len(rngs)} generators for {plan.n_members} members")
     state = initial if initial is not None else EnsembleState.initial(plan.configs, plan.domain)
+    if plan.configs[0].numerics.integrator == "heun":  # the rotor's kernel: Euler only
+        from .gpu_bodies import run_rotor_ensemble
+
+        return run_rotor_ensemble(plan, rngs, state, progress, asked_threads)
     params, support, tables = _member_arrays(plan)
     rows = _interior_rows(plan, support)
     noisy = params["kick"] != 0.0

@@ -9,8 +9,9 @@ member m, with forward Euler or Heun (``numerics.integrator``). Three users:
   gpu`` with ``bodies:``), driven by py-pde's Controller between the trackers'
   interrupts exactly as the CPU's :class:`pde_rotor.solver.bodies.BodiesStepper`, whose
   noise stream (K standard normals per step, in step order) and early ends it shares;
-* :func:`gpu_rotor_stepper`: the paper's rotor as its ``fixed_axis`` body, how a rotor
-  run (no ``bodies:``) integrates with Heun on the GPU (the rotor's own kernel,
+* :func:`run_rotor_ensemble`: E rotors (no ``bodies:``), each as its ``fixed_axis`` body:
+  how the GPU's rotor ensembles and single runs integrate with Heun
+  (:func:`pde_rotor.backends.gpu.run_ensemble`; the rotor's own kernel,
   :mod:`pde_rotor.kernels.cuda`, has forward Euler only);
 * :func:`run_bodies_ensemble`: E members (a sweep's points, seeds) to a common end
   time, every body's pose and forces recorded at a fixed interval
@@ -20,7 +21,7 @@ member m, with forward Euler or Heun (``numerics.integrator``). Three users:
 from __future__ import annotations
 
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -30,11 +31,10 @@ from ..kernels.cuda_bodies import N_SUMS, bodies_kernel
 from ..kernels.cuda_target import cuda, simulator_enabled
 from ..kernels.records import make_body_records, make_body_tables, make_record
 from ..kernels.wall import NO_WALL
-from ..model.pde import RotorPDE, RotorState
 from ..model.protocol import steps_of
 from ..model.surface import POSE_COLUMNS, BodiesState, SurfacePDE
 from ..solver.bodies import raise_early_end
-from ..solver.rotor import SimulationDivergedError
+from .ensemble import RECORD_FIELDS, EnsemblePlan, EnsembleResult, EnsembleState
 
 PHI, OMEGA, TORQUE, FRICTION, STOPPED = (
     POSE_COLUMNS.index(name) for name in ("phi", "omega", "torque", "friction", "stopped")
@@ -263,59 +263,56 @@ def gpu_bodies_stepper(pde: SurfacePDE, dt: float, rng: np.random.Generator) -> 
     return GpuBodiesStepper(pde=pde, dt=dt, rng=rng)
 
 
-@dataclass
-class GpuRotorStepper:
-    """The paper's rotor stepped on the bodies' kernel, the signature of the rotor's
-    steppers (:func:`pde_rotor.backends.member_stepper`): the rotor is the
-    ``fixed_axis`` body at the origin (:meth:`~pde_rotor.config.RotorConfig.body_list`),
-    so this is how a rotor run integrates with Heun's method on the GPU, through the
-    same motion (:mod:`pde_rotor.physics.motion`: ``heun_pose``) as every body. The
-    noise stream is the rotor's: one standard normal per step, in step order.
+def run_rotor_ensemble(
+    plan: EnsemblePlan,
+    rngs: Sequence[np.random.Generator],
+    initial: EnsembleState,
+    progress: Callable[[int, int], None] | None = None,
+    threads_per_block: int | None = None,
+) -> EnsembleResult:
+    """A rotor ensemble on the bodies' kernel, each member's rotor as its ``fixed_axis``
+    body: how :func:`pde_rotor.backends.gpu.run_ensemble` integrates with Heun (the
+    rotor's own kernel has forward Euler only). The records of the rotor's kernel: phi,
+    omega, the torques and the stop flag after each record step, int c dA over the grid;
+    the noise one standard normal per step, in step order, from each member's Generator.
 
-    Attributes:
-        pde: the rotor's model.
-        dt: time step.
-        rng: Generator of the noise.
+    Args:
+        plan: the members and their steps (:func:`pde_rotor.backends.ensemble.make_plan`).
+        rngs: one Generator per member.
+        initial: the members' state at ``plan.step_start``.
+        progress: ``progress(steps_done, steps_total)`` after every record.
+        threads_per_block: see :class:`BodiesBatch`.
     """
-
-    pde: RotorPDE
-    dt: float
-    rng: np.random.Generator
-
-    def __post_init__(self) -> None:
-        config = self.pde.config
-        heun = config.numerics.integrator == "heun"
-        self.batch = BodiesBatch([SurfacePDE(config)], self.dt, heun)
-
-    def __call__(self, data: np.ndarray, rotor: RotorState, step0: int, n_steps: int) -> None:
-        """Advance `data` and `rotor` together by `n_steps` steps from step `step0`.
-
-        Raises:
-            SimulationDivergedError: the state became NaN/Inf (with the time).
-        """
-        batch = self.batch
-        pose = np.zeros((1, 1, len(POSE_COLUMNS)))
-        pose[0, 0, PHI], pose[0, 0, OMEGA] = rotor.phi, rotor.omega
-        batch.put(data[None], pose)
-        status = batch.advance(step0, n_steps, batch.normals([self.rng], n_steps))[0]
-        fields, poses = batch.get()
-        data[...] = fields[0]
-        rotor.update_from(poses[0, 0, [PHI, OMEGA, TORQUE, FRICTION, STOPPED]])
-        failed = status[0] if status[0] >= 0 else -1
-        if failed < 0 and not np.isfinite(data).all():
-            failed = step0 + n_steps
-        if failed >= 0:
-            config = self.pde.config
-            msg = (
-                f"simulation diverged at t = {failed * self.dt:.6g} on the gpu backend: "
-                f"non-finite state (dt = {self.dt:g}, stability limit {config.dt_limit():.4g})"
-            )
-            raise SimulationDivergedError(msg)
-
-
-def gpu_rotor_stepper(pde: RotorPDE, dt: float, rng: np.random.Generator) -> GpuRotorStepper:
-    """The stepper factory of a rotor run on the bodies' kernel (:class:`GpuRotorStepper`)."""
-    return GpuRotorStepper(pde=pde, dt=dt, rng=rng)
+    wall = time.perf_counter()
+    heun = plan.configs[0].numerics.integrator == "heun"
+    batch = BodiesBatch([SurfacePDE(c) for c in plan.configs], plan.dt, heun, threads_per_block)
+    poses = np.zeros((plan.n_members, 1, len(POSE_COLUMNS)))
+    poses[:, 0, PHI], poses[:, 0, OMEGA] = initial.rotor[:, 0], initial.rotor[:, 1]
+    batch.put(initial.data, poses)
+    records = np.full((plan.n_members, plan.record_steps.size, len(RECORD_FIELDS)), np.nan)
+    records[:, 0, :5] = initial.rotor
+    records[:, 0, 5] = initial.data[:, 0].sum(axis=(1, 2)) * plan.domain.cell_area
+    rotor = initial.rotor.copy()
+    ends = [int(s) for s in plan.record_steps[1:]]
+    if plan.record_steps[-1] < plan.step_end:  # t_end between two records: advance to it
+        ends.append(plan.step_end)
+    step = plan.step_start
+    status = np.full(plan.n_members, -1, dtype=np.int64)
+    for row, end in enumerate(ends, start=1):
+        n_steps = end - step
+        status = batch.advance(step, n_steps, batch.normals(rngs, n_steps))[:, 0]
+        step = end
+        data, poses = batch.get()
+        rotor = poses[:, 0, [PHI, OMEGA, TORQUE, FRICTION, STOPPED]]
+        if row < plan.record_steps.size:
+            records[:, row, :5] = rotor
+            records[:, row, 5] = data[:, 0].sum(axis=(1, 2)) * plan.domain.cell_area
+        if progress is not None:
+            progress(step - plan.step_start, plan.n_steps)
+    final = EnsembleState(data=batch.get()[0], rotor=rotor, step=plan.step_end)
+    return EnsembleResult.from_records(
+        plan, records, status, final, "gpu", time.perf_counter() - wall
+    )
 
 
 @dataclass(frozen=True)
