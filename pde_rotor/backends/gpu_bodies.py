@@ -279,7 +279,7 @@ def run_rotor_ensemble(
     Args:
         plan: the members and their steps (:func:`pde_rotor.backends.ensemble.make_plan`).
         rngs: one Generator per member.
-        initial: the members' state at ``plan.step_start``.
+        initial: the members' state at the plan's first step.
         progress: ``progress(steps_done, steps_total)`` after every record.
         threads_per_block: see :class:`BodiesBatch`.
     """
