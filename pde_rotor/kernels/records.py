@@ -19,7 +19,9 @@ The fields, by the equation that uses them (Koyano et al., Chaos 2020):
   ``rotor.torque``), ``inertia`` I, ``friction`` mu, ``kick`` sqrt(2 dt) sigma / I, and
   as for a body's record (the rotor is the ``fixed_axis`` body at the origin,
   :mod:`pde_rotor.physics.motion`) ``motion``, ``mass`` (0: it does not translate) and
-  the external load ``external_force_x``, ``external_force_y`` (0) and ``external_torque``;
+  the external load ``external_force_x``, ``external_force_y`` (0) and ``external_torque``,
+  and a track body's ``track_x``, ``track_y``, ``track_radius``, ``track_direction``,
+  ``track_force`` (0: the rotor is not on a track);
 * Eqs. (ejt0), (rc), (rj) and F, G: ``n_corners`` N, ``apothem`` R cos(pi/N),
   ``pill_radius`` rho, ``pill_distance`` R_c, ``asymmetry`` Delta, ``smoothing`` delta;
 * the stop schedule in steps: ``n_ini``, ``n_stop``, ``n_period``, ``cycles``;
@@ -104,6 +106,11 @@ PARAMS = np.dtype(
         ("external_force_x", _F8),
         ("external_force_y", _F8),
         ("external_torque", _F8),
+        ("track_x", _F8),
+        ("track_y", _F8),
+        ("track_radius", _F8),
+        ("track_direction", _F8),
+        ("track_force", _F8),
         ("tan_half", _F8),
         ("window_lo", _I8),
         ("window_hi", _I8),
@@ -193,6 +200,11 @@ BODY = np.dtype(
         ("external_force_x", _F8),
         ("external_force_y", _F8),
         ("external_torque", _F8),
+        ("track_x", _F8),
+        ("track_y", _F8),
+        ("track_radius", _F8),
+        ("track_direction", _F8),
+        ("track_force", _F8),
         ("tan_half", _F8),
         ("crease", _F8),
         ("corner_end", _F8),
@@ -215,7 +227,8 @@ BODY = np.dtype(
 (:data:`pde_rotor.physics.indicators.PLATE_POLYGON`...), its corners and sizes (``size_a``:
 apothem, radius or half length; ``size_b``: half width), the footprint radius ``reach``,
 its pills' range in the pill table, motion kind, m, I, mu, the noise kick
-sqrt(2 dt) sigma / I, its stop schedule in steps and its external force and torque.
+sqrt(2 dt) sigma / I, its stop schedule in steps, its external force and torque and, for
+a ``track`` body, its track's centre, radius, direction of travel and tangential force.
 For the ``consistent`` scheme
 (:func:`make_body_tables`): tan(pi/N), the crease width and the corner table's end
 ``corner_end`` of a polygon, where its
@@ -227,7 +240,7 @@ the half side of its spline window.
 
 
 _PLATES = {"none": 0, "polygon": 1, "disk": 2, "strip": 3}
-_MOTIONS = {"fixed": 0, "fixed_axis": 1, "free": 2}
+_MOTIONS = {"fixed": 0, "fixed_axis": 1, "free": 2, "track": 3}
 
 
 def make_body_records(
@@ -268,6 +281,11 @@ def make_body_records(
         rec["mass"], rec["inertia"], rec["friction"] = body.mass, body.inertia, body.friction
         rec["kick"] = math.sqrt(2.0 * dt) * body.noise_sigma / body.inertia
         rec["external_force_x"], rec["external_force_y"], rec["external_torque"] = body.external
+        if body.track is not None:
+            track = body.track
+            rec["track_x"], rec["track_y"] = track.centre
+            rec["track_radius"], rec["track_direction"] = track.radius, track.direction
+            rec["track_force"] = track.force
         if body.protocol is not None:
             schedule = StopSchedule.from_config(body.protocol, dt)
             rec["n_ini"], rec["n_stop"] = schedule.n_ini, schedule.n_stop
