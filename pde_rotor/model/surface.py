@@ -351,15 +351,15 @@ class SurfacePDE(PDEBase):
         start.bodies.poses[held, 3:6] = 0.0
         rate = self.evolution_rate(start).data
         forces = self.body_forces(start)
-        accel = accelerations(forces, inertia)
         poses = start.bodies.poses[:, :6]
+        accel = accelerations(forces, inertia, poses)
         new = start.copy()
         new.data[...] = start.data + dt * rate
         new.bodies.poses[:, :6] = euler_poses(poses, accel, held, inertia, dt)
         if self.config.numerics.integrator == "heun":
             rate_p = self.evolution_rate(new).data
-            accel_p = accelerations(self.body_forces(new), inertia)
             predicted = new.bodies.poses[:, :6].copy()
+            accel_p = accelerations(self.body_forces(new), inertia, predicted)
             new.data[...] = start.data + 0.5 * dt * (rate + rate_p)
             new.bodies.poses[:, :6] = heun_poses(
                 poses, accel, predicted, accel_p, held, inertia, dt
