@@ -47,6 +47,7 @@ from .bodies import (
     PolygonPlate,
     StartConfig,
     StripPlate,
+    TrackMotion,
 )
 from .compare import physics_differences
 from .errors import ConfigError, FieldError
@@ -111,6 +112,7 @@ __all__ = [
     "SolverConfig",
     "StartConfig",
     "StripPlate",
+    "TrackMotion",
     "allowed_values",
     "apply_overrides",
     "dump_config",

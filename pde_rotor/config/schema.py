@@ -306,6 +306,7 @@ class RotorConfig(_Section):
                     inertia=self.rotor.inertia,
                     friction=self.rotor.friction,
                     sigma=self.noise.sigma,
+                    centre=self.grid.domain_centre,
                 )
                 for k, body in enumerate(self.bodies)
             ]
