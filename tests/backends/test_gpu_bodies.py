@@ -7,9 +7,10 @@ The kernel of :mod:`pde_rotor.kernels.cuda_bodies` runs here on the CPU
 stops and noise advance as the CPU's bodies loop advances them, on both schemes, with
 forward Euler and Heun, to 1e-10 (poses, velocities, forces, c and v), also with external
 forces and torques and the saturating tension law, and so do a strip, a body without a
-plate and a fixed body, and a disk in an annular channel; with Heun one fixed_axis body
-is the CPU rotor's Heun, and a free disk's trajectory converges at second order in dt; the
-no-flux dish; an early end at the dish's edge; an ensemble of members; and
+plate and a fixed body, a disk in an annular channel and boats on a circular track; with
+Heun one fixed_axis body is the CPU rotor's Heun, and a free disk's trajectory converges
+at second order in dt; the no-flux dish; an early end at the dish's edge; an ensemble of
+members; and
 ``pde-rotor run --backend gpu`` with a bodies: list.
 """
 
@@ -243,6 +244,41 @@ def test_annular_vessel_agrees_with_the_cpu(integrator: str) -> None:
     gpu.run(0.003)
     assert_same(cpu, gpu)
     assert cpu.bodies.poses[0, 6] != 0.0
+
+
+TRACK_BOATS = [
+    {
+        "name": name,
+        "plate": {"shape": "strip", "length": 0.4, "width": 0.2},
+        "pills": [{"x": -0.12, "y": 0.0, "radius": 0.06}],
+        "motion": {
+            "kind": "track",
+            "mass": 1e-3,
+            "friction": 0.5,
+            "direction": way,
+            "speed": 0.4,
+            "force": 0.01,
+        },
+        "start": {"x": x, "y": 0.1},
+        "external_force": [0.02, -0.01],
+    }
+    for name, way, x in (("ccw", "counterclockwise", 2.25), ("cw", "clockwise", -2.25))
+]
+"""Two boats on the track r = hypot(2.25, 0.1) in the channel :data:`VESSEL`, each way round,
+with a tangential and a projected external force."""
+
+
+@pytest.mark.parametrize("integrator", ["euler", "heun"])
+def test_track_boats_agree_with_the_cpu(integrator: str) -> None:
+    """Boats on a circular track (motion kind track) run on the GPU as on the CPU, with
+    Euler and with Heun."""
+    numerics = {"scheme": "paper", "integrator": integrator}
+    cfg = config(TRACK_BOATS, grid={"domain_radius": 4.0, "vessel": VESSEL}, numerics=numerics)
+    cpu, gpu = pair(cfg)
+    cpu.run(0.003)
+    gpu.run(0.003)
+    assert_same(cpu, gpu)
+    assert np.all(cpu.bodies.poses[:, 6] != 0.0)
 
 
 def rotor_configs(integrator: str, scheme: str) -> tuple[RotorConfig, RotorConfig]:
