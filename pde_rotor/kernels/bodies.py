@@ -58,6 +58,7 @@ _body_plate_cell = CPU.indicators.body_plate_cell
 _pill_term = CPU.indicators.pill_term
 _pill_reach = CPU.indicators.pill_reach
 _noise_kick = CPU.motion.noise_kick
+_leaves_vessel = CPU.motion.leaves_vessel
 _filtered_pill_term = CPU.indicators.filtered_pill_term
 _filtered_pill_reach = CPU.indicators.filtered_pill_reach
 _edge_sums = CPU.tension.edge_sums
@@ -503,7 +504,9 @@ def _loads(cur, F, owner, domain, bodies, p, integrals, loads, status):
     and the motion's ``body_loads``.
 
     Returns:
-        True, or False where a body's accelerations are not finite (the body in `status`).
+        True, or False where a body's footprint crosses a wall of the vessel (the motion's
+        ``leaves_vessel``; ``STATUS_EDGE``) or its accelerations are not finite (the body
+        in `status`).
     """
     body, pills, pose, _, box, normals, centres, tables = bodies
     coords = domain[0]
@@ -512,6 +515,11 @@ def _loads(cur, F, owner, domain, bodies, p, integrals, loads, status):
         b = body[k]
         if b.motion == MOTION_FIXED:
             continue
+        if _leaves_vessel(pose[k, 0], pose[k, 1], b.reach, p):
+            status[0] = STATUS_EDGE
+            status[1] = k
+            status[2] = -1
+            return False
         body_integrals(cur, F, owner, coords, k, pose[k, 0], pose[k, 1], box, p, integrals)
         if p.contour:
             body_contour(

@@ -70,6 +70,7 @@ _finite_loads = GPU.motion.finite_loads
 _euler_pose = GPU.motion.euler_pose
 _heun_pose = GPU.motion.heun_pose
 _noise_kick = GPU.motion.noise_kick
+_leaves_vessel = GPU.motion.leaves_vessel
 
 
 @device_function
@@ -236,6 +237,12 @@ def _stage(where, state, surface, bodies, scratch, tables, walls, p, shared):
         b = body[m][k]
         if b.motion == MOTION_FIXED:
             continue
+        if _leaves_vessel(pose[m, k, 0], pose[m, k, 1], b.reach, p):
+            if tid == 0:
+                flags[2] = k
+                flags[3] = -1
+            cuda.syncthreads()
+            return STATUS_EDGE
         area_sums(src, k, m, state, surface, bodies, p, red)
         if tid == 0:
             for q in range(N_SUMS):

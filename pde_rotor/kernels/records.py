@@ -25,6 +25,10 @@ The fields, by the equation that uses them (Koyano et al., Chaos 2020):
 * Eqs. (ejt0), (rc), (rj) and F, G: ``n_corners`` N, ``apothem`` R cos(pi/N),
   ``pill_radius`` rho, ``pill_distance`` R_c, ``asymmetry`` Delta, ``smoothing`` delta;
 * the stop schedule in steps: ``n_ini``, ``n_stop``, ``n_period``, ``cycles``;
+* the vessel whose walls a body may not cross (``grid.vessel``): ``vessel`` (0: the dish,
+  1: an annulus, 2: a rectangle; :mod:`pde_rotor.physics.motion`), its centre
+  ``vessel_x``, ``vessel_y`` and sizes ``vessel_a``, ``vessel_b`` (R1, R2 or the half
+  widths);
 * the scheme (:mod:`pde_rotor.model.schemes`): ``contour`` (contour-form torque),
   ``tan_half`` tan(pi/N), ``window_lo``, ``window_hi`` (the spline window),
   ``taps_lo``, ``taps_hi`` (its part the contour's taps read), and for the
@@ -50,7 +54,7 @@ from ..model.geometry import RotorShape
 from ..model.pde import TORQUE_SIGN
 from ..model.protocol import StopSchedule
 from ..model.schemes import Scheme
-from ..physics.motion import MOTION_FIXED_AXIS
+from ..physics.motion import MOTION_FIXED_AXIS, VESSEL_ANNULUS, VESSEL_RECTANGLE
 
 _F8, _I8, _B1 = np.float64, np.int64, np.bool_
 
@@ -124,6 +128,11 @@ PARAMS = np.dtype(
         ("corner_end", _F8),
         ("edge_u0", _F8),
         ("edge_inv_step", _F8),
+        ("vessel", _I8),
+        ("vessel_x", _F8),
+        ("vessel_y", _F8),
+        ("vessel_a", _F8),
+        ("vessel_b", _F8),
         ("flow", _B1),
         ("contour", _B1),
         ("filtered", _B1),
@@ -161,6 +170,15 @@ def make_record(config: RotorConfig, scheme: Scheme, dt: float) -> np.ndarray:
     rec["n_stop"] = schedule.n_stop
     rec["n_period"] = schedule.n_period
     rec["motion"] = MOTION_FIXED_AXIS
+    vessel = config.grid.vessel
+    if vessel is not None:
+        rec["vessel_x"], rec["vessel_y"] = config.grid.domain_centre
+        if vessel.shape == "annulus":
+            rec["vessel"] = VESSEL_ANNULUS
+            rec["vessel_a"], rec["vessel_b"] = vessel.inner_radius, vessel.outer_radius
+        else:
+            rec["vessel"] = VESSEL_RECTANGLE
+            rec["vessel_a"], rec["vessel_b"] = vessel.half_widths
     rec["contour"] = scheme.contour
     rec["tan_half"] = scheme.tan_half
     rec["window_lo"], rec["window_hi"] = scheme.window

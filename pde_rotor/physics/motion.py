@@ -38,6 +38,9 @@ accelerations returned are the tangential one as a vector, a e_theta, and a / R.
 Both integrators step theta and w and put X back on the circle from theta, so the pose
 stays on it to round-off (:func:`track_step`).
 
+A footprint that crosses a wall of an annular or rectangular vessel (:func:`leaves_vessel`)
+ends the run as one that reaches the dish's edge: the model has no wall force.
+
 The body's parameters come as a record `b` read by field name: a body's row of the
 ``BODY`` records or the rotor's ``PARAMS`` (:mod:`pde_rotor.kernels.records`), both with
 ``motion``, ``mass``, ``inertia``, ``friction``, ``kick``, the stop schedule in steps
@@ -62,6 +65,9 @@ from typing import NamedTuple
 MOTION_FIXED, MOTION_FIXED_AXIS, MOTION_FREE, MOTION_TRACK = 0, 1, 2, 3
 """Motions in the body record."""
 
+VESSEL_DISH, VESSEL_ANNULUS, VESSEL_RECTANGLE = 0, 1, 2
+"""Vessels in the run record (``vessel``; the dish's edge is the drawing's)."""
+
 N_INTEGRALS = 10
 """Integrals of a body per step (see the module docstring)."""
 
@@ -80,6 +86,7 @@ class Motion(NamedTuple):
     noise_kick: Callable
     track_place: Callable
     track_step: Callable
+    leaves_vessel: Callable
 
 
 def make_motion(jit: Callable[[Callable], Callable]) -> Motion:
@@ -231,6 +238,21 @@ def make_motion(jit: Callable[[Callable], Callable]) -> Motion:
         )
 
     @jit
+    def leaves_vessel(x, y, reach, p):
+        """Whether the footprint of radius `reach` about (x, y) crosses a wall of the
+        run's vessel (record `p`: ``vessel``, its centre ``vessel_x``, ``vessel_y`` and
+        sizes ``vessel_a``, ``vessel_b``: an annulus' R1, R2, a tank's half widths); the
+        dish's edge (``vessel`` 0) is caught where the footprint is drawn."""
+        dx = x - p.vessel_x
+        dy = y - p.vessel_y
+        if p.vessel == VESSEL_ANNULUS:
+            r = math.sqrt(dx * dx + dy * dy)
+            return r - reach < p.vessel_a or r + reach > p.vessel_b
+        if p.vessel == VESSEL_RECTANGLE:
+            return abs(dx) + reach > p.vessel_a or abs(dy) + reach > p.vessel_b
+        return False
+
+    @jit
     def euler_pose(pose, loads, dt, b):
         """One forward Euler step of dX/dt = U, dphi/dt = omega and the accelerations of
         `loads` (:func:`body_loads`): X and U only for a ``free`` body; theta and w for a
@@ -286,4 +308,5 @@ def make_motion(jit: Callable[[Callable], Callable]) -> Motion:
         noise_kick=noise_kick,
         track_place=track_place,
         track_step=track_step,
+        leaves_vessel=leaves_vessel,
     )

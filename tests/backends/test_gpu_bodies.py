@@ -9,8 +9,8 @@ forward Euler and Heun, to 1e-10 (poses, velocities, forces, c and v), also with
 forces and torques and the saturating tension law, and so do a strip, a body without a
 plate and a fixed body, a disk in an annular channel and boats on a circular track; with
 Heun one fixed_axis body is the CPU rotor's Heun, and a free disk's trajectory converges
-at second order in dt; the no-flux dish; an early end at the dish's edge; an ensemble of
-members; and
+at second order in dt; the no-flux dish; an early end at the dish's edge and at an
+annulus' inner wall; an ensemble of members; and
 ``pde-rotor run --backend gpu`` with a bodies: list.
 """
 
@@ -354,6 +354,21 @@ def test_a_body_at_the_dish_edge_ends_the_run_as_on_the_cpu() -> None:
     for sim in (cpu, gpu):
         with pytest.raises(BodyContactError, match="reached the dish's edge") as err:
             sim.run(0.02)
+        messages.append(str(err.value))
+    assert messages[0] == messages[1]
+    assert_same(cpu, gpu)
+
+
+def test_a_body_crossing_the_inner_wall_ends_the_run_as_on_the_cpu() -> None:
+    """A disk thrown at the annulus' inner wall ends both runs at the same step, with the
+    same message (the wall is caught during the run, not only at the start)."""
+    disk = {**DISK, "start": {"x": 2.2, "y": 0.0, "velocity": [-40.0, 0.0]}, "noise_sigma": 0.0}
+    cfg = config([disk], grid={"domain_radius": 4.0, "vessel": VESSEL})
+    cpu, gpu = pair(cfg)
+    messages = []
+    for sim in (cpu, gpu):
+        with pytest.raises(BodyContactError, match="reached a wall of the annulus") as err:
+            sim.run(0.05)
         messages.append(str(err.value))
     assert messages[0] == messages[1]
     assert_same(cpu, gpu)

@@ -1,17 +1,24 @@
 """A body on a circular track (motion kind ``track``): the compiled step against the numpy
-reference, the analytic terminal speed, the circle and the tangent kept to round-off."""
+reference, the analytic terminal speed, the circle and the tangent kept to round-off; and
+a free body crossing a vessel's inner wall during the run."""
 
 from __future__ import annotations
 
 import math
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 import pytest
+import yaml
+from typer.testing import CliRunner
 
 from pde_rotor import RotorConfig
+from pde_rotor.cli.common import EXIT_CONTACT
+from pde_rotor.cli.main import app
 from pde_rotor.config import ConfigError, validate_config
 from pde_rotor.model.surface import SurfacePDE
+from pde_rotor.solver.bodies import BodyContactError
 from pde_rotor.solver.simulation import Simulation
 
 RING = {"shape": "annulus", "inner_radius": 0.4, "outer_radius": 2.6}
@@ -180,3 +187,32 @@ def test_start_angle_and_velocity_follow_the_track() -> None:
     sim = Simulation(track_config([boat]))
     pose = sim.bodies.poses[0]
     np.testing.assert_allclose(pose[:6], [0.0, 1.5, 0.0, 0.5, 0.0, -0.5 / 1.5], atol=1e-15)
+
+
+def test_a_free_body_crossing_the_inner_wall_ends_the_run_naming_it(tmp_path: Path) -> None:
+    """A free disk launched at the inner wall of the annulus ends the run where its
+    footprint crosses that wall (not only at the start), with one line naming the body
+    and the wall; from the CLI with the contact exit code."""
+    disk = {
+        "name": "pushed",
+        "plate": {"shape": "none"},
+        "pills": [{"x": 0.0, "y": 0.0}],
+        "motion": {"kind": "free", "mass": 1e-5, "friction": 1e-4},
+        "start": {"x": 0.0, "y": 1.5, "velocity": [0.0, -5.0]},
+    }
+    config = track_config([disk])
+    sim = Simulation(config)
+    with pytest.raises(
+        BodyContactError, match=r"^body pushed reached a wall of the annulus"
+    ) as err:
+        sim.run(0.5)
+    reach = config.body_list()[0].reach(config.geometry.smoothing)
+    y = float(str(err.value).split("y = ")[1].split(";")[0])  # where the footprint crossed
+    assert y - reach < RING["inner_radius"] < y - reach + config.grid.dx / 4
+    path = tmp_path / "inner.yaml"
+    path.write_text(yaml.safe_dump(config.model_dump(mode="json")))
+    result = CliRunner().invoke(app, ["run", str(path), "--out", str(tmp_path / "run"), "-q"])
+    assert result.exit_code == EXIT_CONTACT
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1
+    assert "reached a wall of the annulus" in lines[0]
