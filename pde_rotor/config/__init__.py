@@ -50,6 +50,7 @@ from .bodies import (
     TrackMotion,
 )
 from .compare import physics_differences
+from .contact import ContactConfig
 from .errors import ConfigError, FieldError
 from .fields import X_SATURATION
 from .geometry import GeometryConfig
@@ -92,6 +93,7 @@ __all__ = [
     "BodyConfig",
     "CamphorConfig",
     "ConfigError",
+    "ContactConfig",
     "DiskPlate",
     "FieldError",
     "FixedAxisMotion",
