@@ -28,7 +28,9 @@ The fields, by the equation that uses them (Koyano et al., Chaos 2020):
 * the vessel whose walls a body may not cross (``grid.vessel``): ``vessel`` (0: the dish,
   1: an annulus, 2: a rectangle; :mod:`pde_rotor.physics.motion`), its centre
   ``vessel_x``, ``vessel_y`` and sizes ``vessel_a``, ``vessel_b`` (R1, R2 or the half
-  widths);
+  widths; the dish's rim domain_radius - dx in ``vessel_b``);
+* the contact between bodies and with the walls (``contact:``): ``contact_stiffness``
+  kappa, ``contact_range`` ell (0: no contact);
 * the scheme (:mod:`pde_rotor.model.schemes`): ``contour`` (contour-form torque),
   ``tan_half`` tan(pi/N), ``window_lo``, ``window_hi`` (the spline window),
   ``taps_lo``, ``taps_hi`` (its part the contour's taps read), and for the
@@ -133,6 +135,8 @@ PARAMS = np.dtype(
         ("vessel_y", _F8),
         ("vessel_a", _F8),
         ("vessel_b", _F8),
+        ("contact_stiffness", _F8),
+        ("contact_range", _F8),
         ("flow", _B1),
         ("contour", _B1),
         ("filtered", _B1),
@@ -171,8 +175,12 @@ def make_record(config: RotorConfig, scheme: Scheme, dt: float) -> np.ndarray:
     rec["n_period"] = schedule.n_period
     rec["motion"] = MOTION_FIXED_AXIS
     vessel = config.grid.vessel
+    rec["vessel_x"], rec["vessel_y"] = config.grid.domain_centre
+    rec["vessel_b"] = config.grid.domain_radius - config.grid.dx
+    if config.contact.enabled:
+        rec["contact_stiffness"] = config.contact.stiffness
+        rec["contact_range"] = config.contact.range
     if vessel is not None:
-        rec["vessel_x"], rec["vessel_y"] = config.grid.domain_centre
         if vessel.shape == "annulus":
             rec["vessel"] = VESSEL_ANNULUS
             rec["vessel_a"], rec["vessel_b"] = vessel.inner_radius, vessel.outer_radius

@@ -39,7 +39,12 @@ Both integrators step theta and w and put X back on the circle from theta, so th
 stays on it to round-off (:func:`track_step`).
 
 A footprint that crosses a wall of an annular or rectangular vessel (:func:`leaves_vessel`)
-ends the run as one that reaches the dish's edge: the model has no wall force.
+ends the run as one that reaches the dish's edge, unless contact is on (``contact:``,
+:mod:`pde_rotor.config.contact`): then a soft linear spring kappa (ell - g) on the gap g
+between footprints (:func:`pair_contact`) and between a footprint and a wall
+(:func:`wall_contact`) pushes them apart, its force added to a free body's and projected
+on a track body's tangent (:func:`contact_loads`); the record's ``contact_stiffness``
+kappa and ``contact_range`` ell (0: off).
 
 The body's parameters come as a record `b` read by field name: a body's row of the
 ``BODY`` records or the rotor's ``PARAMS`` (:mod:`pde_rotor.kernels.records`), both with
@@ -87,6 +92,9 @@ class Motion(NamedTuple):
     track_place: Callable
     track_step: Callable
     leaves_vessel: Callable
+    pair_contact: Callable
+    wall_contact: Callable
+    contact_loads: Callable
 
 
 def make_motion(jit: Callable[[Callable], Callable]) -> Motion:
@@ -253,6 +261,67 @@ def make_motion(jit: Callable[[Callable], Callable]) -> Motion:
         return False
 
     @jit
+    def spring(gap, ell, kappa):
+        """The contact spring's force kappa (ell - gap) for a gap below ell, else 0."""
+        if gap < ell:
+            return kappa * (ell - gap)
+        return 0.0
+
+    @jit
+    def pair_contact(x, y, reach, x_o, y_o, reach_o, p):
+        """The contact force on the footprint of radius `reach` about (x, y) from the one
+        of radius `reach_o` about (x_o, y_o): kappa (ell - g) along their centres' line,
+        away from the other, for the gap g = d - reach - reach_o < ell (else 0)."""
+        dx = x - x_o
+        dy = y - y_o
+        d = math.sqrt(dx * dx + dy * dy)
+        if d == 0.0:
+            return 0.0, 0.0
+        size = spring(d - reach - reach_o, p.contact_range, p.contact_stiffness) / d
+        return size * dx, size * dy
+
+    @jit
+    def wall_contact(x, y, reach, p):
+        """The contact force on the footprint of radius `reach` about (x, y) from the
+        walls within ell of it: kappa (ell - g) along each wall's normal into the vessel,
+        g the footprint's clearance (the dish's rim and an annulus' outer circle at
+        ``vessel_b``, its inner one at ``vessel_a``, a tank's sides at +-a, +-b)."""
+        dx = x - p.vessel_x
+        dy = y - p.vessel_y
+        ell = p.contact_range
+        kappa = p.contact_stiffness
+        if p.vessel == VESSEL_RECTANGLE:
+            f_x = spring(p.vessel_a + dx - reach, ell, kappa)
+            f_x -= spring(p.vessel_a - dx - reach, ell, kappa)
+            f_y = spring(p.vessel_b + dy - reach, ell, kappa)
+            f_y -= spring(p.vessel_b - dy - reach, ell, kappa)
+            return f_x, f_y
+        r = math.sqrt(dx * dx + dy * dy)
+        if r == 0.0:
+            return 0.0, 0.0
+        push = -spring(p.vessel_b - r - reach, ell, kappa)
+        if p.vessel == VESSEL_ANNULUS:
+            push += spring(r - reach - p.vessel_a, ell, kappa)
+        return push * dx / r, push * dy / r
+
+    @jit
+    def contact_loads(loads, pose, f_x, f_y, b):
+        """`loads` (:func:`body_loads`) with the contact force (f_x, f_y) in the
+        accelerations: f / m of a free body, (f . e_theta) e_theta / m and
+        f . e_theta / (m R) of a track body; unchanged for the others."""
+        a_x, a_y, spin = loads[6], loads[7], loads[8]
+        if b.motion == MOTION_FREE:
+            a_x += f_x / b.mass
+            a_y += f_y / b.mass
+        elif b.motion == MOTION_TRACK:
+            place = track_place(pose, b)
+            along = (f_x * place[1] + f_y * place[2]) / b.mass
+            a_x += along * place[1]
+            a_y += along * place[2]
+            spin += along / b.track_radius
+        return (loads[0], loads[1], loads[2], loads[3], loads[4], loads[5], a_x, a_y, spin)
+
+    @jit
     def euler_pose(pose, loads, dt, b):
         """One forward Euler step of dX/dt = U, dphi/dt = omega and the accelerations of
         `loads` (:func:`body_loads`): X and U only for a ``free`` body; theta and w for a
@@ -309,4 +378,7 @@ def make_motion(jit: Callable[[Callable], Callable]) -> Motion:
         track_place=track_place,
         track_step=track_step,
         leaves_vessel=leaves_vessel,
+        pair_contact=pair_contact,
+        wall_contact=wall_contact,
+        contact_loads=contact_loads,
     )
