@@ -29,6 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..config import RotorConfig
 from .bodies import Body
 from .protocol import StopSchedule
 
@@ -100,12 +101,57 @@ def held_bodies(bodies: Sequence[Body], step: int, dt: float) -> np.ndarray:
     return np.array(held, dtype=bool)
 
 
-def accelerations(forces: np.ndarray, inertia: Inertia, poses: np.ndarray) -> np.ndarray:
+def contact_forces(poses: np.ndarray, bodies: Sequence[Body], config: RotorConfig) -> np.ndarray:
+    """(K, 2) the contact forces of ``contact:`` on each body at `poses` (0 where off):
+    kappa (ell - g) for each gap g < ell between two footprints, along their centres'
+    line, and between a footprint and each wall, along the wall's normal
+    (:mod:`pde_rotor.config.contact`)."""
+    out = np.zeros((len(bodies), 2))
+    contact = config.contact
+    if not contact.enabled:
+        return out
+    kappa, ell = contact.stiffness, contact.range
+    reach = np.array([b.shape.reach for b in bodies])
+    centres = poses[:, 0:2]
+    for k in range(len(bodies)):
+        for j in range(len(bodies)):
+            if j != k:
+                line = centres[k] - centres[j]
+                d = float(np.hypot(*line))
+                gap = d - reach[k] - reach[j]
+                if gap < ell:
+                    out[k] += kappa * (ell - gap) * line / d
+    grid = config.grid
+    vessel = grid.vessel
+    rel = centres - np.array(grid.domain_centre)
+    if vessel is not None and vessel.shape == "rectangle":
+        for axis, half in enumerate(vessel.half_widths):
+            for sign in (1.0, -1.0):
+                gap = half - sign * rel[:, axis] - reach
+                out[:, axis] -= sign * np.where(gap < ell, kappa * (ell - gap), 0.0)
+        return out
+    r = np.hypot(rel[:, 0], rel[:, 1])
+    normal = rel / r[:, None]
+    outer = grid.domain_radius - grid.dx if vessel is None else vessel.outer_radius
+    gap = outer - r - reach
+    push = -np.where(gap < ell, kappa * (ell - gap), 0.0)
+    if vessel is not None:
+        gap = r - reach - vessel.inner_radius
+        push += np.where(gap < ell, kappa * (ell - gap), 0.0)
+    return out + push[:, None] * normal
+
+
+def accelerations(
+    forces: np.ndarray, inertia: Inertia, poses: np.ndarray, contact: np.ndarray | None = None
+) -> np.ndarray:
     """(K, 3) dU/dt (x, y) and domega/dt of Eq. (eq_motion) from the (K, 6) forces
-    (tension f_x, f_y, T, friction f_x, f_y, T_fr) at `poses`: 0 along x, y where
-    neither ``free`` nor ``track``; a track body's a e_theta and a / R (its tangential
+    (tension f_x, f_y, T, friction f_x, f_y, T_fr) at `poses` and the (K, 2)
+    `contact` forces (:func:`contact_forces`; None: none): 0 along x, y where neither
+    ``free`` nor ``track``; a track body's a e_theta and a / R (its tangential
     acceleration a)."""
     load = forces[:, :3] + forces[:, 3:] + inertia.external
+    if contact is not None:
+        load[:, :2] += contact
     out = np.zeros_like(load)
     free = inertia.free
     out[free, :2] = load[free, :2] / inertia.mass[free, None]
