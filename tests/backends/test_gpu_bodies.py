@@ -16,6 +16,7 @@ annulus' inner wall; an ensemble of members; and
 
 from __future__ import annotations
 
+import math
 import os
 import sys
 from pathlib import Path
@@ -279,6 +280,30 @@ def test_track_boats_agree_with_the_cpu(integrator: str) -> None:
     gpu.run(0.003)
     assert_same(cpu, gpu)
     assert np.all(cpu.bodies.poses[:, 6] != 0.0)
+
+
+@pytest.mark.parametrize("integrator", ["euler", "heun"])
+def test_contact_agrees_with_the_cpu(integrator: str) -> None:
+    """With contact on, two boats whose footprints are within its range of each other and
+    of both walls run on the GPU as on the CPU, with Euler and with Heun."""
+    half = math.asin(3.3 / 2 / 2.25)  # chord 3.3: the footprints (1.628 each) 0.044 apart
+    boats = [
+        {**TRACK_BOATS[0], "start": {"x": 2.25, "y": 0.0}},
+        {
+            **TRACK_BOATS[1],
+            "start": {"x": 2.25 * math.cos(2 * half), "y": 2.25 * math.sin(2 * half)},
+        },
+    ]
+    numerics = {"scheme": "paper", "integrator": integrator}
+    contact = {"enabled": True, "stiffness": 100.0, "range": 0.2}
+    grid = {"domain_radius": 4.0, "vessel": VESSEL}
+    cpu, gpu = pair(config(boats, grid=grid, numerics=numerics, contact=contact))
+    cpu.run(0.003)
+    gpu.run(0.003)
+    assert_same(cpu, gpu)
+    plain, _ = pair(config(boats, grid=grid, numerics=numerics))
+    plain.run(0.003)
+    assert np.abs(plain.bodies.poses[:, 3:6] - cpu.bodies.poses[:, 3:6]).max() > 1e-3
 
 
 def rotor_configs(integrator: str, scheme: str) -> tuple[RotorConfig, RotorConfig]:
