@@ -24,6 +24,7 @@ is compiled.
 * :mod:`.protocol`: the stop-and-release section, the run's and each body's;
 * :mod:`.vessel`: ``grid.vessel``, the annular channel or rectangular tank that replaces
   the dish;
+* :mod:`.contact`: ``contact:``, the soft repulsion between bodies and from the walls;
 * :mod:`.fields`: the number types, the section base and the bounds they all share;
 * :mod:`.stable`: the dumps, hashes and run keys that a key added at its default leaves
   unchanged;
