@@ -24,6 +24,7 @@ is compiled.
 * :mod:`.protocol`: the stop-and-release section, the run's and each body's;
 * :mod:`.vessel`: ``grid.vessel``, the annular channel or rectangular tank that replaces
   the dish;
+* :mod:`.contact`: ``contact:``, the soft repulsion between bodies and from the walls;
 * :mod:`.fields`: the number types, the section base and the bounds they all share;
 * :mod:`.stable`: the dumps, hashes and run keys that a key added at its default leaves
   unchanged;
@@ -47,8 +48,10 @@ from .bodies import (
     PolygonPlate,
     StartConfig,
     StripPlate,
+    TrackMotion,
 )
 from .compare import physics_differences
+from .contact import ContactConfig
 from .errors import ConfigError, FieldError
 from .fields import X_SATURATION
 from .geometry import GeometryConfig
@@ -91,6 +94,7 @@ __all__ = [
     "BodyConfig",
     "CamphorConfig",
     "ConfigError",
+    "ContactConfig",
     "DiskPlate",
     "FieldError",
     "FixedAxisMotion",
@@ -111,6 +115,7 @@ __all__ = [
     "SolverConfig",
     "StartConfig",
     "StripPlate",
+    "TrackMotion",
     "allowed_values",
     "apply_overrides",
     "dump_config",

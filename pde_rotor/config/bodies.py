@@ -13,9 +13,12 @@ objects on one surface. Body k has
   source s0 / (pi rho^2) inside it, Eq. (eqc));
 * a pose (position X_k, angle phi_k) and a motion: ``fixed`` (never moves: a source or
   an obstacle), ``fixed_axis`` (turns about X_k with inertia I and friction mu,
-  Eq. (eq_motion); the paper's rotor is this at the origin) or ``free`` (translates
+  Eq. (eq_motion); the paper's rotor is this at the origin), ``free`` (translates
   with mass m and turns with inertia I; friction is the paper's coupling
-  -mu int F_k (u_k - v) dA with the plate velocity u_k = U_k + omega_k z x (r - X_k));
+  -mu int F_k (u_k - v) dA with the plate velocity u_k = U_k + omega_k z x (r - X_k))
+  or ``track`` (a boat in a ring channel: kept on a circle about the vessel's centre,
+  heading along it, one degree of freedom, the forces projected on the tangent;
+  its external force ``external_force`` is projected too);
 * optionally its own stop-and-release protocol and torque noise, and an external load
   (a constant force ``external_force`` on a free body and torque ``external_torque``
   about X_k, added to the right-hand sides of Eq. (eq_motion)).
@@ -238,7 +241,56 @@ class FreeMotion(_Section):
     )
 
 
-MotionConfig = Annotated[FixedMotion | FixedAxisMotion | FreeMotion, Field(discriminator="kind")]
+TRACK_TOLERANCE = 1e-9
+"""A track body's start may lie off its track's circle, and its start angle off the
+tangent, by this (relative to the radius; absolute in radians)."""
+
+
+class TrackMotion(_Section):
+    """On a circular track about the vessel's centre, heading along it (a boat in a ring
+    channel): m dw/dt = (f + f_fr + f_ext) . e_theta + d f_t for the arc speed w
+    (:mod:`pde_rotor.physics.motion`)."""
+
+    kind: Literal["track"] = Field("track", description="moves along a circle, heading tangent")
+    mass: PositiveFloat = Field(description="m: mass (required)")
+    friction: _Friction = Field(
+        FREE_FRICTION, description="mu: friction constant (default that of a free body, 0.15)"
+    )
+    radius: PositiveFloat | None = Field(
+        None,
+        description="R: the track's radius (null: the start's distance from the centre)",
+    )
+    centre: tuple[FiniteFloat, FiniteFloat] | None = Field(
+        None, description="C: the track's centre (null: grid.domain_centre, the vessel's)"
+    )
+    direction: Literal["counterclockwise", "clockwise"] = Field(
+        "counterclockwise",
+        description="d: the direction of travel, which the body's x axis (its front) faces",
+    )
+    speed: FiniteFloat = Field(
+        0.0,
+        ge=-VELOCITY_BOUND,
+        le=VELOCITY_BOUND,
+        description="w(0): the start speed along the direction of travel",
+    )
+    force: FiniteFloat = Field(
+        0.0, description="f_t: a constant external force along the direction of travel"
+    )
+
+    @property
+    def sign(self) -> float:
+        """d = +1 counterclockwise, -1 clockwise."""
+        return 1.0 if self.direction == "counterclockwise" else -1.0
+
+    def heading(self, x: float, y: float) -> float:
+        """The body's angle at (x, y): the tangent theta + d pi / 2 (a resolved track)."""
+        cx, cy = self.centre or (0.0, 0.0)
+        return math.atan2(y - cy, x - cx) + self.sign * math.pi / 2
+
+
+MotionConfig = Annotated[
+    FixedMotion | FixedAxisMotion | FreeMotion | TrackMotion, Field(discriminator="kind")
+]
 """How a body moves, by its ``kind``; each kind allows only its own keys."""
 
 
@@ -327,6 +379,8 @@ class BodyConfig(_Section):
         if isinstance(motion, FixedMotion):
             return []
         extent = self.extent()
+        if isinstance(motion, TrackMotion):
+            return [motion.friction * math.pi * extent**2 / motion.mass]
         rates = [motion.friction * (math.pi * extent**4 / 2) / motion.inertia]
         if isinstance(motion, FreeMotion):
             rates.append(motion.friction * math.pi * extent**2 / motion.mass)
@@ -355,9 +409,23 @@ class BodyConfig(_Section):
             ("start.velocity", start.velocity),
             ("external_force", self.external_force),
         ):
-            if kind != "free" and value != (0.0, 0.0):
+            if kind not in ("free", "track") and value != (0.0, 0.0):
                 msg = f"a {kind} body does not translate (allowed: [0, 0], or motion kind free)"
                 raise FieldError(key, list(value), msg)
+        if kind == "track":
+            track_keys = (
+                ("start.velocity", start.velocity != (0.0, 0.0), list(start.velocity),
+                 "its speed is motion.speed"),
+                ("start.omega", start.omega != 0, start.omega, "it turns with its place"),
+                ("external_torque", self.external_torque != 0, self.external_torque,
+                 "its heading is the track's"),
+                ("noise_sigma", bool(self.noise_sigma), self.noise_sigma,
+                 "its heading is the track's"),
+            )  # fmt: skip
+            for key, bad, value, why in track_keys:
+                if bad:
+                    msg = f"a track body does not take it: {why} (allowed: 0)"
+                    raise FieldError(key, value, msg)
         if kind == "fixed":
             if start.omega != 0:
                 msg = "a fixed body does not turn (allowed: 0, or motion kind fixed_axis)"
@@ -380,6 +448,7 @@ class BodyConfig(_Section):
         inertia: float,
         friction: float,
         sigma: float,
+        centre: tuple[float, float] = (0.0, 0.0),
     ) -> BodyConfig:
         """This body with every null key given the run's value (see the module docstring).
 
@@ -389,6 +458,11 @@ class BodyConfig(_Section):
             inertia: the run's rotor.inertia.
             friction: the run's rotor.friction (the default of a fixed_axis body).
             sigma: the run's noise.sigma (the default of a fixed_axis body).
+            centre: the vessel's centre, grid.domain_centre (a track's default centre).
+
+        Raises:
+            FieldError: a track body whose start lies off its track or whose start angle
+                is neither 0 nor the track's tangent.
         """
         data = self.model_dump()
         data["name"] = self.name if self.name is not None else f"body{index}"
@@ -396,10 +470,51 @@ class BodyConfig(_Section):
             if pill["supply"] is None:
                 pill["supply"] = supply
         motion = data["motion"]
-        if motion["kind"] != "fixed":
+        if motion["kind"] == "track":
+            _resolve_track(motion, data["start"], centre, f"bodies[{index}]")
+        elif motion["kind"] != "fixed":
             for key, value in (("inertia", inertia), ("friction", friction)):
                 if motion[key] is None:
                     motion[key] = value
         if data["noise_sigma"] is None:
             data["noise_sigma"] = sigma if motion["kind"] == "fixed_axis" else 0.0
         return type(self).model_validate(data)
+
+
+def _resolve_track(motion: dict, start: dict, centre: tuple[float, float], key: str) -> None:
+    """Give a track motion's null centre and radius their values (the vessel's centre,
+    the start's distance from it) and set the start angle to the tangent, in place
+    (`key`: the body's key in the config, bodies[k]).
+
+    Raises:
+        FieldError: the start off the circle, or a start angle neither 0 nor tangent.
+    """
+    if motion.get("centre") is None:
+        motion["centre"] = tuple(centre)
+    cx, cy = motion["centre"]
+    x, y = start["x"], start["y"]
+    off = math.hypot(x - cx, y - cy)
+    if off == 0.0:
+        msg = f"the start lies on the track's centre [{cx:g}, {cy:g}] (allowed: away from it)"
+        raise FieldError(f"{key}.start", [x, y], msg)
+    if motion.get("radius") is None:
+        motion["radius"] = off
+    radius = motion["radius"]
+    if abs(off - radius) > TRACK_TOLERANCE * radius:
+        msg = (
+            f"lies {off:.6g} from the track's centre [{cx:g}, {cy:g}], off its circle of "
+            f"motion.radius = {radius:g} (allowed: a start on the circle, or radius null)"
+        )
+        raise FieldError(f"{key}.start", [x, y], msg)
+    direction = motion.get("direction", "counterclockwise")
+    sign = 1.0 if direction == "counterclockwise" else -1.0
+    heading = math.atan2(y - cy, x - cx) + sign * math.pi / 2
+    angle = start["angle"]
+    gap = math.remainder(angle - heading, 2 * math.pi)
+    if angle != 0.0 and abs(gap) > TRACK_TOLERANCE:
+        msg = (
+            f"is not the track's tangent {heading:.6g} for the direction "
+            f"{direction} (allowed: 0, which sets it, or the tangent)"
+        )
+        raise FieldError(f"{key}.start.angle", angle, msg)
+    start["angle"] = heading

@@ -28,10 +28,13 @@ from .bodies import (
     BodyConfig,
     FixedAxisMotion,
     FixedMotion,
+    FreeMotion,
     PillConfig,
     PolygonPlate,
     StartConfig,
+    TrackMotion,
 )
+from .contact import CONTACT_STEP, ContactConfig
 from .errors import FieldError
 from .fields import X_SATURATION, _Section
 from .geometry import GeometryConfig
@@ -88,6 +91,7 @@ class RotorConfig(_Section):
     numerics: NumericsConfig = Field(default_factory=NumericsConfig)
     solver: SolverConfig = Field(default_factory=SolverConfig)
     output: OutputConfig = Field(default_factory=OutputConfig)
+    contact: ContactConfig = Field(default_factory=ContactConfig)
     bodies: list[BodyConfig] | None = Field(
         None,
         description=(
@@ -136,6 +140,7 @@ class RotorConfig(_Section):
         if self.grid.dt > limit:
             msg = f"above the explicit stability limit (allowed: dt <= {limit:.4g} for this dx)"
             raise FieldError("grid.dt", self.grid.dt, msg)
+        self._contact_sound()
         dt = self.grid.dt
         if self.bodies is None:
             kick = self.kick_scale()
@@ -265,6 +270,33 @@ class RotorConfig(_Section):
                     )
                     raise FieldError(f"bodies[{k}].start", [x, y], msg)
 
+    def _contact_sound(self) -> None:
+        """Contact needs bodies, and its spring must be resolved by the step: for every
+        body that moves, dt sqrt(kappa / m) <= CONTACT_STEP (a spring of period 2 pi
+        sqrt(m / kappa) over at least 12 steps)."""
+        contact = self.contact
+        if not contact.enabled:
+            return
+        if self.bodies is None:
+            msg = "acts between the bodies of a bodies: list (allowed: false without one)"
+            raise FieldError("contact.enabled", True, msg)
+        masses = [
+            body.motion.mass
+            for body in self.body_list()
+            if isinstance(body.motion, (FreeMotion, TrackMotion))
+        ]
+        if not masses:
+            return
+        dt = self.grid.dt
+        limit = CONTACT_STEP**2 * min(masses) / dt**2
+        if contact.stiffness > limit:
+            msg = (
+                f"is too stiff for dt = {dt:g} and the lightest moving body's mass "
+                f"{min(masses):g}: dt sqrt(kappa / m) > {CONTACT_STEP:g} (allowed: "
+                f"stiffness <= {limit:.4g}, or a smaller grid.dt)"
+            )
+            raise FieldError("contact.stiffness", contact.stiffness, msg)
+
     def _bodies_noise(self) -> None:
         """No body's torque noise kicks its omega by more than the paper's steady rotation
         per step (the rule of noise.sigma, with each body's own sigma and I)."""
@@ -306,6 +338,7 @@ class RotorConfig(_Section):
                     inertia=self.rotor.inertia,
                     friction=self.rotor.friction,
                     sigma=self.noise.sigma,
+                    centre=self.grid.domain_centre,
                 )
                 for k, body in enumerate(self.bodies)
             ]

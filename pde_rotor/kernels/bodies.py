@@ -58,6 +58,10 @@ _body_plate_cell = CPU.indicators.body_plate_cell
 _pill_term = CPU.indicators.pill_term
 _pill_reach = CPU.indicators.pill_reach
 _noise_kick = CPU.motion.noise_kick
+_leaves_vessel = CPU.motion.leaves_vessel
+_pair_contact = CPU.motion.pair_contact
+_wall_contact = CPU.motion.wall_contact
+_contact_loads = CPU.motion.contact_loads
 _filtered_pill_term = CPU.indicators.filtered_pill_term
 _filtered_pill_reach = CPU.indicators.filtered_pill_reach
 _edge_sums = CPU.tension.edge_sums
@@ -502,8 +506,12 @@ def _loads(cur, F, owner, domain, bodies, p, integrals, loads, status):
     its integrals (:func:`body_integrals`, and :func:`body_contour` for the contour form)
     and the motion's ``body_loads``.
 
+    With contact on, the contact forces are added (:func:`_contact`).
+
     Returns:
-        True, or False where a body's accelerations are not finite (the body in `status`).
+        True, or False where a body's footprint crosses a wall of the vessel (the motion's
+        ``leaves_vessel``; ``STATUS_EDGE``, also with contact on, whose spring was then
+        too weak) or its accelerations are not finite (the body in `status`).
     """
     body, pills, pose, _, box, normals, centres, tables = bodies
     coords = domain[0]
@@ -512,6 +520,11 @@ def _loads(cur, F, owner, domain, bodies, p, integrals, loads, status):
         b = body[k]
         if b.motion == MOTION_FIXED:
             continue
+        if _leaves_vessel(pose[k, 0], pose[k, 1], b.reach, p):
+            status[0] = STATUS_EDGE
+            status[1] = k
+            status[2] = -1
+            return False
         body_integrals(cur, F, owner, coords, k, pose[k, 0], pose[k, 1], box, p, integrals)
         if p.contour:
             body_contour(
@@ -526,7 +539,31 @@ def _loads(cur, F, owner, domain, bodies, p, integrals, loads, status):
             status[0] = STATUS_FINITE
             status[1] = k
             return False
+    if p.contact_range > 0.0:
+        _contact(body, pose, p, loads)
     return True
+
+
+@nb.njit(cache=True, nogil=True)
+def _contact(body, pose, p, loads):
+    """Add each moving body's contact force with every other body and the walls to its
+    accelerations in `loads` (compiled; the motion's ``pair_contact``, ``wall_contact``,
+    ``contact_loads``)."""
+    for k in range(body.shape[0]):
+        b = body[k]
+        if b.motion == MOTION_FIXED:
+            continue
+        x, y = pose[k, 0], pose[k, 1]
+        f_x, f_y = _wall_contact(x, y, b.reach, p)
+        for j in range(body.shape[0]):
+            if j != k:
+                g = _pair_contact(x, y, b.reach, pose[j, 0], pose[j, 1], body[j].reach, p)
+                f_x += g[0]
+                f_y += g[1]
+        state = (x, y, pose[k, 2], pose[k, 3], pose[k, 4], pose[k, 5])
+        out = _contact_loads(loads[k], state, f_x, f_y, b)
+        for m in range(6, 9):
+            loads[k, m] = out[m]
 
 
 @nb.njit(cache=True, nogil=True)

@@ -70,6 +70,10 @@ _finite_loads = GPU.motion.finite_loads
 _euler_pose = GPU.motion.euler_pose
 _heun_pose = GPU.motion.heun_pose
 _noise_kick = GPU.motion.noise_kick
+_leaves_vessel = GPU.motion.leaves_vessel
+_pair_contact = GPU.motion.pair_contact
+_wall_contact = GPU.motion.wall_contact
+_contact_loads = GPU.motion.contact_loads
 
 
 @device_function
@@ -236,6 +240,12 @@ def _stage(where, state, surface, bodies, scratch, tables, walls, p, shared):
         b = body[m][k]
         if b.motion == MOTION_FIXED:
             continue
+        if _leaves_vessel(pose[m, k, 0], pose[m, k, 1], b.reach, p):
+            if tid == 0:
+                flags[2] = k
+                flags[3] = -1
+            cuda.syncthreads()
+            return STATUS_EDGE
         area_sums(src, k, m, state, surface, bodies, p, red)
         if tid == 0:
             for q in range(N_SUMS):
@@ -264,11 +274,39 @@ def _stage(where, state, surface, bodies, scratch, tables, walls, p, shared):
         cuda.syncthreads()
         if flags[1] != 0:
             return STATUS_FINITE
+    if p.contact_range > 0.0:
+        if tid == 0:
+            _contact(m, stage, bodies, loads, p)
+        cuda.syncthreads()
     if wall[0].size > 0:
         _walled_fields(src, dst, m, state, surface, bodies, wall, rhs, p)
     else:
         _euler_fields(src, dst, m, state, surface, bodies, p)
     return 0
+
+
+@device_function
+def _contact(m, stage, bodies, loads, p):
+    """Add each moving body's contact force with every other body and the walls to its
+    accelerations in loads[m, k, stage] (one thread; the motion's ``pair_contact``,
+    ``wall_contact``, ``contact_loads``)."""
+    body, _, pose, _, _ = bodies
+    n_bodies = body.shape[1]
+    for k in range(n_bodies):
+        b = body[m][k]
+        if b.motion == MOTION_FIXED:
+            continue
+        x, y = pose[m, k, 0], pose[m, k, 1]
+        f_x, f_y = _wall_contact(x, y, b.reach, p)
+        for j in range(n_bodies):
+            if j != k:
+                g = _pair_contact(x, y, b.reach, pose[m, j, 0], pose[m, j, 1], body[m][j].reach, p)
+                f_x += g[0]
+                f_y += g[1]
+        here = (x, y, pose[m, k, 2], pose[m, k, 3], pose[m, k, 4], pose[m, k, 5])
+        out = _contact_loads(loads[m, k, stage], here, f_x, f_y, b)
+        for q in range(6, 9):
+            loads[m, k, stage, q] = out[q]
 
 
 @device_function

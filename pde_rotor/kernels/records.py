@@ -19,10 +19,18 @@ The fields, by the equation that uses them (Koyano et al., Chaos 2020):
   ``rotor.torque``), ``inertia`` I, ``friction`` mu, ``kick`` sqrt(2 dt) sigma / I, and
   as for a body's record (the rotor is the ``fixed_axis`` body at the origin,
   :mod:`pde_rotor.physics.motion`) ``motion``, ``mass`` (0: it does not translate) and
-  the external load ``external_force_x``, ``external_force_y`` (0) and ``external_torque``;
+  the external load ``external_force_x``, ``external_force_y`` (0) and ``external_torque``,
+  and a track body's ``track_x``, ``track_y``, ``track_radius``, ``track_direction``,
+  ``track_force`` (0: the rotor is not on a track);
 * Eqs. (ejt0), (rc), (rj) and F, G: ``n_corners`` N, ``apothem`` R cos(pi/N),
   ``pill_radius`` rho, ``pill_distance`` R_c, ``asymmetry`` Delta, ``smoothing`` delta;
 * the stop schedule in steps: ``n_ini``, ``n_stop``, ``n_period``, ``cycles``;
+* the vessel whose walls a body may not cross (``grid.vessel``): ``vessel`` (0: the dish,
+  1: an annulus, 2: a rectangle; :mod:`pde_rotor.physics.motion`), its centre
+  ``vessel_x``, ``vessel_y`` and sizes ``vessel_a``, ``vessel_b`` (R1, R2 or the half
+  widths; the dish's rim domain_radius - dx in ``vessel_b``);
+* the contact between bodies and with the walls (``contact:``): ``contact_stiffness``
+  kappa, ``contact_range`` ell (0: no contact);
 * the scheme (:mod:`pde_rotor.model.schemes`): ``contour`` (contour-form torque),
   ``tan_half`` tan(pi/N), ``window_lo``, ``window_hi`` (the spline window),
   ``taps_lo``, ``taps_hi`` (its part the contour's taps read), and for the
@@ -48,7 +56,7 @@ from ..model.geometry import RotorShape
 from ..model.pde import TORQUE_SIGN
 from ..model.protocol import StopSchedule
 from ..model.schemes import Scheme
-from ..physics.motion import MOTION_FIXED_AXIS
+from ..physics.motion import MOTION_FIXED_AXIS, VESSEL_ANNULUS, VESSEL_RECTANGLE
 
 _F8, _I8, _B1 = np.float64, np.int64, np.bool_
 
@@ -104,6 +112,11 @@ PARAMS = np.dtype(
         ("external_force_x", _F8),
         ("external_force_y", _F8),
         ("external_torque", _F8),
+        ("track_x", _F8),
+        ("track_y", _F8),
+        ("track_radius", _F8),
+        ("track_direction", _F8),
+        ("track_force", _F8),
         ("tan_half", _F8),
         ("window_lo", _I8),
         ("window_hi", _I8),
@@ -117,6 +130,13 @@ PARAMS = np.dtype(
         ("corner_end", _F8),
         ("edge_u0", _F8),
         ("edge_inv_step", _F8),
+        ("vessel", _I8),
+        ("vessel_x", _F8),
+        ("vessel_y", _F8),
+        ("vessel_a", _F8),
+        ("vessel_b", _F8),
+        ("contact_stiffness", _F8),
+        ("contact_range", _F8),
         ("flow", _B1),
         ("contour", _B1),
         ("filtered", _B1),
@@ -154,6 +174,19 @@ def make_record(config: RotorConfig, scheme: Scheme, dt: float) -> np.ndarray:
     rec["n_stop"] = schedule.n_stop
     rec["n_period"] = schedule.n_period
     rec["motion"] = MOTION_FIXED_AXIS
+    vessel = config.grid.vessel
+    rec["vessel_x"], rec["vessel_y"] = config.grid.domain_centre
+    rec["vessel_b"] = config.grid.domain_radius - config.grid.dx
+    if config.contact.enabled:
+        rec["contact_stiffness"] = config.contact.stiffness
+        rec["contact_range"] = config.contact.range
+    if vessel is not None:
+        if vessel.shape == "annulus":
+            rec["vessel"] = VESSEL_ANNULUS
+            rec["vessel_a"], rec["vessel_b"] = vessel.inner_radius, vessel.outer_radius
+        else:
+            rec["vessel"] = VESSEL_RECTANGLE
+            rec["vessel_a"], rec["vessel_b"] = vessel.half_widths
     rec["contour"] = scheme.contour
     rec["tan_half"] = scheme.tan_half
     rec["window_lo"], rec["window_hi"] = scheme.window
@@ -193,6 +226,11 @@ BODY = np.dtype(
         ("external_force_x", _F8),
         ("external_force_y", _F8),
         ("external_torque", _F8),
+        ("track_x", _F8),
+        ("track_y", _F8),
+        ("track_radius", _F8),
+        ("track_direction", _F8),
+        ("track_force", _F8),
         ("tan_half", _F8),
         ("crease", _F8),
         ("corner_end", _F8),
@@ -215,7 +253,8 @@ BODY = np.dtype(
 (:data:`pde_rotor.physics.indicators.PLATE_POLYGON`...), its corners and sizes (``size_a``:
 apothem, radius or half length; ``size_b``: half width), the footprint radius ``reach``,
 its pills' range in the pill table, motion kind, m, I, mu, the noise kick
-sqrt(2 dt) sigma / I, its stop schedule in steps and its external force and torque.
+sqrt(2 dt) sigma / I, its stop schedule in steps, its external force and torque and, for
+a ``track`` body, its track's centre, radius, direction of travel and tangential force.
 For the ``consistent`` scheme
 (:func:`make_body_tables`): tan(pi/N), the crease width and the corner table's end
 ``corner_end`` of a polygon, where its
@@ -227,7 +266,7 @@ the half side of its spline window.
 
 
 _PLATES = {"none": 0, "polygon": 1, "disk": 2, "strip": 3}
-_MOTIONS = {"fixed": 0, "fixed_axis": 1, "free": 2}
+_MOTIONS = {"fixed": 0, "fixed_axis": 1, "free": 2, "track": 3}
 
 
 def make_body_records(
@@ -268,6 +307,11 @@ def make_body_records(
         rec["mass"], rec["inertia"], rec["friction"] = body.mass, body.inertia, body.friction
         rec["kick"] = math.sqrt(2.0 * dt) * body.noise_sigma / body.inertia
         rec["external_force_x"], rec["external_force_y"], rec["external_torque"] = body.external
+        if body.track is not None:
+            track = body.track
+            rec["track_x"], rec["track_y"] = track.centre
+            rec["track_radius"], rec["track_direction"] = track.radius, track.direction
+            rec["track_force"] = track.force
         if body.protocol is not None:
             schedule = StopSchedule.from_config(body.protocol, dt)
             rec["n_ini"], rec["n_stop"] = schedule.n_ini, schedule.n_stop

@@ -37,7 +37,14 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..config import BodyConfig, FreeMotion, PolygonPlate, ProtocolConfig, RotorConfig
+from ..config import (
+    BodyConfig,
+    FreeMotion,
+    PolygonPlate,
+    ProtocolConfig,
+    RotorConfig,
+    TrackMotion,
+)
 from .domain import Domain
 from .geometry import edge_normal_angles, support_rows
 
@@ -109,6 +116,22 @@ MOTIONLESS = math.inf
 force / m and torque / I vanish."""
 
 
+class Track(NamedTuple):
+    """The circle a ``track`` body is kept on (:mod:`pde_rotor.physics.motion`).
+
+    Attributes:
+        centre: C, (x, y) of the track's centre.
+        radius: R.
+        direction: d = +1 (counterclockwise) or -1, the direction of travel.
+        force: f_t, the external force along the direction of travel.
+    """
+
+    centre: tuple[float, float]
+    radius: float
+    direction: float
+    force: float
+
+
 @dataclass(frozen=True, eq=False)
 class Body:
     """One camphor object: its shape, motion, start and protocol.
@@ -116,9 +139,10 @@ class Body:
     Attributes:
         name: the body's label (``body{k}`` by default).
         shape: the plate and pills (:class:`BodyShape`).
-        motion: ``fixed``, ``fixed_axis`` or ``free``.
-        mass: m of a free body; :data:`MOTIONLESS` otherwise.
-        inertia: I of a turning body; :data:`MOTIONLESS` for a fixed one.
+        motion: ``fixed``, ``fixed_axis``, ``free`` or ``track``.
+        mass: m of a free or track body; :data:`MOTIONLESS` otherwise.
+        inertia: I of a turning body; :data:`MOTIONLESS` for a fixed or track one (a
+            track body's heading is the track's).
         friction: mu of the coupling -mu int F_k (u_k - v) dA; 0 for a fixed body.
         noise_sigma: sigma of the torque noise on its rotation, Eq. (noiseav).
         start: the pose at t = 0.
@@ -126,6 +150,7 @@ class Body:
         velocity0: the velocity U at t = 0.
         protocol: its stop-and-release schedule (None: never stopped).
         external: its external force (x, y) and torque, Eq. (eq_motion).
+        track: the circle of a ``track`` body (None for the others).
     """
 
     name: str
@@ -140,11 +165,14 @@ class Body:
     velocity0: tuple[float, float]
     protocol: ProtocolConfig | None
     external: tuple[float, float, float]
+    track: Track | None = None
 
     @classmethod
     def from_config(cls, body: BodyConfig, smoothing: float) -> Body:
         """The body of a resolved body config (:meth:`RotorConfig.body_list`)."""
         motion = body.motion
+        if isinstance(motion, TrackMotion):
+            return cls._on_track(body, motion, smoothing)
         turns = motion.kind != "fixed"
         if turns and (motion.inertia is None or motion.friction is None):
             msg = "the body is not resolved: inertia or friction is null (use body_list)"
@@ -163,6 +191,33 @@ class Body:
             velocity0=start.velocity,
             protocol=body.protocol,
             external=(*body.external_force, body.external_torque),
+        )
+
+    @classmethod
+    def _on_track(cls, body: BodyConfig, motion: TrackMotion, smoothing: float) -> Body:
+        """The body of a resolved track body config: its start velocity w(0) e_theta and
+        omega(0) = w(0) / R from the signed speed w(0) = d ``speed``."""
+        if motion.radius is None or motion.centre is None:
+            msg = "the body is not resolved: the track's radius or centre is null (use body_list)"
+            raise ValueError(msg)
+        start = body.start
+        cx, cy = motion.centre
+        theta = math.atan2(start.y - cy, start.x - cx)
+        speed = motion.sign * motion.speed
+        return cls(
+            name=str(body.name),
+            shape=BodyShape.from_config(body, smoothing),
+            motion=motion.kind,
+            mass=motion.mass,
+            inertia=MOTIONLESS,
+            friction=float(motion.friction),
+            noise_sigma=0.0,
+            start=Pose(start.x, start.y, start.angle),
+            omega0=speed / motion.radius,
+            velocity0=(-speed * math.sin(theta), speed * math.cos(theta)),
+            protocol=body.protocol,
+            external=(*body.external_force, 0.0),
+            track=Track((cx, cy), motion.radius, motion.sign, motion.force),
         )
 
 

@@ -46,7 +46,14 @@ from .bodies import Body, Pose, make_bodies, pill_source, plate_indicator
 from .body_schemes import BodyScheme, contour_integrals, filtered_body_fields
 from .domain import Domain, make_domain
 from .geometry import RotorShape
-from .motion import Inertia, accelerations, euler_poses, held_bodies, heun_poses
+from .motion import (
+    Inertia,
+    accelerations,
+    contact_forces,
+    euler_poses,
+    held_bodies,
+    heun_poses,
+)
 from .pde import BOUNDARY, TORQUE_SIGN
 from .schemes import Scheme, surface_pressure
 from .wall import make_wall_step, wall_fluxes, wall_rate
@@ -351,15 +358,18 @@ class SurfacePDE(PDEBase):
         start.bodies.poses[held, 3:6] = 0.0
         rate = self.evolution_rate(start).data
         forces = self.body_forces(start)
-        accel = accelerations(forces, inertia)
         poses = start.bodies.poses[:, :6]
+        accel = accelerations(
+            forces, inertia, poses, contact_forces(poses, self.bodies, self.config)
+        )
         new = start.copy()
         new.data[...] = start.data + dt * rate
         new.bodies.poses[:, :6] = euler_poses(poses, accel, held, inertia, dt)
         if self.config.numerics.integrator == "heun":
             rate_p = self.evolution_rate(new).data
-            accel_p = accelerations(self.body_forces(new), inertia)
             predicted = new.bodies.poses[:, :6].copy()
+            contact_p = contact_forces(predicted, self.bodies, self.config)
+            accel_p = accelerations(self.body_forces(new), inertia, predicted, contact_p)
             new.data[...] = start.data + 0.5 * dt * (rate + rate_p)
             new.bodies.poses[:, :6] = heun_poses(
                 poses, accel, predicted, accel_p, held, inertia, dt

@@ -21,11 +21,38 @@ moments (:func:`friction_moments`): with A = int F, M = int F (r - X), J = int F
 A ``fixed`` body does not move, a ``fixed_axis`` body only turns, and a body in a stop
 of its schedule (:func:`stopped_at`) is held: U = 0, omega = 0, no step, no kick.
 
+A ``track`` body (a boat in a ring channel) is kept on the circle of radius R about the
+track's centre C, its heading along the tangent: one degree of freedom, its place
+theta on the circle (X = C + R e_r(theta)) with the arc speed w = R dtheta/dt
+(positive counterclockwise). Its plate turns with the place, phi - theta constant, so
+it moves as a rigid body turning about C: U = w e_theta, omega = w / R, and the plate
+velocity u_k(r) = (w / R) z x (r - C) is what the friction integrals and the water see.
+The tension, friction and external forces are projected on the tangent e_theta (the
+normal part is the track's reaction), and a tangential force f_t along the direction
+of travel d = +-1 (``track_direction``) is added:
+
+    m dw/dt = (f + f_fr + f_ext) . e_theta + d f_t.
+
+The body's torque about X does not enter (the heading is the track's); the
+accelerations returned are the tangential one as a vector, a e_theta, and a / R.
+Both integrators step theta and w and put X back on the circle from theta, so the pose
+stays on it to round-off (:func:`track_step`).
+
+A footprint that crosses a wall of an annular or rectangular vessel (:func:`leaves_vessel`)
+ends the run as one that reaches the dish's edge, unless contact is on (``contact:``,
+:mod:`pde_rotor.config.contact`): then a soft linear spring kappa (ell - g) on the gap g
+between footprints (:func:`pair_contact`) and between a footprint and a wall
+(:func:`wall_contact`) pushes them apart, its force added to a free body's and projected
+on a track body's tangent (:func:`contact_loads`); the record's ``contact_stiffness``
+kappa and ``contact_range`` ell (0: off).
+
 The body's parameters come as a record `b` read by field name: a body's row of the
 ``BODY`` records or the rotor's ``PARAMS`` (:mod:`pde_rotor.kernels.records`), both with
 ``motion``, ``mass``, ``inertia``, ``friction``, ``kick``, the stop schedule in steps
-(``n_ini``, ``n_stop``, ``n_period``, ``cycles``) and the external load
-(``external_force_x``, ``external_force_y``, ``external_torque``).
+(``n_ini``, ``n_stop``, ``n_period``, ``cycles``), the external load
+(``external_force_x``, ``external_force_y``, ``external_torque``) and the track
+(``track_x``, ``track_y``: C; ``track_radius`` R; ``track_direction`` d;
+``track_force`` f_t; read for a ``track`` body only).
 
 A pose is the tuple (x, y, phi, u, v, omega); the integrals are the tuple (or array)
 (int F grad c (x, y), int F (r - X) x grad c, A, M (x, y), J, int F (r - X) x v,
@@ -40,8 +67,11 @@ import math
 from collections.abc import Callable
 from typing import NamedTuple
 
-MOTION_FIXED, MOTION_FIXED_AXIS, MOTION_FREE = 0, 1, 2
+MOTION_FIXED, MOTION_FIXED_AXIS, MOTION_FREE, MOTION_TRACK = 0, 1, 2, 3
 """Motions in the body record."""
+
+VESSEL_DISH, VESSEL_ANNULUS, VESSEL_RECTANGLE = 0, 1, 2
+"""Vessels in the run record (``vessel``; the dish's edge is the drawing's)."""
 
 N_INTEGRALS = 10
 """Integrals of a body per step (see the module docstring)."""
@@ -59,6 +89,12 @@ class Motion(NamedTuple):
     euler_pose: Callable
     heun_pose: Callable
     noise_kick: Callable
+    track_place: Callable
+    track_step: Callable
+    leaves_vessel: Callable
+    pair_contact: Callable
+    wall_contact: Callable
+    contact_loads: Callable
 
 
 def make_motion(jit: Callable[[Callable], Callable]) -> Motion:
@@ -127,7 +163,8 @@ def make_motion(jit: Callable[[Callable], Callable]) -> Motion:
             (f_x, f_y, T, friction f_x, friction f_y, friction torque, dU/dt, dV/dt,
             domega/dt): tension force and torque, friction force and torque, and the
             accelerations (f + f_fr + f_ext) / m (0 for a body that does not
-            translate), (T + T_fr + T_ext) / I.
+            translate), (T + T_fr + T_ext) / I; for a ``track`` body a e_theta and
+            a / R with its tangential acceleration a (module docstring).
         """
         u, v, omega = pose[3], pose[4], pose[5]
         area, m_x, m_y, polar, cross_v = (
@@ -147,10 +184,21 @@ def make_motion(jit: Callable[[Callable], Callable]) -> Motion:
         drag_y = -mu * (area * v + omega * m_x - flow_y)
         accel_x = 0.0
         accel_y = 0.0
+        spin = (friction + torque + b.external_torque) * (1.0 / b.inertia)
         if b.motion == MOTION_FREE:
             inv_m = 1.0 / b.mass
             accel_x = (force_x + drag_x + b.external_force_x) * inv_m
             accel_y = (force_y + drag_y + b.external_force_y) * inv_m
+        elif b.motion == MOTION_TRACK:
+            place = track_place(pose, b)
+            t_x, t_y = place[1], place[2]
+            along = (force_x + drag_x + b.external_force_x) * t_x + (
+                force_y + drag_y + b.external_force_y
+            ) * t_y
+            accel = (along + b.track_direction * b.track_force) / b.mass
+            accel_x = accel * t_x
+            accel_y = accel * t_y
+            spin = accel / b.track_radius
         return (
             force_x,
             force_y,
@@ -160,7 +208,7 @@ def make_motion(jit: Callable[[Callable], Callable]) -> Motion:
             friction,
             accel_x,
             accel_y,
-            (friction + torque + b.external_torque) * (1.0 / b.inertia),
+            spin,
         )
 
     @jit
@@ -169,9 +217,119 @@ def make_motion(jit: Callable[[Callable], Callable]) -> Motion:
         return math.isfinite(loads[6]) and math.isfinite(loads[7]) and math.isfinite(loads[8])
 
     @jit
+    def track_place(pose, b):
+        """(theta, e_theta x, e_theta y, w): the place of a ``track`` body on its circle,
+        the unit tangent there and the arc speed w = U . e_theta."""
+        dx = pose[0] - b.track_x
+        dy = pose[1] - b.track_y
+        r = math.sqrt(dx * dx + dy * dy)
+        t_x = -dy / r
+        t_y = dx / r
+        return math.atan2(dy, dx), t_x, t_y, pose[3] * t_x + pose[4] * t_y
+
+    @jit
+    def track_step(pose, turn, speed, b):
+        """The pose of a ``track`` body moved by the angle `turn` along its circle, with
+        the arc speed `speed`: X = C + R e_r(theta + turn), phi + turn, U = speed
+        e_theta, omega = speed / R (module docstring)."""
+        theta = track_place(pose, b)[0] + turn
+        radius = b.track_radius
+        cos_t = math.cos(theta)
+        sin_t = math.sin(theta)
+        return (
+            b.track_x + radius * cos_t,
+            b.track_y + radius * sin_t,
+            pose[2] + turn,
+            -speed * sin_t,
+            speed * cos_t,
+            speed / radius,
+        )
+
+    @jit
+    def leaves_vessel(x, y, reach, p):
+        """Whether the footprint of radius `reach` about (x, y) crosses a wall of the
+        run's vessel (record `p`: ``vessel``, its centre ``vessel_x``, ``vessel_y`` and
+        sizes ``vessel_a``, ``vessel_b``: an annulus' R1, R2, a tank's half widths); the
+        dish's edge (``vessel`` 0) is caught where the footprint is drawn."""
+        dx = x - p.vessel_x
+        dy = y - p.vessel_y
+        if p.vessel == VESSEL_ANNULUS:
+            r = math.sqrt(dx * dx + dy * dy)
+            return r - reach < p.vessel_a or r + reach > p.vessel_b
+        if p.vessel == VESSEL_RECTANGLE:
+            return abs(dx) + reach > p.vessel_a or abs(dy) + reach > p.vessel_b
+        return False
+
+    @jit
+    def spring(gap, ell, kappa):
+        """The contact spring's force kappa (ell - gap) for a gap below ell, else 0."""
+        if gap < ell:
+            return kappa * (ell - gap)
+        return 0.0
+
+    @jit
+    def pair_contact(x, y, reach, x_o, y_o, reach_o, p):
+        """The contact force on the footprint of radius `reach` about (x, y) from the one
+        of radius `reach_o` about (x_o, y_o): kappa (ell - g) along their centres' line,
+        away from the other, for the gap g = d - reach - reach_o < ell (else 0)."""
+        dx = x - x_o
+        dy = y - y_o
+        d = math.sqrt(dx * dx + dy * dy)
+        if d == 0.0:
+            return 0.0, 0.0
+        size = spring(d - reach - reach_o, p.contact_range, p.contact_stiffness) / d
+        return size * dx, size * dy
+
+    @jit
+    def wall_contact(x, y, reach, p):
+        """The contact force on the footprint of radius `reach` about (x, y) from the
+        walls within ell of it: kappa (ell - g) along each wall's normal into the vessel,
+        g the footprint's clearance (the dish's rim and an annulus' outer circle at
+        ``vessel_b``, its inner one at ``vessel_a``, a tank's sides at +-a, +-b)."""
+        dx = x - p.vessel_x
+        dy = y - p.vessel_y
+        ell = p.contact_range
+        kappa = p.contact_stiffness
+        if p.vessel == VESSEL_RECTANGLE:
+            f_x = spring(p.vessel_a + dx - reach, ell, kappa)
+            f_x -= spring(p.vessel_a - dx - reach, ell, kappa)
+            f_y = spring(p.vessel_b + dy - reach, ell, kappa)
+            f_y -= spring(p.vessel_b - dy - reach, ell, kappa)
+            return f_x, f_y
+        r = math.sqrt(dx * dx + dy * dy)
+        if r == 0.0:
+            return 0.0, 0.0
+        push = -spring(p.vessel_b - r - reach, ell, kappa)
+        if p.vessel == VESSEL_ANNULUS:
+            push += spring(r - reach - p.vessel_a, ell, kappa)
+        return push * dx / r, push * dy / r
+
+    @jit
+    def contact_loads(loads, pose, f_x, f_y, b):
+        """`loads` (:func:`body_loads`) with the contact force (f_x, f_y) in the
+        accelerations: f / m of a free body, (f . e_theta) e_theta / m and
+        f . e_theta / (m R) of a track body; unchanged for the others."""
+        a_x, a_y, spin = loads[6], loads[7], loads[8]
+        if b.motion == MOTION_FREE:
+            a_x += f_x / b.mass
+            a_y += f_y / b.mass
+        elif b.motion == MOTION_TRACK:
+            place = track_place(pose, b)
+            along = (f_x * place[1] + f_y * place[2]) / b.mass
+            a_x += along * place[1]
+            a_y += along * place[2]
+            spin += along / b.track_radius
+        return (loads[0], loads[1], loads[2], loads[3], loads[4], loads[5], a_x, a_y, spin)
+
+    @jit
     def euler_pose(pose, loads, dt, b):
         """One forward Euler step of dX/dt = U, dphi/dt = omega and the accelerations of
-        `loads` (:func:`body_loads`): X and U only for a ``free`` body."""
+        `loads` (:func:`body_loads`): X and U only for a ``free`` body; theta and w for a
+        ``track`` body (:func:`track_step`)."""
+        if b.motion == MOTION_TRACK:
+            place = track_place(pose, b)
+            accel = loads[6] * place[1] + loads[7] * place[2]
+            return track_step(pose, dt * place[3] / b.track_radius, place[3] + dt * accel, b)
         x, y, phi, u, v, omega = pose
         phi, omega = phi + dt * omega, omega + dt * loads[8]
         if b.motion == MOTION_FREE:
@@ -183,9 +341,17 @@ def make_motion(jit: Callable[[Callable], Callable]) -> Motion:
     def heun_pose(pose, loads, predicted, loads_p, dt, b):
         """Heun's corrector of the pose from the rates at the start (the velocities of
         `pose`, the accelerations of `loads`) and at the predicted pose (`predicted`,
-        `loads_p`): the trapezoidal average; X and U only for a ``free`` body."""
-        x, y, phi, u, v, omega = pose
+        `loads_p`): the trapezoidal average; X and U only for a ``free`` body; theta and
+        w for a ``track`` body, each rate projected on the tangent at its own place."""
         half = 0.5 * dt
+        if b.motion == MOTION_TRACK:
+            place = track_place(pose, b)
+            guess = track_place(predicted, b)
+            accel = loads[6] * place[1] + loads[7] * place[2]
+            accel_p = loads_p[6] * guess[1] + loads_p[7] * guess[2]
+            turn = half * (place[3] + guess[3]) / b.track_radius
+            return track_step(pose, turn, place[3] + half * (accel + accel_p), b)
+        x, y, phi, u, v, omega = pose
         phi, omega = phi + half * (omega + predicted[5]), omega + half * (loads[8] + loads_p[8])
         if b.motion == MOTION_FREE:
             x, u = x + half * (u + predicted[3]), u + half * (loads[6] + loads_p[6])
@@ -209,4 +375,10 @@ def make_motion(jit: Callable[[Callable], Callable]) -> Motion:
         euler_pose=euler_pose,
         heun_pose=heun_pose,
         noise_kick=noise_kick,
+        track_place=track_place,
+        track_step=track_step,
+        leaves_vessel=leaves_vessel,
+        pair_contact=pair_contact,
+        wall_contact=wall_contact,
+        contact_loads=contact_loads,
     )

@@ -135,12 +135,27 @@ def raise_early_end(
     where: str = "",
 ) -> None:
     """Raise the error of a bodies run that ended early, as the compiled step's `status`
-    (reason, body, other body) says: a body at the dish's edge or two bodies touching
+    (reason, body, other body) says: a body at the dish's edge or a vessel's wall, or two
+    bodies touching
     (:class:`BodyContactError`), else non-finite fields or motion
     (:class:`SimulationDivergedError`). `where` names the backend in the message (empty
     for the CPU), so that the CPU and GPU steppers word an end alike."""
     reason, k, other = (int(s) for s in status)
     names = bodies.names
+    vessel = pde.config.grid.vessel
+    remedy = (
+        "contact.enabled: true repels them"
+        if not pde.config.contact.enabled
+        else "the contact spring was too weak: raise contact.stiffness"
+    )
+    if reason == STATUS_EDGE and vessel is not None:
+        x, y = bodies.poses[k, :2]
+        msg = (
+            f"body {names[k]} reached a wall of the {vessel.shape} at t = {t:.6g} (at "
+            f"x = {x:.4g}, y = {y:.4g}; its footprint crossed grid.vessel's wall): the run "
+            f"ends there ({remedy})"
+        )
+        raise BodyContactError(msg)
     if reason == STATUS_EDGE:
         x, y = bodies.poses[k, :2]
         msg = (
@@ -152,7 +167,7 @@ def raise_early_end(
     if reason == STATUS_OVERLAP:
         msg = (
             f"bodies {names[k]} and {names[other]} touched at t = {t:.6g} (their "
-            "footprints met): the model has no contact force, the run ends there"
+            f"footprints met): the run ends there ({remedy})"
         )
         raise BodyContactError(msg)
     fields = ("c", "v_x", "v_y")

@@ -27,7 +27,7 @@ from functools import cached_property
 import numpy as np
 from pde import CartesianGrid, ScalarField, VectorField
 
-from ..config import DISH_CENTRE, RotorConfig
+from ..config import DISH_CENTRE, ConfigError, RotorConfig
 from ..model.pde import RotorFields, RotorPDE, RotorState
 from ..model.surface import BodiesState, SurfaceFields, SurfacePDE
 
@@ -113,6 +113,12 @@ class DiscreteModel:
             return (Dof(0, "body0", "phi", inertia),), np.array([self.config.rotor.phi0])
         dofs, q0 = [], []
         for k, body in enumerate(self.pde.bodies):
+            if body.motion == "track":
+                msg = (
+                    f"bodies[{k}].motion.kind = track: the linear analysis takes fixed, "
+                    "fixed_axis and free bodies (allowed: one of those)"
+                )
+                raise ConfigError(msg)
             names = {"fixed": (), "fixed_axis": ("phi",), "free": ("x", "y", "phi")}[body.motion]
             for name in names:
                 inertia = body.inertia if name == "phi" else body.mass

@@ -7,14 +7,16 @@ The kernel of :mod:`pde_rotor.kernels.cuda_bodies` runs here on the CPU
 stops and noise advance as the CPU's bodies loop advances them, on both schemes, with
 forward Euler and Heun, to 1e-10 (poses, velocities, forces, c and v), also with external
 forces and torques and the saturating tension law, and so do a strip, a body without a
-plate and a fixed body, and a disk in an annular channel; with Heun one fixed_axis body
-is the CPU rotor's Heun, and a free disk's trajectory converges at second order in dt; the
-no-flux dish; an early end at the dish's edge; an ensemble of members; and
+plate and a fixed body, a disk in an annular channel and boats on a circular track; with
+Heun one fixed_axis body is the CPU rotor's Heun, and a free disk's trajectory converges
+at second order in dt; the no-flux dish; an early end at the dish's edge and at an
+annulus' inner wall; an ensemble of members; and
 ``pde-rotor run --backend gpu`` with a bodies: list.
 """
 
 from __future__ import annotations
 
+import math
 import os
 import sys
 from pathlib import Path
@@ -245,6 +247,65 @@ def test_annular_vessel_agrees_with_the_cpu(integrator: str) -> None:
     assert cpu.bodies.poses[0, 6] != 0.0
 
 
+TRACK_BOATS = [
+    {
+        "name": name,
+        "plate": {"shape": "strip", "length": 0.4, "width": 0.2},
+        "pills": [{"x": -0.12, "y": 0.0, "radius": 0.06}],
+        "motion": {
+            "kind": "track",
+            "mass": 1e-3,
+            "friction": 0.5,
+            "direction": way,
+            "speed": 0.4,
+            "force": 0.01,
+        },
+        "start": {"x": x, "y": 0.1},
+        "external_force": [0.02, -0.01],
+    }
+    for name, way, x in (("ccw", "counterclockwise", 2.25), ("cw", "clockwise", -2.25))
+]
+"""Two boats on the track r = hypot(2.25, 0.1) in the channel :data:`VESSEL`, each way round,
+with a tangential and a projected external force."""
+
+
+@pytest.mark.parametrize("integrator", ["euler", "heun"])
+def test_track_boats_agree_with_the_cpu(integrator: str) -> None:
+    """Boats on a circular track (motion kind track) run on the GPU as on the CPU, with
+    Euler and with Heun."""
+    numerics = {"scheme": "paper", "integrator": integrator}
+    cfg = config(TRACK_BOATS, grid={"domain_radius": 4.0, "vessel": VESSEL}, numerics=numerics)
+    cpu, gpu = pair(cfg)
+    cpu.run(0.003)
+    gpu.run(0.003)
+    assert_same(cpu, gpu)
+    assert np.all(cpu.bodies.poses[:, 6] != 0.0)
+
+
+@pytest.mark.parametrize("integrator", ["euler", "heun"])
+def test_contact_agrees_with_the_cpu(integrator: str) -> None:
+    """With contact on, two boats whose footprints are within its range of each other and
+    of both walls run on the GPU as on the CPU, with Euler and with Heun."""
+    half = math.asin(3.3 / 2 / 2.25)  # chord 3.3: the footprints (1.628 each) 0.044 apart
+    boats = [
+        {**TRACK_BOATS[0], "start": {"x": 2.25, "y": 0.0}},
+        {
+            **TRACK_BOATS[1],
+            "start": {"x": 2.25 * math.cos(2 * half), "y": 2.25 * math.sin(2 * half)},
+        },
+    ]
+    numerics = {"scheme": "paper", "integrator": integrator}
+    contact = {"enabled": True, "stiffness": 100.0, "range": 0.2}
+    grid = {"domain_radius": 4.0, "vessel": VESSEL}
+    cpu, gpu = pair(config(boats, grid=grid, numerics=numerics, contact=contact))
+    cpu.run(0.003)
+    gpu.run(0.003)
+    assert_same(cpu, gpu)
+    plain, _ = pair(config(boats, grid=grid, numerics=numerics))
+    plain.run(0.003)
+    assert np.abs(plain.bodies.poses[:, 3:6] - cpu.bodies.poses[:, 3:6]).max() > 1e-3
+
+
 def rotor_configs(integrator: str, scheme: str) -> tuple[RotorConfig, RotorConfig]:
     """The paper's rotor (small plate, noise, two stops) and the same rotor written as one
     fixed_axis body."""
@@ -318,6 +379,21 @@ def test_a_body_at_the_dish_edge_ends_the_run_as_on_the_cpu() -> None:
     for sim in (cpu, gpu):
         with pytest.raises(BodyContactError, match="reached the dish's edge") as err:
             sim.run(0.02)
+        messages.append(str(err.value))
+    assert messages[0] == messages[1]
+    assert_same(cpu, gpu)
+
+
+def test_a_body_crossing_the_inner_wall_ends_the_run_as_on_the_cpu() -> None:
+    """A disk thrown at the annulus' inner wall ends both runs at the same step, with the
+    same message (the wall is caught during the run, not only at the start)."""
+    disk = {**DISK, "start": {"x": 2.2, "y": 0.0, "velocity": [-40.0, 0.0]}, "noise_sigma": 0.0}
+    cfg = config([disk], grid={"domain_radius": 4.0, "vessel": VESSEL})
+    cpu, gpu = pair(cfg)
+    messages = []
+    for sim in (cpu, gpu):
+        with pytest.raises(BodyContactError, match="reached a wall of the annulus") as err:
+            sim.run(0.05)
         messages.append(str(err.value))
     assert messages[0] == messages[1]
     assert_same(cpu, gpu)

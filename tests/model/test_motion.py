@@ -32,7 +32,7 @@ def test_accelerations_are_the_loads_over_mass_and_inertia() -> None:
     turning ones, 0 for the fixed one."""
     inertia = three_bodies()
     forces = np.array([[1.0, 2.0, 3.0, -0.5, -1.0, -1.0]] * 3)
-    accel = accelerations(forces, inertia)
+    accel = accelerations(forces, inertia, np.zeros((3, 6)))
     np.testing.assert_allclose(accel, [[1.0, 2.0, 250.0], [0.0, 0.0, 500.0], [0.0, 0.0, 0.0]])
 
 

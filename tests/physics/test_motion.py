@@ -70,7 +70,7 @@ def test_loads_are_the_friction_integrals_and_the_numpy_accelerations(flow: bool
             [np.sum(f * slip_x), np.sum(f * slip_y), np.sum(f * (rx * slip_y - ry * slip_x))]
         )
         np.testing.assert_allclose(loads[3:6], friction, rtol=1e-12, atol=1e-14)
-        want = accelerations(np.array([loads[:6]] * 2), inertia)[k]
+        want = accelerations(np.array([loads[:6]] * 2), inertia, np.array([pose] * 2))[k]
         np.testing.assert_allclose(loads[6:], want, rtol=1e-14)
         assert motion.finite_loads(loads)
 

@@ -85,7 +85,7 @@ def test_fused_step_equals_numpy_reference(
     held = held_bodies(bodies, 0, dt)
     assert bool(held[0]) is stopped
     pose = np.array([[0.0, 0.0, phi, 0.0, 0.0, 0.0 if stopped else omega]])
-    accel = accelerations(np.array([[0.0, 0.0, torque, 0.0, 0.0, friction]]), inertia)
+    accel = accelerations(np.array([[0.0, 0.0, torque, 0.0, 0.0, friction]]), inertia, pose)
     want = euler_poses(pose, accel, held, inertia, dt)[0]
     assert new.rotor.phi == pytest.approx(want[2], rel=1e-15)
     if stopped:
