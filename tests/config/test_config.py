@@ -331,8 +331,10 @@ def test_dump_holds_every_key():
     are left out at their defaults (configs from before they existed dump and hash as
     before: tests/config/test_stable.py); set, they are dumped."""
     data = yaml.safe_load(dump_config(RotorConfig()))
-    assert set(data) == set(sections())
+    assert set(data) == set(sections()) - {"contact"}  # a later section, at its default
     for section, model in sections().items():
+        if section not in data:
+            continue
         later = set(model.model_fields) - DUMPED_KEYS[model.__name__]
         assert set(data[section]) == set(model.model_fields) - later
     assert {"domain_centre", "wall", "vessel"} <= set(GridConfig.model_fields) - set(data["grid"])
@@ -344,6 +346,8 @@ def test_dump_holds_every_key():
     assert data["grid"]["domain_centre"] == [0.5, 0.0]
     assert data["grid"]["wall"] == "no_flux"
     assert set(data["bodies"][0]) == set(BodyConfig.model_fields) & DUMPED_KEYS["BodyConfig"]
+    touching = validate_config({"contact": {"enabled": True}, "bodies": [{"pills": [{}]}]})
+    assert yaml.safe_load(dump_config(touching))["contact"] == {"enabled": True}
 
 
 def test_shipped_paper_configs_follow_the_paper():

@@ -95,12 +95,12 @@ def test_a_new_key_set_away_from_its_default_is_dumped_and_hashed() -> None:
 
 def test_the_committed_keys_are_dumped_at_any_value() -> None:
     """The keys of the first stores stay in every dump, defaults included; the later
-    grid keys and ``bodies`` leave it at their defaults."""
+    grid keys, ``contact`` and ``bodies`` leave it at their defaults."""
     dump = RotorConfig().model_dump(mode="json")
     assert set(dump["camphor"]) == {"diffusion", "evaporation", "supply", "tension_slope"}
     assert set(dump["grid"]) == {"domain_radius", "dx", "dt"}
-    assert "bodies" not in dump
-    assert [name for name, _ in leavable_keys(RotorConfig)] == ["bodies"]
+    assert "bodies" not in dump and "contact" not in dump
+    assert [name for name, _ in leavable_keys(RotorConfig)] == ["contact", "bodies"]
     moved = RotorConfig.model_validate({"grid": {"domain_centre": [0.5, 0.0]}})
     assert moved.model_dump(mode="json")["grid"]["domain_centre"] == [0.5, 0.0]
 
