@@ -3,8 +3,8 @@
 Each body k is reduced to the angle theta_k(t) of its centre about the vessel's centre
 (:func:`ring_angles`); its arc position is r_k theta_k. From the angles at the record times:
 
-* the mean angular speed <d theta_k / dt> over bodies (:func:`angular_speeds`), and the arc
-  speed <r_k d theta_k / dt>;
+* each body's angular velocity d theta_k / dt about the centre and its arc speed
+  r_k d theta_k / dt, from its velocity (:func:`angular_velocity`);
 * the gaps: body k's angular distance to the next body counter-clockwise, which sum to
   2 pi (:func:`gaps`); the spacing spread std(gaps) / mean(gaps) (:func:`spacing_spread`),
   0 for evenly spaced bodies;
@@ -45,16 +45,14 @@ def ring_angles(x: np.ndarray, y: np.ndarray, centre: tuple[float, float]) -> np
     return np.mod(np.arctan2(y - centre[1], x - centre[0]), 2 * math.pi)
 
 
-def angular_speeds(t: np.ndarray, theta: np.ndarray) -> np.ndarray:
-    """(T - 1, K) angular speed of each body between successive records.
-
-    Args:
-        t: (T,) record times.
-        theta: (T, K) angles (any branch: unwrapped here, so a body must turn less than
-            pi between records).
-    """
-    unwrapped = np.unwrap(theta, axis=0)
-    return np.diff(unwrapped, axis=0) / np.diff(t)[:, None]
+def angular_velocity(
+    dx: np.ndarray, dy: np.ndarray, u: np.ndarray, v: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Angular velocity about the centre and arc speed of bodies at (dx, dy) from the
+    centre moving with velocity (u, v): (dx v - dy u) / r^2 and (dx v - dy u) / r."""
+    moment = dx * v - dy * u
+    r = np.hypot(dx, dy)
+    return moment / r**2, moment / r
 
 
 def gaps(theta: np.ndarray) -> np.ndarray:

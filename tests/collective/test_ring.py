@@ -20,10 +20,14 @@ def test_angles_about_the_centre() -> None:
     np.testing.assert_allclose(theta, [0.0, math.pi / 2, math.pi])
 
 
-def test_angular_speed_of_bodies_that_cross_the_branch_cut() -> None:
-    t = np.linspace(0, 20, 201)
-    theta = np.mod(evenly(5, t, omega=-1.3), 2 * math.pi)
-    np.testing.assert_allclose(ring.angular_speeds(t, theta), -1.3)
+def test_angular_velocity_of_a_rigid_rotation() -> None:
+    """Bodies turning rigidly at omega about the centre, at several radii."""
+    rng = np.random.default_rng(2)
+    dx, dy = rng.normal(size=(2, 3, 5))
+    omega = -1.3
+    omegas, arc = ring.angular_velocity(dx, dy, -omega * dy, omega * dx)
+    np.testing.assert_allclose(omegas, omega)
+    np.testing.assert_allclose(arc, omega * np.hypot(dx, dy))
 
 
 @pytest.mark.parametrize("n", [1, 2, 7, 16])
