@@ -279,7 +279,8 @@ class SweepEstimate:
 def estimate_sweep(runs: Sequence[Run], workers: int | None, threads: int = 1) -> SweepEstimate:
     """Estimated cost of computing `runs` of one sweep (no trackers, no movie).
 
-    * protocol estimator: t_end of each run (:func:`protocol_seconds`);
+    * protocol estimator: t_end of each run (:func:`protocol_seconds`); collective (a
+      bodies run): likewise, every step at :func:`bodies_step_seconds`;
     * restart: the stop (steps of a stopped plate) and a release of :data:`COMMIT_TIME`
       (at most the release cap) per run, with the set-up of its calls of the CPU backend
       (:func:`call_seconds`: the approach, the stop and a commitment check every
@@ -303,7 +304,7 @@ def estimate_sweep(runs: Sequence[Run], workers: int | None, threads: int = 1) -
         # the runs of a point and direction differ only in their noise seed
         if (run.point, run.direction) not in points:
             config = RotorConfig.model_validate(run.config)
-            if run.estimator["kind"] == "protocol":
+            if run.estimator["kind"] in ("protocol", "collective"):
                 points[run.point, run.direction] = (config, None, protocol_seconds(config), 0.0)
             else:
                 estimator = RestartEstimator.model_validate({**run.estimator, "kind": "restart"})
