@@ -30,7 +30,7 @@ from .store import read_runs
 
 SERIES = {
     "ring": {
-        "angular_speed": ("mean angular velocity of the bodies about the vessel's centre", "1/time"),
+        "angular_speed": ("mean angular velocity of the bodies about the centre", "1/time"),
         "arc_speed": ("mean arc speed r d theta / dt of the bodies", "length/time"),
         "spacing_spread": ("std(gaps) / mean(gaps) of the bodies' angles", "1"),
         "lattice_order": ("|<exp(i N theta_k)>|: 1 when evenly spaced", "1"),
@@ -66,9 +66,7 @@ def gather_collective(sweep: Sweep, sweep_dir: str | Path) -> xr.Dataset:
     kinds = {c["measures"] for c in contents.values()}
     kind = kinds.pop() if len(kinds) == 1 else _kind(sweep)
     shape, samples = sweep.shape, sweep.spec.samples
-    n_time = 1 + max(
-        (round(c["t"][-1] / interval) for c in contents.values() if c["t"]), default=0
-    )
+    n_time = 1 + max((round(c["t"][-1] / interval) for c in contents.values() if c["t"]), default=0)
     names = dim_names(list(sweep.axes))
     dims = [names[key] for key in sweep.axes]
     coords: dict[str, xr.Variable] = {}
@@ -162,9 +160,7 @@ def gather_collective(sweep: Sweep, sweep_dir: str | Path) -> xr.Dataset:
         "seed": sweep.spec.seed,
         "modes": ", ".join(MODES),
         "base_config": json.dumps(sweep.base, sort_keys=True),
-        "crowd": json.dumps(
-            sweep.spec.crowd.model_dump(mode="json") if sweep.spec.crowd else None
-        ),
+        "crowd": json.dumps(sweep.spec.crowd.model_dump(mode="json") if sweep.spec.crowd else None),
     }
     return xr.Dataset(data_vars, coords=coords, attrs=attrs)
 
@@ -191,7 +187,8 @@ def format_collective_table(ds: xr.Dataset) -> str:
         row = flat.isel(point=i)
         cells = [f"{row[d].item():.6g}" for d in dims]
         for name in [*means, *extra]:
-            value = float(np.nanmean(row[name].values)) if np.isfinite(row[name]).any() else math.nan
+            values = row[name].values
+            value = float(np.nanmean(values)) if np.isfinite(values).any() else math.nan
             cells.append("nan" if math.isnan(value) else f"{value:.3g}")
         if kind == "ring":
             found = sorted({modes[m] for m in row["mode"].values if m >= 0})
@@ -208,4 +205,3 @@ def format_collective_table(ds: xr.Dataset) -> str:
     ]
     lines += ["  ".join(c.rjust(w) for c, w in zip(r, widths, strict=True)) for r in rows]
     return "\n".join(lines)
-

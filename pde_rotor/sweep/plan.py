@@ -170,7 +170,6 @@ class Sweep:
         self._runs = runs
         return runs
 
-
     def _crowd(self, coords: Mapping[str, Any], where: str) -> CrowdSpec | None:
         """The sweep's crowd at a point (its ``crowd.*`` axes applied), or None."""
         if self.spec.crowd is None:

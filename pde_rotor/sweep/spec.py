@@ -29,9 +29,7 @@ from .crowd import CrowdSpec
 
 BASES_DIR = Path(__file__).resolve().parent.parent / "bases"
 """Base configurations shipped with the package; a sweep file names them by stem."""
-SWEEP_KEYS = (
-    "name, description, base, set.KEY, axes.KEY, estimator.KEY, crowd.KEY, samples, seed"
-)
+SWEEP_KEYS = "name, description, base, set.KEY, axes.KEY, estimator.KEY, crowd.KEY, samples, seed"
 """The keys ``pde-rotor sweep --set`` can change (KEY: a dotted config key)."""
 
 
@@ -159,7 +157,7 @@ class CollectiveEstimator(_Strict):
             )
             raise ValueError(msg)
         if measures == "ring" and shape == "rectangle":
-            msg = "estimator.measures = ring needs an annulus or the dish (grid.vessel is a rectangle)"
+            msg = "estimator.measures = ring needs an annulus or the dish, not a rectangle"
             raise ValueError(msg)
         return measures
 

@@ -76,8 +76,9 @@ def execute_group(runs: Sequence[Run], threads: int = 1) -> list[dict[str, Any]]
     """Run a group of runs (one stop shared for the bank estimator); their file contents.
 
     The estimators of :mod:`.estimators`, the code the ensemble batches run, with the
-    CPU backend (a collective run: its own bodies run on the CPU): a restart or bank group advances from one step it reads to the next
-    and ends its release once committed. The wall time of a group is split evenly among
+    CPU backend (a collective run: its own bodies run on the CPU): a restart or bank
+    group advances from one step it reads to the next and ends its release once
+    committed. The wall time of a group is split evenly among
     its runs. The runs step on `threads` threads (their ``solver.threads`` is null:
     numba's count, set here; at most the threads numba may start in this process).
     """
