@@ -228,6 +228,7 @@ class SweepEstimate:
             (:func:`pde_rotor.solver.threads.other_load`).
         cores: the cores this process may use.
         threads: threads of each worker's runs (``pde-rotor sweep --threads``).
+        restarts: whether the runs are restarts (whose release time is assumed).
     """
 
     runs: int
@@ -236,6 +237,7 @@ class SweepEstimate:
     load: float = 0.0
     cores: int = 1
     threads: int = 1
+    restarts: bool = True
 
     @property
     def busy_workers(self) -> int:
@@ -270,10 +272,12 @@ class SweepEstimate:
             each = f" of {self.threads} threads" if self.threads > 1 else ""
             workers = f"{self.workers} worker{'s' if self.workers != 1 else ''}"
             text += f", {format_duration(self.wall_seconds)} on {workers}{each}{busy}"
-        return (
-            f"{text} (an estimate from measured costs per step; restarts assumed to commit "
-            f"{COMMIT_TIME:g} time unit after their release)"
+        assumed = (
+            f"; restarts assumed to commit {COMMIT_TIME:g} time unit after their release"
+            if self.restarts
+            else "; runs that end early cost less"
         )
+        return f"{text} (an estimate from measured costs per step{assumed})"
 
 
 def estimate_sweep(runs: Sequence[Run], workers: int | None, threads: int = 1) -> SweepEstimate:
@@ -327,7 +331,10 @@ def estimate_sweep(runs: Sequence[Run], workers: int | None, threads: int = 1) -
         warm[spin_up] = warm.get(spin_up, 0) + 1
         if warm[spin_up] <= (workers or 1):
             total += steps(run.estimator["warmup"], config) * step_seconds(config)
-    return SweepEstimate(len(runs), total, workers, other_load(), usable_cores(), threads)
+    restarts = any(run.estimator["kind"] in ("restart", "bank") for run in runs)
+    return SweepEstimate(
+        len(runs), total, workers, other_load(), usable_cores(), threads, restarts or not runs
+    )
 
 
 def format_duration(seconds: float) -> str:
