@@ -37,8 +37,8 @@ def run_content(
 
     The resolved config is not repeated: the run key is its hash, and the sweep file in
     the sweep directory resolves it again. `cpu_time`, where given, is the CPU time of the
-    computing process (a worker's, all its threads) (on a loaded machine the wall time is longer; the cost estimates of
-    :mod:`pde_rotor.sweep.cost` are of one idle core, so they compare with this).
+    computing process (a worker's, all its threads): on a loaded machine the wall time is
+    longer, and the cost estimates of :mod:`pde_rotor.sweep.cost` are of one idle core.
     """
     return {
         "key": run.key,
