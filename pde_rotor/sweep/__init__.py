@@ -23,7 +23,7 @@ direction): results depend neither on the scheduling order nor on the number of 
 One module per job:
 
 * :mod:`.spec`: the sweep file's schema, shipped bases, ``--set`` overrides;
-* :mod:`.crowd`: a crowd of N copies of one body, placed on a ring or scattered in a
+* :mod:`.placement`: a crowd of N copies of one body, placed on a ring or scattered in a
   dish (the ``crowd`` section, whose ``count`` an axis may vary);
 * :mod:`.plan`: points, runs, seeds and run keys (:class:`Sweep`, :class:`Run`);
 * :mod:`.estimators`: the protocol, restart and bank estimators, one module each, written

@@ -24,8 +24,7 @@ import numpy as np
 import xarray as xr
 
 from ..collective.ring import MODES
-from .plan import Sweep
-from .reporting import dim_names
+from .plan import Sweep, dim_names
 from .store import read_runs
 
 SERIES = {

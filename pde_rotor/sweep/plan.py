@@ -6,7 +6,7 @@ import copy
 import hashlib
 import itertools
 import json
-from collections.abc import Iterable, Iterator, Mapping
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -16,7 +16,7 @@ from pydantic import ValidationError
 
 from ..config import ConfigError, RotorConfig, parse_yaml, set_key
 from ..statistics.proportions import CCW, CW
-from .crowd import CrowdError, CrowdSpec, place
+from .placement import CrowdError, CrowdSpec, place
 from .spec import (
     CollectiveEstimator,
     RestartEstimator,
@@ -193,6 +193,15 @@ def _with_crowd(data: dict[str, Any], crowd: CrowdSpec, sample: int, where: str)
     except CrowdError as err:
         raise SweepError(f"sweep point {where}, sample {sample}: {err}") from None
     return validate_point(placed, f"{where}, sample {sample}")
+
+
+def dim_names(keys: Sequence[str]) -> dict[str, str]:
+    """Short dimension names: the last part of each dotted key unless two collide."""
+    last = [k.rsplit(".", 1)[-1] for k in keys]
+    return {
+        k: (s if last.count(s) == 1 else k.replace(".", "_"))
+        for k, s in zip(keys, last, strict=True)
+    }
 
 
 def read_spec(path: str | Path, overrides: Iterable[str] = ()) -> tuple[SweepSpec, Path]:

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import json
 import math
-from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -19,7 +18,7 @@ from ..config import RotorConfig
 from ..io.output import write_netcdf_atomic
 from ..statistics.proportions import CONFIDENCE
 from .estimates import CHAIN, P_DEFINITIONS, POOLED, inverted, mcnemar_p, point_statistics
-from .plan import Run, Sweep
+from .plan import Run, Sweep, dim_names
 from .store import REPORT_FILE, read_runs
 
 P_RULE = {
@@ -67,15 +66,6 @@ VARIABLES: dict[str, tuple[str, str]] = {
 }
 """Every variable of a report: long name and units."""
 _COUNTS = ("P_estimator", "inversions", "stops", "runs_done", "runs_expected", "uncommitted")
-
-
-def dim_names(keys: Sequence[str]) -> dict[str, str]:
-    """Short dimension names: the last part of each dotted key unless two collide."""
-    last = [k.rsplit(".", 1)[-1] for k in keys]
-    return {
-        k: (s if last.count(s) == 1 else k.replace(".", "_"))
-        for k, s in zip(keys, last, strict=True)
-    }
 
 
 def paired_axes(sweep: Sweep) -> list[str]:

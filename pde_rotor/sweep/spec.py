@@ -25,7 +25,7 @@ from ..config import (
     validate_config,
 )
 from ..config.stable import StableModel
-from .crowd import CrowdSpec
+from .placement import CrowdSpec
 
 BASES_DIR = Path(__file__).resolve().parent.parent / "bases"
 """Base configurations shipped with the package; a sweep file names them by stem."""
@@ -184,7 +184,7 @@ class SweepSpec(_Strict):
     axes: dict[str, list[Any] | RangeSpec] = Field(default_factory=dict)
     estimator: Estimator = Field(default_factory=RestartEstimator)
     crowd: CrowdSpec | None = Field(
-        None, description="the bodies: N copies of one body, placed by a rule (sweep.crowd)"
+        None, description="the bodies: N copies of one body, placed by a rule (sweep.placement)"
     )
     samples: int = Field(
         ge=1, description="restart: runs per direction; protocol, collective: runs"

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from pde_rotor.sweep.crowd import CrowdError, CrowdSpec, place
+from pde_rotor.sweep.placement import CrowdError, CrowdSpec, place
 
 BODY = {
     "plate": {"shape": "none"},
