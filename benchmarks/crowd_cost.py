@@ -6,7 +6,7 @@ for that run alone (:func:`pde_rotor.sweep.cost.estimate_sweep`, one idle core) 
 the CPU time its worker spent on it (``cpu_time`` of its record: CPU seconds, which the
 load of other work does not inflate), and their ratio. A run that ended early (two
 footprints met) is compared with the estimate scaled to the time it reached (its last
-record); the set-up of a run (the model, numba's cached kernels) is in its CPU time and
+record; one that ended before it is left out); the set-up of a run (the model, numba's cached kernels) is in its CPU time and
 not in the estimate, so short runs measure above their estimate. The totals compare the
 runs that reached t_end.
 
@@ -38,6 +38,8 @@ def main(argv: list[str]) -> None:
         t_end = RotorConfig.model_validate(run.config).protocol.t_end
         reached = record["result"]["t"][-1] if record["result"]["end"] else t_end
         scaled = estimate * reached / t_end
+        if not scaled:
+            continue  # ended before its first record
         cpu = record["cpu_time"]
         coords = ", ".join(f"{k.rsplit('.', 1)[-1]} = {v}" for k, v in run.coords.items())
         print(

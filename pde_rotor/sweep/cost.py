@@ -79,7 +79,8 @@ the flow: a dish of radius 4 at dx = 0.025 with one small fixed pill, 0.393 and 
 ms/step (thread CPU time, 2026-11-28), less that pill's box."""
 SECONDS_PER_NO_FLUX_CELL_STEP = 3.3e-8
 """What the no-flux wall's cut cells add per interior cell and step (radius 2 and 4 with
-one fixed pill, no flow: 0.76 and 2.86 ms/step)."""
+one fixed pill, no flow: 0.76 and 2.86 ms/step); also charged for a vessel with a no-flux
+wall (:func:`no_flux_walls`)."""
 SECONDS_PER_BODY_BOX_CELL_STEP: dict[str, float] = {"paper": 3.05e-8, "consistent": 4.5e-8}
 """Per cell of a body's box (2 R / dx)^2 and step, the force integrals of a body that is
 not redrawn (fixed or held): the paper's hexagon held fixed adds 0.156 ms over a fixed pill
@@ -125,7 +126,7 @@ def bodies_step_seconds(config: RotorConfig) -> float:
     """
     interior = cell_counts(config)[0]
     cell = SECONDS_PER_BODIES_CELL_STEP[config.flow.enabled]
-    if config.grid.wall == "no_flux":
+    if no_flux_walls(config):
         cell += SECONDS_PER_NO_FLUX_CELL_STEP
     scheme = config.numerics.scheme
     seconds = interior * cell
@@ -141,6 +142,18 @@ def bodies_step_seconds(config: RotorConfig) -> float:
             + moving * SECONDS_PER_DRAWN_BOX_CELL_STEP[scheme]
         )
     return seconds
+
+
+def no_flux_walls(config: RotorConfig) -> bool:
+    """Whether the config's dish or vessel has a no-flux wall (cut cells that cost every
+    step): ``grid.wall``, or a wall of ``grid.vessel``."""
+    vessel = config.grid.vessel
+    walls = [config.grid.wall] + [
+        getattr(vessel, name)
+        for name in ("wall", "inner_wall", "outer_wall")
+        if hasattr(vessel, name)
+    ]
+    return "no_flux" in walls
 
 
 def protocol_seconds(config: RotorConfig) -> float:
