@@ -6,9 +6,9 @@ for that run alone (:func:`pde_rotor.sweep.cost.estimate_sweep`, one idle core) 
 the CPU time its worker spent on it (``cpu_time`` of its record: CPU seconds, which the
 load of other work does not inflate), and their ratio. A run that ended early (two
 footprints met) is compared with the estimate scaled to the time it reached (its last
-record; one that ended before it is left out); the set-up of a run (the model, numba's cached kernels) is in its CPU time and
-not in the estimate, so short runs measure above their estimate. The totals compare the
-runs that reached t_end.
+record; one that ended before it is left out); the set-up of a run (the model, numba's
+cached kernels) is in its CPU time and not in the estimate, so short runs measure above
+their estimate. The totals compare the runs that reached t_end.
 
 Run:  python benchmarks/crowd_cost.py [SWEEP_FILE [STORE]]
 """
