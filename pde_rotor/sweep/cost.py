@@ -241,7 +241,8 @@ class SweepEstimate:
             (:func:`pde_rotor.solver.threads.other_load`).
         cores: the cores this process may use.
         threads: threads of each worker's runs (``pde-rotor sweep --threads``).
-        restarts: whether the runs are restarts (whose release time is assumed).
+        restarts: whether the runs are restarts (whose release time is assumed); None
+            where there are none to compute (no note).
     """
 
     runs: int
@@ -250,7 +251,7 @@ class SweepEstimate:
     load: float = 0.0
     cores: int = 1
     threads: int = 1
-    restarts: bool = True
+    restarts: bool | None = True
 
     @property
     def busy_workers(self) -> int:
@@ -285,11 +286,11 @@ class SweepEstimate:
             each = f" of {self.threads} threads" if self.threads > 1 else ""
             workers = f"{self.workers} worker{'s' if self.workers != 1 else ''}"
             text += f", {format_duration(self.wall_seconds)} on {workers}{each}{busy}"
-        assumed = (
-            f"; restarts assumed to commit {COMMIT_TIME:g} time unit after their release"
-            if self.restarts
-            else "; runs that end early cost less"
-        )
+        assumed = {
+            True: f"; restarts assumed to commit {COMMIT_TIME:g} time unit after their release",
+            False: "; runs that end early cost less",
+            None: "",
+        }[self.restarts]
         return f"{text} (an estimate from measured costs per step{assumed})"
 
 
@@ -344,10 +345,8 @@ def estimate_sweep(runs: Sequence[Run], workers: int | None, threads: int = 1) -
         warm[spin_up] = warm.get(spin_up, 0) + 1
         if warm[spin_up] <= (workers or 1):
             total += steps(run.estimator["warmup"], config) * step_seconds(config)
-    restarts = any(run.estimator["kind"] in ("restart", "bank") for run in runs)
-    return SweepEstimate(
-        len(runs), total, workers, other_load(), usable_cores(), threads, restarts or not runs
-    )
+    restarts = any(run.estimator["kind"] in ("restart", "bank") for run in runs) if runs else None
+    return SweepEstimate(len(runs), total, workers, other_load(), usable_cores(), threads, restarts)
 
 
 def format_duration(seconds: float) -> str:

@@ -291,3 +291,15 @@ def test_a_vessel_with_a_no_flux_wall_pays_for_its_cut_cells(inner, outer, charg
     assert no_flux_walls(with_walls) is charged
     extra = SECONDS_PER_NO_FLUX_CELL_STEP * cell_counts(with_walls)[0] if charged else 0.0
     assert bodies_step_seconds(with_walls) == pytest.approx(bodies_step_seconds(without) + extra)
+
+
+def test_the_estimate_notes_what_it_assumes_of_the_runs_it_counts() -> None:
+    from pde_rotor.sweep.cost import SweepEstimate
+
+    restarts = SweepEstimate(runs=4, core_seconds=60.0, workers=1, cores=2).describe()
+    bodies = SweepEstimate(runs=4, core_seconds=60.0, workers=1, cores=2, restarts=False)
+    done = SweepEstimate(runs=0, core_seconds=0.0, workers=1, cores=2, restarts=None)
+    assert f"restarts assumed to commit {COMMIT_TIME:g}" in restarts
+    assert bodies.describe().endswith("measured costs per step; runs that end early cost less)")
+    assert done.describe().endswith("(an estimate from measured costs per step)")
+    assert estimate_sweep([], 1).restarts is None
