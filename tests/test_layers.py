@@ -25,6 +25,7 @@ LAYERS: dict[str, int] = {
     "paper": 0,
     "io": 0,
     "statistics": 0,
+    "collective": 0,
     "config": 1,
     "physics": 2,
     "model": 3,

@@ -75,7 +75,8 @@ def register(app: typer.Typer) -> None:
                 show_default=False,
                 help="Change a key of the sweep file (repeatable): samples=5, seed=1, "
                 "axes.protocol.t_stop=[0.5,3], axes.KEY=null (drop the axis), "
-                "set.noise.sigma=0 (base config), estimator.release_cap=5, base=coarse.",
+                "set.noise.sigma=0 (base config), estimator.release_cap=5, base=coarse, "
+                "crowd.count=16 (a crowd sweep).",
             ),
         ] = None,
         dry_run: Annotated[

@@ -9,7 +9,8 @@ A sweep is a YAML file (:class:`SweepSpec`)::
     axes:                           # any dotted config key: a list or a range
       protocol.t_stop: {start: 0.5, stop: 3.0, step: 0.5}
       geometry.asymmetry: [0.0, 2.0e-5, 1.0e-4]
-    estimator: {kind: restart}      # or {kind: bank}, or {kind: protocol} (M cycles per run)
+    estimator: {kind: restart}      # or {kind: bank}, {kind: protocol} (M cycles per run),
+                                    # or {kind: collective} (a bodies run's collective measures)
     samples: 40                     # restart: stops per direction; protocol: runs per point
     seed: 20200501
 
@@ -22,6 +23,8 @@ direction): results depend neither on the scheduling order nor on the number of 
 One module per job:
 
 * :mod:`.spec`: the sweep file's schema, shipped bases, ``--set`` overrides;
+* :mod:`.placement`: a crowd of N copies of one body, placed on a ring or scattered in a
+  dish (the ``crowd`` section, whose ``count`` an axis may vary);
 * :mod:`.plan`: points, runs, seeds and run keys (:class:`Sweep`, :class:`Run`);
 * :mod:`.estimators`: the protocol, restart and bank estimators, one module each, written
   once over the ensemble interface for both the dask tasks and the GPU batches;
@@ -31,6 +34,7 @@ One module per job:
   data/sweeps/<name>), their one-pass reader, compaction and lock;
 * :mod:`.execution`: :func:`run_sweep`, the seam between dask on CPUs and GPU batches;
 * :mod:`.estimates`, :mod:`.reporting`: the statistics of a point and the report;
+  :mod:`.collective_report`: the report of a collective sweep (measures against time);
 * :mod:`.stored`: stored reports read back (points, curves, the same physics);
 * :mod:`.plot`: the figure of any report (``pde-rotor plot``);
 * :mod:`.cost`: estimated wall time of a run or a sweep.
@@ -56,6 +60,11 @@ Estimators (see :mod:`pde_rotor.statistics.proportions` and docs/statistics.md):
   uniformly over the period for this sample, direction and point, and each run is
   released from it with its own noise. The noise values are then a paired design,
   compared in the report by McNemar's exact test.
+
+* ``collective``: one run of a bodies config per sample from rest to t_end, the bodies'
+  poses recorded every ``record_interval`` and reduced to collective measures
+  (:mod:`pde_rotor.collective`, docs/collective.md): ring (speed, spacing spread, cluster
+  order, mode) or dish (g(r), speed, polar and rotational order).
 
 P is the pooled fraction inversions / stops where Delta = 0 and the two-state chain
 value 2ab/(a+b) where Delta != 0 (:mod:`.estimates`).

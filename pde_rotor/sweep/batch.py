@@ -17,6 +17,7 @@ from typing import Any
 from ..backends.base import EnsembleRunner
 from ..config import RotorConfig
 from .estimators.base import timed_contents
+from .estimators.collective import collective_runs
 from .estimators.protocol import protocol_runs
 from .estimators.releases import restart_runs
 from .plan import Run
@@ -35,7 +36,9 @@ def execute_batch(runs: Sequence[Run], ensemble: EnsembleRunner) -> list[dict[st
     """Compute runs of one estimator as ensembles; their run-file contents.
 
     Protocol runs go to :func:`.estimators.protocol.protocol_runs`, restart and bank runs
-    to :func:`.estimators.releases.restart_runs`, recorded at every step.
+    to :func:`.estimators.releases.restart_runs`, recorded at every step; collective runs
+    (bodies) to :func:`.estimators.collective.collective_runs` on the GPU, one member
+    each (their bodies' layouts differ from run to run).
 
     Args:
         runs: runs sharing grid and numerics (:func:`batches`).
@@ -46,6 +49,8 @@ def execute_batch(runs: Sequence[Run], ensemble: EnsembleRunner) -> list[dict[st
         ValueError: a member whose state diverged.
         RuntimeError: a spin-up that ends in the other direction.
     """
+    if runs[0].estimator["kind"] == "collective":
+        return timed_contents(runs, lambda: collective_runs(runs, backend="gpu"))
     if runs[0].estimator["kind"] == "protocol":
         configs = [RotorConfig.model_validate(run.config) for run in runs]
         keys = [run.key for run in runs]

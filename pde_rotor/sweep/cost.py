@@ -79,7 +79,8 @@ the flow: a dish of radius 4 at dx = 0.025 with one small fixed pill, 0.393 and 
 ms/step (thread CPU time, 2026-11-28), less that pill's box."""
 SECONDS_PER_NO_FLUX_CELL_STEP = 3.3e-8
 """What the no-flux wall's cut cells add per interior cell and step (radius 2 and 4 with
-one fixed pill, no flow: 0.76 and 2.86 ms/step)."""
+one fixed pill, no flow: 0.76 and 2.86 ms/step); also charged for a vessel with a no-flux
+wall (:func:`no_flux_walls`)."""
 SECONDS_PER_BODY_BOX_CELL_STEP: dict[str, float] = {"paper": 3.05e-8, "consistent": 4.5e-8}
 """Per cell of a body's box (2 R / dx)^2 and step, the force integrals of a body that is
 not redrawn (fixed or held): the paper's hexagon held fixed adds 0.156 ms over a fixed pill
@@ -125,7 +126,7 @@ def bodies_step_seconds(config: RotorConfig) -> float:
     """
     interior = cell_counts(config)[0]
     cell = SECONDS_PER_BODIES_CELL_STEP[config.flow.enabled]
-    if config.grid.wall == "no_flux":
+    if no_flux_walls(config):
         cell += SECONDS_PER_NO_FLUX_CELL_STEP
     scheme = config.numerics.scheme
     seconds = interior * cell
@@ -141,6 +142,18 @@ def bodies_step_seconds(config: RotorConfig) -> float:
             + moving * SECONDS_PER_DRAWN_BOX_CELL_STEP[scheme]
         )
     return seconds
+
+
+def no_flux_walls(config: RotorConfig) -> bool:
+    """Whether the config's dish or vessel has a no-flux wall (cut cells that cost every
+    step): ``grid.wall``, or a wall of ``grid.vessel``."""
+    vessel = config.grid.vessel
+    walls = [config.grid.wall] + [
+        getattr(vessel, name)
+        for name in ("wall", "inner_wall", "outer_wall")
+        if hasattr(vessel, name)
+    ]
+    return "no_flux" in walls
 
 
 def protocol_seconds(config: RotorConfig) -> float:
@@ -228,6 +241,8 @@ class SweepEstimate:
             (:func:`pde_rotor.solver.threads.other_load`).
         cores: the cores this process may use.
         threads: threads of each worker's runs (``pde-rotor sweep --threads``).
+        restarts: whether the runs are restarts (whose release time is assumed); None
+            where there are none to compute (no note).
     """
 
     runs: int
@@ -236,6 +251,7 @@ class SweepEstimate:
     load: float = 0.0
     cores: int = 1
     threads: int = 1
+    restarts: bool | None = True
 
     @property
     def busy_workers(self) -> int:
@@ -270,16 +286,19 @@ class SweepEstimate:
             each = f" of {self.threads} threads" if self.threads > 1 else ""
             workers = f"{self.workers} worker{'s' if self.workers != 1 else ''}"
             text += f", {format_duration(self.wall_seconds)} on {workers}{each}{busy}"
-        return (
-            f"{text} (an estimate from measured costs per step; restarts assumed to commit "
-            f"{COMMIT_TIME:g} time unit after their release)"
-        )
+        assumed = {
+            True: f"; restarts assumed to commit {COMMIT_TIME:g} time unit after their release",
+            False: "; runs that end early cost less",
+            None: "",
+        }[self.restarts]
+        return f"{text} (an estimate from measured costs per step{assumed})"
 
 
 def estimate_sweep(runs: Sequence[Run], workers: int | None, threads: int = 1) -> SweepEstimate:
     """Estimated cost of computing `runs` of one sweep (no trackers, no movie).
 
-    * protocol estimator: t_end of each run (:func:`protocol_seconds`);
+    * protocol estimator: t_end of each run (:func:`protocol_seconds`); collective (a
+      bodies run): likewise, every step at :func:`bodies_step_seconds`;
     * restart: the stop (steps of a stopped plate) and a release of :data:`COMMIT_TIME`
       (at most the release cap) per run, with the set-up of its calls of the CPU backend
       (:func:`call_seconds`: the approach, the stop and a commitment check every
@@ -303,7 +322,7 @@ def estimate_sweep(runs: Sequence[Run], workers: int | None, threads: int = 1) -
         # the runs of a point and direction differ only in their noise seed
         if (run.point, run.direction) not in points:
             config = RotorConfig.model_validate(run.config)
-            if run.estimator["kind"] == "protocol":
+            if run.estimator["kind"] in ("protocol", "collective"):
                 points[run.point, run.direction] = (config, None, protocol_seconds(config), 0.0)
             else:
                 estimator = RestartEstimator.model_validate({**run.estimator, "kind": "restart"})
@@ -326,7 +345,8 @@ def estimate_sweep(runs: Sequence[Run], workers: int | None, threads: int = 1) -
         warm[spin_up] = warm.get(spin_up, 0) + 1
         if warm[spin_up] <= (workers or 1):
             total += steps(run.estimator["warmup"], config) * step_seconds(config)
-    return SweepEstimate(len(runs), total, workers, other_load(), usable_cores(), threads)
+    restarts = any(run.estimator["kind"] in ("restart", "bank") for run in runs) if runs else None
+    return SweepEstimate(len(runs), total, workers, other_load(), usable_cores(), threads, restarts)
 
 
 def format_duration(seconds: float) -> str:

@@ -6,7 +6,7 @@ import copy
 import hashlib
 import itertools
 import json
-from collections.abc import Iterable, Iterator, Mapping
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -16,7 +16,9 @@ from pydantic import ValidationError
 
 from ..config import ConfigError, RotorConfig, parse_yaml, set_key
 from ..statistics.proportions import CCW, CW
+from .placement import CrowdError, CrowdSpec, place
 from .spec import (
+    CollectiveEstimator,
     RestartEstimator,
     SweepError,
     SweepSpec,
@@ -89,7 +91,8 @@ class Sweep:
             SweepError: one line naming the problem (unknown key, invalid value, file).
         """
         base = resolve_base(spec, root)
-        validate_point(base, "base")
+        if spec.crowd is None:
+            validate_point(base, "base")
         inlined = spec.model_copy(update={"base": base, "set": {}})
         sweep = cls(spec=inlined, base=base, axes=spec.axis_values())
         sweep.runs()  # validates every point
@@ -119,8 +122,9 @@ class Sweep:
             yield index, {k: self.axes[k][i] for k, i in zip(keys, index, strict=True)}
 
     def directions(self) -> tuple[int, ...]:
-        """Directions sampled per point: (CCW, CW) for restarts, (0,) for protocol runs."""
-        return (0,) if self.spec.estimator.kind == "protocol" else (CCW, CW)
+        """Directions sampled per point: (CCW, CW) for restarts, (0,) for protocol and
+        collective runs."""
+        return (0,) if self.spec.estimator.kind in ("protocol", "collective") else (CCW, CW)
 
     def runs(self) -> list[Run]:
         """Every run of the sweep (validated, seeds derived, hashes computed)."""
@@ -133,15 +137,25 @@ class Sweep:
             data = copy.deepcopy(self.base)
             where = ", ".join(f"{k} = {v}" for k, v in coords.items()) or "base"
             for key, value in coords.items():
-                _set(data, key, value, where)
-            config = validate_point(data, where)
-            if self.spec.estimator.kind != "protocol":
+                if not key.startswith("crowd."):
+                    _set(data, key, value, where)
+            crowd = self._crowd(coords, where)
+            if crowd is None:
+                config = validate_point(data, where)
+            else:
+                config = _with_crowd(data, crowd, 0, where)
+            if self.spec.estimator.kind in ("restart", "bank"):
                 _check_restart(config, self.spec.estimator, where)
+            if isinstance(self.spec.estimator, CollectiveEstimator):
+                _check_collective(config, self.spec.estimator, where)
             stop_coords = {k: v for k, v in coords.items() if not k.startswith("noise.")}
             for direction in self.directions():
                 for sample in range(self.spec.samples):
                     seed = run_seed(self.spec.seed, coords, sample, direction)
-                    resolved = config.model_copy(deep=True)
+                    if crowd is None:
+                        resolved = config.model_copy(deep=True)
+                    else:
+                        resolved = _with_crowd(data, crowd, sample, where)
                     resolved.noise.seed = seed
                     cfg = resolved.physics()
                     stop_seed = (
@@ -155,6 +169,39 @@ class Sweep:
                     )
         self._runs = runs
         return runs
+
+    def _crowd(self, coords: Mapping[str, Any], where: str) -> CrowdSpec | None:
+        """The sweep's crowd at a point (its ``crowd.*`` axes applied), or None."""
+        if self.spec.crowd is None:
+            return None
+        data = self.spec.crowd.model_dump(mode="json")
+        for key, value in coords.items():
+            if key.startswith("crowd."):
+                _set(data, key.removeprefix("crowd."), value, where)
+        try:
+            return CrowdSpec.model_validate(data)
+        except ValidationError as err:
+            raise SweepError(f"sweep point {where}: crowd.{spec_error(err)}") from None
+
+
+def _with_crowd(data: dict[str, Any], crowd: CrowdSpec, sample: int, where: str) -> RotorConfig:
+    """The config of one sample of a point: `data` with the crowd's bodies placed."""
+    placed = copy.deepcopy(data)
+    centre = placed.get("grid", {}).get("domain_centre", (0.0, 0.0))
+    try:
+        placed["bodies"] = place(crowd, (float(centre[0]), float(centre[1])), sample)
+    except CrowdError as err:
+        raise SweepError(f"sweep point {where}, sample {sample}: {err}") from None
+    return validate_point(placed, f"{where}, sample {sample}")
+
+
+def dim_names(keys: Sequence[str]) -> dict[str, str]:
+    """Short dimension names: the last part of each dotted key unless two collide."""
+    last = [k.rsplit(".", 1)[-1] for k in keys]
+    return {
+        k: (s if last.count(s) == 1 else k.replace(".", "_"))
+        for k, s in zip(keys, last, strict=True)
+    }
 
 
 def read_spec(path: str | Path, overrides: Iterable[str] = ()) -> tuple[SweepSpec, Path]:
@@ -234,6 +281,21 @@ def _check_restart(config: RotorConfig, estimator: RestartEstimator, where: str)
         if value is not None and abs(round(value / dt) * dt - value) > 1e-9 * max(1.0, value):
             msg = f"{where}: {name} = {value:g} is not an integer multiple of grid.dt = {dt:g}"
             raise SweepError(msg)
+
+
+def _check_collective(config: RotorConfig, estimator: CollectiveEstimator, where: str) -> None:
+    try:
+        estimator.resolve(config)
+    except ValueError as err:
+        raise SweepError(f"{where}: {err}") from None
+    dt = config.grid.dt
+    value = estimator.record_interval
+    if abs(round(value / dt) * dt - value) > 1e-9 * max(1.0, value):
+        msg = (
+            f"{where}: estimator.record_interval = {value:g} is not an integer multiple of "
+            f"grid.dt = {dt:g}"
+        )
+        raise SweepError(msg)
 
 
 def run_seed(

@@ -73,6 +73,12 @@ def report_axes(ds: xr.Dataset) -> list[str]:
     Raises:
         ReportError: `ds` lacks one of :data:`REPORT_VARIABLES`.
     """
+    if ds.attrs.get("estimator") == "collective":
+        msg = (
+            "a collective sweep's report (measures against time, not P): draw it with "
+            "gallery/bodies_crowd.py (docs/collective.md)"
+        )
+        raise ReportError(msg)
     missing = [name for name in REPORT_VARIABLES if name not in ds]
     if missing:
         msg = f"not a sweep report (no variable {', '.join(missing)})"

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import json
 import math
-from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -19,7 +18,7 @@ from ..config import RotorConfig
 from ..io.output import write_netcdf_atomic
 from ..statistics.proportions import CONFIDENCE
 from .estimates import CHAIN, P_DEFINITIONS, POOLED, inverted, mcnemar_p, point_statistics
-from .plan import Run, Sweep
+from .plan import Run, Sweep, dim_names
 from .store import REPORT_FILE, read_runs
 
 P_RULE = {
@@ -69,15 +68,6 @@ VARIABLES: dict[str, tuple[str, str]] = {
 _COUNTS = ("P_estimator", "inversions", "stops", "runs_done", "runs_expected", "uncommitted")
 
 
-def _dim_names(keys: Sequence[str]) -> dict[str, str]:
-    """Short dimension names: the last part of each dotted key unless two collide."""
-    last = [k.rsplit(".", 1)[-1] for k in keys]
-    return {
-        k: (s if last.count(s) == 1 else k.replace(".", "_"))
-        for k, s in zip(keys, last, strict=True)
-    }
-
-
 def paired_axes(sweep: Sweep) -> list[str]:
     """Axes whose values share their stops (a paired design): noise axes of a bank sweep."""
     if sweep.spec.estimator.kind != "bank":
@@ -114,12 +104,17 @@ def gather(sweep: Sweep, sweep_dir: str | Path) -> xr.Dataset:
 
     Coordinates are the sweep axes (dimension = last part of the dotted key, the full
     key in the attribute ``config_key``); a sweep without axes gives scalar variables.
+    A collective sweep's report is :func:`.collective_report.gather_collective`'s.
     A bank sweep with a noise axis also gets ``mcnemar_p_<dim>``: the paired test of
     every point against each value of that axis.
     """
+    if sweep.spec.estimator.kind == "collective":
+        from .collective_report import gather_collective
+
+        return gather_collective(sweep, sweep_dir)
     sweep_dir = Path(sweep_dir)
     keys = list(sweep.axes)
-    dims = _dim_names(keys)
+    dims = dim_names(keys)
     by_point: dict[tuple[int, ...], list[Run]] = {}
     for run in sweep.runs():
         by_point.setdefault(run.point, []).append(run)
@@ -266,8 +261,12 @@ def format_table(ds: xr.Dataset) -> str:
     """One row per point: axis values, P and its 95 % interval, the inverted stops by
     starting direction, mean |omega| and the runs done; for a paired design the McNemar
     p-value against the previous value of each paired axis."""
-    dims = [d for d in ds.sizes if not d.endswith("_ref")]
     kind = str(ds.attrs.get("estimator", ""))
+    if kind == "collective":
+        from .collective_report import format_collective_table
+
+        return format_collective_table(ds)
+    dims = [d for d in ds.sizes if not d.endswith("_ref")]
     paired = [d for d in dims if f"mcnemar_p_{d}" in ds]
     header = [*dims, "P", "95% interval", "from CCW", "from CW", "mean |omega|", "runs done"]
     header += [f"McNemar p vs previous {d}" for d in paired]

@@ -16,12 +16,20 @@ from typing import Annotated, Any, Literal
 import numpy as np
 from pydantic import ConfigDict, Field, ValidationError, model_validator
 
-from ..config import ConfigError, RotorConfig, parse_override, read_config_data, validate_config
+from ..config import (
+    ConfigError,
+    RotorConfig,
+    parse_override,
+    read_config_data,
+    set_key,
+    validate_config,
+)
 from ..config.stable import StableModel
+from .placement import CrowdSpec
 
 BASES_DIR = Path(__file__).resolve().parent.parent / "bases"
 """Base configurations shipped with the package; a sweep file names them by stem."""
-SWEEP_KEYS = "name, description, base, set.KEY, axes.KEY, estimator.KEY, samples, seed"
+SWEEP_KEYS = "name, description, base, set.KEY, axes.KEY, estimator.KEY, crowd.KEY, samples, seed"
 """The keys ``pde-rotor sweep --set`` can change (KEY: a dotted config key)."""
 
 
@@ -113,8 +121,50 @@ class ProtocolEstimator(_Strict):
     kind: Literal["protocol"] = "protocol"
 
 
+class CollectiveEstimator(_Strict):
+    """One run of a bodies config per sample, its collective measures recorded
+    (:mod:`pde_rotor.sweep.estimators.collective`, docs/collective.md)."""
+
+    kind: Literal["collective"] = "collective"
+    measures: Literal["auto", "ring", "dish"] = Field(
+        "auto", description="ring (an annular vessel's default) or dish (any other vessel)"
+    )
+    record_interval: float = Field(0.5, gt=0, description="time between records")
+    settle: float = Field(
+        0.0, ge=0, description="records before this time enter no time average (transient)"
+    )
+    bins: int = Field(24, ge=1, description="bins of g(r) over 0 < r < r_max")
+    r_max: float | None = Field(
+        None, gt=0, description="range of g(r) [default: the diameter of the centres' disk]"
+    )
+
+    def resolve(self, config: RotorConfig) -> Literal["ring", "dish"]:
+        """The measures of `config`'s runs: ``measures``, or by the vessel where ``auto``
+        (an annulus: ring; the dish: dish).
+
+        Raises:
+            ValueError: dish measures in a rectangular tank (g(r) is normalised for a
+                disk), or ring measures outside an annulus or dish (one line).
+        """
+        shape = getattr(config.grid.vessel, "shape", "dish")
+        measures = self.measures
+        if measures == "auto":
+            measures = "ring" if shape == "annulus" else "dish"
+        if measures == "dish" and shape != "dish":
+            msg = (
+                f"estimator.measures = dish needs the circular dish (grid.vessel is a {shape}): "
+                "g(r) is normalised for a disk"
+            )
+            raise ValueError(msg)
+        if measures == "ring" and shape == "rectangle":
+            msg = "estimator.measures = ring needs an annulus or the dish, not a rectangle"
+            raise ValueError(msg)
+        return measures
+
+
 Estimator = Annotated[
-    RestartEstimator | BankEstimator | ProtocolEstimator, Field(discriminator="kind")
+    RestartEstimator | BankEstimator | ProtocolEstimator | CollectiveEstimator,
+    Field(discriminator="kind"),
 ]
 
 
@@ -133,7 +183,12 @@ class SweepSpec(_Strict):
     )
     axes: dict[str, list[Any] | RangeSpec] = Field(default_factory=dict)
     estimator: Estimator = Field(default_factory=RestartEstimator)
-    samples: int = Field(ge=1, description="restart: runs per direction; protocol: runs")
+    crowd: CrowdSpec | None = Field(
+        None, description="the bodies: N copies of one body, placed by a rule (sweep.placement)"
+    )
+    samples: int = Field(
+        ge=1, description="restart: runs per direction; protocol, collective: runs"
+    )
     seed: int = Field(ge=0, description="sweep seed (SeedSequence entropy)")
 
     @model_validator(mode="after")
@@ -145,6 +200,12 @@ class SweepSpec(_Strict):
             if isinstance(values, list) and not values:
                 msg = f"axis {key} has no values"
                 raise ValueError(msg)
+            if key.startswith("crowd.") and self.crowd is None:
+                msg = f"axis {key}: the sweep has no crowd section"
+                raise ValueError(msg)
+        if self.crowd is not None and self.estimator.kind != "collective":
+            msg = "crowd: a crowd is measured by the collective estimator (estimator.kind)"
+            raise ValueError(msg)
         return self
 
     def axis_values(self) -> dict[str, list[Any]]:
@@ -156,7 +217,19 @@ class SweepSpec(_Strict):
 
 
 _TYPE_ERRORS = {"list_type", "dict_type", "model_type", "model_attributes_type", "float_type"}
-_UNION_TAGS = {"list[any]", "RangeSpec", "restart", "bank", "protocol", "str", "dict[str,any]"}
+_UNION_TAGS = {
+    "list[any]",
+    "RangeSpec",
+    "restart",
+    "bank",
+    "protocol",
+    "collective",
+    "ring",
+    "scatter",
+    "CrowdSpec",
+    "str",
+    "dict[str,any]",
+}
 
 
 def spec_error(err: ValidationError) -> str:
@@ -236,6 +309,14 @@ def apply_sweep_overrides(data: Mapping[str, Any], overrides: Iterable[str]) -> 
             raise SweepError(str(err)) from None
         head, rest = path[0], ".".join(path[1:])
         nested = head in ("set", "axes") or (head == "estimator" and len(path) == 2)
+        if head == "crowd" and rest:
+            crowd = copy.deepcopy(result.get("crowd") or {})
+            try:
+                set_key(crowd, rest, value)
+            except ConfigError as err:
+                raise SweepError(f"--set {text!r}: {err}") from None
+            result["crowd"] = crowd
+            continue
         if rest and nested:
             section = result.get(head) or {}
             if not isinstance(section, dict):

@@ -21,6 +21,7 @@ from ..config import RotorConfig
 from ..solver.simulation import Simulation
 from ..solver.threads import running_on
 from .estimators.base import timed_contents
+from .estimators.collective import collective_runs
 from .estimators.protocol import protocol_runs
 from .estimators.releases import restart_runs
 from .estimators.restart import check_spin_up, spin_up
@@ -75,12 +76,15 @@ def execute_group(runs: Sequence[Run], threads: int = 1) -> list[dict[str, Any]]
     """Run a group of runs (one stop shared for the bank estimator); their file contents.
 
     The estimators of :mod:`.estimators`, the code the ensemble batches run, with the
-    CPU backend: a restart or bank group advances from one step it reads to the next
-    and ends its release once committed. The wall time of a group is split evenly among
+    CPU backend (a collective run: its own bodies run on the CPU): a restart or bank
+    group advances from one step it reads to the next and ends its release once
+    committed. The wall time of a group is split evenly among
     its runs. The runs step on `threads` threads (their ``solver.threads`` is null:
     numba's count, set here; at most the threads numba may start in this process).
     """
     with running_on(min(threads, numba.config.NUMBA_NUM_THREADS)):
+        if runs[0].estimator["kind"] == "collective":
+            return timed_contents(runs, lambda: collective_runs(runs))
         if runs[0].estimator["kind"] == "protocol":
             configs = [RotorConfig.model_validate(run.config) for run in runs]
             keys = [run.key for run in runs]

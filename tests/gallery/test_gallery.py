@@ -34,6 +34,7 @@ from pde_rotor.gallery.runner import (
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 EXPECTED = (
+    "bodies_crowd",
     "bodies_dish",
     "bodies_movies",
     "bodies_onsets",

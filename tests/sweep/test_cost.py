@@ -16,12 +16,15 @@ from pde_rotor.sweep.cost import (
     COMMIT_TIME,
     LONG_RUN_SECONDS,
     SECONDS_PER_CELL_STEP,
+    SECONDS_PER_NO_FLUX_CELL_STEP,
+    bodies_step_seconds,
     call_seconds,
     cell_counts,
     estimate_run,
     estimate_sweep,
     format_count,
     format_duration,
+    no_flux_walls,
     protocol_seconds,
     step_seconds,
 )
@@ -257,3 +260,46 @@ def test_a_sweep_estimate_counts_the_threads_of_each_worker():
     assert idle.wall_seconds == pytest.approx(3600.0 / thread_speedup(2) + START_SECONDS)
     assert busy.slowdown == 1.5
     assert "on 1 worker of 2 threads (" in idle.describe()
+
+
+@pytest.mark.parametrize(
+    ("inner", "outer", "charged"),
+    [("no_flux", "absorbing", True), ("absorbing", "absorbing", False)],
+)
+def test_a_vessel_with_a_no_flux_wall_pays_for_its_cut_cells(inner, outer, charged) -> None:
+    """An annulus with a no-flux wall costs what the no-flux dish's cut cells cost per
+    interior cell; with absorbing walls only it does not."""
+
+    def config(inner_wall: str, outer_wall: str):
+        vessel = {"shape": "annulus", "inner_radius": 1.0, "outer_radius": 2.5}
+        return validate_config(
+            {
+                "grid": {
+                    "domain_radius": 2.5,
+                    "dx": 0.05,
+                    "dt": 4e-4,
+                    "vessel": vessel | {"inner_wall": inner_wall, "outer_wall": outer_wall},
+                },
+                "geometry": {"smoothing": 0.025},
+                "bodies": [
+                    {"pills": [{"radius": 0.1}], "motion": {"kind": "fixed"}, "start": {"x": 1.75}}
+                ],
+            }
+        )
+
+    with_walls, without = config(inner, outer), config("absorbing", "absorbing")
+    assert no_flux_walls(with_walls) is charged
+    extra = SECONDS_PER_NO_FLUX_CELL_STEP * cell_counts(with_walls)[0] if charged else 0.0
+    assert bodies_step_seconds(with_walls) == pytest.approx(bodies_step_seconds(without) + extra)
+
+
+def test_the_estimate_notes_what_it_assumes_of_the_runs_it_counts() -> None:
+    from pde_rotor.sweep.cost import SweepEstimate
+
+    restarts = SweepEstimate(runs=4, core_seconds=60.0, workers=1, cores=2).describe()
+    bodies = SweepEstimate(runs=4, core_seconds=60.0, workers=1, cores=2, restarts=False)
+    done = SweepEstimate(runs=0, core_seconds=0.0, workers=1, cores=2, restarts=None)
+    assert f"restarts assumed to commit {COMMIT_TIME:g}" in restarts
+    assert bodies.describe().endswith("measured costs per step; runs that end early cost less)")
+    assert done.describe().endswith("(an estimate from measured costs per step)")
+    assert estimate_sweep([], 1).restarts is None

@@ -143,6 +143,9 @@ def test_what_cannot_be_drawn_is_a_report_error(tmp_path) -> None:
         layout(ds, "sigma")
     with pytest.raises(ReportError, match="not a sweep report"):
         report_figure(ds.drop_vars("P_low"))
+    collective = ds.assign_attrs(estimator="collective")
+    with pytest.raises(ReportError, match=r"collective sweep's report .*bodies_crowd\.py"):
+        report_figure(collective)
     with pytest.raises(ReportError, match="no measured point"):
         report_figure(ds.assign(P=ds["P"] * np.nan))
     with pytest.raises(ReportError, match="no axis with several values"):

@@ -244,8 +244,43 @@ def test_the_dask_tasks_and_the_cpu_batches_store_the_same_runs(monkeypatch, est
     for key, want in by_task.items():
         got = by_batch[key]
         assert got.keys() == want.keys()
-        for name in want.keys() - {"result", "wall_time"}:
+        for name in want.keys() - {"result", "wall_time", "cpu_time"}:
             assert got[name] == want[name], name
         for name, value in want["result"].items():
             assert got["result"][name] == pytest.approx(value, rel=0, abs=0, nan_ok=True), name
     assert len({json.dumps(c["result"]) for c in by_task.values()}) == len(runs)
+
+
+def test_a_crowd_sweep_on_the_gpu_path_stores_what_the_cpu_tasks_store(tmp_path) -> None:
+    """Two free disks in a no-flux dish, 10 steps: the GPU batches (one member per run,
+    simulator) store the measures the CPU's dask tasks compute, to 1e-10."""
+    disk = {
+        "plate": {"shape": "none"},
+        "pills": [{"radius": 0.1}],
+        "motion": {"kind": "free", "mass": 1e-3, "inertia": 5e-6, "friction": 0.3},
+    }
+    spec = {
+        "name": "gpu_crowd",
+        "base": {
+            "grid": {"dx": 0.1, "dt": 1e-3, "domain_radius": 2.5, "wall": "no_flux"},
+            "geometry": {"smoothing": 0.05},
+            "numerics": {"scheme": "paper"},
+            "protocol": {"t_ini": 0.01, "cycles": 0},
+        },
+        "crowd": {
+            "count": 2,
+            "body": disk,
+            "placement": {"kind": "ring", "radius": 1.2, "speed": 0.2},
+        },
+        "estimator": {"kind": "collective", "record_interval": 0.005, "bins": 3},
+        "samples": 1,
+        "seed": 0,
+    }
+    sweep = Sweep.from_spec(SweepSpec.model_validate(spec))
+    outcome = run_sweep(sweep, tmp_path / "gpu", ensemble=gpu_backend.run_ensemble, progress=False)
+    assert outcome.computed == 1 and not outcome.failed
+    want = tasks.execute_group(sweep.runs())[0]
+    got = read_runs(tmp_path / "gpu")[want["key"]]
+    assert got["backend"] == "gpu" and want["backend"] == "cpu"
+    for name in ("t", "mean_speed", "polar_order", "rotational_order", "pair_counts"):
+        np.testing.assert_allclose(got["result"][name], want["result"][name], atol=1e-10)

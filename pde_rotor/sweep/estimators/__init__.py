@@ -15,13 +15,16 @@ CPU backend, the batches with theirs). One module per estimator:
 * :mod:`.bank`: restarts whose noise-free stop is shared by every noise intensity: the
   noise-free approach computed once, the noise that starts at the end of the stop;
 * :mod:`.releases`: the restart and bank estimators run as ensembles, each member read
-  at the steps the rules above name.
+  at the steps the rules above name;
+* :mod:`.collective`: one bodies run per sample, its collective measures
+  (:mod:`pde_rotor.collective`) recorded.
 """
 
 from __future__ import annotations
 
 from .bank import DelayedNoise, noise_free, run_distinct
 from .base import check_finite, run_content, timed_contents
+from .collective import Trajectory, collective_result, collective_runs, trajectory
 from .protocol import protocol_result, protocol_runs, protocol_steps
 from .releases import RECORD_BUDGET, restart_runs
 from .restart import (
@@ -44,8 +47,11 @@ __all__ = [
     "DelayedNoise",
     "Stop",
     "Timing",
+    "Trajectory",
     "check_finite",
     "check_spin_up",
+    "collective_result",
+    "collective_runs",
     "draw_stop",
     "noise_free",
     "period_steps",
@@ -60,5 +66,6 @@ __all__ = [
     "spin_up",
     "stop_period",
     "timed_contents",
+    "trajectory",
     "warm_states",
 ]

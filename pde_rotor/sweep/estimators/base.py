@@ -30,11 +30,15 @@ def check_finite(result: EnsembleResult, keys: Sequence[str]) -> None:
             raise ValueError(msg)
 
 
-def run_content(run: Run, result: dict, wall_time: float, backend: str) -> dict[str, Any]:
+def run_content(
+    run: Run, result: dict, wall_time: float, backend: str, cpu_time: float | None = None
+) -> dict[str, Any]:
     """What the record of `run` in the store holds: its key, point, sample, result and cost.
 
     The resolved config is not repeated: the run key is its hash, and the sweep file in
-    the sweep directory resolves it again.
+    the sweep directory resolves it again. `cpu_time`, where given, is the CPU time of the
+    computing process (a worker's, all its threads): on a loaded machine the wall time is
+    longer, and the cost estimates of :mod:`pde_rotor.sweep.cost` are of one idle core.
     """
     return {
         "key": run.key,
@@ -45,21 +49,22 @@ def run_content(run: Run, result: dict, wall_time: float, backend: str) -> dict[
         "result": result,
         "wall_time": wall_time,
         "backend": backend,
-    }
+    } | ({} if cpu_time is None else {"cpu_time": cpu_time})
 
 
 def timed_contents(
     runs: Sequence[Run], compute: Callable[[], tuple[list[dict], str]]
 ) -> list[dict[str, Any]]:
-    """Compute the results of `runs` and return their records; the wall time is split
-    evenly among the runs.
+    """Compute the results of `runs` and return their records; the wall time and the
+    CPU time of this process are split evenly among the runs.
 
     Args:
         runs: the runs computed together.
         compute: returns one result per run and the backend that computed them.
     """
-    start = time.perf_counter()
+    start, cpu = time.perf_counter(), time.process_time()
     results, backend = compute()
     share = (time.perf_counter() - start) / len(runs)
+    cpu_share = (time.process_time() - cpu) / len(runs)
     pairs = zip(runs, results, strict=True)
-    return [run_content(run, result, share, backend) for run, result in pairs]
+    return [run_content(run, result, share, backend, cpu_share) for run, result in pairs]

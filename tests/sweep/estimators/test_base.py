@@ -36,6 +36,8 @@ def test_timed_contents_splits_the_wall_time_evenly():
     assert [r["result"] for r in records] == [{"k": n} for n in range(4)]
     shares = [r["wall_time"] for r in records]
     assert len(set(shares)) == 1 and shares[0] >= 0.02 / 4
+    cpu = [r["cpu_time"] for r in records]  # sleeping costs no CPU
+    assert len(set(cpu)) == 1 and 0 <= cpu[0] < shares[0]
     first = records[0]
     assert first["schema"] == SCHEMA_VERSION and first["backend"] == "rigid"
     assert (first["coords"], first["sample"], first["direction"]) == (

@@ -1,0 +1,213 @@
+"""Crowds of camphor bodies: boats in a ring channel and free disks in a dish, from the
+committed collective sweeps (docs/collective.md).
+
+* ring (configs/sweeps/crowd_ring.yaml, data/sweeps/crowd_ring): (a) the boats' mean
+  |arc speed| against their number N, per friction and flow; (b) the spacing spread
+  std(gaps) / mean(gaps) against time for each N (solid) and the cluster order (dashed);
+  (f) the mode of each run (uniform, clusters, density wave, stop) against N;
+* dish (configs/sweeps/crowd_dish.yaml, data/sweeps/crowd_dish): (c) the disks' mean
+  speed against time, per friction and flow, to the end of each run (a run ends where two
+  footprints meet or one reaches the wall: there is no contact force yet); (d) their pair
+  correlation g(r), normalised by the pair distances of uncorrelated centres in the dish;
+  (e) polar (solid) and rotational (dashed) order against time.
+
+A panel whose store is not committed says so. Run: ``python gallery/bodies_crowd.py
+[--quick | --tiny]``: full and quick read the committed stores (nothing is computed);
+tiny runs two tiny sweeps of free disks here, in a ring channel and in a dish (seconds),
+and draws them (the CI check that the page draws).
+"""
+
+from __future__ import annotations
+
+import tempfile
+from collections.abc import Sequence
+from pathlib import Path
+
+import xarray as xr
+from matplotlib.axes import Axes
+
+from pde_rotor.gallery.common import add_footer, new_figure, parse_args, save
+from pde_rotor.sweep import Sweep, SweepSpec, gather
+from pde_rotor.sweep.store import DEFAULT_ROOT, RunLog, prepare
+from pde_rotor.sweep.tasks import execute_group
+
+NAME = "bodies_crowd"
+STORES = {"ring": DEFAULT_ROOT / "crowd_ring", "dish": DEFAULT_ROOT / "crowd_dish"}
+DISK = {
+    "plate": {"shape": "none"},
+    "pills": [{"radius": 0.1}],
+    "motion": {"kind": "free", "mass": 1.0e-4, "inertia": 5.0e-7, "friction": 0.25},
+}
+TINY_GRID = {"dx": 0.04, "dt": 2.0e-4}
+
+
+def tiny_sweeps() -> dict[str, dict]:
+    """Two tiny collective sweeps of free disks (not boats: the track motion is not here
+    yet): in a ring channel 1 < r < 2.4 and in a no-flux dish of radius 2."""
+    common = {
+        "geometry": {"smoothing": 0.02},
+        "numerics": {"scheme": "paper"},
+        "protocol": {"t_ini": 0.1, "cycles": 0},
+        "output": {"progress": False},
+    }
+    annulus = {"shape": "annulus", "inner_radius": 1.0, "outer_radius": 2.4}
+    ring = {
+        "name": "tiny_ring",
+        "base": common | {"grid": TINY_GRID | {"domain_radius": 2.4, "vessel": annulus}},
+        "crowd": {"count": 2, "body": DISK, "placement": {"kind": "ring", "radius": 1.7}},
+        "axes": {"crowd.count": [1, 2, 3]},
+        "estimator": {"kind": "collective", "record_interval": 0.02},
+        "samples": 1,
+        "seed": 1,
+    }
+    dish = {
+        "name": "tiny_dish",
+        "base": common | {"grid": TINY_GRID | {"domain_radius": 2.0, "wall": "no_flux"}},
+        "crowd": {
+            "count": 3,
+            "body": DISK,
+            "placement": {"kind": "scatter", "radius": 1.0, "min_distance": 1.05},
+        },
+        "axes": {"crowd.body.motion.friction": [0.2, 0.25]},
+        "estimator": {"kind": "collective", "record_interval": 0.02, "bins": 6},
+        "samples": 1,
+        "seed": 1,
+    }
+    return {"ring": ring, "dish": dish}
+
+
+def run_here(spec: dict, sweep_dir: Path) -> xr.Dataset:
+    """Compute a (tiny) collective sweep in this process, store it and gather its report."""
+    sweep = Sweep.from_spec(SweepSpec.model_validate(spec))
+    prepare(sweep, sweep_dir)
+    with RunLog(sweep_dir) as log:
+        for run in sweep.runs():
+            for content in execute_group([run]):
+                log.append(content)
+    return gather(sweep, sweep_dir)
+
+
+def stored(path: Path) -> xr.Dataset | None:
+    """The report of the committed store at `path` (None where there is none)."""
+    if not (path / "sweep.yaml").is_file():
+        return None
+    return gather(Sweep.load(path), path)
+
+
+def lines(ds: xr.Dataset, keep: Sequence[str]) -> list[tuple[str, xr.Dataset]]:
+    """(label, the dataset at one value of every axis but `keep` and the samples)."""
+    others = [d for d in ds["runs_done"].dims if d not in keep]
+    if not others:
+        return [("", ds)]
+    flat = ds.stack(line=others)
+    result = []
+    for i in range(flat.sizes["line"]):
+        one = flat.isel(line=i)
+        label = ", ".join(f"{d} = {one[d].item():g}" for d in others)
+        result.append((label, one))
+    return result
+
+
+def missing(ax: Axes, what: str) -> None:
+    ax.text(0.5, 0.5, what, ha="center", va="center", transform=ax.transAxes, fontsize=9)
+    ax.set_xticks([])
+    ax.set_yticks([])
+
+
+def draw_ring(ds: xr.Dataset | None, speed_ax: Axes, spread_ax: Axes, mode_ax: Axes) -> None:
+    """Panels (a), (b) and (f) of the ring store `ds`."""
+    if ds is None:
+        for ax in (speed_ax, spread_ax, mode_ax):
+            missing(ax, f"no store {STORES['ring']} yet:\nthe ring sweep waits for the track")
+        return
+    count = "count" if "count" in ds.dims else ds["runs_done"].dims[0]
+    for label, one in lines(ds, [count]):
+        speed = one["abs_arc_speed"].mean("sample")
+        speed_ax.plot(one[count], speed, "o-", label=label or None)
+    speed_ax.set(xlabel="boats N", ylabel="mean |arc speed|", title="(a) speed against N")
+    first = lines(ds, [count])[0][1]
+    for n in first[count].values:
+        one = first.sel({count: n}).mean("sample")
+        (line,) = spread_ax.plot(one["time"], one["spacing_spread"], label=f"N = {n}")
+        spread_ax.plot(one["time"], one["cluster_order"], "--", color=line.get_color())
+    spread_ax.set(
+        xlabel="time",
+        ylabel="spacing spread (solid), cluster order (dashed)",
+        title="(b) spacing against time",
+    )
+    modes = ds.attrs["modes"].split(", ")
+    labels = []
+    for row, (label, one) in enumerate(lines(ds, [count])):
+        labels.append(label or "all")
+        for n in one[count].values:
+            for code in one["mode"].sel({count: n}).values:
+                if code >= 0:
+                    mode_ax.plot(n, row, "s", ms=9, color=f"C{code}")
+    for code, mode in enumerate(modes):
+        mode_ax.plot([], [], "s", color=f"C{code}", label=mode)
+    mode_ax.set_yticks(range(len(labels)), labels, fontsize=7)
+    mode_ax.set(xlabel="boats N", title="(f) mode of each run (docs/collective.md)")
+    mode_ax.legend(fontsize=7)
+    if speed_ax.get_legend_handles_labels()[0]:
+        speed_ax.legend(fontsize=7)
+    spread_ax.legend(fontsize=7, ncol=2)
+
+
+def draw_dish(ds: xr.Dataset | None, axes: Sequence[Axes]) -> None:
+    """Panels (c), (d) and (e) of the dish store `ds`."""
+    speed_ax, g_ax, order_ax = axes
+    if ds is None:
+        for ax in axes:
+            missing(ax, f"no store {STORES['dish']}")
+        return
+    for label, one in lines(ds, []):
+        runs = one.mean("sample")
+        (line,) = speed_ax.plot(runs["time"], runs["mean_speed"], label=label)
+        colour = line.get_color()
+        g_ax.plot(runs["r"], one["g"], "o-", ms=3, color=colour, label=label)
+        order_ax.plot(runs["time"], runs["polar_order"], color=colour, label=label)
+        order_ax.plot(runs["time"], runs["rotational_order"], "--", color=colour)
+    speed_ax.set(xlabel="time", ylabel="mean speed <|U|>", title="(c) speed against time")
+    g_ax.axhline(1, color="0.5", lw=0.7)
+    g_ax.set(xlabel="r", ylabel="g(r)", title="(d) pair correlation (after settle)")
+    order_ax.set(
+        xlabel="time",
+        ylabel="polar (solid), rotational (dashed)",
+        title="(e) order against time",
+    )
+    for ax in axes:
+        ax.legend(fontsize=7)
+
+
+def main(argv: Sequence[str] | None = None) -> list[Path]:
+    """Draw the crowd stores (tiny: two tiny sweeps computed here)."""
+    args = parse_args(__doc__.splitlines()[0], argv)
+    fid = args.fidelity
+    if fid.is_tiny:
+        with tempfile.TemporaryDirectory() as tmp:
+            specs = tiny_sweeps()
+            reports = {kind: run_here(spec, Path(tmp) / kind) for kind, spec in specs.items()}
+        source = "tiny sweeps of free disks computed here (not boats)"
+    else:
+        reports = {kind: stored(path) for kind, path in STORES.items()}
+        source = "committed stores " + ", ".join(str(p) for p in STORES.values())
+    fig = new_figure(15.0, 8.4)
+    axes = fig.subplots(2, 3)
+    draw_ring(reports["ring"], axes[0, 0], axes[0, 1], axes[0, 2])
+    draw_dish(reports["dish"], axes[1])
+    for ax in axes.flat:
+        ax.grid(alpha=0.3)
+    for kind, ds in reports.items():
+        if ds is not None:
+            done, expected = int(ds["runs_done"].sum()), int(ds["runs_expected"].sum())
+            ended = int((ds["ended_early"] == 1).sum())
+            print(f"{NAME}: {kind}: {done} of {expected} runs, {ended} ended early")
+    add_footer(
+        fig,
+        f"pde_rotor, {fid.name} fidelity; {source}; collective measures of docs/collective.md",
+    )
+    return save(fig, args.out, NAME)
+
+
+if __name__ == "__main__":
+    main()
