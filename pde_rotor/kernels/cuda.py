@@ -226,9 +226,7 @@ def _advance(
                         f = _plate_cell(x, y, tab, n_corners, apothem, inv_delta)
                         g = _pill_cell(x, y, tab, n_corners, rho, inv_delta)
                     if f != 0.0:
-                        cross_grad += _tension_integrand(
-                            buf, o, n, 1, f, x, y, inv_2dx, p.inv_saturation
-                        )[2]
+                        cross_grad += _tension_integrand(buf, o, n, 1, f, x, y, inv_2dx, p)[2]
                         moments = _friction_moments(buf, o, nn, f, x, y, flow)
                         moment += moments[3]
                         cross_v += moments[4]
@@ -264,7 +262,7 @@ def _advance(
             cross_grad = 0.0
             for q in range(tid, n_nodes, n_threads):
                 cross_grad += _polygon_node(
-                    coef, (o_coef, n, x0, inv_dx), tab, polygon, quad_s, quad_t, q, p.inv_saturation
+                    coef, (o_coef, n, x0, inv_dx), tab, polygon, quad_s, quad_t, q, p
                 )[2]
 
         # block reduction of the rotor integrals in a fixed order
