@@ -291,7 +291,6 @@ def body_integrals(cur, F, owner, coords, k, x_k, y_k, box, p, out):
     nn = np.uint64(n * n)
     dx = coords[1] - coords[0]
     inv_2dx = 0.5 / dx
-    inv_sat = p.inv_saturation
     flow = p.flow
     # the sums in locals, which stay in registers (out might alias cur or F)
     s0 = s1 = s2 = s3 = s4 = s5 = s6 = s7 = s8 = s9 = 0.0
@@ -305,7 +304,7 @@ def body_integrals(cur, F, owner, coords, k, x_k, y_k, box, p, out):
             if f == 0.0:
                 continue
             ry = coords[j] - y_k
-            t0, t1, t2 = _tension_integrand(cur, o, sx, np.uint64(1), f, rx, ry, inv_2dx, inv_sat)
+            t0, t1, t2 = _tension_integrand(cur, o, sx, np.uint64(1), f, rx, ry, inv_2dx, p)
             m0, m1, m2, m3, m4, m5, m6 = _friction_moments(cur, o, nn, f, rx, ry, flow)
             s0 += t0
             s1 += t1
@@ -348,7 +347,7 @@ def body_contour(cur, coords, k, body, pills, pose, normals, centres, tables, p,
     for :func:`advance_bodies`.
     """
     quad_s, quad_t, _, pill_tab, _, _, rings, coef, carry = tables
-    delta, inv_sat = p.smoothing, p.inv_saturation
+    delta = p.smoothing
     _orient(k, body, pills, pose, normals, centres)  # scratch: a new stepper starts with 0
     b = body[k]
     n = coords.size
@@ -372,7 +371,7 @@ def body_contour(cur, coords, k, body, pills, pose, normals, centres, tables, p,
             for m in range(n_s):
                 h, half = _polygon_band(b.size_a, delta, b.tan_half, quad_s, m)
                 edge = (x_k, y_k, ex, ey, h, half)
-                pair_x, pair_y, pair_t = _edge_sums(coef, grid, edge, quad_s, quad_t, m, inv_sat)
+                pair_x, pair_y, pair_t = _edge_sums(coef, grid, edge, quad_s, quad_t, m, p)
                 f_x += pair_x
                 f_y += pair_y
                 torque += pair_t
@@ -386,7 +385,7 @@ def body_contour(cur, coords, k, body, pills, pose, normals, centres, tables, p,
                 if h <= -thinner:  # no parallel: the gauge is >= -W/2 (L/2) everywhere
                     continue
                 edge = (x_k, y_k, ex, ey, side + h, along + h)
-                pair_x, pair_y, pair_t = _edge_sums(coef, grid, edge, quad_s, quad_t, m, inv_sat)
+                pair_x, pair_y, pair_t = _edge_sums(coef, grid, edge, quad_s, quad_t, m, p)
                 f_x += pair_x
                 f_y += pair_y
                 torque += pair_t
@@ -411,7 +410,7 @@ def body_contour(cur, coords, k, body, pills, pose, normals, centres, tables, p,
                 for a_l in range(n_arc):
                     angle = phi + step * a_l
                     a, c = _arc_node(
-                        coef, grid, cx, cy, h, math.cos(angle), math.sin(angle), weight, inv_sat
+                        coef, grid, cx, cy, h, math.cos(angle), math.sin(angle), weight, p
                     )
                     q_x += a
                     q_y += c
