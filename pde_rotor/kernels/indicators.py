@@ -18,6 +18,7 @@ functions.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numba as nb
 import numpy as np
@@ -44,6 +45,38 @@ _ROW = {"cache": True, "nogil": True, "fastmath": FASTMATH, "error_model": "nump
 """numba options of the row functions: inlined into the loops over rows that call them."""
 
 
+class PolygonFilter(NamedTuple):
+    """A regular polygon plate's F_eps of the scheme ``consistent``: the arguments of the
+    physics' ``filtered_plate`` from `n_corners` on, bundled (built in the compiled loops;
+    a body's from its record, the rotor's from the parameter record)."""
+
+    n_corners: int
+    apothem: float
+    tan_half: float
+    crease: float
+    corner_end: float
+    edge: np.ndarray
+    edge_u0: float
+    edge_inv: float
+    plate: np.ndarray
+    table_n: int
+    table_x0: float
+    table_inv: float
+
+
+class CornerScratch(NamedTuple):
+    """The scratch rows of :func:`filtered_plate_row`, each as long as the row and each
+    a 1-D array of its own (as a slice of a 2-D slice its stride would be unknown, and
+    LLVM would not vectorise the loops): the edge frame (h, q), the corner table's
+    fractions (tx, ty) and its first taps (unsigned)."""
+
+    h: np.ndarray
+    q: np.ndarray
+    tx: np.ndarray
+    ty: np.ndarray
+    taps: np.ndarray
+
+
 @nb.njit(inline="always", **_ROW)
 def plate_row(row_f, x, row_y, tab, n_corners, apothem, inv_delta, row_h):
     """F of the scheme ``paper`` on a row of cells (compiled): row_f[j] at the point
@@ -68,27 +101,25 @@ def plate_row(row_f, x, row_y, tab, n_corners, apothem, inv_delta, row_h):
 
 
 @nb.njit(inline="always", **_ROW)
-def filtered_plate_row(
-    row_f, x, row_y, tab, n_corners, apothem, tan_half, crease, corner_end, edge, e_u0, e_inv,
-    plate, t_n, t_x0, t_inv, row_h, row_q, row_tx, row_ty, row_taps,
-):  # fmt: skip
+def filtered_plate_row(row_f, x, row_y, tab, polygon, rows):
     """F_eps of the scheme ``consistent`` on a row of cells (compiled): row_f[j] at the
     point (x, row_y[j]) of the plate's frame, as for :func:`plate_row`.
 
-    The physics' ``filtered_plate`` (its arguments from `n_corners` to `t_inv`) in
-    passes over the row, all but the last four cells at a time (SIMD, as
-    :func:`plate_row`): the frame of the nearest edge (h, q) (``nearer_edge`` from
-    ``projection``, ``farther`` and ``tangential``); the edge profile
-    (``filtered_edge``); where the 2-D corner table's taps lie (``corner_taps``), kept
+    The physics' ``filtered_plate`` (its arguments from `n_corners` on, the
+    :class:`PolygonFilter` `polygon`) in passes over the row, all but the last four
+    cells at a time (SIMD, as :func:`plate_row`): the frame of the nearest edge (h, q)
+    (``nearer_edge`` from ``projection``, ``farther`` and ``tangential``); the edge
+    profile (``filtered_edge``); where the 2-D corner table's taps lie (``corner_taps``), kept
     for the cells within the crease width of a corner bisector and short of the table's
     end (``near_corner``); last, one cell at a time, the table's spline on those cells
     (``corner_sum``: 16 loads from computed places, which LLVM does not vectorise). Split
     so, the corner cells cost 10 % less than with the table looked up whole
-    (``filtered_corner``) in the loop over the cells. `row_h`, `row_q`, `row_tx`, `row_ty`
-    and `row_taps` (unsigned), as long as the row, are scratch (four rows of one array,
-    each passed alone: as a slice of a 2-D slice its stride would be unknown, and LLVM
-    would not vectorise the loops).
+    (``filtered_corner``) in the loop over the cells. `rows` (:class:`CornerScratch`)
+    is scratch.
     """
+    n_corners, apothem, tan_half, crease, corner_end, edge = polygon[0:6]
+    e_u0, e_inv, plate, t_n, t_x0, t_inv = polygon[6:12]
+    row_h, row_q, row_tx, row_ty, row_taps = rows
     ex, ey = tab[0, 0], tab[1, 0]
     for j in range(row_y.size):
         row_h[j] = _projection(x, row_y[j], ex, ey)
@@ -188,11 +219,14 @@ def indicator_row(F, G, i, coords, j0, j1, p, tab, tables, scratch, taps):
     pill_row(
         G, i, coords, j0, j1, tab, n_corners, reach, rho, inv_delta, pill_tab, p_inv, scratch[4]
     )
-    filtered_plate_row(
-        row_f, x, row_y, tab, n_corners, p.apothem, p.tan_half, p.crease, p.corner_end, edge_tab,
-        p.edge_u0, p.edge_inv_step, plate_tab, p.table_n, p.table_x0, p.table_inv_step,
-        scratch[0, j0:j1], scratch[1, j0:j1], scratch[2, j0:j1], scratch[3, j0:j1], taps[j0:j1],
+    polygon = PolygonFilter(
+        n_corners, p.apothem, p.tan_half, p.crease, p.corner_end, edge_tab, p.edge_u0,
+        p.edge_inv_step, plate_tab, p.table_n, p.table_x0, p.table_inv_step,
     )  # fmt: skip
+    rows = CornerScratch(
+        scratch[0, j0:j1], scratch[1, j0:j1], scratch[2, j0:j1], scratch[3, j0:j1], taps[j0:j1]
+    )
+    filtered_plate_row(row_f, x, row_y, tab, polygon, rows)
 
 
 @nb.njit(**_ROW)
