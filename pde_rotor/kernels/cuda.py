@@ -74,40 +74,32 @@ _euler_pose = GPU.motion.euler_pose
 _noise_kick = GPU.motion.noise_kick
 
 
-def _advance(
-    buf,
-    coords,
-    interior,
-    rows,
-    support,
-    params,
-    tables,
-    rotor,
-    xi,
-    records,
-    status,
-    coef,
-    step0,
-    n_steps,
-    parity0,
-    record_every,
-    record0,
-):
+def _advance(buf, domain, params, tables, state, span):
     """Advance every member by `n_steps` fused Euler steps; block m advances member m.
+
+    The arrays and counters travel as three tuples (a kernel's arguments are flattened
+    on launch, so tuples of device arrays and of integers cost nothing): `domain` is
+    (coords, interior, rows, support), `state` is (rotor, xi, records, status, coef),
+    `span` is (step0, n_steps, parity0, record_every, record0).
 
     Args:
         buf: two state buffers (2, E, 3, n, n) of (c, v_x, v_y), flattened; buffer
             `parity0` holds the state at step0, the result ends in buffer
             (parity0 + n_steps) % 2.
+        domain: the grid's arrays, below.
+        params: (E,) parameter records, one per member
+            (:func:`pde_rotor.kernels.records.make_record`).
+        tables: (quad_s, quad_t, plate, edge, pill), the common quadrature rules of the
+            contour torque and filter tables (:meth:`Scheme.kernel_tables`).
+        state: the members' arrays, below.
+        span: the steps of this launch, below.
+
+    The tuples' entries:
         coords: (n,) cell-centre coordinates.
         interior: (2, n) column range [lo, hi) of interior cells per row.
         rows: [i0, i1), the rows holding interior cells.
         support: (E, 2, n) column range of each member's support of F and G per row
             (inside the interior ranges).
-        params: (E,) parameter records, one per member
-            (:func:`pde_rotor.kernels.records.make_record`).
-        tables: (quad_s, quad_t, plate, edge, pill), the common quadrature rules of the
-            contour torque and filter tables (:meth:`Scheme.kernel_tables`).
         rotor: (E, 5) [phi, omega, torque, friction, stopped], updated.
         xi: (E, n_steps) standard normals of the noise (read where the member's
             ``kick`` != 0).
@@ -123,6 +115,9 @@ def _advance(
         record_every: steps between records.
         record0: record number of row 0 of `records`.
     """
+    coords, interior, rows, support = domain
+    rotor, xi, records, status, coef = state
+    step0, n_steps, parity0, record_every, record0 = span
     m = cuda.blockIdx.x
     tid = cuda.threadIdx.x
     n_threads = cuda.blockDim.x
