@@ -39,7 +39,7 @@ from ..model.body_schemes import ARC_EDGES
 from ..physics.build import CPU, FASTMATH
 from ..physics.indicators import PLATE_DISK, PLATE_NONE, PLATE_POLYGON, PLATE_STRIP
 from ..physics.motion import MOTION_FIXED, N_INTEGRALS
-from .indicators import filtered_plate_row, plate_row
+from .indicators import CornerScratch, PolygonFilter, filtered_plate_row, plate_row
 from .spline import ROW_GROUP, spline_columns, spline_rows
 from .wall import euler_walled_fields
 
@@ -206,12 +206,15 @@ def draw_body(F, G, owner, domain, k, body, pills, pose, normals, centres, box, 
             row_g[j] = 0.0
             row_y[j] = row_x[j] - y_k
         if filtered and b.plate == PLATE_POLYGON:
-            filtered_plate_row(
-                row_f, rx, row_y, tab, b.n_corners, b.size_a, b.tan_half, b.crease, b.corner_end,
-                edge, b.edge_u0, p.edge_inv_step, plate, b.table_n, b.table_x0, p.table_inv_step,
+            polygon = PolygonFilter(
+                b.n_corners, b.size_a, b.tan_half, b.crease, b.corner_end, edge, b.edge_u0,
+                p.edge_inv_step, plate, b.table_n, b.table_x0, p.table_inv_step,
+            )  # fmt: skip
+            rows = CornerScratch(
                 scratch[1, ja:jb], scratch[2, ja:jb], scratch[3, ja:jb], scratch[4, ja:jb],
                 taps[ja:jb],
             )  # fmt: skip
+            filtered_plate_row(row_f, rx, row_y, tab, polygon, rows)
         elif filtered and b.plate == PLATE_DISK:
             for j in range(row_y.size):
                 row_f[j] = _filtered_pill_term(rx, row_y[j], disk, inv_step)
