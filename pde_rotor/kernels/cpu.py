@@ -255,9 +255,9 @@ def _contour_block(coef, coords, params, tab, quad_s, quad_t, sums, scratch, b, 
             weights[8, k_t] = w
         total = 0.0
         for k_t in range(n_t):
-            wx0, wx1, wx2, wx3 = weights[0, k_t], weights[1, k_t], weights[2, k_t], weights[3, k_t]
-            wy0, wy1, wy2, wy3 = weights[4, k_t], weights[5, k_t], weights[6, k_t], weights[7, k_t]
-            c = _spline_sum(coef, taps[k_t], sx, sy, wx0, wx1, wx2, wx3, wy0, wy1, wy2, wy3)
+            wx = (weights[0, k_t], weights[1, k_t], weights[2, k_t], weights[3, k_t])
+            wy = (weights[4, k_t], weights[5, k_t], weights[6, k_t], weights[7, k_t])
+            c = _spline_sum(coef, taps[k_t], sx, sy, wx, wy)
             total += weights[8, k_t] * _surface_pressure(c, p)
         sums[pair] = total
 

@@ -263,9 +263,7 @@ def make_indicators(jit: Callable[[Callable], Callable], spline: Spline) -> Indi
         """The cubic spline of the 2-D `plate` table from its taps (:func:`corner_taps`;
         `row`, `sx` = t_n and `sy` = 1 of the caller's integer type, as for
         :func:`spline_sum`)."""
-        wx0, wx1, wx2, wx3 = bspline_weights(tx)
-        wy0, wy1, wy2, wy3 = bspline_weights(ty)
-        return spline_sum(plate, row, sx, sy, wx0, wx1, wx2, wx3, wy0, wy1, wy2, wy3)
+        return spline_sum(plate, row, sx, sy, bspline_weights(tx), bspline_weights(ty))
 
     @jit
     def filtered_corner(h, q, plate, t_n, t_x0, t_inv):

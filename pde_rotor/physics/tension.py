@@ -140,10 +140,10 @@ def make_tension(jit: Callable[[Callable], Callable], spline: Spline) -> Tension
             int F (r - X) x grad c dA, w_t c.
         """
         row, tx, ty, w, w_t = edge_place(grid, edge, quad_s, quad_t, m, k_t)
-        wx0, wx1, wx2, wx3 = bspline_weights(tx)
-        wy0, wy1, wy2, wy3 = bspline_weights(ty)
         n = grid[1]
-        c = surface_pressure(spline_sum(coef, row, n, 1, wx0, wx1, wx2, wx3, wy0, wy1, wy2, wy3), p)
+        c = surface_pressure(
+            spline_sum(coef, row, n, 1, bspline_weights(tx), bspline_weights(ty)), p
+        )
         wc = w * c
         return wc * edge[2], wc * edge[3], w_t * c
 
@@ -197,10 +197,10 @@ def make_tension(jit: Callable[[Callable], Callable], spline: Spline) -> Tension
         o0, n, x0, inv_dx = grid
         i, tx = spline_node(x0, inv_dx, cx + h * ca)
         j, ty = spline_node(x0, inv_dx, cy + h * sa)
-        wx0, wx1, wx2, wx3 = bspline_weights(tx)
-        wy0, wy1, wy2, wy3 = bspline_weights(ty)
         row = o0 + (i - 1) * n + j - 1
-        c = surface_pressure(spline_sum(coef, row, n, 1, wx0, wx1, wx2, wx3, wy0, wy1, wy2, wy3), p)
+        c = surface_pressure(
+            spline_sum(coef, row, n, 1, bspline_weights(tx), bspline_weights(ty)), p
+        )
         w = weight * c
         return w * ca, w * sa
 
