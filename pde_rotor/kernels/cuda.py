@@ -47,6 +47,7 @@ import math
 from collections.abc import Callable
 
 from ..physics.build import Physics, make_physics
+from ..physics.indicators import PolygonFilter
 from .cuda_target import cuda, device_function, float64, kernel
 
 MAX_CORNERS = 24
@@ -144,6 +145,10 @@ def _advance(buf, domain, params, tables, state, span):
     corner_end = p.corner_end
     contour = p.contour
     tan_half = p.tan_half
+    plate_filter = PolygonFilter(
+        n_corners, apothem, tan_half, crease, corner_end, edge_tab, e_u0, e_inv, plate_tab,
+        t_n, t_x0, t_inv,
+    )  # fmt: skip
     polygon = (apothem, delta, tan_half)
     w_lo = p.window_lo
     width = p.window_hi - w_lo
@@ -199,23 +204,7 @@ def _advance(buf, domain, params, tables, state, span):
                 g = 0.0
                 if on_support:
                     if filtered:
-                        f = _filtered_plate(
-                            x,
-                            y,
-                            tab,
-                            n_corners,
-                            apothem,
-                            tan_half,
-                            crease,
-                            corner_end,
-                            edge_tab,
-                            e_u0,
-                            e_inv,
-                            plate_tab,
-                            t_n,
-                            t_x0,
-                            t_inv,
-                        )
+                        f = _filtered_plate(x, y, tab, plate_filter)
                         g = _filtered_pills(x, y, tab, n_corners, pill_tab, p_inv)
                     else:
                         f = _plate_cell(x, y, tab, n_corners, apothem, inv_delta)

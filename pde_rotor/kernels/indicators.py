@@ -24,6 +24,7 @@ import numba as nb
 import numpy as np
 
 from ..physics.build import CPU, FASTMATH
+from ..physics.indicators import PolygonFilter
 
 _rotor_table = CPU.indicators.rotor_table
 _projection = CPU.indicators.projection
@@ -43,25 +44,6 @@ _filtered_pill_term = CPU.indicators.filtered_pill_term
 
 _ROW = {"cache": True, "nogil": True, "fastmath": FASTMATH, "error_model": "numpy"}
 """numba options of the row functions: inlined into the loops over rows that call them."""
-
-
-class PolygonFilter(NamedTuple):
-    """A regular polygon plate's F_eps of the scheme ``consistent``: the arguments of the
-    physics' ``filtered_plate`` from `n_corners` on, bundled (built in the compiled loops;
-    a body's from its record, the rotor's from the parameter record)."""
-
-    n_corners: int
-    apothem: float
-    tan_half: float
-    crease: float
-    corner_end: float
-    edge: np.ndarray
-    edge_u0: float
-    edge_inv: float
-    plate: np.ndarray
-    table_n: int
-    table_x0: float
-    table_inv: float
 
 
 class CornerScratch(NamedTuple):
@@ -105,16 +87,16 @@ def filtered_plate_row(row_f, x, row_y, tab, polygon, rows):
     """F_eps of the scheme ``consistent`` on a row of cells (compiled): row_f[j] at the
     point (x, row_y[j]) of the plate's frame, as for :func:`plate_row`.
 
-    The physics' ``filtered_plate`` (its arguments from `n_corners` on, the
-    :class:`PolygonFilter` `polygon`) in passes over the row, all but the last four
-    cells at a time (SIMD, as :func:`plate_row`): the frame of the nearest edge (h, q)
-    (``nearer_edge`` from ``projection``, ``farther`` and ``tangential``); the edge
-    profile (``filtered_edge``); where the 2-D corner table's taps lie (``corner_taps``), kept
-    for the cells within the crease width of a corner bisector and short of the table's
-    end (``near_corner``); last, one cell at a time, the table's spline on those cells
-    (``corner_sum``: 16 loads from computed places, which LLVM does not vectorise). Split
-    so, the corner cells cost 10 % less than with the table looked up whole
-    (``filtered_corner``) in the loop over the cells. `rows` (:class:`CornerScratch`)
+    The physics' ``filtered_plate`` of the plate `polygon`
+    (:class:`~pde_rotor.physics.indicators.PolygonFilter`) in passes over the row, all but
+    the last four cells at a time (SIMD, as :func:`plate_row`): the frame of the nearest
+    edge (h, q) (``nearer_edge`` from ``projection``, ``farther`` and ``tangential``); the
+    edge profile (``filtered_edge``); where the 2-D corner table's taps lie
+    (``corner_taps``), kept for the cells within the crease width of a corner bisector and
+    short of the table's end (``near_corner``); last, one cell at a time, the table's spline
+    on those cells (``corner_sum``: 16 loads from computed places, which LLVM does not
+    vectorise). Split so, the corner cells cost 10 % less than with the table looked up
+    whole (``filtered_corner``) in the loop over the cells. `rows` (:class:`CornerScratch`)
     is scratch.
     """
     n_corners, apothem, tan_half, crease, corner_end, edge = polygon[0:6]
