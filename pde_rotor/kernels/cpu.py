@@ -72,7 +72,7 @@ def _euler_cells(cur, nxt, F, G, y_of, coef, dt, omega, x, base, sx, nn, j0, j1,
             f = F[o]
             g = G[o]
         rate_c, rate_x, rate_y = _cell_rates(
-            cur, o, sx, sy, nn, f, g, omega, x, y_of[j], coef, flow, plate
+            cur, o, (sx, sy, nn), f, g, omega, (x, y_of[j]), coef, flow, plate
         )
         nxt[o] = cc + dt * rate_c
         if flow:

@@ -215,7 +215,7 @@ def _advance(buf, domain, params, tables, state, span):
                         moment += moments[3]
                         cross_v += moments[4]
                 rate_c, rate_x, rate_y = _cell_rates(
-                    buf, o, n, 1, nn, f, g, omega, x, y, rates, flow, on_support
+                    buf, o, (n, 1, nn), f, g, omega, (x, y), rates, flow, on_support
                 )
                 o_new = nxt + i * n + j
                 new_c = buf[o] + dt * rate_c
