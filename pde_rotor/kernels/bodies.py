@@ -460,7 +460,7 @@ def euler_body_fields(cur, nxt, F, G, owner, domain, coef, dt, pose, flow):
             ux = cur[o + nn] if flow else 0.0
             uy = cur[o + nn + nn] if flow else 0.0
             rate_c, rate_x, rate_y = _plate_rates(
-                cur, o, sx, sy, nn, f, g, px, py, coef, flow, plate
+                cur, o, (sx, sy, nn), f, g, (px, py), coef, flow, plate
             )
             nxt[o] = cc + dt * rate_c
             if flow:
