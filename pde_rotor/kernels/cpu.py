@@ -161,7 +161,7 @@ def _sweep_block(cur, nxt, F, G, domain, params, tab, tables, turned, omega, wor
         for i in range(i0, i1):
             j0, j1 = slo[i], shi[i]
             if turned and j1 > j0:
-                indicator_row(F, G, i, coords, j0, j1, p, tab, tables, scratch, taps)
+                indicator_row(F, G, i, coords, j0, j1, p, tab, tables, (scratch, taps))
             if p.contour:  # two calls, so that `area` is a compile-time constant of each
                 _row_integrals(cur, F, i, coords, j0, j1, p, inv_2dx, False, sums)
             else:

@@ -131,10 +131,11 @@ def filtered_plate_row(row_f, x, row_y, tab, polygon, rows):
 
 
 @nb.njit(inline="always", **_ROW)
-def pill_row(G, i, coords, j0, j1, tab, n_corners, reach, rho, inv_delta, profile, inv_step, g):
+def pill_row(G, i, coords, j0, j1, tab, pills, g):
     """G on the support cells [j0, j1) of row i (compiled): the pill terms of the scheme
     ``paper``, or of ``consistent`` where `profile` is not empty (its filtered radial
-    profile). `g` (>= n) is scratch.
+    profile); `pills` is (n_corners, reach, rho, inv_delta, profile, inv_step). `g`
+    (>= n) is scratch.
 
     The terms of ``pill_cell`` / ``filtered_pills`` summed in the same order, the loop
     over the pills outside the loop over the row's cells (SIMD, as :func:`plate_row`). A
@@ -143,6 +144,7 @@ def pill_row(G, i, coords, j0, j1, tab, n_corners, reach, rho, inv_delta, profil
     `reach` on, to the cells of the row's chord of the disk of radius `reach` (and one
     cell more each side, against rounding): a fifth fewer terms, the same sums.
     """
+    n_corners, reach, rho, inv_delta, profile, inv_step = pills
     n = coords.size
     x0 = coords[0]
     inv_dx = 1.0 / (coords[1] - x0)
@@ -176,12 +178,13 @@ SCRATCH_ROWS = 5
 
 
 @nb.njit(inline="always", **_ROW)
-def indicator_row(F, G, i, coords, j0, j1, p, tab, tables, scratch, taps):
+def indicator_row(F, G, i, coords, j0, j1, p, tab, tables, work):
     """F and G on the support cells [j0, j1) of row i at the angle of the rotor table
     `tab` (compiled): point values (:func:`plate_row`, :func:`pill_row`), or
     (``consistent``) the filtered fields from the filter tables. `p` is the parameter
-    record, `tables` the scheme's (quad_s, quad_t, plate, edge, pill), `scratch`
-    (:data:`SCRATCH_ROWS`, n) and `taps` (n, unsigned) scratch."""
+    record, `tables` the scheme's (quad_s, quad_t, plate, edge, pill), `work` the
+    scratch (scratch (:data:`SCRATCH_ROWS`, n), taps (n, unsigned))."""
+    scratch, taps = work
     _, _, plate_tab, edge_tab, pill_tab = tables
     n_corners, rho, inv_delta = p.n_corners, p.pill_radius, 1.0 / p.smoothing
     n = coords.size
@@ -191,16 +194,13 @@ def indicator_row(F, G, i, coords, j0, j1, p, tab, tables, scratch, taps):
     if not p.filtered:
         plate_row(row_f, x, row_y, tab, n_corners, p.apothem, inv_delta, scratch[0, j0:j1])
         reach = _pill_reach(rho, inv_delta)
-        pill_row(
-            G, i, coords, j0, j1, tab, n_corners, reach, rho, inv_delta, pill_tab[:0], 1.0,
-            scratch[4],
-        )  # fmt: skip
+        pills = (n_corners, reach, rho, inv_delta, pill_tab[:0], 1.0)
+        pill_row(G, i, coords, j0, j1, tab, pills, scratch[4])
         return
     p_inv = p.profile_inv_step
     reach = _filtered_pill_reach(pill_tab, p_inv)
-    pill_row(
-        G, i, coords, j0, j1, tab, n_corners, reach, rho, inv_delta, pill_tab, p_inv, scratch[4]
-    )
+    pills = (n_corners, reach, rho, inv_delta, pill_tab, p_inv)
+    pill_row(G, i, coords, j0, j1, tab, pills, scratch[4])
     polygon = PolygonFilter(
         n_corners, p.apothem, p.tan_half, p.crease, p.corner_end, edge_tab, p.edge_u0,
         p.edge_inv_step, plate_tab, p.table_n, p.table_x0, p.table_inv_step,
@@ -228,4 +228,4 @@ def update_indicators(F, G, domain, params, tab, tables, phi):
     taps = np.empty(coords.size, np.uint64)
     for i in range(coords.size):
         if shi[i] > slo[i]:
-            indicator_row(F, G, i, coords, slo[i], shi[i], p, tab, tables, scratch, taps)
+            indicator_row(F, G, i, coords, slo[i], shi[i], p, tab, tables, (scratch, taps))
