@@ -538,7 +538,7 @@ def _fields(cur, nxt, F, G, owner, domain, wall, p, pose, rhs):
     else :func:`euler_body_fields`."""
     coef = _rate_coefficients(p)
     if wall[0].size > 0:
-        euler_walled_fields(cur, nxt, F, G, owner, domain, wall, coef, p.dt, pose, p.flow, rhs)
+        euler_walled_fields(cur, nxt, (F, G, owner), domain, wall, coef, p.dt, pose, p.flow, rhs)
     else:
         euler_body_fields(cur, nxt, F, G, owner, domain, coef, p.dt, pose, p.flow)
 
