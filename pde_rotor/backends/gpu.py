@@ -243,22 +243,11 @@ def run_ensemble(
         d_records = cuda.to_device(np.full(shape, np.nan))
         kernel(
             d_buf,
-            d_coords,
-            d_interior,
-            d_rows,
-            d_support,
+            (d_coords, d_interior, d_rows, d_support),
             d_params,
             d_tables,
-            d_rotor,
-            cuda.to_device(normals),
-            d_records,
-            d_status,
-            d_coef,
-            step,
-            n_steps,
-            parity,
-            plan.record_every,
-            first,
+            (d_rotor, cuda.to_device(normals), d_records, d_status, d_coef),
+            (step, n_steps, parity, plan.record_every, first),
         )
         upcoming = min(chunk_steps, plan.step_end - step - n_steps)
         if upcoming > 0:  # drawn on the host while the GPU works

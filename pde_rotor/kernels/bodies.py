@@ -39,7 +39,7 @@ from ..model.body_schemes import ARC_EDGES
 from ..physics.build import CPU, FASTMATH
 from ..physics.indicators import PLATE_DISK, PLATE_NONE, PLATE_POLYGON, PLATE_STRIP
 from ..physics.motion import MOTION_FIXED, N_INTEGRALS
-from .indicators import filtered_plate_row, plate_row
+from .indicators import CornerScratch, PolygonFilter, filtered_plate_row, plate_row
 from .spline import ROW_GROUP, spline_columns, spline_rows
 from .wall import euler_walled_fields
 
@@ -210,12 +210,15 @@ def draw_body(F, G, owner, domain, k, body, pills, pose, normals, centres, box, 
             row_g[j] = 0.0
             row_y[j] = row_x[j] - y_k
         if filtered and b.plate == PLATE_POLYGON:
-            filtered_plate_row(
-                row_f, rx, row_y, tab, b.n_corners, b.size_a, b.tan_half, b.crease, b.corner_end,
-                edge, b.edge_u0, p.edge_inv_step, plate, b.table_n, b.table_x0, p.table_inv_step,
+            polygon = PolygonFilter(
+                b.n_corners, b.size_a, b.tan_half, b.crease, b.corner_end, edge, b.edge_u0,
+                p.edge_inv_step, plate, b.table_n, b.table_x0, p.table_inv_step,
+            )  # fmt: skip
+            rows = CornerScratch(
                 scratch[1, ja:jb], scratch[2, ja:jb], scratch[3, ja:jb], scratch[4, ja:jb],
                 taps[ja:jb],
             )  # fmt: skip
+            filtered_plate_row(row_f, rx, row_y, tab, polygon, rows)
         elif filtered and b.plate == PLATE_DISK:
             for j in range(row_y.size):
                 row_f[j] = _filtered_pill_term(rx, row_y[j], disk, inv_step)
@@ -295,7 +298,6 @@ def body_integrals(cur, F, owner, coords, k, x_k, y_k, box, p, out):
     nn = np.uint64(n * n)
     dx = coords[1] - coords[0]
     inv_2dx = 0.5 / dx
-    inv_sat = p.inv_saturation
     flow = p.flow
     # the sums in locals, which stay in registers (out might alias cur or F)
     s0 = s1 = s2 = s3 = s4 = s5 = s6 = s7 = s8 = s9 = 0.0
@@ -309,7 +311,7 @@ def body_integrals(cur, F, owner, coords, k, x_k, y_k, box, p, out):
             if f == 0.0:
                 continue
             ry = coords[j] - y_k
-            t0, t1, t2 = _tension_integrand(cur, o, sx, np.uint64(1), f, rx, ry, inv_2dx, inv_sat)
+            t0, t1, t2 = _tension_integrand(cur, o, sx, np.uint64(1), f, rx, ry, inv_2dx, p)
             m0, m1, m2, m3, m4, m5, m6 = _friction_moments(cur, o, nn, f, rx, ry, flow)
             s0 += t0
             s1 += t1
@@ -352,7 +354,7 @@ def body_contour(cur, coords, k, body, pills, pose, normals, centres, tables, p,
     for :func:`advance_bodies`.
     """
     quad_s, quad_t, _, pill_tab, _, _, rings, coef, carry = tables
-    delta, inv_sat = p.smoothing, p.inv_saturation
+    delta = p.smoothing
     _orient(k, body, pills, pose, normals, centres)  # scratch: a new stepper starts with 0
     b = body[k]
     n = coords.size
@@ -376,7 +378,7 @@ def body_contour(cur, coords, k, body, pills, pose, normals, centres, tables, p,
             for m in range(n_s):
                 h, half = _polygon_band(b.size_a, delta, b.tan_half, quad_s, m)
                 edge = (x_k, y_k, ex, ey, h, half)
-                pair_x, pair_y, pair_t = _edge_sums(coef, grid, edge, quad_s, quad_t, m, inv_sat)
+                pair_x, pair_y, pair_t = _edge_sums(coef, grid, edge, quad_s, quad_t, m, p)
                 f_x += pair_x
                 f_y += pair_y
                 torque += pair_t
@@ -390,7 +392,7 @@ def body_contour(cur, coords, k, body, pills, pose, normals, centres, tables, p,
                 if h <= -thinner:  # no parallel: the gauge is >= -W/2 (L/2) everywhere
                     continue
                 edge = (x_k, y_k, ex, ey, side + h, along + h)
-                pair_x, pair_y, pair_t = _edge_sums(coef, grid, edge, quad_s, quad_t, m, inv_sat)
+                pair_x, pair_y, pair_t = _edge_sums(coef, grid, edge, quad_s, quad_t, m, p)
                 f_x += pair_x
                 f_y += pair_y
                 torque += pair_t
@@ -415,7 +417,7 @@ def body_contour(cur, coords, k, body, pills, pose, normals, centres, tables, p,
                 for a_l in range(n_arc):
                     angle = phi + step * a_l
                     a, c = _arc_node(
-                        coef, grid, cx, cy, h, math.cos(angle), math.sin(angle), weight, inv_sat
+                        coef, grid, cx, cy, h, math.cos(angle), math.sin(angle), weight, p
                     )
                     q_x += a
                     q_y += c
@@ -462,7 +464,7 @@ def euler_body_fields(cur, nxt, F, G, owner, domain, coef, dt, pose, flow):
             ux = cur[o + nn] if flow else 0.0
             uy = cur[o + nn + nn] if flow else 0.0
             rate_c, rate_x, rate_y = _plate_rates(
-                cur, o, sx, sy, nn, f, g, px, py, coef, flow, plate
+                cur, o, (sx, sy, nn), f, g, (px, py), coef, flow, plate
             )
             nxt[o] = cc + dt * rate_c
             if flow:
@@ -573,7 +575,7 @@ def _fields(cur, nxt, F, G, owner, domain, wall, p, pose, rhs):
     else :func:`euler_body_fields`."""
     coef = _rate_coefficients(p)
     if wall[0].size > 0:
-        euler_walled_fields(cur, nxt, F, G, owner, domain, wall, coef, p.dt, pose, p.flow, rhs)
+        euler_walled_fields(cur, nxt, (F, G, owner), domain, wall, coef, p.dt, pose, p.flow, rhs)
     else:
         euler_body_fields(cur, nxt, F, G, owner, domain, coef, p.dt, pose, p.flow)
 

@@ -72,7 +72,7 @@ def _euler_cells(cur, nxt, F, G, y_of, coef, dt, omega, x, base, sx, nn, j0, j1,
             f = F[o]
             g = G[o]
         rate_c, rate_x, rate_y = _cell_rates(
-            cur, o, sx, sy, nn, f, g, omega, x, y_of[j], coef, flow, plate
+            cur, o, (sx, sy, nn), f, g, omega, (x, y_of[j]), coef, flow, plate
         )
         nxt[o] = cc + dt * rate_c
         if flow:
@@ -102,17 +102,16 @@ def _euler_row(cur, nxt, F, G, i, coords, lo, hi, slo, shi, coef, dt, omega, flo
 
 
 @nb.njit(inline="always", **_LOOP)
-def _row_integrals(cur, F, i, coords, j0, j1, steps, flow, area, sums):
+def _row_integrals(cur, F, i, coords, j0, j1, p, inv_2dx, area, sums):
     """Row i's sums of the integrands of Eq. (eq_motion) over its support cells [j0, j1)
     (the torque's of ``tension_integrand``, F r x grad c, and of ``friction_moments``,
     F |r|^2 and F r x v, without dA; the rotor is the body at X = 0) into sums[i]; the
     first only with `area` (a compile-time constant: without it, the torque's contour
-    form replaces the area form, whose sum is 0 and whose gradients LLVM drops); `steps`
-    is (1 / (2 dx), 1 / c_sat) (``surface_pressure`` of :mod:`pde_rotor.physics.tension`)."""
+    form replaces the area form, whose sum is 0 and whose gradients LLVM drops); `p` is
+    the parameter record (its ``flow`` selects the flow's moment), `inv_2dx` is
+    1 / (2 dx)."""
     n = coords.size
     x = coords[i]
-    inv_2dx, inv_sat = steps
-    linear = inv_sat == 0.0
     cross_grad = 0.0
     moment = 0.0
     cross_v = 0.0
@@ -122,11 +121,9 @@ def _row_integrals(cur, F, i, coords, j0, j1, steps, flow, area, sums):
         if f == 0.0:
             continue
         y = coords[j]
-        if area and linear:  # the literal 0: the linear law's copy reads c with no division
-            cross_grad += _tension_integrand(cur, o, n, 1, f, x, y, inv_2dx, 0.0)[2]
-        elif area:
-            cross_grad += _tension_integrand(cur, o, n, 1, f, x, y, inv_2dx, inv_sat)[2]
-        moments = _friction_moments(cur, o, n * n, f, x, y, flow)
+        if area:
+            cross_grad += _tension_integrand(cur, o, n, 1, f, x, y, inv_2dx, p)[2]
+        moments = _friction_moments(cur, o, n * n, f, x, y, p.flow)
         moment += moments[3]
         cross_v += moments[4]
     sums[i, 0] = cross_grad
@@ -156,7 +153,7 @@ def _sweep_block(cur, nxt, F, G, domain, params, tab, tables, turned, omega, wor
     n = coords.size
     rates = _rate_coefficients(p)
     dt = p.dt
-    steps = (0.5 / (coords[1] - coords[0]), p.inv_saturation)
+    inv_2dx = 0.5 / (coords[1] - coords[0])
     w_lo, w_hi = p.window_lo, p.window_hi
     for g in range(b, (n + ROW_GROUP - 1) // ROW_GROUP, blocks):
         i0 = g * ROW_GROUP
@@ -164,11 +161,11 @@ def _sweep_block(cur, nxt, F, G, domain, params, tab, tables, turned, omega, wor
         for i in range(i0, i1):
             j0, j1 = slo[i], shi[i]
             if turned and j1 > j0:
-                indicator_row(F, G, i, coords, j0, j1, p, tab, tables, scratch, taps)
+                indicator_row(F, G, i, coords, j0, j1, p, tab, tables, (scratch, taps))
             if p.contour:  # two calls, so that `area` is a compile-time constant of each
-                _row_integrals(cur, F, i, coords, j0, j1, steps, p.flow, False, sums)
+                _row_integrals(cur, F, i, coords, j0, j1, p, inv_2dx, False, sums)
             else:
-                _row_integrals(cur, F, i, coords, j0, j1, steps, p.flow, True, sums)
+                _row_integrals(cur, F, i, coords, j0, j1, p, inv_2dx, True, sums)
         if p.flow:  # two loops, so that `flow` is a compile-time constant of each
             _euler_rows(cur, nxt, F, G, i0, i1, domain, rates, dt, omega, True)
         else:
@@ -240,7 +237,6 @@ def _contour_block(coef, coords, params, tab, quad_s, quad_t, sums, scratch, b, 
     inv_dx = 1.0 / p.dx
     n_s, n_t = quad_s.shape[1], quad_t.shape[1]
     apothem, delta, tan_half = p.apothem, p.smoothing, p.tan_half
-    inv_sat = p.inv_saturation
     taps, weights = scratch
     sx, sy = np.uint64(n), np.uint64(1)
     grid = (0, n, x0, inv_dx)
@@ -259,10 +255,10 @@ def _contour_block(coef, coords, params, tab, quad_s, quad_t, sums, scratch, b, 
             weights[8, k_t] = w
         total = 0.0
         for k_t in range(n_t):
-            wx0, wx1, wx2, wx3 = weights[0, k_t], weights[1, k_t], weights[2, k_t], weights[3, k_t]
-            wy0, wy1, wy2, wy3 = weights[4, k_t], weights[5, k_t], weights[6, k_t], weights[7, k_t]
-            c = _spline_sum(coef, taps[k_t], sx, sy, wx0, wx1, wx2, wx3, wy0, wy1, wy2, wy3)
-            total += weights[8, k_t] * _surface_pressure(c, inv_sat)
+            wx = (weights[0, k_t], weights[1, k_t], weights[2, k_t], weights[3, k_t])
+            wy = (weights[4, k_t], weights[5, k_t], weights[6, k_t], weights[7, k_t])
+            c = _spline_sum(coef, taps[k_t], sx, sy, wx, wy)
+            total += weights[8, k_t] * _surface_pressure(c, p)
         sums[pair] = total
 
 
@@ -503,9 +499,8 @@ def rotor_integrals(cur, F, domain, params, tab, tables, coef):
     n = coords.size
     inv_2dx = 0.5 / (coords[1] - coords[0])
     sums = np.zeros((n, 3))
-    steps = (inv_2dx, p.inv_saturation)
     for i in range(n):
-        _row_integrals(cur, F, i, coords, slo[i], shi[i], steps, p.flow, True, sums)
+        _row_integrals(cur, F, i, coords, slo[i], shi[i], p, inv_2dx, True, sums)
     cross_grad, moment, cross_v = _total_integrals(sums, coords)
     if p.contour:
         spline_window(cur, coef, n, p.window_lo, p.window_hi, p.taps_lo, p.taps_hi)

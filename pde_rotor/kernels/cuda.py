@@ -47,6 +47,7 @@ import math
 from collections.abc import Callable
 
 from ..physics.build import Physics, make_physics
+from ..physics.indicators import PolygonFilter
 from .cuda_target import cuda, device_function, float64, kernel
 
 MAX_CORNERS = 24
@@ -74,40 +75,32 @@ _euler_pose = GPU.motion.euler_pose
 _noise_kick = GPU.motion.noise_kick
 
 
-def _advance(
-    buf,
-    coords,
-    interior,
-    rows,
-    support,
-    params,
-    tables,
-    rotor,
-    xi,
-    records,
-    status,
-    coef,
-    step0,
-    n_steps,
-    parity0,
-    record_every,
-    record0,
-):
+def _advance(buf, domain, params, tables, state, span):
     """Advance every member by `n_steps` fused Euler steps; block m advances member m.
+
+    The arrays and counters travel as three tuples (a kernel's arguments are flattened
+    on launch, so tuples of device arrays and of integers cost nothing): `domain` is
+    (coords, interior, rows, support), `state` is (rotor, xi, records, status, coef),
+    `span` is (step0, n_steps, parity0, record_every, record0).
 
     Args:
         buf: two state buffers (2, E, 3, n, n) of (c, v_x, v_y), flattened; buffer
             `parity0` holds the state at step0, the result ends in buffer
             (parity0 + n_steps) % 2.
+        domain: the grid's arrays, below.
+        params: (E,) parameter records, one per member
+            (:func:`pde_rotor.kernels.records.make_record`).
+        tables: (quad_s, quad_t, plate, edge, pill), the common quadrature rules of the
+            contour torque and filter tables (:meth:`Scheme.kernel_tables`).
+        state: the members' arrays, below.
+        span: the steps of this launch, below.
+
+    The tuples' entries:
         coords: (n,) cell-centre coordinates.
         interior: (2, n) column range [lo, hi) of interior cells per row.
         rows: [i0, i1), the rows holding interior cells.
         support: (E, 2, n) column range of each member's support of F and G per row
             (inside the interior ranges).
-        params: (E,) parameter records, one per member
-            (:func:`pde_rotor.kernels.records.make_record`).
-        tables: (quad_s, quad_t, plate, edge, pill), the common quadrature rules of the
-            contour torque and filter tables (:meth:`Scheme.kernel_tables`).
         rotor: (E, 5) [phi, omega, torque, friction, stopped], updated.
         xi: (E, n_steps) standard normals of the noise (read where the member's
             ``kick`` != 0).
@@ -124,6 +117,9 @@ def _advance(
         record_every: steps between records.
         record0: record number of row 0 of `records`.
     """
+    coords, interior, rows, support = domain
+    rotor, xi, records, status, coef = state
+    step0, n_steps, parity0, record_every, record0 = span
     m = cuda.blockIdx.x
     tid = cuda.threadIdx.x
     n_threads = cuda.blockDim.x
@@ -150,6 +146,10 @@ def _advance(
     corner_end = p.corner_end
     contour = p.contour
     tan_half = p.tan_half
+    plate_filter = PolygonFilter(
+        n_corners, apothem, tan_half, crease, corner_end, edge_tab, e_u0, e_inv, plate_tab,
+        t_n, t_x0, t_inv,
+    )  # fmt: skip
     polygon = (apothem, delta, tan_half)
     w_lo = p.window_lo
     width = p.window_hi - w_lo
@@ -205,36 +205,18 @@ def _advance(
                 g = 0.0
                 if on_support:
                     if filtered:
-                        f = _filtered_plate(
-                            x,
-                            y,
-                            tab,
-                            n_corners,
-                            apothem,
-                            tan_half,
-                            crease,
-                            corner_end,
-                            edge_tab,
-                            e_u0,
-                            e_inv,
-                            plate_tab,
-                            t_n,
-                            t_x0,
-                            t_inv,
-                        )
+                        f = _filtered_plate(x, y, tab, plate_filter)
                         g = _filtered_pills(x, y, tab, n_corners, pill_tab, p_inv)
                     else:
                         f = _plate_cell(x, y, tab, n_corners, apothem, inv_delta)
                         g = _pill_cell(x, y, tab, n_corners, rho, inv_delta)
                     if f != 0.0:
-                        cross_grad += _tension_integrand(
-                            buf, o, n, 1, f, x, y, inv_2dx, p.inv_saturation
-                        )[2]
+                        cross_grad += _tension_integrand(buf, o, n, 1, f, x, y, inv_2dx, p)[2]
                         moments = _friction_moments(buf, o, nn, f, x, y, flow)
                         moment += moments[3]
                         cross_v += moments[4]
                 rate_c, rate_x, rate_y = _cell_rates(
-                    buf, o, n, 1, nn, f, g, omega, x, y, rates, flow, on_support
+                    buf, o, (n, 1, nn), f, g, omega, (x, y), rates, flow, on_support
                 )
                 o_new = nxt + i * n + j
                 new_c = buf[o] + dt * rate_c
@@ -263,7 +245,7 @@ def _advance(
             cross_grad = 0.0
             for q in range(tid, n_nodes, n_threads):
                 cross_grad += _polygon_node(
-                    coef, (o_coef, n, x0, inv_dx), tab, polygon, quad_s, quad_t, q, p.inv_saturation
+                    coef, (o_coef, n, x0, inv_dx), tab, polygon, quad_s, quad_t, q, p
                 )[2]
 
         # block reduction of the rotor integrals in a fixed order

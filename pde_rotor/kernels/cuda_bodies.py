@@ -100,7 +100,7 @@ def _euler_fields(src, dst, m, state, surface, bodies, p):
             if plate:
                 f, g, px, py = _owner_plate(F[m], G[m], owner[m], pose[m], o, x, coords[j])
             rate_c, rate_x, rate_y = _plate_rates(
-                buf, src + o, n, 1, nn, f, g, px, py, coef, flow, plate
+                buf, src + o, (n, 1, nn), f, g, (px, py), coef, flow, plate
             )
             buf[dst + o] = buf[src + o] + dt * rate_c
             if flow:
@@ -119,6 +119,7 @@ def _walled_fields(src, dst, m, state, surface, bodies, wall, rhs, p):
     coords = surface[0]
     pose = bodies[2]
     volume, pass_x, pass_y, open_x, open_y, row_start, span_lo, span_hi, flowing = wall[:9]
+    faces = (open_x, open_y, pass_x, pass_y)
     members, offsets, blocks, starts = wall[9:]
     tid = cuda.threadIdx.x
     n_threads = cuda.blockDim.x
@@ -140,15 +141,13 @@ def _walled_fields(src, dst, m, state, surface, bodies, wall, rhs, p):
                     f, g, px, py = _owner_plate(F[m], G[m], owner[m], pose[m], o, x, coords[j])
                 cc = buf[src + o]
                 kappa = volume[o]
-                q = _cut_cell_inflow(
-                    buf[src:], o, n, 1, nn, open_x, open_y, pass_x, pass_y, coef, flow
-                )
+                q = _cut_cell_inflow(buf[src:], o, (n, 1, nn), faces, coef, flow)
                 r = kappa * cc + dt * (q + kappa * _local_rate(cc, f, g, coef, plate))
                 rm[o] = r
                 buf[dst + o] = r / kappa
                 if flow and flowing[o]:
                     _, rate_x, rate_y = _plate_rates(
-                        buf, src + o, n, 1, nn, f, g, px, py, coef, flow, plate
+                        buf, src + o, (n, 1, nn), f, g, (px, py), coef, flow, plate
                     )
                     buf[dst + o + nn] = buf[src + o + nn] + dt * rate_x
                     buf[dst + o + 2 * nn] = buf[src + o + 2 * nn] + dt * rate_y

@@ -15,7 +15,13 @@ from __future__ import annotations
 
 import math
 
-from ..physics.indicators import PLATE_DISK, PLATE_NONE, PLATE_POLYGON, PLATE_STRIP
+from ..physics.indicators import (
+    PLATE_DISK,
+    PLATE_NONE,
+    PLATE_POLYGON,
+    PLATE_STRIP,
+    PolygonFilter,
+)
 from .bodies import STATUS_EDGE
 from .cuda import GPU
 from .cuda_target import cuda, device_function
@@ -61,10 +67,7 @@ def _plate_value(rx, ry, b, tab, tables, p):
             rx, ry, b.plate, tab, b.n_corners, b.size_a, b.size_b, 1.0 / p.smoothing
         )
     if b.plate == PLATE_POLYGON:
-        return _filtered_plate(
-            rx,
-            ry,
-            tab,
+        polygon = PolygonFilter(
             b.n_corners,
             b.size_a,
             b.tan_half,
@@ -78,6 +81,7 @@ def _plate_value(rx, ry, b, tab, tables, p):
             b.table_x0,
             p.table_inv_step,
         )
+        return _filtered_plate(rx, ry, tab, polygon)
     if b.plate == PLATE_DISK:
         return _filtered_pill_term(
             rx, ry, profiles[b.f_start : b.f_start + b.f_count], p.profile_inv_step

@@ -56,7 +56,6 @@ def area_sums(src, k, m, state, surface, bodies, p, red):
     n = coords.size
     nn = n * n
     inv_2dx = 0.5 / (coords[1] - coords[0])
-    inv_sat = p.inv_saturation
     flow = p.flow
     x_k, y_k = pose[m, k, 0], pose[m, k, 1]
     i0, j0 = box[m, k, 0], box[m, k, 2]
@@ -73,7 +72,7 @@ def area_sums(src, k, m, state, surface, bodies, p, red):
             continue
         rx = coords[i] - x_k
         ry = coords[j] - y_k
-        t0, t1, t2 = _tension_integrand(buf, src + o, n, 1, f, rx, ry, inv_2dx, inv_sat)
+        t0, t1, t2 = _tension_integrand(buf, src + o, n, 1, f, rx, ry, inv_2dx, p)
         m0, m1, m2, m3, m4, m5, m6 = _friction_moments(buf, src + o, nn, f, rx, ry, flow)
         s0 += t0
         s1 += t1
@@ -132,7 +131,7 @@ def contour_sums(src, k, m, state, surface, bodies, scratch, tables, p, red):
         _spline_line(cm, nn + o, cm, o, n, rows)
     cuda.syncthreads()
     n_s, n_t = quad_s.shape[1], quad_t.shape[1]
-    delta, inv_sat = p.smoothing, p.inv_saturation
+    delta = p.smoothing
     grid = (0, n, x0, inv_dx)
     f_x = 0.0
     f_y = 0.0
@@ -144,7 +143,7 @@ def contour_sums(src, k, m, state, surface, bodies, scratch, tables, p, red):
             ex, ey = normals[m, k, 0, j], normals[m, k, 1, j]
             h, half = _polygon_band(b.size_a, delta, b.tan_half, quad_s, ms)
             edge = (x_k, y_k, ex, ey, h, half)
-            a, c, e = _edge_sums(cm, grid, edge, quad_s, quad_t, ms, inv_sat)
+            a, c, e = _edge_sums(cm, grid, edge, quad_s, quad_t, ms, p)
             f_x += a
             f_y += c
             torque += e
@@ -161,7 +160,7 @@ def contour_sums(src, k, m, state, surface, bodies, scratch, tables, p, red):
                 ex, ey = -ey, ex
             side, along = (b.size_a, b.size_b) if j % 2 == 0 else (b.size_b, b.size_a)
             edge = (x_k, y_k, ex, ey, side + h, along + h)
-            a, c, e = _edge_sums(cm, grid, edge, quad_s, quad_t, ms, inv_sat)
+            a, c, e = _edge_sums(cm, grid, edge, quad_s, quad_t, ms, p)
             f_x += a
             f_y += c
             torque += e
@@ -192,7 +191,7 @@ def contour_sums(src, k, m, state, surface, bodies, scratch, tables, p, red):
             h = rings[0, ring]
             weight = rings[1, ring] * h * step
             angle = phi + step * (rest % n_arc)
-            a, c = _arc_node(cm, grid, cx, cy, h, math.cos(angle), math.sin(angle), weight, inv_sat)
+            a, c = _arc_node(cm, grid, cx, cy, h, math.cos(angle), math.sin(angle), weight, p)
             f_x += a
             f_y += c
             torque += (cx - x_k) * c - (cy - y_k) * a

@@ -18,11 +18,13 @@ functions.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numba as nb
 import numpy as np
 
 from ..physics.build import CPU, FASTMATH
+from ..physics.indicators import PolygonFilter
 
 _rotor_table = CPU.indicators.rotor_table
 _projection = CPU.indicators.projection
@@ -42,6 +44,19 @@ _filtered_pill_term = CPU.indicators.filtered_pill_term
 
 _ROW = {"cache": True, "nogil": True, "fastmath": FASTMATH, "error_model": "numpy"}
 """numba options of the row functions: inlined into the loops over rows that call them."""
+
+
+class CornerScratch(NamedTuple):
+    """The scratch rows of :func:`filtered_plate_row`, each as long as the row and each
+    a 1-D array of its own (as a slice of a 2-D slice its stride would be unknown, and
+    LLVM would not vectorise the loops): the edge frame (h, q), the corner table's
+    fractions (tx, ty) and its first taps (unsigned)."""
+
+    h: np.ndarray
+    q: np.ndarray
+    tx: np.ndarray
+    ty: np.ndarray
+    taps: np.ndarray
 
 
 @nb.njit(inline="always", **_ROW)
@@ -68,27 +83,25 @@ def plate_row(row_f, x, row_y, tab, n_corners, apothem, inv_delta, row_h):
 
 
 @nb.njit(inline="always", **_ROW)
-def filtered_plate_row(
-    row_f, x, row_y, tab, n_corners, apothem, tan_half, crease, corner_end, edge, e_u0, e_inv,
-    plate, t_n, t_x0, t_inv, row_h, row_q, row_tx, row_ty, row_taps,
-):  # fmt: skip
+def filtered_plate_row(row_f, x, row_y, tab, polygon, rows):
     """F_eps of the scheme ``consistent`` on a row of cells (compiled): row_f[j] at the
     point (x, row_y[j]) of the plate's frame, as for :func:`plate_row`.
 
-    The physics' ``filtered_plate`` (its arguments from `n_corners` to `t_inv`) in
-    passes over the row, all but the last four cells at a time (SIMD, as
-    :func:`plate_row`): the frame of the nearest edge (h, q) (``nearer_edge`` from
-    ``projection``, ``farther`` and ``tangential``); the edge profile
-    (``filtered_edge``); where the 2-D corner table's taps lie (``corner_taps``), kept
-    for the cells within the crease width of a corner bisector and short of the table's
-    end (``near_corner``); last, one cell at a time, the table's spline on those cells
-    (``corner_sum``: 16 loads from computed places, which LLVM does not vectorise). Split
-    so, the corner cells cost 10 % less than with the table looked up whole
-    (``filtered_corner``) in the loop over the cells. `row_h`, `row_q`, `row_tx`, `row_ty`
-    and `row_taps` (unsigned), as long as the row, are scratch (four rows of one array,
-    each passed alone: as a slice of a 2-D slice its stride would be unknown, and LLVM
-    would not vectorise the loops).
+    The physics' ``filtered_plate`` of the plate `polygon`
+    (:class:`~pde_rotor.physics.indicators.PolygonFilter`) in passes over the row, all but
+    the last four cells at a time (SIMD, as :func:`plate_row`): the frame of the nearest
+    edge (h, q) (``nearer_edge`` from ``projection``, ``farther`` and ``tangential``); the
+    edge profile (``filtered_edge``); where the 2-D corner table's taps lie
+    (``corner_taps``), kept for the cells within the crease width of a corner bisector and
+    short of the table's end (``near_corner``); last, one cell at a time, the table's spline
+    on those cells (``corner_sum``: 16 loads from computed places, which LLVM does not
+    vectorise). Split so, the corner cells cost 10 % less than with the table looked up
+    whole (``filtered_corner``) in the loop over the cells. `rows` (:class:`CornerScratch`)
+    is scratch.
     """
+    n_corners, apothem, tan_half, crease, corner_end, edge = polygon[0:6]
+    e_u0, e_inv, plate, t_n, t_x0, t_inv = polygon[6:12]
+    row_h, row_q, row_tx, row_ty, row_taps = rows
     ex, ey = tab[0, 0], tab[1, 0]
     for j in range(row_y.size):
         row_h[j] = _projection(x, row_y[j], ex, ey)
@@ -118,10 +131,11 @@ def filtered_plate_row(
 
 
 @nb.njit(inline="always", **_ROW)
-def pill_row(G, i, coords, j0, j1, tab, n_corners, reach, rho, inv_delta, profile, inv_step, g):
+def pill_row(G, i, coords, j0, j1, tab, pills, g):
     """G on the support cells [j0, j1) of row i (compiled): the pill terms of the scheme
     ``paper``, or of ``consistent`` where `profile` is not empty (its filtered radial
-    profile). `g` (>= n) is scratch.
+    profile); `pills` is (n_corners, reach, rho, inv_delta, profile, inv_step). `g`
+    (>= n) is scratch.
 
     The terms of ``pill_cell`` / ``filtered_pills`` summed in the same order, the loop
     over the pills outside the loop over the row's cells (SIMD, as :func:`plate_row`). A
@@ -130,6 +144,7 @@ def pill_row(G, i, coords, j0, j1, tab, n_corners, reach, rho, inv_delta, profil
     `reach` on, to the cells of the row's chord of the disk of radius `reach` (and one
     cell more each side, against rounding): a fifth fewer terms, the same sums.
     """
+    n_corners, reach, rho, inv_delta, profile, inv_step = pills
     n = coords.size
     x0 = coords[0]
     inv_dx = 1.0 / (coords[1] - x0)
@@ -163,12 +178,13 @@ SCRATCH_ROWS = 5
 
 
 @nb.njit(inline="always", **_ROW)
-def indicator_row(F, G, i, coords, j0, j1, p, tab, tables, scratch, taps):
+def indicator_row(F, G, i, coords, j0, j1, p, tab, tables, work):
     """F and G on the support cells [j0, j1) of row i at the angle of the rotor table
     `tab` (compiled): point values (:func:`plate_row`, :func:`pill_row`), or
     (``consistent``) the filtered fields from the filter tables. `p` is the parameter
-    record, `tables` the scheme's (quad_s, quad_t, plate, edge, pill), `scratch`
-    (:data:`SCRATCH_ROWS`, n) and `taps` (n, unsigned) scratch."""
+    record, `tables` the scheme's (quad_s, quad_t, plate, edge, pill), `work` the
+    scratch (scratch (:data:`SCRATCH_ROWS`, n), taps (n, unsigned))."""
+    scratch, taps = work
     _, _, plate_tab, edge_tab, pill_tab = tables
     n_corners, rho, inv_delta = p.n_corners, p.pill_radius, 1.0 / p.smoothing
     n = coords.size
@@ -178,21 +194,21 @@ def indicator_row(F, G, i, coords, j0, j1, p, tab, tables, scratch, taps):
     if not p.filtered:
         plate_row(row_f, x, row_y, tab, n_corners, p.apothem, inv_delta, scratch[0, j0:j1])
         reach = _pill_reach(rho, inv_delta)
-        pill_row(
-            G, i, coords, j0, j1, tab, n_corners, reach, rho, inv_delta, pill_tab[:0], 1.0,
-            scratch[4],
-        )  # fmt: skip
+        pills = (n_corners, reach, rho, inv_delta, pill_tab[:0], 1.0)
+        pill_row(G, i, coords, j0, j1, tab, pills, scratch[4])
         return
     p_inv = p.profile_inv_step
     reach = _filtered_pill_reach(pill_tab, p_inv)
-    pill_row(
-        G, i, coords, j0, j1, tab, n_corners, reach, rho, inv_delta, pill_tab, p_inv, scratch[4]
-    )
-    filtered_plate_row(
-        row_f, x, row_y, tab, n_corners, p.apothem, p.tan_half, p.crease, p.corner_end, edge_tab,
-        p.edge_u0, p.edge_inv_step, plate_tab, p.table_n, p.table_x0, p.table_inv_step,
-        scratch[0, j0:j1], scratch[1, j0:j1], scratch[2, j0:j1], scratch[3, j0:j1], taps[j0:j1],
+    pills = (n_corners, reach, rho, inv_delta, pill_tab, p_inv)
+    pill_row(G, i, coords, j0, j1, tab, pills, scratch[4])
+    polygon = PolygonFilter(
+        n_corners, p.apothem, p.tan_half, p.crease, p.corner_end, edge_tab, p.edge_u0,
+        p.edge_inv_step, plate_tab, p.table_n, p.table_x0, p.table_inv_step,
     )  # fmt: skip
+    rows = CornerScratch(
+        scratch[0, j0:j1], scratch[1, j0:j1], scratch[2, j0:j1], scratch[3, j0:j1], taps[j0:j1]
+    )
+    filtered_plate_row(row_f, x, row_y, tab, polygon, rows)
 
 
 @nb.njit(**_ROW)
@@ -212,4 +228,4 @@ def update_indicators(F, G, domain, params, tab, tables, phi):
     taps = np.empty(coords.size, np.uint64)
     for i in range(coords.size):
         if shi[i] > slo[i]:
-            indicator_row(F, G, i, coords, slo[i], shi[i], p, tab, tables, scratch, taps)
+            indicator_row(F, G, i, coords, slo[i], shi[i], p, tab, tables, (scratch, taps))

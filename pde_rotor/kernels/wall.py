@@ -38,12 +38,13 @@ NO_WALL = (_NONE, _NONE, _NONE, _NONE, _NONE, _NO_INDEX, _NO_INDEX, _NO_INDEX,
 
 
 @nb.njit(cache=True, nogil=True, fastmath=FASTMATH)
-def euler_walled_fields(cur, nxt, F, G, owner, domain, wall, coef, dt, pose, flow, rhs):
+def euler_walled_fields(cur, nxt, fields, domain, wall, coef, dt, pose, flow, rhs):
     """One step of Eqs. (eqc), (eqv) on cut cells (compiled).
 
     Args:
         cur, nxt: flat states (c, v_x, v_y) now and after the step.
-        F, G, owner: flat indicators and owner map (as for ``euler_body_fields``).
+        fields: (F, G, owner), the flat indicators and owner map (as for
+            ``euler_body_fields``).
         domain: (coords, lo, hi, slo, shi): slo, shi the rows' support of the bodies.
         wall: the cut cells (:meth:`pde_rotor.model.wall.CutCells.arrays`).
         coef: the physics' ``rate_coefficients``.
@@ -52,8 +53,10 @@ def euler_walled_fields(cur, nxt, F, G, owner, domain, wall, coef, dt, pose, flo
         flow: whether v evolves (else v = 0).
         rhs: scratch of n^2 values: kappa c' of the explicit part, per cell.
     """
+    F, G, owner = fields
     coords, _, _, slo, shi = domain
     volume, pass_x, pass_y, open_x, open_y, row_start, span_lo, span_hi, flowing = wall[:9]
+    faces = (open_x, open_y, pass_x, pass_y)
     members, offsets, blocks, starts = wall[9:]
     n = coords.size
     sx = np.uint64(n)
@@ -70,13 +73,13 @@ def euler_walled_fields(cur, nxt, F, G, owner, domain, wall, coef, dt, pose, flo
                     f, g, px, py = _owner_plate(F, G, owner, pose, o, x, coords[j])
                 cc = cur[o]
                 kappa = volume[o]
-                q = _cut_cell_inflow(cur, o, sx, sy, nn, open_x, open_y, pass_x, pass_y, coef, flow)
+                q = _cut_cell_inflow(cur, o, (sx, sy, nn), faces, coef, flow)
                 r = kappa * cc + dt * (q + kappa * _local_rate(cc, f, g, coef, plate))
                 rhs[o] = r
                 nxt[o] = r / kappa
                 if flow and flowing[o]:
                     _, rate_x, rate_y = _plate_rates(
-                        cur, o, sx, sy, nn, f, g, px, py, coef, flow, plate
+                        cur, o, (sx, sy, nn), f, g, (px, py), coef, flow, plate
                     )
                     nxt[o + nn] = cur[o + nn] + dt * rate_x
                     nxt[o + nn + nn] = cur[o + nn + nn] + dt * rate_y

@@ -61,7 +61,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.ndimage import map_coordinates
 
-from ..config import X_SATURATION, RotorConfig
+from ..config import X_SATURATION, CamphorConfig, RotorConfig
 from ..physics.spline import SPLINE_MARGIN
 from .bodies import Body, BodyShape, Pose, pill_offsets
 from .filtering import (
@@ -315,7 +315,7 @@ def _spline(c: np.ndarray, x0: float, y0: float, dx: float, x: np.ndarray, y: np
 def _edges(
     c: np.ndarray, origin: tuple[float, float], dx: float, pose: Pose, normals: np.ndarray,
     distance: np.ndarray, half: np.ndarray, s_weights: np.ndarray, quad_t: np.ndarray,
-    saturation: float | None,
+    camphor: CamphorConfig | None,
 ) -> tuple[float, float, float]:  # fmt: skip
     """The straight edges of a contour form (see :func:`contour_integrals`): edge j's
     normal at the angle normals[j], its parallel of band node m at distance[j, m] from
@@ -331,14 +331,14 @@ def _edges(
     ey = np.sin(normals)[:, None, None]
     x = pose.x + distance[:, :, None] * ex - t * ey
     y = pose.y + distance[:, :, None] * ey + t * ex
-    values = surface_pressure(_spline(c, *origin, dx, x, y), saturation)
+    values = surface_pressure(_spline(c, *origin, dx, x, y), camphor)
     weights = (s_weights * half)[:, :, None] * t_weights[None, None, :] * values
     return np.sum(weights * ex), np.sum(weights * ey), -np.sum(weights * t)
 
 
 def contour_integrals(
     c: np.ndarray, origin: tuple[float, float], dx: float, shape: BodyShape, pose: Pose,
-    scheme: BodyScheme, index: int, saturation: float | None = None,
+    scheme: BodyScheme, index: int, camphor: CamphorConfig | None = None,
 ) -> np.ndarray:  # fmt: skip
     """int F grad P dA (x, y) and int F (r - X) x grad P dA of one body in contour form
     (numpy reference, ``consistent``; see the module docstring), P the surface pressure
@@ -353,7 +353,7 @@ def contour_integrals(
         pose: its pose.
         scheme: a consistent scheme (its quadrature rules).
         index: the body's index in the scheme (its circles' radial rules).
-        saturation: c_sat of the saturating law (None: linear).
+        camphor: the camphor section, its law of the surface tension (None: linear).
 
     Returns:
         (3,) the two force integrals and the torque integral (without s k).
@@ -367,7 +367,7 @@ def contour_integrals(
         distance = np.broadcast_to(h, (shape.n_corners, h.size))
         half = distance * math.tan(math.pi / shape.n_corners)
         quad_t = scheme.quad_t
-        out[:] = _edges(c, origin, dx, pose, normals, distance, half, s_weights, quad_t, saturation)
+        out[:] = _edges(c, origin, dx, pose, normals, distance, half, s_weights, quad_t, camphor)
         return out
     if shape.plate == "strip":
         h = -delta * s_nodes
@@ -376,7 +376,7 @@ def contour_integrals(
         distance, half = sides + h, sides[[1, 0, 3, 2]] + h
         kept = s_weights * (h > -min(shape.length, shape.width) / 2)
         quad_t = scheme.quad_t
-        out[:] = _edges(c, origin, dx, pose, normals, distance, half, kept, quad_t, saturation)
+        out[:] = _edges(c, origin, dx, pose, normals, distance, half, kept, quad_t, camphor)
         return out
     n_arc = scheme.arc_nodes
     theta = pose.phi + 2.0 * math.pi * np.arange(n_arc) / n_arc
@@ -389,7 +389,7 @@ def contour_integrals(
     for (qx, qy), (radii, ring_weights) in zip(centres, rings, strict=True):
         h = radii[:, None]
         values = _spline(c, *origin, dx, pose.x + qx + h * ex, pose.y + qy + h * ey)
-        values = surface_pressure(values, saturation)
+        values = surface_pressure(values, camphor)
         weights = (ring_weights[:, None] * h * (2.0 * math.pi / n_arc)) * values
         f_x, f_y = np.sum(weights * ex), np.sum(weights * ey)
         out += (f_x, f_y, qx * f_y - qy * f_x)

@@ -240,10 +240,10 @@ class RotorPDE(PDEBase):
                 normals,
                 self.shape.apothem,
                 self.shape.smoothing,
-                cfg.camphor.saturation,
+                cfg.camphor,
             )
         else:
-            pressure = ScalarField(c.grid, surface_pressure(c.data, cfg.camphor.saturation))
+            pressure = ScalarField(c.grid, surface_pressure(c.data, cfg.camphor))
             grad = pressure.gradient(BOUNDARY).data
             cross_grad = np.sum(F * (x * grad[1] - y * grad[0])) * area
         torque = TORQUE_SIGN[cfg.rotor.torque] * cfg.camphor.tension_slope * cross_grad

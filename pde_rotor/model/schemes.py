@@ -49,16 +49,19 @@ from functools import lru_cache
 import numpy as np
 from scipy.ndimage import map_coordinates
 
-from ..config import RotorConfig
+from ..config import CamphorConfig, RotorConfig
 from ..physics.spline import SPLINE_MARGIN
 from .filtering import FilterTables, make_tables
 from .geometry import RotorShape
 
 
-def surface_pressure(c: np.ndarray, saturation: float | None) -> np.ndarray:
+def surface_pressure(c: np.ndarray, camphor: CamphorConfig | None) -> np.ndarray:
     """Pi(c) / k = (gamma0 - gamma(c)) / k, the surface pressure per tension slope that
     the tension integrals read (numpy reference): c for the paper's linear law
-    (`saturation` None), c / (1 + c / c_sat) for the saturating one."""
+    (`camphor` None, or its ``saturation`` None), c / (1 + c / c_sat) for the saturating
+    one. It takes the camphor section whole, as the compiled ``surface_pressure`` takes
+    the parameter record, so that a new scalar of the law is read here and nowhere else."""
+    saturation = None if camphor is None else camphor.saturation
     if saturation is None:
         return c
     return c / (1.0 + c / saturation)
@@ -204,7 +207,7 @@ def contour_cross_grad(
     normal_angles: np.ndarray,
     apothem: float,
     smoothing: float,
-    saturation: float | None = None,
+    camphor: CamphorConfig | None = None,
 ) -> float:
     """int F r x grad P dA in the contour form of the ``consistent`` scheme (numpy reference),
     P = :func:`surface_pressure` of c (c itself for the linear law).
@@ -217,7 +220,7 @@ def contour_cross_grad(
         normal_angles: angles of the edge normals e_j at the current phi.
         apothem: R cos(pi/N).
         smoothing: delta.
-        saturation: c_sat of the saturating law (None: linear).
+        camphor: the camphor section, its law of the surface tension (None: linear).
     """
     s_nodes, s_weights = scheme.quad_s
     t_nodes, t_weights = scheme.quad_t
@@ -228,6 +231,6 @@ def contour_cross_grad(
     ey = np.sin(normal_angles)[:, None, None]
     x = h[None, :, None] * ex - t[None] * ey
     y = h[None, :, None] * ey + t[None] * ex
-    values = surface_pressure(interpolate_spline(c, x0, dx, x, y), saturation)
+    values = surface_pressure(interpolate_spline(c, x0, dx, x, y), camphor)
     weights = s_weights[:, None] * t_weights[None, :] * half[:, None] * t
     return float(-np.sum(weights[None] * values))

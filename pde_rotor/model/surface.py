@@ -297,8 +297,7 @@ class SurfacePDE(PDEBase):
         c, v = state
         x, y = self.cell_coordinates()
         area = self.domain.cell_area
-        saturation = cfg.camphor.saturation
-        pressure = ScalarField(c.grid, surface_pressure(c.data, saturation))
+        pressure = ScalarField(c.grid, surface_pressure(c.data, cfg.camphor))
         grad = pressure.gradient(BOUNDARY).data
         flow = v.data if cfg.flow.enabled else np.zeros_like(v.data)
         sign_k = TORQUE_SIGN[cfg.rotor.torque] * cfg.camphor.tension_slope
@@ -326,7 +325,7 @@ class SurfacePDE(PDEBase):
                     state.bodies.pose(k),
                     self.body_scheme,
                     k,
-                    saturation,
+                    cfg.camphor,
                 )
             out[k] = (
                 *(sign_k * tension),

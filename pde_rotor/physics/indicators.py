@@ -39,6 +39,28 @@ PLATE_NONE, PLATE_POLYGON, PLATE_DISK, PLATE_STRIP = 0, 1, 2, 3
 """Plate shapes in the body record (:mod:`pde_rotor.kernels.records`, ``BODY``)."""
 
 
+class PolygonFilter(NamedTuple):
+    """A regular polygon plate's F_eps of the scheme ``consistent``
+    (:func:`make_indicators` ``filtered_plate``), bundled in the compiled loops from the
+    parameter record (the rotor) or a body's record: N, the apothem, tan(pi/N), the
+    crease width and the corner table's end (``near_corner``); the edge profile, its
+    first abscissa and inverse step (``filtered_edge``); the 2-D corner table, its
+    size, first abscissa and inverse step (``filtered_corner``)."""
+
+    n_corners: int
+    apothem: float
+    tan_half: float
+    crease: float
+    corner_end: float
+    edge: object
+    edge_u0: float
+    edge_inv: float
+    plate: object
+    table_n: int
+    table_x0: float
+    table_inv: float
+
+
 class Indicators(NamedTuple):
     """The compiled indicator functions for one target (see the module docstring)."""
 
@@ -263,9 +285,7 @@ def make_indicators(jit: Callable[[Callable], Callable], spline: Spline) -> Indi
         """The cubic spline of the 2-D `plate` table from its taps (:func:`corner_taps`;
         `row`, `sx` = t_n and `sy` = 1 of the caller's integer type, as for
         :func:`spline_sum`)."""
-        wx0, wx1, wx2, wx3 = bspline_weights(tx)
-        wy0, wy1, wy2, wy3 = bspline_weights(ty)
-        return spline_sum(plate, row, sx, sy, wx0, wx1, wx2, wx3, wy0, wy1, wy2, wy3)
+        return spline_sum(plate, row, sx, sy, bspline_weights(tx), bspline_weights(ty))
 
     @jit
     def filtered_corner(h, q, plate, t_n, t_x0, t_inv):
@@ -279,24 +299,9 @@ def make_indicators(jit: Callable[[Callable], Callable], spline: Spline) -> Indi
         return corner_sum(plate, row, t_n, 1, tx, ty)
 
     @jit
-    def filtered_plate(
-        x,
-        y,
-        tab,
-        n_corners,
-        apothem,
-        tan_half,
-        crease,
-        corner_end,
-        edge,
-        e_u0,
-        e_inv,
-        plate,
-        t_n,
-        t_x0,
-        t_inv,
-    ):
-        """F_eps of the cell centred at (x, y) (``consistent``, :mod:`pde_rotor.model.filtering`).
+    def filtered_plate(x, y, tab, polygon):
+        """F_eps of the cell centred at (x, y) (``consistent``, :mod:`pde_rotor.model.filtering`)
+        of the plate `polygon` (:class:`PolygonFilter`), its edge normals `tab`.
 
         The point is written in the frame of its nearest edge j (the one maximising
         r . e_j; the first of equals, :func:`nearer_edge`): h = r . e_j, q = r . tau_j,
@@ -306,6 +311,8 @@ def make_indicators(jit: Callable[[Callable], Callable], spline: Spline) -> Indi
         from :func:`filtered_corner`. Either way F_eps has
         the hexagon's symmetry exactly.
         """
+        n_corners, apothem, tan_half, crease, corner_end, edge = polygon[0:6]
+        e_u0, e_inv, plate, t_n, t_x0, t_inv = polygon[6:12]
         h = projection(x, y, tab[0, 0], tab[1, 0])
         q = tangential(x, y, tab[0, 0], tab[1, 0])
         for k in range(1, n_corners):

@@ -73,17 +73,18 @@ def make_rates(jit: Callable[[Callable], Callable]) -> Rates:
         return F[o], G[o], px, py
 
     @jit
-    def plate_rates(buf, o, sx, sy, nn, f, g, px, py, coef, flow, plate):
-        """Right-hand sides of Eqs. (eqc) and (eqv) at cell offset `o`, plate velocity (px, py).
+    def plate_rates(buf, o, strides, f, g, u, coef, flow, plate):
+        """Right-hand sides of Eqs. (eqc) and (eqv) at cell offset `o`, plate velocity
+        u = (px, py).
 
         dc/dt = D lap c - div(c v) - a (1 - F) c + s0 / (pi rho^2) G,
         dv/dt = eta F (u - v) - eta_b v + D_eta lap v, u = (px, py) the velocity of the
         plate over the cell (omega (-y, x) for the rotor, :func:`cell_rates`; U + omega z x
         (r - X) for a body, :func:`plate_velocity`);
         5-point Laplacian and central divergence, all at the old time level; `coef` is
-        :func:`rate_coefficients` of the parameter record. `sx`, `sy`
-        are the offsets of the x and y neighbours (n and 1), `nn` that of the next field;
-        all three of the caller's integer type (unsigned on the CPU, so that no index
+        :func:`rate_coefficients` of the parameter record. `strides` is (sx, sy, nn):
+        the offsets of the x and y neighbours (n and 1) and that of the next field, all
+        three of the caller's integer type (unsigned on the CPU, so that no index
         needs a negative-wraparound check). With `plate` False the cell lies outside the
         support of F and G (both 0) and the plate terms are skipped; without `flow`
         v = 0 and only c has a rate.
@@ -92,6 +93,8 @@ def make_rates(jit: Callable[[Callable], Callable]) -> Rates:
             (rate of c, rate of v_x, rate of v_y).
         """
         inv_dx2, inv_2dx, diff, evap, src, eta, eta_b, d_eta = coef
+        sx, sy, nn = strides
+        px, py = u
         cc = buf[o]
         lap_c = buf[o + sx] + buf[o - sx] + buf[o + sy] + buf[o - sy]
         if not flow:
@@ -121,7 +124,7 @@ def make_rates(jit: Callable[[Callable], Callable]) -> Rates:
         return rate_c, rate_x, rate_y
 
     @jit
-    def cut_cell_inflow(buf, o, sx, sy, nn, open_x, open_y, pass_x, pass_y, coef, flow):
+    def cut_cell_inflow(buf, o, strides, faces, coef, flow):
         """Net inflow Q of camphor into the cell at offset `o` behind a no-flux dish wall.
 
         The transport terms of Eq. (eqc), D lap c - div(c v), as fluxes through the open
@@ -129,14 +132,17 @@ def make_rates(jit: Callable[[Callable], Callable]) -> Rates:
 
             Q = D / dx^2 sum_f beta_f (c_N - c_P) - 1 / (2 dx) sum_f alpha_f n_f . (c v_P + c v_N),
 
-        alpha_f the apertures `pass_x`, `pass_y` (flat arrays: the face towards +x of cell
+        `faces` is (open_x, open_y, pass_x, pass_y): alpha_f the apertures `pass_x`,
+        `pass_y` (flat arrays: the face towards +x of cell
         o at [o], towards -x at [o - sx], likewise along y), beta_f those of `open_x`,
         `open_y` (the apertures of the explicit faces: 0 where the diffusion is implicit).
         A full cell (every alpha = beta = 1) gets the 5-point Laplacian and the central
         divergence of :func:`plate_rates`; a cut cell Q per dx^2 of its own area. Offsets
-        and `coef` as for :func:`plate_rates`.
+        (`strides`) and `coef` as for :func:`plate_rates`.
         """
         inv_dx2, inv_2dx, diff, _, _, _, _, _ = coef
+        sx, sy, nn = strides
+        open_x, open_y, pass_x, pass_y = faces
         cc = buf[o]
         q = (
             open_x[o] * (buf[o + sx] - cc)
@@ -169,11 +175,11 @@ def make_rates(jit: Callable[[Callable], Callable]) -> Rates:
         return rate
 
     @jit
-    def cell_rates(buf, o, sx, sy, nn, f, g, omega, x, y, coef, flow, plate):
+    def cell_rates(buf, o, strides, f, g, omega, r, coef, flow, plate):
         """:func:`plate_rates` of the rotor turning at omega about the origin: the plate
-        velocity omega (-y, x) at the cell centre (x, y)."""
-        px, py = plate_velocity(0.0, 0.0, omega, x, y)
-        return plate_rates(buf, o, sx, sy, nn, f, g, px, py, coef, flow, plate)
+        velocity omega (-y, x) at the cell centre r = (x, y)."""
+        u = plate_velocity(0.0, 0.0, omega, r[0], r[1])
+        return plate_rates(buf, o, strides, f, g, u, coef, flow, plate)
 
     return Rates(
         rate_coefficients=rate_coefficients,

@@ -120,11 +120,14 @@ def make_spline(jit: Callable[[Callable], Callable]) -> Spline:
         return k, f - k
 
     @jit
-    def spline_sum(coef, row, sx, sy, wx0, wx1, wx2, wx3, wy0, wy1, wy2, wy3):
+    def spline_sum(coef, row, sx, sy, wx, wy):
         """sum_(a, b) wx_a wy_b coef[row + a sx + b sy], a, b = 0 .. 3: the 4 x 4 taps
         of a cubic spline from its first, `row`, the offsets `sx`, `sy` of the next node
         along x and y all of the caller's integer type (unsigned on the CPU: no index
-        needs a negative-wraparound check), summed along y first."""
+        needs a negative-wraparound check), summed along y first; `wx`, `wy` the 4-tuples
+        of weights (:func:`bspline_weights`)."""
+        wx0, wx1, wx2, wx3 = wx
+        wy0, wy1, wy2, wy3 = wy
         r1 = row + sy
         r2 = r1 + sy
         r3 = r2 + sy
@@ -157,10 +160,8 @@ def make_spline(jit: Callable[[Callable], Callable]) -> Spline:
         """
         i, tx = spline_node(x0, inv_dx, x)
         j, ty = spline_node(x0, inv_dx, y)
-        wx0, wx1, wx2, wx3 = bspline_weights(tx)
-        wy0, wy1, wy2, wy3 = bspline_weights(ty)
         row = o0 + (i - 1) * n + j - 1
-        return spline_sum(coef, row, n, 1, wx0, wx1, wx2, wx3, wy0, wy1, wy2, wy3)
+        return spline_sum(coef, row, n, 1, bspline_weights(tx), bspline_weights(ty))
 
     return Spline(
         spline_reach=spline_reach,

@@ -31,7 +31,10 @@ A ``grid`` is the tuple (o0, n, x0, inv_dx): the offset of the first of the n x 
 B-spline coefficients of c, their count along a side, the coordinate of cell 0's centre
 and 1 / dx. An ``edge`` is (cx, cy, ex, ey, h, half): the centre X, the edge's normal e,
 the level h and the half length of the edge, whose points are X + h e + t tau,
-tau = e turned by +pi/2, |t| <= half.
+tau = e turned by +pi/2, |t| <= half. Every function that reads c takes the run's
+parameter record `p` (:data:`pde_rotor.kernels.records.PARAMS`, as
+:mod:`pde_rotor.physics.rates` does) and reads the law's scalars from it, so that a new
+scalar of the tension law is a field of the record read here, with no signature to change.
 """
 
 from __future__ import annotations
@@ -72,26 +75,28 @@ def make_tension(jit: Callable[[Callable], Callable], spline: Spline) -> Tension
     spline_sum = spline.spline_sum
 
     @jit
-    def surface_pressure(c, inv_sat):
-        """Pi(c) / k = gamma0 - gamma(c) over k: c / (1 + c / c_sat), `inv_sat` = 1 / c_sat
-        (0: the paper's linear law, Pi / k = c exactly; the test on the loop-invariant
-        `inv_sat` leaves the linear law's loops without a division)."""
+    def surface_pressure(c, p):
+        """Pi(c) / k = gamma0 - gamma(c) over k: c / (1 + c / c_sat), with 1 / c_sat the
+        record `p`'s ``inv_saturation`` (0: the paper's linear law, Pi / k = c exactly;
+        the test on the loop-invariant field leaves the linear law's loops without a
+        division)."""
+        inv_sat = p.inv_saturation
         if inv_sat == 0.0:
             return c
         return c / (1.0 + c * inv_sat)
 
     @jit
-    def tension_integrand(buf, o, sx, sy, f, rx, ry, inv_2dx, inv_sat):
+    def tension_integrand(buf, o, sx, sy, f, rx, ry, inv_2dx, p):
         """One cell's F grad P (x, y) and F (r - X) x grad P, P = Pi(c) / k
         (:func:`surface_pressure`; c itself for the linear law), central differences, no dA.
 
         (rx, ry) = r - X at the cell centre; `sx`, `sy` the offsets of the x and y
         neighbours (n and 1) of the caller's integer type. r x u = rx u_y - ry u_x.
         """
-        east = surface_pressure(buf[o + sx], inv_sat)
-        west = surface_pressure(buf[o - sx], inv_sat)
-        north = surface_pressure(buf[o + sy], inv_sat)
-        south = surface_pressure(buf[o - sy], inv_sat)
+        east = surface_pressure(buf[o + sx], p)
+        west = surface_pressure(buf[o - sx], p)
+        north = surface_pressure(buf[o + sy], p)
+        south = surface_pressure(buf[o - sy], p)
         dcdx = (east - west) * inv_2dx
         dcdy = (north - south) * inv_2dx
         return f * dcdx, f * dcdy, f * (rx * dcdy - ry * dcdx)
@@ -126,7 +131,7 @@ def make_tension(jit: Callable[[Callable], Callable], spline: Spline) -> Tension
         return o0 + (i - 1) * n + k - 1, tx, ty, w, -quad_s[1, m] * quad_t[1, k_t] * half * t
 
     @jit
-    def edge_node(coef, grid, edge, quad_s, quad_t, m, k_t, inv_sat):
+    def edge_node(coef, grid, edge, quad_s, quad_t, m, k_t, p):
         """Node (m, k_t) of a straight edge (:func:`edge_place`) with c from its spline,
         read through :func:`surface_pressure`.
 
@@ -135,17 +140,15 @@ def make_tension(jit: Callable[[Callable], Callable], spline: Spline) -> Tension
             int F (r - X) x grad c dA, w_t c.
         """
         row, tx, ty, w, w_t = edge_place(grid, edge, quad_s, quad_t, m, k_t)
-        wx0, wx1, wx2, wx3 = bspline_weights(tx)
-        wy0, wy1, wy2, wy3 = bspline_weights(ty)
         n = grid[1]
         c = surface_pressure(
-            spline_sum(coef, row, n, 1, wx0, wx1, wx2, wx3, wy0, wy1, wy2, wy3), inv_sat
+            spline_sum(coef, row, n, 1, bspline_weights(tx), bspline_weights(ty)), p
         )
         wc = w * c
         return wc * edge[2], wc * edge[3], w_t * c
 
     @jit
-    def edge_sums(coef, grid, edge, quad_s, quad_t, m, inv_sat):
+    def edge_sums(coef, grid, edge, quad_s, quad_t, m, p):
         """Band node m of a straight edge: the :func:`edge_node` shares of its
         Gauss-Legendre nodes along the edge, added in order. A polygon's edge
         (h, half) is :func:`polygon_band`'s, a strip's (L/2 or W/2 - delta s_m,
@@ -154,14 +157,14 @@ def make_tension(jit: Callable[[Callable], Callable], spline: Spline) -> Tension
         pair_y = 0.0
         pair_t = 0.0
         for k_t in range(quad_t.shape[1]):
-            a, b, c = edge_node(coef, grid, edge, quad_s, quad_t, m, k_t, inv_sat)
+            a, b, c = edge_node(coef, grid, edge, quad_s, quad_t, m, k_t, p)
             pair_x += a
             pair_y += b
             pair_t += c
         return pair_x, pair_y, pair_t
 
     @jit
-    def polygon_node(coef, grid, tab, polygon, quad_s, quad_t, q, inv_sat):
+    def polygon_node(coef, grid, tab, polygon, quad_s, quad_t, q, p):
         """Node q of the contour form of a regular polygon about the origin.
 
         `tab` (>= 2, N) holds the edge normals, `polygon` is (apothem, delta,
@@ -179,10 +182,10 @@ def make_tension(jit: Callable[[Callable], Callable], spline: Spline) -> Tension
         apothem, delta, tan_half = polygon
         h, half = polygon_band(apothem, delta, tan_half, quad_s, m)
         edge = (0.0, 0.0, tab[0, j], tab[1, j], h, half)
-        return edge_node(coef, grid, edge, quad_s, quad_t, m, k_t, inv_sat)
+        return edge_node(coef, grid, edge, quad_s, quad_t, m, k_t, p)
 
     @jit
-    def arc_node(coef, grid, cx, cy, h, ca, sa, weight, inv_sat):
+    def arc_node(coef, grid, cx, cy, h, ca, sa, weight, p):
         """A node of a circle of the contour form: the point (cx, cy) + h (ca, sa) on the
         level set h of a disk's gauge |r - P|, P = (cx, cy), with the quadrature weight
         `weight` (band weight times h times the angle step).
@@ -194,11 +197,9 @@ def make_tension(jit: Callable[[Callable], Callable], spline: Spline) -> Tension
         o0, n, x0, inv_dx = grid
         i, tx = spline_node(x0, inv_dx, cx + h * ca)
         j, ty = spline_node(x0, inv_dx, cy + h * sa)
-        wx0, wx1, wx2, wx3 = bspline_weights(tx)
-        wy0, wy1, wy2, wy3 = bspline_weights(ty)
         row = o0 + (i - 1) * n + j - 1
         c = surface_pressure(
-            spline_sum(coef, row, n, 1, wx0, wx1, wx2, wx3, wy0, wy1, wy2, wy3), inv_sat
+            spline_sum(coef, row, n, 1, bspline_weights(tx), bspline_weights(ty)), p
         )
         w = weight * c
         return w * ca, w * sa

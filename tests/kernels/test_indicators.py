@@ -18,6 +18,7 @@ import pytest
 from pde_rotor.kernels.records import make_record
 from pde_rotor.model.pde import RotorPDE
 from pde_rotor.physics.build import CPU
+from pde_rotor.physics.indicators import PolygonFilter
 from tests.conftest import compiled_indicators
 
 _plate_cell = CPU.indicators.plate_cell
@@ -42,10 +43,11 @@ def cell_indicators(coords, slo, shi, params, tab, plate, edge, pill):
                 F[i * n + j] = _plate_cell(x, y, tab, n_corners, apothem, inv_delta)
                 G[i * n + j] = _pill_cell(x, y, tab, n_corners, rho, inv_delta)
             else:
-                F[i * n + j] = _filtered_plate(
-                    x, y, tab, n_corners, apothem, p.tan_half, p.crease, p.corner_end, edge,
-                    p.edge_u0, p.edge_inv_step, plate, p.table_n, p.table_x0, p.table_inv_step,
+                polygon = PolygonFilter(
+                    n_corners, apothem, p.tan_half, p.crease, p.corner_end, edge, p.edge_u0,
+                    p.edge_inv_step, plate, p.table_n, p.table_x0, p.table_inv_step,
                 )  # fmt: skip
+                F[i * n + j] = _filtered_plate(x, y, tab, polygon)
                 G[i * n + j] = _filtered_pills(x, y, tab, n_corners, pill, p.profile_inv_step)
     return F.reshape(n, n), G.reshape(n, n)
 
