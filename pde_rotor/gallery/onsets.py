@@ -5,6 +5,8 @@
 * :func:`kick_growth_rate`: the growth rate of its velocity after a small kick, the
   quantity the linear stability of docs/bodies.md predicts
   (:func:`pde_rotor.theory.free_disk.free_disk_growth_rate`);
+* :func:`kicked_series`, :func:`gap_window`, :func:`fitted_rate`: a kicked body's
+  amplitude, and its rate fitted after the next mode of the spectrum has decayed;
 * :func:`disk_in_dish_config`, :func:`kick_orbit`, :func:`kick_hopf_rate`,
   :func:`dragged_orbit`: the disk in a no-flux dish, its Hopf pair after a kick, and the
   branch (rotation, or motion back and forth) it settles on after a given wake;
@@ -49,6 +51,26 @@ def _held_config(
     )
 
 
+def kicked_series(
+    config: RotorConfig,
+    relax: float,
+    column: int,
+    kick: float,
+    times: np.ndarray,
+    measure: Callable[[np.ndarray], float],
+) -> np.ndarray:
+    """`measure`(pose) at `times` after the release, where the pose's `column` was set to
+    `kick` at the end of the hold of `relax`."""
+    sim = Simulation(config)
+    sim.run(relax)
+    sim.bodies.poses[0, column] = kick
+    values = []
+    for t in times:
+        sim.run(relax + round(t / config.grid.dt) * config.grid.dt)
+        values.append(measure(sim.bodies.poses[0]))
+    return np.array(values)
+
+
 def _growth_after_kick(
     config: RotorConfig,
     relax: float,
@@ -59,15 +81,54 @@ def _growth_after_kick(
 ) -> float:
     """lambda fitted to log `measure`(pose) over `fit` after the release, where the pose's
     `column` was set to `kick` at the end of the hold."""
-    sim = Simulation(config)
-    sim.run(relax)
-    sim.bodies.poses[0, column] = kick
-    times, values = [], []
-    for t in np.arange(fit[0], fit[1] + 1e-9, (fit[1] - fit[0]) / 20):
-        sim.run(relax + round(t / config.grid.dt) * config.grid.dt)
-        times.append(t)
-        values.append(measure(sim.bodies.poses[0]))
+    times = np.arange(fit[0], fit[1] + 1e-9, (fit[1] - fit[0]) / 20)
+    values = kicked_series(config, relax, column, kick, times, measure)
     return float(np.polyfit(times, np.log(values), 1)[0])
+
+
+def gap_window(
+    eigenvalues: np.ndarray, decay: float = 1e4, span: float = 2.0
+) -> tuple[float, float]:
+    """The window of times after a kick over which log |amplitude| grows at the leading rate.
+
+    A kick excites the leading mode e^{lambda_1 t} and the faster ones; the next,
+    e^{lambda_2 t}, falls behind the leading one by e^{-(Re lambda_1 - Re lambda_2) t}. The
+    window starts when that ratio is 1 / `decay`, t_0 = ln(decay) / gap, and lasts `span`;
+    its fitted slope then differs from Re lambda_1 by at most gap a / decay, a the two
+    modes' amplitude ratio at the kick.
+
+    Args:
+        eigenvalues: the leading eigenvalues of the linearisation, by decreasing real part
+            (:class:`pde_rotor.stability.eigen.Spectrum`); copies of the leading one (a
+            degenerate pair, or the conjugate of a complex one) are not the next mode.
+        decay: the factor by which the next mode has fallen behind at the window's start.
+        span: the window's length.
+
+    Raises:
+        ValueError: no eigenvalue with a smaller real part than the leading one.
+    """
+    lead = eigenvalues[0]
+    scale = 1e-6 * max(abs(lead), 1.0)
+    others = [
+        lam.real
+        for lam in eigenvalues[1:]
+        if abs(lam - lead) > scale and abs(lam - np.conj(lead)) > scale
+    ]
+    if not others or max(others) >= lead.real:
+        raise ValueError(f"no eigenvalue below the leading {lead:.5g} in {eigenvalues}")
+    start = math.log(decay) / (lead.real - max(others))
+    return start, start + span
+
+
+def fitted_rate(
+    times: np.ndarray, values: np.ndarray, window: tuple[float, float]
+) -> tuple[float, float]:
+    """The slope of log `values` against `times` over `window` by least squares, and its
+    standard error (what the samples' scatter about the line allows)."""
+    keep = (times >= window[0] - 1e-9) & (times <= window[1] + 1e-9)
+    t, y = times[keep], np.log(values[keep])
+    (slope, _), cov = np.polyfit(t, y, 1, cov=True)
+    return float(slope), float(math.sqrt(cov[0, 0]))
 
 
 def free_disk_config(
