@@ -2,8 +2,9 @@
 
 The configs of ``gallery/bodies_onsets.py`` (paper grid, no flow, paper scheme, delta =
 0.025): a free disk (mass 2e-3, dish radius 4) and the two-disk rotor (l = 0.5, inertia
-1e-4, dish radius 3), held for 6, then kicked, at 0.8, 0.9, 0.95, 1.05, 1.1, 1.2 times the
-theory's mu_c (0.17635 and 0.13820). For each: the leading eigenvalues of the same config
+1e-4, dish radius 3), held for `--relax` (the gallery's 6), then kicked, at 0.8, 0.9,
+0.95, 1.05, 1.1, 1.2 times the theory's mu_c (0.17635 and 0.13820). For each: the leading
+eigenvalues of the same config
 (:func:`pde_rotor.stability.continuation.spectrum_at`), the window that starts when the
 next eigenvalue's mode has fallen behind the leading one by `--decay`
 (:func:`pde_rotor.gallery.onsets.gap_window`), the kicked run sampled every 0.05 up to its
@@ -11,7 +12,7 @@ end, and lambda fitted over that window and over the gallery's fixed [0.5, 1.5]
 (:func:`pde_rotor.gallery.onsets.fitted_rate`, with the fit's standard error). The kick is
 small enough that the amplitude stays below 1e-3 of its unit up to the window's end.
 
-Run: ``python benchmarks/stability_kicks.py [--dx 0.025] [--decay 1e4] [--span 2]``
+Run: ``python benchmarks/stability_kicks.py [--dx 0.025] [--relax 6] [--decay 1e4] [--span 2]``
 (one thread: OPENBLAS_NUM_THREADS=1 NUMBA_NUM_THREADS=1).
 """
 
@@ -23,6 +24,7 @@ import time
 
 import numpy as np
 
+from pde_rotor import RotorConfig
 from pde_rotor.gallery.onsets import (
     fitted_rate,
     free_disk_config,
@@ -41,17 +43,18 @@ SYSTEMS = {
 }
 
 
-def config_of(name: str, dx: float, mu: float, t_end: float):
-    """The held config of system `name` at friction `mu`, its run ending at `t_end`."""
+def config_of(name: str, dx: float, mu: float, t_end: float, relax: float) -> RotorConfig:
+    """The config of system `name` at friction `mu` held for `relax`, ending at `t_end`."""
     if name == "free disk":
-        return free_disk_config(dx, 1e-4, 4.0, 2e-3, mu, t_end, RELAX)
-    return two_disk_rotor_config(dx, 1e-4, 3.0, 0.5, 1e-4, mu, t_end, RELAX)
+        return free_disk_config(dx, 1e-4, 4.0, 2e-3, mu, t_end, relax)
+    return two_disk_rotor_config(dx, 1e-4, 3.0, 0.5, 1e-4, mu, t_end, relax)
 
 
 def main() -> None:
     """Print, per system and friction, lambda of the spectrum and of the kicked fits."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--dx", type=float, default=0.025)
+    parser.add_argument("--relax", type=float, default=RELAX)
     parser.add_argument("--decay", type=float, default=1e4)
     parser.add_argument("--span", type=float, default=2.0)
     parser.add_argument("--systems", nargs="+", default=list(SYSTEMS), choices=list(SYSTEMS))
@@ -62,15 +65,16 @@ def main() -> None:
         for factor in args.factors:
             start = time.process_time()
             mu = factor * mu_c
-            data = config_of(name, args.dx, mu, 1.0).model_dump(mode="json")
+            data = config_of(name, args.dx, mu, 1.0, 0.5).model_dump(mode="json")
             spectrum = spectrum_at(data, KEY, mu, k=6)
             lam = spectrum.leading
             start_t, end_t = gap_window(spectrum.eigenvalues, args.decay, args.span)
             window = (start_t, math.ceil(end_t / SAMPLE) * SAMPLE)
             kick = min(largest_kick, 1e-3 * math.exp(-max(lam.real, 0.0) * window[1]))
             times = np.arange(0.0, window[1] + 1e-9, SAMPLE)
-            config = config_of(name, args.dx, mu, round(RELAX + window[1] + 0.1, 2))
-            values = kicked_series(config, RELAX, column, kick, times, measure)
+            t_end = round(args.relax + window[1] + 0.1, 2)
+            config = config_of(name, args.dx, mu, t_end, args.relax)
+            values = kicked_series(config, args.relax, column, kick, times, measure)
             rate, error = fitted_rate(times, values, window)
             old, _ = fitted_rate(times, values, GALLERY_FIT)
             print(
