@@ -87,36 +87,38 @@ def _growth_after_kick(
 
 
 def gap_window(
-    eigenvalues: np.ndarray, decay: float = 1e4, span: float = 2.0
+    eigenvalues: np.ndarray, decay: float = 1e4, span: float = 2.0, modes: int = 1
 ) -> tuple[float, float]:
-    """The window of times after a kick over which log |amplitude| grows at the leading rate.
+    """The window of times after a kick in which only the `modes` slowest modes remain.
 
-    A kick excites the leading mode e^{lambda_1 t} and the faster ones; the next,
-    e^{lambda_2 t}, falls behind the leading one by e^{-(Re lambda_1 - Re lambda_2) t}. The
-    window starts when that ratio is 1 / `decay`, t_0 = ln(decay) / gap, and lasts `span`;
-    its fitted slope then differs from Re lambda_1 by at most gap a / decay, a the two
-    modes' amplitude ratio at the kick.
+    A kick excites the leading modes and faster ones; the first faster one,
+    e^{lambda_{n+1} t}, falls behind the n-th (n = `modes`) by
+    e^{-(Re lambda_n - Re lambda_{n+1}) t}. The window starts when that ratio is
+    1 / `decay`, t_0 = ln(decay) / gap, and lasts `span`. With n = 1 the slope of
+    log |amplitude| there differs from Re lambda_1 by at most gap a / decay, a the two
+    modes' amplitude ratio at the kick; with n = 2 a fit of two modes
+    (:func:`hopf_rate`) gives both.
 
     Args:
         eigenvalues: the leading eigenvalues of the linearisation, by decreasing real part
-            (:class:`pde_rotor.stability.eigen.Spectrum`); copies of the leading one (a
-            degenerate pair, or the conjugate of a complex one) are not the next mode.
-        decay: the factor by which the next mode has fallen behind at the window's start.
+            (:class:`pde_rotor.stability.eigen.Spectrum`); copies of one (a degenerate pair,
+            the conjugate of a complex one) count as one mode.
+        decay: the factor by which the first faster mode has fallen behind.
         span: the window's length.
+        modes: how many distinct slow modes the fit keeps.
 
     Raises:
-        ValueError: no eigenvalue with a smaller real part than the leading one.
+        ValueError: fewer than `modes` + 1 distinct eigenvalues.
     """
-    lead = eigenvalues[0]
-    scale = 1e-6 * max(abs(lead), 1.0)
-    others = [
-        lam.real
-        for lam in eigenvalues[1:]
-        if abs(lam - lead) > scale and abs(lam - np.conj(lead)) > scale
-    ]
-    if not others or max(others) >= lead.real:
-        raise ValueError(f"no eigenvalue below the leading {lead:.5g} in {eigenvalues}")
-    start = math.log(decay) / (lead.real - max(others))
+    distinct: list[complex] = []
+    for lam in eigenvalues:
+        scale = 1e-6 * max(abs(lam), 1.0)
+        if all(abs(lam - o) > scale and abs(lam - np.conj(o)) > scale for o in distinct):
+            distinct.append(complex(lam))
+    if len(distinct) <= modes or distinct[modes].real >= distinct[modes - 1].real:
+        msg = f"no eigenvalue below the {modes} leading ones in {eigenvalues}"
+        raise ValueError(msg)
+    start = math.log(decay) / (distinct[modes - 1].real - distinct[modes].real)
     return start, start + span
 
 
@@ -268,12 +270,21 @@ def hopf_rate(times: np.ndarray, xy: np.ndarray) -> complex:
     squares fit gives the roots r of r^2 = p r + q, r = e^{lambda (t_1 - t_0)}. A pair of
     real rates (no oscillation) returns the larger as sigma, omega = 0.
     """
-    rows = np.concatenate([np.stack([xy[1:-1, a], xy[:-2, a]], axis=1) for a in (0, 1)])
-    rhs = np.concatenate([xy[2:, a] for a in (0, 1)])
+    lam = two_mode_rates(times, xy)
+    return complex(lam[np.argmax(lam.imag)] if np.any(lam.imag > 0) else lam[np.argmax(lam.real)])
+
+
+def two_mode_rates(times: np.ndarray, series: np.ndarray) -> np.ndarray:
+    """Both rates lambda of two modes e^{lambda t} fitted to the columns of `series` (one
+    per coordinate, at the uniform `times`) by Prony's method of order 2
+    (:func:`hopf_rate`), by decreasing real part."""
+    cols = range(series.shape[1])
+    rows = np.concatenate([np.stack([series[1:-1, a], series[:-2, a]], axis=1) for a in cols])
+    rhs = np.concatenate([series[2:, a] for a in cols])
     (p, q), *_ = np.linalg.lstsq(rows, rhs, rcond=None)
     roots = np.roots([1.0, -p, -q]).astype(complex)
     lam = np.log(roots) / (times[1] - times[0])
-    return complex(lam[np.argmax(lam.imag)] if np.any(lam.imag > 0) else lam[np.argmax(lam.real)])
+    return lam[np.argsort(-lam.real)]
 
 
 def kick_hopf_rate(

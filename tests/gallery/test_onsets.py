@@ -72,5 +72,19 @@ def test_gap_window_fit_recovers_the_leading_rate_of_a_mixture(lead: float) -> N
 
 
 def test_gap_window_needs_a_mode_below_the_leading_one() -> None:
-    with pytest.raises(ValueError, match="no eigenvalue below the leading"):
+    with pytest.raises(ValueError, match="no eigenvalue below the 1 leading"):
         gap_window(np.array([0.1 + 0.2j, 0.1 - 0.2j]))
+
+
+def test_gap_window_of_two_slow_modes_lets_a_two_mode_fit_find_both() -> None:
+    """A disk free to drift: a slow pair lambda_+ > 0 > lambda_- (the position's coupling)
+    and a fast field mode; after the fast one has fallen 1e6 behind the slower of the pair,
+    the two-mode fit of position and velocity gives lambda_+."""
+    plus, minus, fast = 0.1287, -0.0176, -1.357
+    eigenvalues = np.array([plus, plus, minus, minus, fast], dtype=complex)
+    start, end = gap_window(eigenvalues, decay=1e6, span=2.0, modes=2)
+    assert start == pytest.approx(np.log(1e6) / (minus - fast))
+    t = np.arange(start, end + 1e-9, 0.05)
+    x = np.exp(plus * t) - np.exp(minus * t) + 3.0 * np.exp(fast * t)
+    u = plus * np.exp(plus * t) - minus * np.exp(minus * t) + 3.0 * fast * np.exp(fast * t)
+    assert hopf_rate(t, np.stack([x, u], axis=1)).real == pytest.approx(plus, rel=1e-3)
