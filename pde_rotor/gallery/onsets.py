@@ -5,8 +5,9 @@
 * :func:`kick_growth_rate`: the growth rate of its velocity after a small kick, the
   quantity the linear stability of docs/bodies.md predicts
   (:func:`pde_rotor.theory.free_disk.free_disk_growth_rate`);
-* :func:`kicked_series`, :func:`gap_window`, :func:`fitted_rate`: a kicked body's
-  amplitude, and its rate fitted after the next mode of the spectrum has decayed;
+* :func:`kicked_series`, :func:`gap_window`, :func:`fitted_rate`,
+  :func:`two_mode_rates`: a kicked body's amplitude, and its rate (or the rates of a slow
+  pair) fitted after the next faster mode of the spectrum has decayed;
 * :func:`disk_in_dish_config`, :func:`kick_orbit`, :func:`kick_hopf_rate`,
   :func:`dragged_orbit`: the disk in a no-flux dish, its Hopf pair after a kick, and the
   branch (rotation, or motion back and forth) it settles on after a given wake;
