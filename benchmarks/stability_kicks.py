@@ -4,13 +4,15 @@ The configs of ``gallery/bodies_onsets.py`` (paper grid, no flow, paper scheme, 
 0.025): a free disk (mass 2e-3, dish radius 4) and the two-disk rotor (l = 0.5, inertia
 1e-4, dish radius 3), held for `--relax` (the gallery's 6), then kicked, at 0.8, 0.9,
 0.95, 1.05, 1.1, 1.2 times the theory's mu_c (0.17635 and 0.13820). For each: the leading
-eigenvalues of the same config
-(:func:`pde_rotor.stability.continuation.spectrum_at`), the window that starts when the
+eigenvalues of the same config (:func:`pde_rotor.stability.continuation.spectrum_at`), the
+window that starts when the
 next eigenvalue's mode has fallen behind the leading one by `--decay`
 (:func:`pde_rotor.gallery.onsets.gap_window`), the kicked run sampled every 0.05 up to its
 end, and lambda fitted over that window and over the gallery's fixed [0.5, 1.5]
 (:func:`pde_rotor.gallery.onsets.fitted_rate`, with the fit's standard error). The kick is
 small enough that the amplitude stays below 1e-3 of its unit up to the window's end.
+With ``--coordinates`` the eigenvalues include the body's coordinate and the fit keeps two
+slow modes (:func:`with_coordinate`).
 
 Run: ``python benchmarks/stability_kicks.py [--dx 0.025] [--relax 6] [--decay 1e4] [--span 2]``
 (one thread: OPENBLAS_NUM_THREADS=1 NUMBA_NUM_THREADS=1).
