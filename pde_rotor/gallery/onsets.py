@@ -5,6 +5,9 @@
 * :func:`kick_growth_rate`: the growth rate of its velocity after a small kick, the
   quantity the linear stability of docs/bodies.md predicts
   (:func:`pde_rotor.theory.free_disk.free_disk_growth_rate`);
+* :func:`kicked_series`, :func:`gap_window`, :func:`fitted_rate`,
+  :func:`two_mode_rates`: a kicked body's amplitude, and its rate (or the rates of a slow
+  pair) fitted after the next faster mode of the spectrum has decayed;
 * :func:`disk_in_dish_config`, :func:`kick_orbit`, :func:`kick_hopf_rate`,
   :func:`dragged_orbit`: the disk in a no-flux dish, its Hopf pair after a kick, and the
   branch (rotation, or motion back and forth) it settles on after a given wake;
@@ -49,6 +52,26 @@ def _held_config(
     )
 
 
+def kicked_series(
+    config: RotorConfig,
+    relax: float,
+    column: int,
+    kick: float,
+    times: np.ndarray,
+    measure: Callable[[np.ndarray], float],
+) -> np.ndarray:
+    """`measure`(pose) at `times` after the release, where the pose's `column` was set to
+    `kick` at the end of the hold of `relax`."""
+    sim = Simulation(config)
+    sim.run(relax)
+    sim.bodies.poses[0, column] = kick
+    values = []
+    for t in times:
+        sim.run(relax + round(t / config.grid.dt) * config.grid.dt)
+        values.append(measure(sim.bodies.poses[0]))
+    return np.array(values)
+
+
 def _growth_after_kick(
     config: RotorConfig,
     relax: float,
@@ -59,15 +82,56 @@ def _growth_after_kick(
 ) -> float:
     """lambda fitted to log `measure`(pose) over `fit` after the release, where the pose's
     `column` was set to `kick` at the end of the hold."""
-    sim = Simulation(config)
-    sim.run(relax)
-    sim.bodies.poses[0, column] = kick
-    times, values = [], []
-    for t in np.arange(fit[0], fit[1] + 1e-9, (fit[1] - fit[0]) / 20):
-        sim.run(relax + round(t / config.grid.dt) * config.grid.dt)
-        times.append(t)
-        values.append(measure(sim.bodies.poses[0]))
+    times = np.arange(fit[0], fit[1] + 1e-9, (fit[1] - fit[0]) / 20)
+    values = kicked_series(config, relax, column, kick, times, measure)
     return float(np.polyfit(times, np.log(values), 1)[0])
+
+
+def gap_window(
+    eigenvalues: np.ndarray, decay: float = 1e4, span: float = 2.0, modes: int = 1
+) -> tuple[float, float]:
+    """The window of times after a kick in which only the `modes` slowest modes remain.
+
+    A kick excites the leading modes and faster ones; the first faster one,
+    e^{lambda_{n+1} t}, falls behind the n-th (n = `modes`) by
+    e^{-(Re lambda_n - Re lambda_{n+1}) t}. The window starts when that ratio is
+    1 / `decay`, t_0 = ln(decay) / gap, and lasts `span`. With n = 1 the slope of
+    log |amplitude| there differs from Re lambda_1 by at most gap a / decay, a the two
+    modes' amplitude ratio at the kick; with n = 2 a fit of two modes
+    (:func:`hopf_rate`) gives both.
+
+    Args:
+        eigenvalues: the leading eigenvalues of the linearisation, by decreasing real part
+            (:class:`pde_rotor.stability.eigen.Spectrum`); copies of one (a degenerate pair,
+            the conjugate of a complex one) count as one mode.
+        decay: the factor by which the first faster mode has fallen behind.
+        span: the window's length.
+        modes: how many distinct slow modes the fit keeps.
+
+    Raises:
+        ValueError: fewer than `modes` + 1 distinct eigenvalues.
+    """
+    distinct: list[complex] = []
+    for lam in eigenvalues:
+        scale = 1e-6 * max(abs(lam), 1.0)
+        if all(abs(lam - o) > scale and abs(lam - np.conj(o)) > scale for o in distinct):
+            distinct.append(complex(lam))
+    if len(distinct) <= modes or distinct[modes].real >= distinct[modes - 1].real:
+        msg = f"no eigenvalue below the {modes} leading ones in {eigenvalues}"
+        raise ValueError(msg)
+    start = math.log(decay) / (distinct[modes - 1].real - distinct[modes].real)
+    return start, start + span
+
+
+def fitted_rate(
+    times: np.ndarray, values: np.ndarray, window: tuple[float, float]
+) -> tuple[float, float]:
+    """The slope of log `values` against `times` over `window` by least squares, and its
+    standard error (what the samples' scatter about the line allows)."""
+    keep = (times >= window[0] - 1e-9) & (times <= window[1] + 1e-9)
+    t, y = times[keep], np.log(values[keep])
+    (slope, _), cov = np.polyfit(t, y, 1, cov=True)
+    return float(slope), float(math.sqrt(cov[0, 0]))
 
 
 def free_disk_config(
@@ -207,12 +271,21 @@ def hopf_rate(times: np.ndarray, xy: np.ndarray) -> complex:
     squares fit gives the roots r of r^2 = p r + q, r = e^{lambda (t_1 - t_0)}. A pair of
     real rates (no oscillation) returns the larger as sigma, omega = 0.
     """
-    rows = np.concatenate([np.stack([xy[1:-1, a], xy[:-2, a]], axis=1) for a in (0, 1)])
-    rhs = np.concatenate([xy[2:, a] for a in (0, 1)])
+    lam = two_mode_rates(times, xy)
+    return complex(lam[np.argmax(lam.imag)] if np.any(lam.imag > 0) else lam[np.argmax(lam.real)])
+
+
+def two_mode_rates(times: np.ndarray, series: np.ndarray) -> np.ndarray:
+    """Both rates lambda of two modes e^{lambda t} fitted to the columns of `series` (one
+    per coordinate, at the uniform `times`) by Prony's method of order 2
+    (:func:`hopf_rate`), by decreasing real part."""
+    cols = range(series.shape[1])
+    rows = np.concatenate([np.stack([series[1:-1, a], series[:-2, a]], axis=1) for a in cols])
+    rhs = np.concatenate([series[2:, a] for a in cols])
     (p, q), *_ = np.linalg.lstsq(rows, rhs, rcond=None)
     roots = np.roots([1.0, -p, -q]).astype(complex)
     lam = np.log(roots) / (times[1] - times[0])
-    return complex(lam[np.argmax(lam.imag)] if np.any(lam.imag > 0) else lam[np.argmax(lam.real)])
+    return lam[np.argsort(-lam.real)]
 
 
 def kick_hopf_rate(

@@ -67,3 +67,21 @@ def test_bad_input_is_one_line(config: Path, args: list[str], message: str) -> N
     lines = result.output.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("error: ")
     assert message in lines[0]
+
+
+def test_two_rotors_have_two_turning_modes(tmp_path: Path) -> None:
+    """configs/bodies/two_rotors.yaml (two hexagon rotors 3 apart, fixed axes) on the coarse
+    grid: one mechanical unknown per rotor, and two unstable real modes, each at about the
+    rate of a lone paper rotor (+15, the test above), then the camphor's decaying ones."""
+    args = ["--set", "grid.dx=0.05", "--set", "grid.dt=4e-4", "--set", "grid.domain_radius=3"]
+    result = invoke("configs/bodies/two_rotors.yaml", *args, "--k", "3", "-o", str(tmp_path))
+    assert result.exit_code == 0, result.output
+    assert "2 mechanical" in result.output
+    rates = [
+        float(line.split("=")[1].split()[0])
+        for line in result.output.splitlines()
+        if line.startswith("lambda_")
+    ]
+    assert len(rates) == 3
+    assert 13.0 < rates[1] <= rates[0] < 17.0
+    assert rates[2] < 0.0
