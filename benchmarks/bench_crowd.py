@@ -4,8 +4,8 @@ Twenty free disks (pill radius rho = 0.1, no plate, mass 1e-3, friction 1, so th
 stay slow: the friction relaxation rate mu pi rho^2 / m = 31 and a speed of order
 |F| / (mu pi rho^2) ~ 0.02) spread over a dish of radius 4 on the paper's grid
 (dx = 0.025, dt = 1e-4) on rings that keep them apart, one disk at the dish's centre, and the same
-surface's field update without bodies (:func:`pde_rotor.kernels.bodies.euler_body_fields`
-with no body rows: Eqs. (eqc), (eqv) alone). Each is timed alternately with the others
+surface's field update without bodies (:func:`pde_rotor.kernels.body_fields.euler_body_fields`
+with no body runs: Eqs. (eqc), (eqv) alone). Each is timed alternately with the others
 (`--repeats` rounds, least kept) over `--steps` steps after a compiling warm-up, in CPU
 time of the stepping thread; printed: ms/step of each and the ratios to the surface
 without bodies (goal: 20 disks <= 1.5x). With `--profile`, the phases of the 20 disks'
@@ -27,7 +27,7 @@ import numpy as np
 from bench_bodies import profile
 
 from pde_rotor import RotorConfig
-from pde_rotor.kernels import bodies as kb
+from pde_rotor.kernels import body_fields
 from pde_rotor.solver.bodies import make_bodies_stepper
 from pde_rotor.solver.simulation import Simulation
 
@@ -82,20 +82,19 @@ def bare_surface(sim: Simulation):
     pde = sim.pde
     step = make_bodies_stepper(pde, sim.config.grid.dt, np.random.default_rng(0))
     p = step._record.view(np.recarray)[0]
-    coords, lo, hi, _, _ = pde.domain.arrays()
-    empty = np.zeros(coords.size, dtype=np.int64)
-    domain = (coords, lo, hi, empty, empty.copy())
+    domain = pde.domain.arrays()
+    runs = (np.zeros(domain[0].size + 1, np.int64), np.zeros((3, 0), np.int64))
     cur = np.ascontiguousarray(sim.state.data).reshape(-1).copy()
     nxt = np.zeros_like(cur)
-    F, G, owner = pde.F.reshape(-1), pde.G.reshape(-1), pde.owner.reshape(-1)
+    F, G = pde.F.reshape(-1), pde.G.reshape(-1)
     pose = sim.bodies.poses.copy()
-    coef = kb._rate_coefficients(p)
+    coef = body_fields._rate_coefficients(p)
 
     def timer(steps: int) -> float:
         nonlocal cur, nxt
         start = time.thread_time()
         for _ in range(steps):
-            kb.euler_body_fields(cur, nxt, F, G, owner, domain, coef, p.dt, pose, p.flow)
+            body_fields.euler_body_fields(cur, nxt, F, G, pose, domain, runs, coef, p.dt, p.flow)
             cur, nxt = nxt, cur
         return 1e3 * (time.thread_time() - start) / steps
 

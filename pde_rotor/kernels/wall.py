@@ -4,7 +4,7 @@
 :func:`euler_walled_fields` advances c on the cut cells of the circle (or vessel) and v
 on the cells whose centre lies inside it, walking only the runs of wet cells of each
 row (two across an annulus' hole), so that dry cells cost nothing, as
-:func:`pde_rotor.kernels.bodies.euler_body_fields` does with the absorbing wall: the
+:func:`pde_rotor.kernels.body_fields.euler_body_fields` does with the absorbing wall: the
 transport of c through the open part of each face (the physics' ``cut_cell_inflow``) and
 its local terms (``local_rate``) by forward Euler, then the diffusion through the faces
 of the stiff cut cells by backward Euler, cluster by cluster with the inverses computed
