@@ -143,10 +143,10 @@ def body_contour(cur, coords, k, bodies, p, out):
     polygon's or a strip's edges (``edge_sums``; per (edge, band node) the sum along
     the edge, the pairs added in order, as the rotor's contour torque; a strip's four
     edges of two lengths, its band nodes without a parallel skipped), a disk plate's
-    circle about
-    X_k, or each pill's circle about its centre, its torque (P - X) x its force
-    (``arc_node``, the angles phi + 2 pi l / L). `delta` is the edge width; `bodies` as
-    for :func:`pde_rotor.kernels.bodies.advance_bodies`.
+    circle about X_k, or each pill's circle about its centre, its torque (P - X) x its
+    force (``arc_node``, the angles phi + 2 pi l / L, their cosines and sines taken once
+    per call for every ring). `delta` is the edge width; `bodies` as for
+    :func:`pde_rotor.kernels.bodies.advance_bodies`.
     """
     body, pills, pose, _, _, normals, centres, tables = bodies
     quad_s, quad_t, _, pill_tab, _, _, rings, coef, carry = tables
@@ -196,6 +196,11 @@ def body_contour(cur, coords, k, bodies, p, out):
     else:
         n_arc = ARC_EDGES * n_t
         step = 2.0 * math.pi / n_arc
+        trig = np.empty((2, n_arc))  # the nodes' directions, shared by every ring
+        for a_l in range(n_arc):
+            angle = phi + step * a_l
+            trig[0, a_l] = math.cos(angle)
+            trig[1, a_l] = math.sin(angle)
         first = b.pill_start
         last = b.pill_start + b.pill_count
         if b.plate == PLATE_DISK:
@@ -211,9 +216,8 @@ def body_contour(cur, coords, k, bodies, p, out):
                 h = rings[0, m]
                 weight = rings[1, m] * h * step
                 for a_l in range(n_arc):
-                    angle = phi + step * a_l
                     a, c = _arc_node(
-                        coef, grid, cx, cy, h, math.cos(angle), math.sin(angle), weight, inv_sat
+                        coef, grid, cx, cy, h, trig[0, a_l], trig[1, a_l], weight, inv_sat
                     )
                     q_x += a
                     q_y += c
