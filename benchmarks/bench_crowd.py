@@ -19,7 +19,7 @@ mid circle of an annular channel (``grid.vessel``, radii 4.3 and 6.5, both walls
 the paper's grid dx = 0.025), 2.12 apart so that their footprints (reach 1.03) do not
 meet and stay 1.1 from each wall; one boat alone; and the same
 vessel's field update without bodies
-(:func:`pde_rotor.kernels.wall.euler_walled_fields` on its cut cells with no body rows);
+(:func:`pde_rotor.kernels.wall.euler_walled_fields` on its cut cells with no body runs);
 goal: 16 boats <= 2x.
 
 Run:  NUMBA_NUM_THREADS=1 python benchmarks/bench_crowd.py [--steps 300] [--repeats 3]
@@ -162,13 +162,16 @@ def bare_vessel(sim: Simulation):
     pde = sim.pde
     step = make_bodies_stepper(pde, sim.config.grid.dt, np.random.default_rng(0))
     p = step._record.view(np.recarray)[0]
-    coords, lo, hi, _, _ = pde.domain.arrays()
-    empty = np.zeros(coords.size, dtype=np.int64)
-    domain = (coords, lo, hi, empty, empty.copy())
+    domain = pde.domain.arrays()
+    n = domain[0].size
+    maps = (
+        pde.F.reshape(-1),
+        pde.G.reshape(-1),
+        (np.zeros(n + 1, np.int64), np.zeros((3, 0), np.int64)),
+    )
     cur = np.ascontiguousarray(sim.state.data).reshape(-1).copy()
     nxt = np.zeros_like(cur)
-    rhs = np.zeros(coords.size**2)
-    F, G, owner = pde.F.reshape(-1), pde.G.reshape(-1), pde.owner.reshape(-1)
+    rhs = np.zeros(n * n)
     pose = sim.bodies.poses.copy()
     coef = body_fields._rate_coefficients(p)
     cells = step._wall
@@ -177,9 +180,7 @@ def bare_vessel(sim: Simulation):
         nonlocal cur, nxt
         start = time.thread_time()
         for _ in range(steps):
-            wall.euler_walled_fields(
-                cur, nxt, F, G, owner, domain, cells, coef, p.dt, pose, p.flow, rhs
-            )
+            wall.euler_walled_fields((cur, nxt), maps, domain, cells, coef, p.dt, pose, p.flow, rhs)
             cur, nxt = nxt, cur
         return 1e3 * (time.thread_time() - start) / steps
 

@@ -39,7 +39,7 @@ import numpy as np
 from ..physics.build import CPU
 from ..physics.motion import MOTION_FIXED, N_INTEGRALS
 from .body_draw import SCRATCH_ROWS, STATUS_EDGE, STATUS_FINITE, STATUS_OVERLAP, draw_body
-from .body_fields import average_fields, body_segments, fields, support_rows
+from .body_fields import average_fields, body_segments, fields
 from .body_sums import body_contour, body_integrals
 
 _held = CPU.motion.held
@@ -54,9 +54,8 @@ _noise_kick = CPU.motion.noise_kick
 @nb.njit(cache=True, nogil=True)
 def _draw_bodies(maps, domain, surface, bodies, p, work, status):
     """Draw every body whose pose changed since it was last drawn
-    (:func:`~pde_rotor.kernels.body_draw.draw_body`), then the rows' support and the
-    bodies' runs (:func:`~pde_rotor.kernels.body_fields.support_rows`,
-    :func:`~pde_rotor.kernels.body_fields.body_segments`) (compiled); `maps` is (F, G,
+    (:func:`~pde_rotor.kernels.body_draw.draw_body`), then the bodies' runs of each row
+    (:func:`~pde_rotor.kernels.body_fields.body_segments`) (compiled); `maps` is (F, G,
     owner), `surface` is (wall, first: whether the rows must be redone anyway),
     `bodies` as for :func:`advance_bodies`, `work` (scratch, taps, segments).
 
@@ -64,7 +63,7 @@ def _draw_bodies(maps, domain, surface, bodies, p, work, status):
         True, or False on a contact (the reason and bodies in `status`).
     """
     F, G, owner = maps
-    body, _, pose, drawn, box, _, _, _ = bodies
+    body, _, pose, drawn, _, _, _, _ = bodies
     scratch, taps, segments = work
     redrawn = surface[1]
     for k in range(body.shape[0]):
@@ -78,8 +77,7 @@ def _draw_bodies(maps, domain, surface, bodies, p, work, status):
                 return False
             drawn[k, 0], drawn[k, 1], drawn[k, 2] = pose[k, 0], pose[k, 1], pose[k, 2]
             redrawn = True
-    if redrawn:  # the support rows and runs are scratch of each call
-        support_rows(box, domain[0].size, domain[3], domain[4])
+    if redrawn:  # the runs are scratch of each call
         body_segments(domain[0], bodies, segments)
     return True
 
@@ -162,7 +160,8 @@ def advance_bodies(
         spare: scratch of the same shape.
         stage: scratch of the same shape for Heun's method, or empty for Euler.
         F, G, owner: flat indicator arrays and the owner map (-1: no body), updated.
-        domain: (coords, lo, hi, slo, shi); slo, shi are rewritten from the bodies' boxes.
+        domain: (coords, lo, hi, slo, shi) (slo, shi unread: the bodies' runs of each
+            row replace them).
         wall: the cut cells of a no-flux dish wall (:meth:`pde_rotor.model.wall.CutCells.arrays`;
             empty, :data:`pde_rotor.kernels.wall.NO_WALL`, for the absorbing wall).
         params: the run's parameter record (:func:`pde_rotor.kernels.records.make_record`).

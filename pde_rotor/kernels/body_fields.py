@@ -7,10 +7,10 @@ gives the body), sorted along the row; :func:`euler_body_fields` walks each row 
 of bare cells (no plate: the surface's own update, the rates' ``plate_rates`` without
 plate terms) and runs of one body's cells (its plate terms, the velocity of its plate
 from the row's constants), so that a crowd of small bodies costs by their footprints,
-not by the rows' extent between them. Behind a no-flux wall the update is
-:func:`pde_rotor.kernels.wall.euler_walled_fields`, over the rows' support of
-:func:`support_rows`. :func:`fields` picks one; :func:`average_fields` is Heun's
-average.
+not by the rows' extent between them. Behind a no-flux wall (or in a vessel) the update
+is :func:`pde_rotor.kernels.wall.euler_walled_fields`, which cuts each row's runs of wet
+cells by the same bodies' runs. :func:`fields` picks one; :func:`average_fields` is
+Heun's average.
 """
 
 from __future__ import annotations
@@ -25,22 +25,6 @@ _plate_rates = CPU.rates.plate_rates
 _plate_velocity = CPU.rates.plate_velocity
 _rate_coefficients = CPU.rates.rate_coefficients
 _footprint_chord = CPU.indicators.footprint_chord
-
-
-@nb.njit(cache=True, nogil=True)
-def support_rows(box, n, slo, shi):
-    """slo, shi: per row, the columns [slo, shi) covered by any body's box (the cells
-    where F or G may be nonzero; empty rows get slo = shi = 0)."""
-    for i in range(n):
-        slo[i] = 0
-        shi[i] = 0
-    for k in range(box.shape[0]):
-        for i in range(box[k, 0], box[k, 1]):
-            if shi[i] == slo[i]:
-                slo[i], shi[i] = box[k, 2], box[k, 3]
-            else:
-                slo[i] = min(slo[i], box[k, 2])
-                shi[i] = max(shi[i], box[k, 3])
 
 
 @nb.njit(cache=True, nogil=True)
@@ -164,14 +148,16 @@ def euler_body_fields(cur, nxt, F, G, pose, domain, segments, coef, dt, flow):
 @nb.njit(cache=True, nogil=True)
 def fields(cur, nxt, maps, domain, surface, p, pose, rhs):
     """One Euler step of the fields from `cur` into `nxt` with the bodies at `pose`
-    (compiled): behind the no-flux wall :func:`~pde_rotor.kernels.wall.euler_walled_fields`
-    (over the rows' support), else :func:`euler_body_fields` (over the bodies' runs);
-    `maps` = (F, G, owner), `surface` = (wall, segments), `rhs` the wall's scratch."""
-    F, G, owner = maps
+    (compiled): behind the no-flux wall :func:`~pde_rotor.kernels.wall.euler_walled_fields`,
+    else :func:`euler_body_fields`, both over the bodies' runs; `maps` = (F, G, owner),
+    `surface` = (wall, segments), `rhs` the wall's scratch."""
+    F, G, _ = maps
     wall, segments = surface
     coef = _rate_coefficients(p)
     if wall[0].size > 0:
-        euler_walled_fields(cur, nxt, F, G, owner, domain, wall, coef, p.dt, pose, p.flow, rhs)
+        euler_walled_fields(
+            (cur, nxt), (F, G, segments), domain, wall, coef, p.dt, pose, p.flow, rhs
+        )
     else:
         euler_body_fields(cur, nxt, F, G, pose, domain, segments, coef, p.dt, p.flow)
 
