@@ -122,9 +122,7 @@ def _set_poses(pose, poses):
 
 
 @nb.njit(cache=True, nogil=True)
-def advance_bodies(
-    data, spare, stage, F, G, owner, domain, wall, params, bodies, xi, status, step0, n_steps,
-):  # fmt: skip
+def advance_bodies(states, maps, domain, wall, params, bodies, xi, status, steps):
     """Advance c, v and every body by `n_steps` steps, forward Euler or Heun (compiled).
 
     Each step, every body k:
@@ -156,10 +154,11 @@ def advance_bodies(
     Every step ends with finite accelerations, or the run ends.
 
     Args:
-        data: flat state (c, v_x, v_y), 3 n^2 values, updated in place.
-        spare: scratch of the same shape.
-        stage: scratch of the same shape for Heun's method, or empty for Euler.
-        F, G, owner: flat indicator arrays and the owner map (-1: no body), updated.
+        states: (data, spare, stage): the flat state (c, v_x, v_y), 3 n^2 values,
+            updated in place; scratch of the same shape; scratch of the same shape for
+            Heun's method, or empty for Euler.
+        maps: (F, G, owner): flat indicator arrays and the owner map (-1: no body),
+            updated.
         domain: (coords, lo, hi, slo, shi) (slo, shi unread: the bodies' runs of each
             row replace them).
         wall: the cut cells of a no-flux dish wall (:meth:`pde_rotor.model.wall.CutCells.arrays`;
@@ -178,12 +177,15 @@ def advance_bodies(
             record's ``filtered`` and ``contour`` are set.
         xi: K standard normals per step for the noise (read where a body's kick != 0).
         status: (3,) ints: on an early end, the reason (``STATUS_*``) and the bodies.
-        step0: global index of the first step; n_steps: number of steps.
+        steps: (step0, n_steps): global index of the first step, number of steps.
 
     Returns:
         -1 on success, else the index of the step at which the run ended (state and
         poses left at the start of that step; the reason in `status`).
     """
+    data, spare, stage = states
+    F = maps[0]
+    step0, n_steps = steps
     p = params[0]
     dt = p.dt
     body, _, pose, _, _, _, _, _ = bodies
@@ -203,7 +205,6 @@ def advance_bodies(
     scratch = np.empty((SCRATCH_ROWS, n))
     taps = np.empty(n, np.uint64)
     work = (scratch, taps, (np.zeros(n + 1, np.int64), np.zeros((3, n_bodies * n), np.int64)))
-    maps = (F, G, owner)
     surface = (wall, work[2])
     if not p.flow:
         data[nn:] = 0.0
