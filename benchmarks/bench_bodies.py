@@ -25,7 +25,8 @@ from collections.abc import Callable
 import numpy as np
 
 from pde_rotor import RotorConfig
-from pde_rotor.kernels import bodies as kb
+from pde_rotor.kernels import body_draw, body_fields, body_sums
+from pde_rotor.physics.motion import N_INTEGRALS
 from pde_rotor.solver.bodies import make_bodies_stepper
 from pde_rotor.solver.simulation import Simulation
 
@@ -82,14 +83,17 @@ def profile(sim: Simulation, steps: int) -> dict[str, float]:
     pose[:, :2] -= pde.domain.centre
     box, normals, centres = pde.box, step._normals, step._centres
     p = record.view(np.recarray)[0]
-    rates = kb._rate_coefficients(p)
+    rates = body_fields._rate_coefficients(p)
     count = len(body)
     x0, inv_dx = coords[0], 1.0 / (coords[1] - coords[0])
-    out = np.zeros(kb.N_INTEGRALS)
-    scratch, taps = np.empty((kb.SCRATCH_ROWS, n)), np.empty(n, np.uint64)
+    out = np.zeros(N_INTEGRALS)
+    work = (np.empty((body_draw.SCRATCH_ROWS, n)), np.empty(n, np.uint64))
+    bodies = (body, pills, pose, pose[:, :3].copy(), box, normals, centres, tables)
+    segments = (np.zeros(n + 1, np.int64), np.zeros((3, count * n), np.int64))
+    bare = (np.zeros(n + 1, np.int64), np.zeros((3, 0), np.int64))
     times = dict.fromkeys(
         ["draw (F, G, owner)", "area integrals", "spline window",
-         "contour nodes", "field update over the support"], 0.0
+         "contour nodes", "field update over the bodies' runs"], 0.0
     )  # fmt: skip
 
     def timed(phase: str, kernel: Callable[..., object], *args: object) -> None:
@@ -101,30 +105,30 @@ def profile(sim: Simulation, steps: int) -> dict[str, float]:
     for _ in range(steps):
         pose[:, 2] += pose[:, 5] * sim.config.grid.dt
         for k in range(count):
-            timed("draw (F, G, owner)", kb.draw_body, F, G, owner, domain, k, body,
-                  pills, pose, normals, centres, box, tables, p, scratch, taps, False)  # fmt: skip
-        kb.support_rows(box, n, domain[3], domain[4])
+            timed("draw (F, G, owner)", body_draw.draw_body, F, G, owner, domain, k, bodies,
+                  p, work, False)  # fmt: skip
+        body_fields.body_segments(coords, bodies, segments)
         for k in range(count):
-            timed("area integrals", kb.body_integrals, cur, F, owner, coords, k, pose[k, 0],
-                  pose[k, 1], box, p, out)  # fmt: skip
+            timed("area integrals", body_sums.body_integrals, cur, F, coords, k, bodies, p,
+                  out)  # fmt: skip
             if p.contour:
                 half = int(body[k]["window_half"])
                 ic = int(np.floor((pose[k, 0] - x0) * inv_dx)) + 1
                 jc = int(np.floor((pose[k, 1] - x0) * inv_dx)) + 1
-                timed("spline window", kb.spline_box, cur, tables[7], n, max(1, ic - half),
+                timed("spline window", body_sums.spline_box, cur, tables[7], n, max(1, ic - half),
                       min(n - 1, ic + half), max(1, jc - half), min(n - 1, jc + half),
                       tables[8])  # fmt: skip
-                timed("contour nodes", kb.body_contour, cur, coords, k, body, pills, pose,
-                      normals, centres, tables, p, out)  # fmt: skip
-        timed("field update over the support", kb.euler_body_fields, cur, nxt, F, G, owner,
-              domain, rates, p.dt, pose, p.flow)  # fmt: skip
+                timed("contour nodes", body_sums.body_contour, cur, coords, k, bodies, p,
+                      out)  # fmt: skip
+        timed("field update over the bodies' runs", body_fields.euler_body_fields, cur, nxt,
+              F, G, pose, domain, segments, rates, p.dt, p.flow)  # fmt: skip
         start = time.thread_time()
-        kb.euler_body_fields(cur, nxt, F, G, owner, (coords, lo, hi, 0 * lo, 0 * hi), rates,
-                             p.dt, pose, p.flow)  # fmt: skip
+        body_fields.euler_body_fields(cur, nxt, F, G, pose, domain, bare, rates, p.dt,
+                                      p.flow)  # fmt: skip
         base += time.thread_time() - start
         cur, nxt = nxt, cur
     times["contour nodes"] -= times["spline window"]
-    times["field update over the support"] -= base
+    times["field update over the bodies' runs"] -= base
     result = {phase: 1e3 * t / steps / count for phase, t in times.items() if t != 0.0}
     result["per body, all phases"] = sum(result.values())
     result["field update without bodies (base)"] = 1e3 * base / steps

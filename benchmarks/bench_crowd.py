@@ -1,19 +1,29 @@
-"""Cost of a crowd: 20 small free camphor disks against the same surface without bodies.
+"""Cost of a crowd: 20 small free camphor disks, or a ring of 16 boats, against the same
+surface without bodies.
 
 Twenty free disks (pill radius rho = 0.1, no plate, mass 1e-3, friction 1, so that they
 stay slow: the friction relaxation rate mu pi rho^2 / m = 31 and a speed of order
 |F| / (mu pi rho^2) ~ 0.02) spread over a dish of radius 4 on the paper's grid
 (dx = 0.025, dt = 1e-4) on rings that keep them apart, one disk at the dish's centre, and the same
-surface's field update without bodies (:func:`pde_rotor.kernels.bodies.euler_body_fields`
-with no body rows: Eqs. (eqc), (eqv) alone). Each is timed alternately with the others
+surface's field update without bodies (:func:`pde_rotor.kernels.body_fields.euler_body_fields`
+with no body runs: Eqs. (eqc), (eqv) alone). Each is timed alternately with the others
 (`--repeats` rounds, least kept) over `--steps` steps after a compiling warm-up, in CPU
 time of the stepping thread; printed: ms/step of each and the ratios to the surface
 without bodies (goal: 20 disks <= 1.5x). With `--profile`, the phases of the 20 disks'
 step per body (``benchmarks/bench_bodies.py``'s profile: drawing, area integrals,
-spline window and contour nodes, field update over the support).
+spline window and contour nodes, field update over the bodies' runs).
+
+``--case ring``: 16 camphor boats (strip plates 0.6 x 0.3, one pill 0.05 ahead of the
+centre, mass 0.05, friction 1, at rest, heading along the channel) evenly spaced on the
+mid circle of an annular channel (``grid.vessel``, radii 4.3 and 6.5, both walls no-flux,
+the paper's grid dx = 0.025), 2.12 apart so that their footprints (reach 1.03) do not
+meet and stay 1.1 from each wall; one boat alone; and the same
+vessel's field update without bodies
+(:func:`pde_rotor.kernels.wall.euler_walled_fields` on its cut cells with no body runs);
+goal: 16 boats <= 2x.
 
 Run:  NUMBA_NUM_THREADS=1 python benchmarks/bench_crowd.py [--steps 300] [--repeats 3]
-      [--scheme paper consistent] [--profile]
+      [--scheme paper consistent] [--case disks ring] [--profile]
 """
 
 from __future__ import annotations
@@ -27,7 +37,7 @@ import numpy as np
 from bench_bodies import profile
 
 from pde_rotor import RotorConfig
-from pde_rotor.kernels import bodies as kb
+from pde_rotor.kernels import body_fields, wall
 from pde_rotor.solver.bodies import make_bodies_stepper
 from pde_rotor.solver.simulation import Simulation
 
@@ -69,6 +79,51 @@ def config(count: int, scheme: str) -> RotorConfig:
     )
 
 
+RING = (4.3, 6.5, 16)
+"""Inner and outer radius of the annular channel, and the number of boats on its mid circle."""
+
+
+def boat(angle: float, radius: float) -> dict:
+    """One camphor boat at rest on the circle of `radius`, at polar `angle`, heading along
+    the circle (counter-clockwise)."""
+    return {
+        "plate": {"shape": "strip", "length": 0.6, "width": 0.3},
+        "pills": [{"x": 0.05, "y": 0.0}],
+        "motion": {"kind": "free", "mass": 0.05, "inertia": 0.005, "friction": 1.0},
+        "start": {
+            "x": radius * math.cos(angle),
+            "y": radius * math.sin(angle),
+            "angle": angle + math.pi / 2,
+        },
+    }
+
+
+def ring_config(count: int, scheme: str) -> RotorConfig:
+    """`count` boats (of :data:`RING`'s number, in its places) in the annular channel."""
+    inner, outer, boats = RING
+    middle = 0.5 * (inner + outer)
+    bodies = [{**boat(2 * math.pi * k / boats, middle), "name": f"boat{k}"} for k in range(count)]
+    return RotorConfig.model_validate(
+        {
+            "grid": {
+                "domain_radius": outer,
+                "dx": 0.025,
+                "dt": 1e-4,
+                "vessel": {
+                    "shape": "annulus",
+                    "inner_radius": inner,
+                    "outer_radius": outer,
+                    "inner_wall": "no_flux",
+                    "outer_wall": "no_flux",
+                },
+            },
+            "numerics": {"scheme": scheme},
+            "protocol": {"t_ini": 100.0, "cycles": 0},
+            "bodies": bodies,
+        }
+    )
+
+
 def ms_per_step(sim: Simulation, steps: int) -> float:
     """Milliseconds of the thread's CPU time per step over `steps` steps of `sim`."""
     start = time.thread_time()
@@ -82,24 +137,68 @@ def bare_surface(sim: Simulation):
     pde = sim.pde
     step = make_bodies_stepper(pde, sim.config.grid.dt, np.random.default_rng(0))
     p = step._record.view(np.recarray)[0]
-    coords, lo, hi, _, _ = pde.domain.arrays()
-    empty = np.zeros(coords.size, dtype=np.int64)
-    domain = (coords, lo, hi, empty, empty.copy())
+    domain = pde.domain.arrays()
+    runs = (np.zeros(domain[0].size + 1, np.int64), np.zeros((3, 0), np.int64))
     cur = np.ascontiguousarray(sim.state.data).reshape(-1).copy()
     nxt = np.zeros_like(cur)
-    F, G, owner = pde.F.reshape(-1), pde.G.reshape(-1), pde.owner.reshape(-1)
+    F, G = pde.F.reshape(-1), pde.G.reshape(-1)
     pose = sim.bodies.poses.copy()
-    coef = kb._rate_coefficients(p)
+    coef = body_fields._rate_coefficients(p)
 
     def timer(steps: int) -> float:
         nonlocal cur, nxt
         start = time.thread_time()
         for _ in range(steps):
-            kb.euler_body_fields(cur, nxt, F, G, owner, domain, coef, p.dt, pose, p.flow)
+            body_fields.euler_body_fields(cur, nxt, F, G, pose, domain, runs, coef, p.dt, p.flow)
             cur, nxt = nxt, cur
         return 1e3 * (time.thread_time() - start) / steps
 
     return timer
+
+
+def bare_vessel(sim: Simulation):
+    """A timer of the field update of `sim`'s vessel without bodies (its cut cells, no body
+    rows), as :func:`bare_surface`."""
+    pde = sim.pde
+    step = make_bodies_stepper(pde, sim.config.grid.dt, np.random.default_rng(0))
+    p = step._record.view(np.recarray)[0]
+    domain = pde.domain.arrays()
+    n = domain[0].size
+    maps = (
+        pde.F.reshape(-1),
+        pde.G.reshape(-1),
+        (np.zeros(n + 1, np.int64), np.zeros((3, 0), np.int64)),
+    )
+    cur = np.ascontiguousarray(sim.state.data).reshape(-1).copy()
+    nxt = np.zeros_like(cur)
+    rhs = np.zeros(n * n)
+    pose = sim.bodies.poses.copy()
+    coef = body_fields._rate_coefficients(p)
+    cells = step._wall
+
+    def timer(steps: int) -> float:
+        nonlocal cur, nxt
+        start = time.thread_time()
+        for _ in range(steps):
+            wall.euler_walled_fields((cur, nxt), maps, domain, cells, coef, p.dt, pose, p.flow, rhs)
+            cur, nxt = nxt, cur
+        return 1e3 * (time.thread_time() - start) / steps
+
+    return timer
+
+
+def cases(case: str, scheme: str) -> tuple[dict, Simulation]:
+    """The timers of `case` (``disks`` or ``ring``) on `scheme`, and the crowd's run."""
+    if case == "disks":
+        crowd, one = Simulation(config(20, scheme)), Simulation(config(1, scheme))
+        names, bare = ("20 disks", "1 disk", "no bodies"), bare_surface(one)
+    else:
+        crowd, one = Simulation(ring_config(RING[2], scheme)), Simulation(ring_config(1, scheme))
+        names, bare = ("16 boats", "1 boat", "no bodies"), bare_vessel(one)
+    runs = dict(
+        zip(names, (partial(ms_per_step, crowd), partial(ms_per_step, one), bare), strict=True)
+    )
+    return runs, crowd
 
 
 def main() -> None:
@@ -107,32 +206,30 @@ def main() -> None:
     parser.add_argument("--steps", type=int, default=300)
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--scheme", nargs="+", default=["paper", "consistent"])
+    parser.add_argument("--case", nargs="+", default=["disks"], choices=["disks", "ring"])
     parser.add_argument("--profile", action="store_true", help="phases of the crowd's step")
     args = parser.parse_args()
-    for scheme in args.scheme:
-        crowd, one = Simulation(config(20, scheme)), Simulation(config(1, scheme))
-        bare = bare_surface(one)
-        runs = {
-            "20 disks": partial(ms_per_step, crowd),
-            "1 disk": partial(ms_per_step, one),
-            "no bodies": bare,
-        }
-        for run in runs.values():
-            run(20)  # compile and warm up
-        best = dict.fromkeys(runs, float("inf"))
-        for _ in range(args.repeats):
-            for name, run in runs.items():
-                best[name] = min(best[name], run(args.steps))
-        base = best["no bodies"]
-        cells = crowd.pde.domain.coords.size
-        print(f"paper grid, dish L = 4 ({cells}^2 cells), {scheme} scheme, thread CPU time")
-        for name, ms in best.items():
-            print(f"{name:>9}: {ms:.4f} ms/step, {ms / base:.3f} x the surface without bodies")
-        print(f"ratio 20 disks / no bodies = {best['20 disks'] / base:.3f} (goal <= 1.5)")
-        if args.profile:
-            print(f"phases of the 20 disks' step, ms per body ({scheme} scheme, thread CPU)")
-            for phase, ms in profile(crowd, args.steps).items():
-                print(f"  {phase:36s} {ms:.4f}")
+    for case in args.case:
+        for scheme in args.scheme:
+            runs, crowd = cases(case, scheme)
+            for run in runs.values():
+                run(20)  # compile and warm up
+            best = dict.fromkeys(runs, float("inf"))
+            for _ in range(args.repeats):
+                for name, run in runs.items():
+                    best[name] = min(best[name], run(args.steps))
+            base = best["no bodies"]
+            many = next(iter(best))
+            cells = crowd.pde.domain.coords.size
+            goal = 1.5 if case == "disks" else 2.0
+            print(f"{case}: {cells}^2 cells, {scheme} scheme, thread CPU time")
+            for name, ms in best.items():
+                print(f"{name:>9}: {ms:.4f} ms/step, {ms / base:.3f} x the surface without bodies")
+            print(f"ratio {many} / no bodies = {best[many] / base:.3f} (goal <= {goal})")
+            if args.profile:
+                print(f"phases of the {many}' step, ms per body ({scheme} scheme, thread CPU)")
+                for phase, ms in profile(crowd, args.steps).items():
+                    print(f"  {phase:36s} {ms:.4f}")
 
 
 if __name__ == "__main__":

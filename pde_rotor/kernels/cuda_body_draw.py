@@ -1,5 +1,5 @@
 """Drawing a body on the GPU: F_k, G_k and its owner on its footprint's cells (the
-CPU's :func:`pde_rotor.kernels.bodies.draw_body`, split among a block's threads), for the
+CPU's :func:`pde_rotor.kernels.body_draw.draw_body`, split among a block's threads), for the
 kernel of :mod:`pde_rotor.kernels.cuda_bodies`.
 
 The footprint's rows are checked first (a cell outside the dish, a cell another body
@@ -22,12 +22,13 @@ from ..physics.indicators import (
     PLATE_STRIP,
     PolygonFilter,
 )
-from .bodies import STATUS_EDGE
+from .body_draw import STATUS_EDGE
 from .cuda import GPU
 from .cuda_target import cuda, device_function
 
 _pill_term = GPU.indicators.pill_term
 _pill_reach = GPU.indicators.pill_reach
+_footprint_chord = GPU.indicators.footprint_chord
 _filtered_pill_term = GPU.indicators.filtered_pill_term
 _filtered_pill_reach = GPU.indicators.filtered_pill_reach
 _filtered_plate = GPU.indicators.filtered_plate
@@ -105,7 +106,7 @@ def _plate_value(rx, ry, b, tab, tables, p):
 def _pill_values(i, j, m, b, pills, centres, tables, p, coords):
     """The pills' terms of body record `b` at the cell (i, j): (their F,
     for a body without a plate, and G), added in the pills' order on the cells the CPU's
-    drawing gives them (:func:`pde_rotor.kernels.bodies.draw_body`)."""
+    drawing gives them (:func:`pde_rotor.kernels.body_draw.draw_body`)."""
     _, _, profiles, pill_tab, _, _, _ = tables
     x, y = coords[i], coords[j]
     x0 = coords[0]
@@ -148,26 +149,6 @@ def _pill_values(i, j, m, b, pills, centres, tables, p, coords):
 
 
 @device_function
-def _chord(coords, j0, j1, rx, y_k, reach):
-    """[ja, jb): the columns of [j0, j1) within the footprint |r - X_k| < reach on a row
-    rx from X_k (scanned in from both ends, as the CPU's drawing)."""
-    limit = reach * reach
-    ja = j0
-    while ja < j1:
-        ry = coords[ja] - y_k
-        if rx * rx + ry * ry < limit:
-            break
-        ja += 1
-    jb = j1
-    while jb > ja:
-        ry = coords[jb - 1] - y_k
-        if rx * rx + ry * ry < limit:
-            break
-        jb -= 1
-    return ja, jb
-
-
-@device_function
 def _row_code(i, k, m, state, surface, bodies):
     """0 if body k may own the cells of its footprint's chord on row i, else why not, as
     the CPU's drawing says it: ``STATUS_EDGE`` (a cell outside the dish), or ``-1 - j``
@@ -177,7 +158,9 @@ def _row_code(i, k, m, state, surface, bodies):
     body, _, pose, _, box = bodies
     n = coords.size
     x_k, y_k = pose[m, k, 0], pose[m, k, 1]
-    ja, jb = _chord(coords, box[m, k, 2], box[m, k, 3], coords[i] - x_k, y_k, body[m][k].reach)
+    ja, jb = _footprint_chord(
+        coords, box[m, k, 2], box[m, k, 3], coords[i] - x_k, y_k, body[m][k].reach
+    )
     if ja >= jb:
         return 0
     if ja < interior[0, i]:

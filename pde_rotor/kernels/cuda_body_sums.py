@@ -1,9 +1,9 @@
 """A body's integrals on the GPU, for the kernel of :mod:`pde_rotor.kernels.cuda_bodies`:
 the area form over the cells of its box it owns (central differences; the CPU's
-:func:`pde_rotor.kernels.bodies.body_integrals`) and, for ``consistent``, the tension
+:func:`pde_rotor.kernels.body_sums.body_integrals`) and, for ``consistent``, the tension
 force and torque in contour form (the spline of c on the body's window, then its edges'
 or circles' nodes, ``edge_sums``, ``arc_node``; the CPU's
-:func:`pde_rotor.kernels.bodies.body_contour`), each split among a block's threads and
+:func:`pde_rotor.kernels.body_sums.body_contour`), each split among a block's threads and
 summed by a fixed-order tree in shared memory (:func:`reduce_sums`).
 """
 
@@ -18,7 +18,8 @@ from .cuda import GPU
 from .cuda_target import cuda, device_function
 
 N_SUMS = N_INTEGRALS
-"""Integrals of a body per evaluation (those of :func:`pde_rotor.kernels.bodies.body_integrals`)."""
+"""Integrals of a body per evaluation (those of
+:func:`pde_rotor.kernels.body_sums.body_integrals`)."""
 
 _spline_line = GPU.spline.spline_line
 _tension_integrand = GPU.tension.tension_integrand
@@ -47,7 +48,7 @@ def area_sums(src, k, m, state, surface, bodies, p, red):
     """Body k's integrals over the cells of its box it owns, area form with central
     differences (the tension's ``tension_integrand``, the motion's ``friction_moments``),
     into red[q n_threads] (q < :data:`N_SUMS`, not yet times dA; all threads; the sums
-    of :func:`pde_rotor.kernels.bodies.body_integrals`)."""
+    of :func:`pde_rotor.kernels.body_sums.body_integrals`)."""
     buf, F, _, owner = state
     coords, _ = surface
     _, _, pose, _, box = bodies
@@ -101,7 +102,7 @@ def area_sums(src, k, m, state, surface, bodies, p, red):
 def contour_sums(src, k, m, state, surface, bodies, scratch, tables, p, red):
     """Body k's int F_k grad c dA (x, y) and int F_k (r - X_k) x grad c dA in contour form
     (``consistent``) into red[0], red[n_threads], red[2 n_threads] (all threads; the
-    sums of :func:`pde_rotor.kernels.bodies.body_contour`)."""
+    sums of :func:`pde_rotor.kernels.body_sums.body_contour`)."""
     buf = state[0]
     coords, _ = surface
     body, _, pose, _, _ = bodies

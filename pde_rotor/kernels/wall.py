@@ -4,7 +4,7 @@
 :func:`euler_walled_fields` advances c on the cut cells of the circle (or vessel) and v
 on the cells whose centre lies inside it, walking only the runs of wet cells of each
 row (two across an annulus' hole), so that dry cells cost nothing, as
-:func:`pde_rotor.kernels.bodies.euler_body_fields` does with the absorbing wall: the
+:func:`pde_rotor.kernels.body_fields.euler_body_fields` does with the absorbing wall: the
 transport of c through the open part of each face (the physics' ``cut_cell_inflow``) and
 its local terms (``local_rate``) by forward Euler, then the diffusion through the faces
 of the stiff cut cells by backward Euler, cluster by cluster with the inverses computed
@@ -28,7 +28,7 @@ from ..physics.build import CPU, FASTMATH
 _plate_rates = CPU.rates.plate_rates
 _cut_cell_inflow = CPU.rates.cut_cell_inflow
 _local_rate = CPU.rates.local_rate
-_owner_plate = CPU.rates.owner_plate
+_plate_velocity = CPU.rates.plate_velocity
 
 _NONE = np.zeros(0)
 _NO_INDEX = np.zeros(0, dtype=np.int64)
@@ -37,52 +37,83 @@ NO_WALL = (_NONE, _NONE, _NONE, _NONE, _NONE, _NO_INDEX, _NO_INDEX, _NO_INDEX,
 """The `wall` of the absorbing wall: no cut cells (the compiled step takes the same types)."""
 
 
+@nb.njit(inline="always", cache=True, nogil=True, fastmath=FASTMATH)
+def _cut_cells(bufs, base, a, b, plate, motion, coef, dt, flow):
+    """The explicit part of the step on the cells [a, b) of the row at offset `base`:
+    c' (and kappa c' in `rhs`) on each, v where the cell is flowing; with `plate` the
+    cells are one body's, its F, G and plate velocity U + omega z x (r - X) (the rates'
+    ``plate_velocity``), `motion` = (U_x, U_y, omega, x - X_x of the row, X_y); else none.
+    `bufs` = (cur, nxt, F, G, coords, rhs, wall)."""
+    cur, nxt, F, G, coords, rhs, wall = bufs
+    volume, pass_x, pass_y, open_x, open_y, _, _, _, flowing = wall[:9]
+    u, v, omega, rx, y_k = motion
+    sx = np.uint64(coords.size)
+    sy = np.uint64(1)
+    nn = sx * sx
+    for j in range(a, b):
+        o = np.uint64(base + j)
+        f, g, px, py = 0.0, 0.0, 0.0, 0.0
+        if plate:
+            f, g = F[o], G[o]
+            px, py = _plate_velocity(u, v, omega, rx, coords[j] - y_k)
+        cc = cur[o]
+        kappa = volume[o]
+        q = _cut_cell_inflow(cur, o, (sx, sy, nn), (open_x, open_y, pass_x, pass_y), coef, flow)
+        r = kappa * cc + dt * (q + kappa * _local_rate(cc, f, g, coef, plate))
+        rhs[o] = r
+        nxt[o] = r / kappa
+        if flow and flowing[o]:
+            _, rate_x, rate_y = _plate_rates(
+                cur, o, (sx, sy, nn), f, g, (px, py), coef, flow, plate
+            )
+            nxt[o + nn] = cur[o + nn] + dt * rate_x
+            nxt[o + nn + nn] = cur[o + nn + nn] + dt * rate_y
+
+
 @nb.njit(cache=True, nogil=True, fastmath=FASTMATH)
-def euler_walled_fields(cur, nxt, fields, domain, wall, coef, dt, pose, flow, rhs):
+def euler_walled_fields(states, maps, domain, wall, coef, dt, pose, flow, rhs):
     """One step of Eqs. (eqc), (eqv) on cut cells (compiled).
 
+    Each run of wet cells of a row is walked as the bodies' runs cut it
+    (:func:`pde_rotor.kernels.body_fields.body_segments`): a body's cells with its plate
+    terms, the others without, as :func:`pde_rotor.kernels.body_fields.euler_body_fields`
+    walks the rows of the absorbing wall.
+
     Args:
-        cur, nxt: flat states (c, v_x, v_y) now and after the step.
-        fields: (F, G, owner), the flat indicators and owner map (as for
-            ``euler_body_fields``).
-        domain: (coords, lo, hi, slo, shi): slo, shi the rows' support of the bodies.
+        states: (cur, nxt), the flat states (c, v_x, v_y) now and after the step.
+        maps: (F, G, runs): flat indicators and the bodies' runs of each row (no runs:
+            no bodies).
+        domain: (coords, lo, hi, slo, shi) (only coords read).
         wall: the cut cells (:meth:`pde_rotor.model.wall.CutCells.arrays`).
         coef: the physics' ``rate_coefficients``.
         dt: time step.
-        pose: (K, 13) the bodies' poses (plate velocity of each cell's owner).
+        pose: (K, 13) the bodies' poses (plate velocity of each body's cells).
         flow: whether v evolves (else v = 0).
         rhs: scratch of n^2 values: kappa c' of the explicit part, per cell.
     """
-    F, G, owner = fields
-    coords, _, _, slo, shi = domain
-    volume, pass_x, pass_y, open_x, open_y, row_start, span_lo, span_hi, flowing = wall[:9]
-    faces = (open_x, open_y, pass_x, pass_y)
+    cur, nxt = states
+    F, G, segments = maps
+    run_start, runs = segments
+    coords = domain[0]
+    row_start, span_lo, span_hi = wall[5], wall[6], wall[7]
     members, offsets, blocks, starts = wall[9:]
     n = coords.size
-    sx = np.uint64(n)
-    sy = np.uint64(1)
-    nn = np.uint64(n * n)
+    bufs = (cur, nxt, F, G, coords, rhs, wall)
+    still = (0.0, 0.0, 0.0, 0.0, 0.0)
     for i in range(n):
-        x = coords[i]
+        base = i * n
         for s in range(row_start[i], row_start[i + 1]):
-            for j in range(span_lo[s], span_hi[s]):
-                o = np.uint64(i * n + j)
-                plate = slo[i] <= j < shi[i] and owner[o] >= 0
-                f, g, px, py = 0.0, 0.0, 0.0, 0.0
-                if plate:
-                    f, g, px, py = _owner_plate(F, G, owner, pose, o, x, coords[j])
-                cc = cur[o]
-                kappa = volume[o]
-                q = _cut_cell_inflow(cur, o, (sx, sy, nn), faces, coef, flow)
-                r = kappa * cc + dt * (q + kappa * _local_rate(cc, f, g, coef, plate))
-                rhs[o] = r
-                nxt[o] = r / kappa
-                if flow and flowing[o]:
-                    _, rate_x, rate_y = _plate_rates(
-                        cur, o, (sx, sy, nn), f, g, (px, py), coef, flow, plate
-                    )
-                    nxt[o + nn] = cur[o + nn] + dt * rate_x
-                    nxt[o + nn + nn] = cur[o + nn + nn] + dt * rate_y
+            a, b = span_lo[s], span_hi[s]
+            j = a
+            for m in range(run_start[i], run_start[i + 1]):
+                first, end, k = max(runs[0, m], a), min(runs[1, m], b), runs[2, m]
+                if first >= end:
+                    continue
+                _cut_cells(bufs, base, j, first, False, still, coef, dt, flow)
+                motion = (pose[k, 3], pose[k, 4], pose[k, 5], coords[i] - pose[k, 0], pose[k, 1])
+                _cut_cells(bufs, base, first, end, True, motion, coef, dt, flow)
+                j = end
+            _cut_cells(bufs, base, j, b, False, still, coef, dt, flow)
     implicit_clusters(nxt, rhs, members, offsets, blocks, starts)
 
 

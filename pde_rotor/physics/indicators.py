@@ -13,8 +13,8 @@ Gaussian prefilter (scheme ``consistent``, from the tables of
 * the geometry: the gauge h(r) = max_j r . e_j (:func:`projection`, :func:`farther`,
   :func:`gauge_step`, :func:`gauge`, a body's :func:`polygon_gauge`, a strip's
   :func:`strip_gauge`), the frame of the nearest edge (:func:`tangential`,
-  :func:`nearer_edge`, :func:`near_corner`) and the pills' reach (:func:`pill_reach`,
-  :func:`filtered_pill_reach`);
+  :func:`nearer_edge`, :func:`near_corner`), the pills' reach (:func:`pill_reach`,
+  :func:`filtered_pill_reach`) and a body's footprint on a row (:func:`footprint_chord`);
 * point values: :func:`plate_profile`, :func:`pill_term`, the cells :func:`plate_cell`,
   :func:`pill_cell` and a body's plate :func:`body_plate_cell`;
 * filtered: :func:`filtered_edge`, :func:`corner_taps`, :func:`corner_sum`,
@@ -76,6 +76,7 @@ class Indicators(NamedTuple):
     near_corner: Callable
     pill_reach: Callable
     filtered_pill_reach: Callable
+    footprint_chord: Callable
     plate_profile: Callable
     pill_term: Callable
     plate_cell: Callable
@@ -211,6 +212,27 @@ def make_indicators(jit: Callable[[Callable], Callable], spline: Spline) -> Indi
         h < `corner_end` (beyond, F_eps is below 1e-13: :mod:`pde_rotor.model.filtering`,
         ``corner_end``), where F_eps needs the 2-D table."""
         return (h * tan_half - abs(q) <= crease) & (h < corner_end)
+
+    @jit
+    def footprint_chord(coords, j0, j1, rx, y_k, reach):
+        """[ja, jb): the columns of [j0, j1) of a row, rx from X_k, within a body's
+        footprint |r - X_k| < reach (the chord of the disk, scanned in from both ends of
+        the footprint's box); every compiled drawing and the bodies' field update call it,
+        so that they agree on each cell."""
+        limit = reach * reach
+        ja = j0
+        while ja < j1:
+            ry = coords[ja] - y_k
+            if rx * rx + ry * ry < limit:
+                break
+            ja += 1
+        jb = j1
+        while jb > ja:
+            ry = coords[jb - 1] - y_k
+            if rx * rx + ry * ry < limit:
+                break
+            jb -= 1
+        return ja, jb
 
     @jit
     def pill_reach(rho, inv_delta):
@@ -415,6 +437,7 @@ def make_indicators(jit: Callable[[Callable], Callable], spline: Spline) -> Indi
         near_corner=near_corner,
         pill_reach=pill_reach,
         filtered_pill_reach=filtered_pill_reach,
+        footprint_chord=footprint_chord,
         plate_profile=plate_profile,
         pill_term=pill_term,
         plate_cell=plate_cell,

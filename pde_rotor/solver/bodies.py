@@ -91,12 +91,8 @@ class BodiesStepper:
         poses[:, 1] -= cy
         status = np.zeros(3, dtype=np.int64)
         failed = advance_bodies(
-            work.reshape(-1),
-            self._spare.reshape(-1),
-            self._stage.reshape(-1),
-            pde.F.reshape(-1),
-            pde.G.reshape(-1),
-            pde.owner.reshape(-1),
+            (work.reshape(-1), self._spare.reshape(-1), self._stage.reshape(-1)),
+            (pde.F.reshape(-1), pde.G.reshape(-1), pde.owner.reshape(-1)),
             (coords, lo, hi, *self._rows),
             self._wall,
             self._record,
@@ -112,8 +108,7 @@ class BodiesStepper:
             ),
             self.normals(n_steps),
             status,
-            step0,
-            n_steps,
+            (step0, n_steps),
         )
         if work is not data:
             data[...] = work

@@ -1,0 +1,227 @@
+"""A body's integrals over its plate: area form and contour form (compiled, CPU).
+
+* :func:`body_integrals`: the tension's and the friction's integrals over the cells a
+  body owns, area form with central differences (the ``paper`` scheme);
+* :func:`body_contour`: for ``consistent``, the tension's force and torque in contour
+  form, on the cubic spline of c over a window about the body (:func:`spline_box`).
+
+Step 3 of the bodies' loop (:func:`pde_rotor.kernels.bodies.advance_bodies`); the
+integrands are those of :mod:`pde_rotor.physics.tension` and
+:mod:`pde_rotor.physics.motion`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba as nb
+import numpy as np
+
+from ..model.body_schemes import ARC_EDGES
+from ..physics.build import CPU, FASTMATH
+from ..physics.indicators import PLATE_DISK, PLATE_POLYGON, PLATE_STRIP
+from .body_draw import orient
+from .spline import ROW_GROUP, spline_columns, spline_rows
+
+_tension_integrand = CPU.tension.tension_integrand
+_friction_moments = CPU.motion.friction_moments
+_edge_sums = CPU.tension.edge_sums
+_polygon_band = CPU.tension.polygon_band
+_arc_node = CPU.tension.arc_node
+_footprint_chord = CPU.indicators.footprint_chord
+
+
+SUM_FASTMATH = FASTMATH | {"reassoc"}
+"""fastmath of the area sums: :data:`~pde_rotor.physics.build.FASTMATH` and reassociation,
+so that LLVM vectorises the sums along a chord (their order, and so their rounding, is
+LLVM's: the sums agree with row-major order to rounding)."""
+
+
+def make_chord_sums(flow: bool):
+    """The sums of :func:`body_integrals` over a chord, compiled for `flow` (v read, or 0),
+    a constant of the loop, so that LLVM vectorises it.
+
+    Returns:
+        ``sums(cur, F, base, ja, jb, frame, consts)``: the ten sums over the cells
+        [ja, jb) of the row at offset `base`; `frame` = (coords, rx, y_k) (rx = x - X_x
+        of the row), `consts` = (n, 1 / (2 dx), the parameter record).
+    """
+
+    @nb.njit(cache=True, nogil=True, fastmath=SUM_FASTMATH)
+    def sums(cur, F, base, ja, jb, frame, consts):
+        coords, rx, y_k = frame
+        n, inv_2dx, p = consts
+        sx = np.uint64(n)  # unsigned offsets: no test for negative indices at each load
+        nn = sx * sx
+        s0 = s1 = s2 = s3 = s4 = s5 = s6 = s7 = s8 = s9 = 0.0
+        for j in range(ja, jb):
+            o = np.uint64(base + j)
+            f = F[o]
+            ry = coords[j] - y_k
+            t0, t1, t2 = _tension_integrand(cur, o, sx, np.uint64(1), f, rx, ry, inv_2dx, p)
+            m0, m1, m2, m3, m4, m5, m6 = _friction_moments(cur, o, nn, f, rx, ry, flow)
+            s0 += t0
+            s1 += t1
+            s2 += t2
+            s3 += m0
+            s4 += m1
+            s5 += m2
+            s6 += m3
+            s7 += m4
+            s8 += m5
+            s9 += m6
+        return s0, s1, s2, s3, s4, s5, s6, s7, s8, s9
+
+    return sums
+
+
+_still_sums = make_chord_sums(False)
+_flow_sums = make_chord_sums(True)
+
+
+@nb.njit(cache=True, nogil=True, fastmath=FASTMATH)
+def body_integrals(cur, F, coords, k, bodies, p, out):
+    """The integrals of body k over its plate, area form (central differences) (compiled).
+
+    out[:] = (int F grad c (x, y), int F (r - X) x grad c, int F, int F (r - X) (x, y),
+    int F |r - X|^2, int F (r - X) x v, int F v (x, y)), each times dA (the tension's
+    ``tension_integrand`` and the motion's ``friction_moments``), summed over the cells
+    body k owns: row by row, the chord of its footprint at its pose (the physics'
+    ``footprint_chord``, the cells its drawing owns; the body must be drawn at its
+    pose), each chord's sums vectorised (:func:`make_chord_sums`). With X = 0 the torque's
+    integrals are those of :func:`pde_rotor.kernels.cpu.rotor_integrals` to rounding.
+    `bodies` as for :func:`pde_rotor.kernels.bodies.advance_bodies`.
+    """
+    body, _, pose, _, box, _, _, _ = bodies
+    n = coords.size
+    dx = coords[1] - coords[0]
+    consts = (n, 0.5 / dx, p)
+    x_k, y_k, reach = pose[k, 0], pose[k, 1], body[k].reach
+    j0, j1 = box[k, 2], box[k, 3]
+    # the sums in locals, which stay in registers (out might alias cur or F)
+    s0 = s1 = s2 = s3 = s4 = s5 = s6 = s7 = s8 = s9 = 0.0
+    for i in range(box[k, 0], box[k, 1]):
+        rx = coords[i] - x_k
+        ja, jb = _footprint_chord(coords, j0, j1, rx, y_k, reach)
+        frame = (coords, rx, y_k)
+        if p.flow:
+            t = _flow_sums(cur, F, i * n, ja, jb, frame, consts)
+        else:
+            t = _still_sums(cur, F, i * n, ja, jb, frame, consts)
+        s0 += t[0]
+        s1 += t[1]
+        s2 += t[2]
+        s3 += t[3]
+        s4 += t[4]
+        s5 += t[5]
+        s6 += t[6]
+        s7 += t[7]
+        s8 += t[8]
+        s9 += t[9]
+    area = dx * dx
+    out[0], out[1], out[2], out[3], out[4] = s0 * area, s1 * area, s2 * area, s3 * area, s4 * area
+    out[5], out[6], out[7], out[8], out[9] = s5 * area, s6 * area, s7 * area, s8 * area, s9 * area
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def spline_box(cur, coef, n, i0, i1, j0, j1, carry):
+    """coef = cubic B-spline coefficients of c (cur[:n^2]) on the rows [i0, i1) and
+    columns [j0, j1) (compiled): the rows prefiltered in groups of ``ROW_GROUP``, then
+    the columns, as the rotor's window (:mod:`pde_rotor.kernels.spline`); `carry` >= n."""
+    for r0 in range(i0, i1, ROW_GROUP):
+        spline_rows(cur, coef, n, r0, min(i1, r0 + ROW_GROUP), j0, j1, j0, carry)
+    spline_columns(coef, n, i0, i1, j0, j1, i0, carry)
+
+
+@nb.njit(cache=True, nogil=True, fastmath=FASTMATH, error_model="numpy")
+def body_contour(cur, coords, k, bodies, p, out):
+    """int F_k grad c dA (x, y) and int F_k (r - X_k) x grad c dA in contour form
+    (``consistent``; :mod:`pde_rotor.model.body_schemes`) into out[0:3] (compiled).
+
+    The spline of c on the square window of half side ``window_half`` cells about the
+    cell of X_k (:func:`spline_box`), then the contour nodes of the tension: a
+    polygon's or a strip's edges (``edge_sums``; per (edge, band node) the sum along
+    the edge, the pairs added in order, as the rotor's contour torque; a strip's four
+    edges of two lengths, its band nodes without a parallel skipped), a disk plate's
+    circle about X_k, or each pill's circle about its centre, its torque (P - X) x its
+    force (``arc_node``, the angles phi + 2 pi l / L, their cosines and sines taken once
+    per call for every ring). `delta` is the edge width; `bodies` as for
+    :func:`pde_rotor.kernels.bodies.advance_bodies`.
+    """
+    body, pills, pose, _, _, normals, centres, tables = bodies
+    quad_s, quad_t, _, pill_tab, _, _, rings, coef, carry = tables
+    delta = p.smoothing
+    orient(k, body, pills, pose, normals, centres)  # scratch: a new stepper starts with 0
+    b = body[k]
+    n = coords.size
+    x0 = coords[0]
+    inv_dx = 1.0 / (coords[1] - x0)
+    x_k, y_k, phi = pose[k, 0], pose[k, 1], pose[k, 2]
+    half = b.window_half
+    ic = math.floor((x_k - x0) * inv_dx) + 1
+    jc = math.floor((y_k - x0) * inv_dx) + 1
+    i0, i1 = max(1, ic - half), min(n - 1, ic + half)
+    j0, j1 = max(1, jc - half), min(n - 1, jc + half)
+    spline_box(cur, coef, n, i0, i1, j0, j1, carry)
+    n_s, n_t = quad_s.shape[1], quad_t.shape[1]
+    grid = (0, n, x0, inv_dx)
+    f_x = 0.0
+    f_y = 0.0
+    torque = 0.0
+    if b.plate == PLATE_POLYGON:
+        for j in range(b.n_corners):
+            ex, ey = normals[0, j, k], normals[1, j, k]
+            for m in range(n_s):
+                h, half = _polygon_band(b.size_a, delta, b.tan_half, quad_s, m)
+                edge = (x_k, y_k, ex, ey, h, half)
+                pair_x, pair_y, pair_t = _edge_sums(coef, grid, edge, quad_s, quad_t, m, p)
+                f_x += pair_x
+                f_y += pair_y
+                torque += pair_t
+    elif b.plate == PLATE_STRIP:
+        ex, ey = normals[0, 0, k], normals[1, 0, k]
+        thinner = min(b.size_a, b.size_b)
+        for j in range(4):  # the edges' normals e, z x e, -e, -z x e; sides L/2, W/2
+            side, along = (b.size_a, b.size_b) if j % 2 == 0 else (b.size_b, b.size_a)
+            for m in range(n_s):
+                h = -delta * quad_s[0, m]
+                if h <= -thinner:  # no parallel: the gauge is >= -W/2 (L/2) everywhere
+                    continue
+                edge = (x_k, y_k, ex, ey, side + h, along + h)
+                pair_x, pair_y, pair_t = _edge_sums(coef, grid, edge, quad_s, quad_t, m, p)
+                f_x += pair_x
+                f_y += pair_y
+                torque += pair_t
+            ex, ey = -ey, ex
+    else:
+        n_arc = ARC_EDGES * n_t
+        step = 2.0 * math.pi / n_arc
+        trig = np.empty((2, n_arc))  # the nodes' directions, shared by every ring
+        for a_l in range(n_arc):
+            angle = phi + step * a_l
+            trig[0, a_l] = math.cos(angle)
+            trig[1, a_l] = math.sin(angle)
+        first = b.pill_start
+        last = b.pill_start + b.pill_count
+        if b.plate == PLATE_DISK:
+            first, last = 0, 1
+        for q in range(first, last):
+            cx, cy, r0, r1 = x_k, y_k, b.ring_start, b.ring_start + b.ring_count
+            if b.plate != PLATE_DISK:
+                cx, cy = centres[0, q], centres[1, q]
+                r0, r1 = pill_tab[q, 4], pill_tab[q, 4] + pill_tab[q, 5]
+            q_x = 0.0
+            q_y = 0.0
+            for m in range(r0, r1):
+                h = rings[0, m]
+                weight = rings[1, m] * h * step
+                for a_l in range(n_arc):
+                    a, c = _arc_node(
+                        coef, grid, cx, cy, h, trig[0, a_l], trig[1, a_l], weight, p
+                    )
+                    q_x += a
+                    q_y += c
+            f_x += q_x
+            f_y += q_y
+            torque += (cx - x_k) * q_y - (cy - y_k) * q_x
+    out[0], out[1], out[2] = f_x, f_y, torque
