@@ -90,6 +90,10 @@ turning hexagon)."""
 SECONDS_PER_DRAWN_BOX_CELL_STEP: dict[str, float] = {"paper": 8.1e-9, "consistent": 2.2e-8}
 """Per cell of a body's box and step, the redraw of F, G and the owner map while the body
 moves: the paper's hexagon turning costs 0.060 ms more than held fixed."""
+HEUN_EVALUATIONS = 2.0
+"""A Heun step of the bodies' kernel draws, sums and updates the fields twice (at the
+state and at the prediction, :func:`pde_rotor.kernels.bodies.advance_bodies`) and adds an
+average of the fields: counted as two Euler steps."""
 LONG_RUN_SECONDS = 600.0
 """Runs estimated to take longer than this announce their estimate before they start."""
 
@@ -141,7 +145,7 @@ def bodies_step_seconds(config: RotorConfig) -> float:
             SECONDS_PER_BODY_BOX_CELL_STEP[scheme]
             + moving * SECONDS_PER_DRAWN_BOX_CELL_STEP[scheme]
         )
-    return seconds
+    return seconds * HEUN_EVALUATIONS if config.numerics.integrator == "heun" else seconds
 
 
 def no_flux_walls(config: RotorConfig) -> bool:

@@ -303,3 +303,11 @@ def test_the_estimate_notes_what_it_assumes_of_the_runs_it_counts() -> None:
     assert bodies.describe().endswith("measured costs per step; runs that end early cost less)")
     assert done.describe().endswith("(an estimate from measured costs per step)")
     assert estimate_sweep([], 1).restarts is None
+
+
+def test_a_heun_step_of_bodies_is_charged_as_two_euler_steps() -> None:
+    """Heun evaluates every phase of the bodies' step twice (the state and the prediction)."""
+    data = {"bodies": [{"pills": [{"radius": 0.1}], "start": {"x": 1.0}}]}
+    euler = validate_config(data)
+    heun = validate_config(data | {"numerics": {"integrator": "heun"}})
+    assert bodies_step_seconds(heun) == pytest.approx(2.0 * bodies_step_seconds(euler))
