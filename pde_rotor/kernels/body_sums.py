@@ -216,9 +216,7 @@ def body_contour(cur, coords, k, bodies, p, out):
                 h = rings[0, m]
                 weight = rings[1, m] * h * step
                 for a_l in range(n_arc):
-                    a, c = _arc_node(
-                        coef, grid, cx, cy, h, trig[0, a_l], trig[1, a_l], weight, p
-                    )
+                    a, c = _arc_node(coef, grid, cx, cy, h, trig[0, a_l], trig[1, a_l], weight, p)
                     q_x += a
                     q_y += c
             f_x += q_x
