@@ -16,17 +16,25 @@ Records, in one results file (``gpu_check_results.json`` and a text copy,
    stored outcome compared (discrete values equal, floats to ``--rtol``);
 5. bodies: a free disk and a fixed_axis hexagon (:data:`BODIES`) advanced on the GPU
    and on the CPU from the same smooth fields, poses, velocities, forces, c and v
-   compared (to :data:`BODIES_TOLERANCE`), and the wall time per step of each.
+   compared (to :data:`BODIES_TOLERANCE`), and the wall time per step of each;
+6. a crowd: the ring channel of configs/sweeps/crowd_ring.yaml with 16 boats on their
+   track, contact on, flow on, Heun's method (:data:`CROWD_SETS`), E members (one
+   placement each) advanced from rest by ``run_bodies_ensemble`` on the GPU; member 0
+   against the CPU's run of the same config (poses and fields, to
+   :data:`BODIES_TOLERANCE`), and member-steps/s of the GPU ensemble against one member
+   on the CPU.
 
 Exits 1 if a check fails (no device, a failed test, a rate hidden by timing noise, a
 sweep outcome or a bodies run that differs), 0 otherwise; the goal of 5e5
 member-steps/s is reported, not enforced. ``--tiny`` runs the same steps in numba's
 CUDA simulator on a tiny grid, a few members and steps, one test, a protocol sweep of
-two runs and 3 bodies steps: the check of this script itself on a machine without a
+two runs, 3 bodies steps and 2 steps of a 3-boat ring on a coarse grid (compared, not
+timed): the check of this script itself on a machine without a
 GPU.
 
 Run:  python benchmarks/gpu_check.py [--tiny] [--out DIR] [--sizes 64,128,256]
       [--steps 2000] [--cpu-steps 2000] [--rtol 1e-6] [--body-steps 200]
+      [--crowd-members 64] [--crowd-steps 200]
 """
 
 from __future__ import annotations
@@ -107,6 +115,32 @@ BODIES_GRID = {
 BODIES_TOLERANCE = 1e-10
 """Largest difference of the GPU's bodies run from the CPU's: poses, velocities and forces
 absolute, c and v relative to their largest value."""
+
+CROWD_SWEEP = "configs/sweeps/crowd_ring.yaml"
+"""The crowd case's sweep: its first point at the settings of :data:`CROWD_SETS`."""
+
+CROWD_SETS: dict[bool, list[str]] = {
+    False: [
+        "axes.crowd.count=[16]",
+        "axes.crowd.body.motion.friction=[0.05]",
+        "axes.flow.enabled=[true]",
+    ],
+    True: [
+        "axes.crowd.count=[3]",
+        "axes.crowd.body.motion.friction=[0.05]",
+        "axes.flow.enabled=[true]",
+        "set.grid.dx=0.1",
+        "set.grid.dt=1e-3",
+        "set.geometry.smoothing=0.05",
+        "set.grid.domain_radius=3.8",
+        "set.grid.vessel.inner_radius=0.4",
+        "set.grid.vessel.outer_radius=3.8",
+        "crowd.placement.radius=2.1",
+    ],
+}
+"""The crowd case: 16 boats at the sweep's grid (dx = 0.05 in the annulus 3.6 < r < 5.6,
+224 x 224 cells), or, tiny, 3 boats in a wider annulus on a grid of 76 x 76 cells (the
+coarser grid's smoothing needs a channel 3.4 wide to hold a boat's footprint)."""
 
 SWEEP_FILE = "configs/sweeps/fig5_quick.yaml"
 SWEEP_SETS = ["samples=2", "axes.protocol.t_stop=[0.5,1.0]"]
@@ -408,6 +442,70 @@ def bodies_check(tiny: bool, steps: int) -> dict[str, Any]:
     return result
 
 
+def crowd_configs(tiny: bool, members: int) -> list[Any]:
+    """The crowd case's `members` configs: :data:`CROWD_SWEEP`'s point at
+    :data:`CROWD_SETS`, one ring placement (and noise seed) per sample."""
+    from pde_rotor import RotorConfig
+    from pde_rotor.sweep import Sweep
+
+    sweep = Sweep.load(ROOT / CROWD_SWEEP, [*CROWD_SETS[tiny], f"samples={members}"])
+    return [RotorConfig.model_validate(run.config) for run in sweep.runs()]
+
+
+def crowd_check(tiny: bool, steps: int, members: int) -> dict[str, Any]:
+    """The crowd ensemble on the GPU against member 0 on the CPU after `steps` steps from
+    rest; unless `tiny`, member-steps/s of both (:func:`timed_rate`)."""
+    import numpy as np
+
+    from pde_rotor.backends.gpu_bodies import run_bodies_ensemble
+    from pde_rotor.solver.simulation import Simulation
+
+    configs = crowd_configs(tiny, members)
+    dt = configs[0].grid.dt
+    result: dict[str, Any] = {
+        "boats": len(configs[0].bodies),
+        "members": members,
+        "grid": {
+            "dx": configs[0].grid.dx,
+            "dt": dt,
+            "cells": int(2 * round(configs[0].grid.domain_radius / configs[0].grid.dx)),
+        },
+        "integrator": configs[0].numerics.integrator,
+        "steps": steps,
+    }
+    start = time.perf_counter()
+    gpu = run_bodies_ensemble(configs, steps * dt, record_interval=steps * dt)
+    result["gpu_s"] = time.perf_counter() - start
+    start = time.perf_counter()
+    cpu = Simulation(configs[0])
+    cpu.run(steps * dt)
+    result["cpu_s"] = time.perf_counter() - start
+    result["max_pose_deviation"] = float(np.abs(gpu.poses[0, -1] - cpu.bodies.poses).max())
+    scale = float(np.abs(cpu.state.data).max())
+    result["max_field_deviation"] = float(np.abs(gpu.data[0] - cpu.state.data).max()) / scale
+    result["tolerance"] = BODIES_TOLERANCE
+    result["agree"] = (
+        bool(np.isfinite(gpu.ended_at).sum() == 0)
+        and result["max_pose_deviation"] <= BODIES_TOLERANCE
+        and result["max_field_deviation"] <= BODIES_TOLERANCE
+    )
+    if not tiny:
+        short = 20
+
+        def on_gpu(n: int) -> Any:
+            return run_bodies_ensemble(configs, n * dt, record_interval=n * dt)
+
+        def on_cpu(n: int) -> Any:
+            return Simulation(configs[0]).run(n * dt)
+
+        result["gpu"] = timed_rate(on_gpu, members, short, steps)
+        result["cpu"] = timed_rate(on_cpu, 1, short, steps)
+        result["speedup"] = (
+            result["gpu"]["member_steps_per_s"] / result["cpu"]["member_steps_per_s"]
+        )
+    return result
+
+
 def checks_of(results: dict[str, Any]) -> dict[str, bool]:
     """The pass/fail checks of a results dictionary (the goal is not one of them)."""
     tests = results["tests"]
@@ -417,6 +515,7 @@ def checks_of(results: dict[str, Any]) -> dict[str, bool]:
         "throughput": results["throughput"]["measured"],
         "sweep": results["sweep"]["agree"],
         "bodies": results["bodies"]["agree"],
+        "crowd": results["crowd"]["agree"],
     }
 
 
@@ -431,7 +530,9 @@ def summary(results: dict[str, Any]) -> str:
         f"device: {dev['name']}" + (f" (unavailable: {dev['reason']})" if dev["reason"] else ""),
     ]
     if not dev["available"]:
-        return "\n".join([*lines, "tests, throughput, sweep, bodies: not run (no device)", checks])
+        return "\n".join(
+            [*lines, "tests, throughput, sweep, bodies, crowd: not run (no device)", checks]
+        )
     lines += [
         f"tests on the {tests['on']}: {tests.get('passed', 0)} passed, "
         f"{tests.get('failures', 0)} failed, {tests.get('errors', 0)} errors, "
@@ -471,6 +572,21 @@ def summary(results: dict[str, Any]) -> str:
         f"{bodies['max_field_deviation']:.2e} (tolerance {bodies['tolerance']:g}): "
         + ("agree" if bodies["agree"] else "DIFFER")
     )
+    crowd = results["crowd"]
+    lines.append(
+        f"crowd ({crowd['boats']} boats on a ring track, contact and flow on, "
+        f"{crowd['integrator']}) at dx = {crowd['grid']['dx']}, {crowd['grid']['cells']}^2 "
+        f"cells, E = {crowd['members']}, {crowd['steps']} steps: gpu {crowd['gpu_s']:.3g} s, "
+        f"cpu {crowd['cpu_s']:.3g} s (compilation included); max deviation of member 0 "
+        f"poses {crowd['max_pose_deviation']:.2e}, fields {crowd['max_field_deviation']:.2e} "
+        f"(tolerance {crowd['tolerance']:g}): " + ("agree" if crowd["agree"] else "DIFFER")
+    )
+    if "speedup" in crowd:
+        lines.append(
+            f"  gpu E = {crowd['members']}: {crowd['gpu']['member_steps_per_s']:.4g} "
+            f"member-steps/s, cpu {crowd['cpu']['member_steps_per_s']:.4g}: "
+            f"{crowd['speedup']:.3g} x cpu"
+        )
     install = "-" if results["install_s"] is None else f"{results['install_s']:.0f} s"
     lines.append(f"wall time: install {install}, checks {results['check_s']:.0f} s")
     return "\n".join([*lines, checks])
@@ -494,6 +610,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--rtol", type=float, default=1e-6, help="sweep float tolerance")
     parser.add_argument(
         "--body-steps", type=int, default=None, help="steps of the bodies case [200; tiny: 3]"
+    )
+    parser.add_argument(
+        "--crowd-members", type=int, default=None, help="members of the crowd case [64; tiny: 2]"
+    )
+    parser.add_argument(
+        "--crowd-steps", type=int, default=None, help="steps of the crowd case [200; tiny: 2]"
     )
     args = parser.parse_args(argv)
     tiny = args.tiny
@@ -526,11 +648,17 @@ def main(argv: Sequence[str] | None = None) -> int:
         results["sweep"] = sweep_check(out, tiny, args.rtol)
         print("bodies: on the GPU, then on the CPU", flush=True)
         results["bodies"] = bodies_check(tiny, args.body_steps or (3 if tiny else 200))
+        print("crowd: an ensemble on the GPU, member 0 on the CPU", flush=True)
+        crowd_members = args.crowd_members or (2 if tiny else 64)
+        results["crowd"] = crowd_check(
+            tiny, args.crowd_steps or (2 if tiny else 200), crowd_members
+        )
     else:  # nothing to test, time or compare
         results["tests"] = {"returncode": None}
         results["throughput"] = {"measured": False}
         results["sweep"] = {"agree": False}
         results["bodies"] = {"agree": False}
+        results["crowd"] = {"agree": False}
     install = os.environ.get("GPU_CHECK_INSTALL_S")
     results["install_s"] = float(install) if install else None
     results["check_s"] = time.perf_counter() - start

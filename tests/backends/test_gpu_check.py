@@ -76,7 +76,12 @@ def test_the_tiny_run_records_every_figure(tiny_run):
     assert bodies["agree"] and bodies["gpu_s"] > 0 and bodies["cpu_s"] > 0
     assert bodies["max_pose_deviation"] <= gpu_check.BODIES_TOLERANCE
     assert bodies["max_field_deviation"] <= gpu_check.BODIES_TOLERANCE
-    checks = ("device", "tests", "throughput", "sweep", "bodies")
+    crowd = results["crowd"]
+    assert (crowd["boats"], crowd["members"], crowd["steps"]) == (3, 2, 2)
+    assert crowd["integrator"] == "heun" and crowd["agree"]
+    assert crowd["max_pose_deviation"] <= gpu_check.BODIES_TOLERANCE
+    assert crowd["max_field_deviation"] <= gpu_check.BODIES_TOLERANCE
+    checks = ("device", "tests", "throughput", "sweep", "bodies", "crowd")
     assert results["checks"] == dict.fromkeys(checks, True)
     assert results["ok"]
     assert results["install_s"] is None and results["check_s"] > 0  # PYTHON given: no install
@@ -90,6 +95,7 @@ def test_the_tiny_run_records_every_figure(tiny_run):
         "goal 5e+05",
         "agree",
         "bodies (free disk, fixed_axis hexagon)",
+        "crowd (3 boats on a ring track",
         "checks: device ok",
     ):
         assert figure in text, figure
@@ -106,6 +112,7 @@ def test_every_failed_check_fails_the_run(tiny_run):
         "throughput": ("throughput", "measured", False),
         "sweep": ("sweep", "agree", False),
         "bodies": ("bodies", "agree", False),
+        "crowd": ("crowd", "agree", False),
     }
     for check, (section, key, value) in failures.items():
         broken = {**results, section: {**results[section], key: value}}
@@ -157,6 +164,16 @@ def test_the_full_check_sweeps_one_design_on_both_backends():
     assert (gpu.base["solver"]["backend"], cpu.base["solver"]["backend"]) == ("gpu", "cpu")
     assert [r.key for r in gpu.runs()] == [r.key for r in cpu.runs()]
     assert len(gpu.runs()) == 8 and gpu.spec.estimator.kind == "restart"
+
+
+def test_the_full_check_crowd_is_the_ring_sweep_point():
+    """16 boats at the crowd_ring sweep's grid and integrator, one placement per member."""
+    configs = gpu_check.crowd_configs(False, 3)
+    assert [len(c.bodies) for c in configs] == [16] * 3
+    assert {(c.grid.dx, c.numerics.integrator, c.flow.enabled) for c in configs} == {
+        (0.05, "heun", True)
+    }
+    assert len({c.bodies[0].start.x for c in configs}) == 3
 
 
 def test_the_full_check_times_the_paper_grid():
