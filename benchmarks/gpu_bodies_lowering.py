@@ -27,7 +27,7 @@ from pde_rotor import RotorConfig
 from pde_rotor.kernels import cuda_bodies
 from pde_rotor.kernels.records import make_body_records, make_body_tables, make_record
 from pde_rotor.kernels.wall import NO_WALL
-from pde_rotor.model.surface import SurfacePDE
+from pde_rotor.model.surface import POSE_COLUMNS, SurfacePDE
 
 
 def main(scheme: str = "paper", wall: str = "absorbing") -> None:
@@ -60,7 +60,7 @@ def main(scheme: str = "paper", wall: str = "absorbing") -> None:
         np.stack([rec] * e),
         (
             np.stack([pills] * e),
-            np.zeros((e, 1, 13)),
+            np.zeros((e, 1, len(POSE_COLUMNS))),
             np.zeros((e, 1, 3)),
             np.zeros((e, 1, 4), np.int64),
         ),

@@ -161,7 +161,7 @@ class BodiesBatch:
         self.n_members, self.n_bodies = e, k
 
     def put(self, data: np.ndarray, poses: np.ndarray) -> None:
-        """Load the members' fields (E, 3, n, n) and poses (E, K, 13) (dish coordinates)."""
+        """Load the members' fields (E, 3, n, n) and poses (E, K, 15) (dish coordinates)."""
         flat = np.ascontiguousarray(data, dtype=float).reshape(-1)
         size = flat.size
         self.d_buf[:size].copy_to_device(flat)
@@ -173,7 +173,7 @@ class BodiesBatch:
         self.parity = 0
 
     def get(self) -> tuple[np.ndarray, np.ndarray]:
-        """The members' fields (E, 3, n, n) and poses (E, K, 13) (dish coordinates)."""
+        """The members' fields (E, 3, n, n) and poses (E, K, 15) (dish coordinates)."""
         size = self.n_members * 3 * self.n * self.n
         data = self.d_buf[self.parity * size : (self.parity + 1) * size].copy_to_host()
         poses = self.d_pose.copy_to_host()
@@ -322,7 +322,7 @@ class BodiesEnsembleResult:
     Attributes:
         configs: the members' configurations.
         t: record times (T,).
-        poses: (E, T, K, 13): columns :data:`pde_rotor.model.surface.POSE_COLUMNS`; NaN
+        poses: (E, T, K, 15): columns :data:`pde_rotor.model.surface.POSE_COLUMNS`; NaN
             after a member's run ended.
         ended_at: per member the time its run ended (NaN: it did not), `reason` why
             (``STATUS_*``, 0: it did not).

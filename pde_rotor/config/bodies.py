@@ -82,6 +82,10 @@ class PolygonPlate(_Section):
         """Radius of the smallest disk about the body's origin holding the plate: R."""
         return self.radius
 
+    def area(self) -> float:
+        """The plate's area, (N / 2) R^2 sin(2 pi / N)."""
+        return self.n_corners / 2 * self.radius**2 * math.sin(2 * math.pi / self.n_corners)
+
     def reach(self, smoothing: float) -> float:
         """Radius beyond which F = 0 to 4.3e-18: R + X_SATURATION delta / cos(pi/N).
 
@@ -109,6 +113,10 @@ class DiskPlate(_Section):
         """Radius of the smallest disk about the body's origin holding the plate: R."""
         return self.radius
 
+    def area(self) -> float:
+        """The plate's area, pi R^2."""
+        return math.pi * self.radius**2
+
     def reach(self, smoothing: float) -> float:
         """Radius beyond which F = 0 to 4.3e-18: R + X_SATURATION delta."""
         return self.radius + X_SATURATION * smoothing
@@ -129,6 +137,10 @@ class StripPlate(_Section):
         """Radius of the smallest disk about the body's origin holding the plate."""
         return math.hypot(self.length / 2, self.width / 2)
 
+    def area(self) -> float:
+        """The plate's area, L W."""
+        return self.length * self.width
+
     def reach(self, smoothing: float) -> float:
         """Radius beyond which F = 0 to 4.3e-18: the corner of the rectangle grown by
         X_SATURATION delta (F is a function of the gauge max(|x'| - L/2, |y'| - W/2))."""
@@ -147,6 +159,10 @@ class NoPlate(_Section):
 
     def extent(self) -> float:
         """No plate: 0 (the pills give the body's extent)."""
+        return 0.0
+
+    def area(self) -> float:
+        """No plate: 0 (the pills give the body's area)."""
         return 0.0
 
     def reach(self, smoothing: float) -> float:
@@ -351,6 +367,13 @@ class BodyConfig(_Section):
     def extent(self) -> float:
         """Radius of the smallest disk about the body's origin holding plate and pills."""
         return max([self.plate.extent(), *(pill.distance + pill.radius for pill in self.pills)])
+
+    def area(self) -> float:
+        """A = int F_k dA of the sharp body: the plate's area, which holds the pills; without
+        a plate the pills' (disjoint) disks, sum pi rho^2."""
+        if isinstance(self.plate, NoPlate):
+            return sum(math.pi * pill.radius**2 for pill in self.pills)
+        return self.plate.area()
 
     def reach(self, smoothing: float) -> float:
         """Footprint: radius about the body's origin beyond which F_k and G_k are 0 to

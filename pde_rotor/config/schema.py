@@ -34,7 +34,7 @@ from .bodies import (
     StartConfig,
     TrackMotion,
 )
-from .contact import CONTACT_STEP, ContactConfig
+from .contact import CONTACT_MODES, CONTACT_STEP, ContactConfig, dashpot_step, euler_damping
 from .errors import FieldError
 from .fields import X_SATURATION, _Section
 from .geometry import GeometryConfig
@@ -271,31 +271,53 @@ class RotorConfig(_Section):
                     raise FieldError(f"bodies[{k}].start", [x, y], msg)
 
     def _contact_sound(self) -> None:
-        """Contact needs bodies, and its spring must be resolved by the step: for every
-        body that moves, dt sqrt(kappa / m) <= CONTACT_STEP (a spring of period 2 pi
-        sqrt(m / kappa) over at least 12 steps)."""
+        """Contact needs bodies, and the step must resolve it for every body that moves:
+        dt sqrt(kappa / m) <= CONTACT_STEP (a spring of period 2 pi sqrt(m / kappa) over
+        at least 12 steps), the dashpot's lambda gamma dt / m <= 1 (:func:`dashpot_step`),
+        and forward Euler only with gamma >= kappa dt - mu A / lambda for the least damped
+        body (:func:`~pde_rotor.config.contact.euler_damping`)."""
         contact = self.contact
         if not contact.enabled:
             return
         if self.bodies is None:
             msg = "acts between the bodies of a bodies: list (allowed: false without one)"
             raise FieldError("contact.enabled", True, msg)
-        masses = [
-            body.motion.mass
-            for body in self.body_list()
-            if isinstance(body.motion, (FreeMotion, TrackMotion))
+        moving = [
+            body for body in self.body_list() if isinstance(body.motion, (FreeMotion, TrackMotion))
         ]
-        if not masses:
+        if not moving:
             return
         dt = self.grid.dt
-        limit = CONTACT_STEP**2 * min(masses) / dt**2
+        mass = min(body.motion.mass for body in moving)
+        limit = CONTACT_STEP**2 * mass / dt**2
         if contact.stiffness > limit:
             msg = (
                 f"is too stiff for dt = {dt:g} and the lightest moving body's mass "
-                f"{min(masses):g}: dt sqrt(kappa / m) > {CONTACT_STEP:g} (allowed: "
+                f"{mass:g}: dt sqrt(kappa / m) > {CONTACT_STEP:g} (allowed: "
                 f"stiffness <= {limit:.4g}, or a smaller grid.dt)"
             )
             raise FieldError("contact.stiffness", contact.stiffness, msg)
+        if dashpot_step(contact.damping, dt, mass) > 1.0:
+            msg = (
+                f"is too strong for dt = {dt:g} and the lightest moving body's mass {mass:g}: "
+                f"{CONTACT_MODES:g} gamma dt / m > 1 (allowed: damping <= "
+                f"{mass / (CONTACT_MODES * dt):.4g}, or a smaller grid.dt)"
+            )
+            raise FieldError("contact.damping", contact.damping, msg)
+        if self.numerics.integrator != "euler":
+            return
+        friction = min(body.motion.friction * body.area() for body in moving)
+        least = euler_damping(contact.stiffness, dt, friction)
+        if contact.damping < least:
+            msg = (
+                f"lets forward Euler ring the contact spring up (numerics.integrator = euler, "
+                f"contact.stiffness = {contact.stiffness:g}, grid.dt = {dt:g}, least friction "
+                f"mu A = {friction:.4g}: lambda (kappa dt - gamma) > mu A for lambda = "
+                f"{CONTACT_MODES:g}) (allowed: contact.damping >= {least:.4g}, "
+                f"numerics.integrator: heun, or grid.dt <= "
+                f"{(contact.damping + friction / CONTACT_MODES) / contact.stiffness:.4g})"
+            )
+            raise FieldError("contact.damping", contact.damping, msg)
 
     def _bodies_noise(self) -> None:
         """No body's torque noise kicks its omega by more than the paper's steady rotation

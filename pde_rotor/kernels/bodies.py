@@ -54,6 +54,10 @@ _pair_contact = CPU.motion.pair_contact
 _wall_contact = CPU.motion.wall_contact
 _contact_loads = CPU.motion.contact_loads
 
+N_LOADS = 11
+"""A body's loads per evaluation: the motion's ``body_loads`` (9) and the contact force
+(x, y) (0 without contact)."""
+
 
 @nb.njit(cache=True, nogil=True)
 def _draw_bodies(maps, domain, surface, bodies, p, work, status):
@@ -93,7 +97,8 @@ def _loads(cur, F, domain, bodies, p, integrals, loads, status):
     :func:`~pde_rotor.kernels.body_sums.body_contour` for the contour form)
     and the motion's ``body_loads``.
 
-    With contact on, the contact forces are added (:func:`_contact`).
+    With contact on, the contact forces are added (:func:`_contact`); `loads` is
+    (K, :data:`N_LOADS`).
 
     Returns:
         True, or False where a body's footprint crosses a wall of the vessel (the motion's
@@ -131,23 +136,27 @@ def _loads(cur, F, domain, bodies, p, integrals, loads, status):
 @nb.njit(cache=True, nogil=True)
 def _contact(body, pose, p, loads):
     """Add each moving body's contact force with every other body and the walls to its
-    accelerations in `loads` (compiled; the motion's ``pair_contact``, ``wall_contact``,
+    accelerations in loads[k, 6:9] and put the force into loads[k, 9:11] (compiled; the
+    motion's ``pair_contact``, ``wall_contact`` at the poses' positions and velocities,
     ``contact_loads``)."""
     for k in range(body.shape[0]):
         b = body[k]
         if b.motion == MOTION_FIXED:
             continue
-        x, y = pose[k, 0], pose[k, 1]
-        f_x, f_y = _wall_contact(x, y, b.reach, p)
+        here = (pose[k, 0], pose[k, 1], pose[k, 3], pose[k, 4])
+        f_x, f_y = _wall_contact(here, b.reach, p)
         for j in range(body.shape[0]):
             if j != k:
-                g = _pair_contact(x, y, b.reach, pose[j, 0], pose[j, 1], body[j].reach, p)
+                there = (pose[j, 0], pose[j, 1], pose[j, 3], pose[j, 4])
+                g = _pair_contact(here, b.reach, there, body[j].reach, p)
                 f_x += g[0]
                 f_y += g[1]
-        state = (x, y, pose[k, 2], pose[k, 3], pose[k, 4], pose[k, 5])
+        state = (pose[k, 0], pose[k, 1], pose[k, 2], pose[k, 3], pose[k, 4], pose[k, 5])
         out = _contact_loads(loads[k], state, f_x, f_y, b)
         for m in range(6, 9):
             loads[k, m] = out[m]
+        loads[k, 9] = f_x
+        loads[k, 10] = f_y
 
 
 @nb.njit(cache=True, nogil=True)
@@ -168,7 +177,8 @@ def advance_bodies(states, maps, domain, wall, params, bodies, xi, status, steps
        omega = 0 (``hold``), and the column ``stopped`` of its pose is 1;
     2. F, G and the owner map redrawn where a pose changed (:func:`_draw_bodies`);
     3. the loads of each moving body at the state y and pose P (:func:`_loads`, the
-       motion's ``body_loads``), recorded in its pose's force columns;
+       motion's ``body_loads``, and with contact on the contact force), recorded in its
+       pose's force columns (tension, friction; contact in ``contact_x``, ``contact_y``);
     4. the fields' Euler step y~ = y + dt f(y, P)
        (:func:`~pde_rotor.kernels.body_fields.fields`).
 
@@ -205,7 +215,7 @@ def advance_bodies(states, maps, domain, wall, params, bodies, xi, status, steps
             the bodies' records (``BODY``), their pills (P, 7): body-frame x, y, radius,
             relative source density, and polar form: distance from X and the angle as
             two terms (the paper's corner angle 2 pi j / N and the shift Delta, added in
-            the rotor's order); the (K, 13) poses
+            the rotor's order); the (K, 15) poses
             (:data:`pde_rotor.model.surface.POSE_COLUMNS`), updated in place; (K, 3) x,
             y, phi at which each body was last drawn (nan: never); (K, 4) int rows and
             columns of each body's last drawn footprint; scratch (2, max N, K) and
@@ -234,8 +244,8 @@ def advance_bodies(states, maps, domain, wall, params, bodies, xi, status, steps
     nxt = spare
     heun = stage.size > 0
     integrals = np.zeros(N_INTEGRALS)
-    loads = np.zeros((n_bodies, 9))
-    loads_p = np.zeros((n_bodies, 9))
+    loads = np.zeros((n_bodies, N_LOADS))
+    loads_p = np.zeros((n_bodies, N_LOADS))
     start = np.zeros((n_bodies, 6))
     predicted = np.zeros((n_bodies, 6))
     rhs = np.zeros(nn if wall[0].size > 0 else 0)
@@ -267,6 +277,8 @@ def advance_bodies(states, maps, domain, wall, params, bodies, xi, status, steps
         for k in range(n_bodies):
             for m in range(6):
                 pose[k, 6 + m] = loads[k, m]
+            pose[k, 13] = loads[k, 9]
+            pose[k, 14] = loads[k, 10]
         fields(cur, nxt, maps, domain, surface, p, pose, rhs)
         for k in range(n_bodies):
             b = body[k]

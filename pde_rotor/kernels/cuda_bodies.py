@@ -77,35 +77,53 @@ _contact_loads = GPU.motion.contact_loads
 
 
 @device_function
+def _lanes():
+    """(first row, row stride, first column offset, column stride) of this thread: the
+    rows split among groups of up to 32 threads, each row's cells among a group's."""
+    tid = cuda.threadIdx.x
+    lanes = min(cuda.blockDim.x, 32)
+    return tid // lanes, cuda.blockDim.x // lanes, tid % lanes, lanes
+
+
+@device_function
+def _cell_plate(state, pose, m, o, x, y):
+    """(plate, F, G, plate velocity x, y) of cell o of member m at (x, y): its owner's
+    (``owner_plate``), or zeros where no body owns it."""
+    _, F, G, owner = state
+    if owner[m, o] >= 0:
+        f, g, px, py = _owner_plate(F[m], G[m], owner[m], pose[m], o, x, y)
+        return True, f, g, px, py
+    return False, 0.0, 0.0, 0.0, 0.0
+
+
+@device_function
+def _step_flow(buf, src, dst, o, nn, dt, rate):
+    """v of cell o from buf[src:] into buf[dst:] by an Euler step of `rate` (x, y)."""
+    buf[dst + o + nn] = buf[src + o + nn] + dt * rate[0]
+    buf[dst + o + 2 * nn] = buf[src + o + 2 * nn] + dt * rate[1]
+
+
+@device_function
 def _euler_fields(src, dst, m, state, surface, bodies, p):
     """One Euler step of Eqs. (eqc), (eqv) on the interior cells from buf[src:] into
     buf[dst:], the plate terms those of each cell's owner (all threads)."""
-    buf, F, G, owner = state
+    buf = state[0]
     coords, interior = surface
-    pose = bodies[2]
-    tid = cuda.threadIdx.x
-    n_threads = cuda.blockDim.x
     n = coords.size
     nn = n * n
     coef = _rate_coefficients(p)
-    dt = p.dt
-    flow = p.flow
-    lanes = min(n_threads, 32)
-    for i in range(tid // lanes, n, n_threads // lanes):
+    row0, rows, col0, lanes = _lanes()
+    for i in range(row0, n, rows):
         x = coords[i]
-        for j in range(interior[0, i] + tid % lanes, interior[1, i], lanes):
+        for j in range(interior[0, i] + col0, interior[1, i], lanes):
             o = i * n + j
-            plate = owner[m, o] >= 0
-            f, g, px, py = 0.0, 0.0, 0.0, 0.0
-            if plate:
-                f, g, px, py = _owner_plate(F[m], G[m], owner[m], pose[m], o, x, coords[j])
+            plate, f, g, px, py = _cell_plate(state, bodies[2], m, o, x, coords[j])
             rate_c, rate_x, rate_y = _plate_rates(
-                buf, src + o, (n, 1, nn), f, g, (px, py), coef, flow, plate
+                buf, src + o, (n, 1, nn), f, g, (px, py), coef, p.flow, plate
             )
-            buf[dst + o] = buf[src + o] + dt * rate_c
-            if flow:
-                buf[dst + o + nn] = buf[src + o + nn] + dt * rate_x
-                buf[dst + o + 2 * nn] = buf[src + o + 2 * nn] + dt * rate_y
+            buf[dst + o] = buf[src + o] + p.dt * rate_c
+            if p.flow:
+                _step_flow(buf, src, dst, o, nn, p.dt, (rate_x, rate_y))
     cuda.syncthreads()
 
 
@@ -115,9 +133,8 @@ def _walled_fields(src, dst, m, state, surface, bodies, wall, rhs, p):
     explicit part on the runs of cut cells of each row (``cut_cell_inflow``,
     ``local_rate``), v on the cells that flow, then c' = inverse (kappa c') on each
     cluster of implicit faces (:func:`pde_rotor.kernels.wall.euler_walled_fields`)."""
-    buf, F, G, owner = state
+    buf = state[0]
     coords = surface[0]
-    pose = bodies[2]
     volume, pass_x, pass_y, open_x, open_y, row_start, span_lo, span_hi, flowing = wall[:9]
     faces = (open_x, open_y, pass_x, pass_y)
     members, offsets, blocks, starts = wall[9:]
@@ -128,17 +145,14 @@ def _walled_fields(src, dst, m, state, surface, bodies, wall, rhs, p):
     coef = _rate_coefficients(p)
     dt = p.dt
     flow = p.flow
-    lanes = min(n_threads, 32)
     rm = rhs[m]
-    for i in range(tid // lanes, n, n_threads // lanes):
+    row0, rows, col0, lanes = _lanes()
+    for i in range(row0, n, rows):
         x = coords[i]
         for s in range(row_start[i], row_start[i + 1]):
-            for j in range(span_lo[s] + tid % lanes, span_hi[s], lanes):
+            for j in range(span_lo[s] + col0, span_hi[s], lanes):
                 o = i * n + j
-                plate = owner[m, o] >= 0
-                f, g, px, py = 0.0, 0.0, 0.0, 0.0
-                if plate:
-                    f, g, px, py = _owner_plate(F[m], G[m], owner[m], pose[m], o, x, coords[j])
+                plate, f, g, px, py = _cell_plate(state, bodies[2], m, o, x, coords[j])
                 cc = buf[src + o]
                 kappa = volume[o]
                 q = _cut_cell_inflow(buf[src:], o, (n, 1, nn), faces, coef, flow)
@@ -149,8 +163,7 @@ def _walled_fields(src, dst, m, state, surface, bodies, wall, rhs, p):
                     _, rate_x, rate_y = _plate_rates(
                         buf, src + o, (n, 1, nn), f, g, (px, py), coef, flow, plate
                     )
-                    buf[dst + o + nn] = buf[src + o + nn] + dt * rate_x
-                    buf[dst + o + 2 * nn] = buf[src + o + 2 * nn] + dt * rate_y
+                    _step_flow(buf, src, dst, o, nn, dt, (rate_x, rate_y))
     cuda.syncthreads()
     for c in range(tid, offsets.size - 1, n_threads):
         first = offsets[c]
@@ -288,24 +301,28 @@ def _stage(where, state, surface, bodies, scratch, tables, walls, p, shared):
 def _contact(m, stage, bodies, loads, p):
     """Add each moving body's contact force with every other body and the walls to its
     accelerations in loads[m, k, stage] (one thread; the motion's ``pair_contact``,
-    ``wall_contact``, ``contact_loads``)."""
+    ``wall_contact`` at the poses' positions and velocities, ``contact_loads``); at
+    `stage` 0 the force into the pose's columns 13, 14."""
     body, _, pose, _, _ = bodies
     n_bodies = body.shape[1]
     for k in range(n_bodies):
         b = body[m][k]
         if b.motion == MOTION_FIXED:
             continue
-        x, y = pose[m, k, 0], pose[m, k, 1]
-        f_x, f_y = _wall_contact(x, y, b.reach, p)
+        here = (pose[m, k, 0], pose[m, k, 1], pose[m, k, 3], pose[m, k, 4])
+        f_x, f_y = _wall_contact(here, b.reach, p)
         for j in range(n_bodies):
             if j != k:
-                g = _pair_contact(x, y, b.reach, pose[m, j, 0], pose[m, j, 1], body[m][j].reach, p)
+                there = (pose[m, j, 0], pose[m, j, 1], pose[m, j, 3], pose[m, j, 4])
+                g = _pair_contact(here, b.reach, there, body[m][j].reach, p)
                 f_x += g[0]
                 f_y += g[1]
-        here = (x, y, pose[m, k, 2], pose[m, k, 3], pose[m, k, 4], pose[m, k, 5])
-        out = _contact_loads(loads[m, k, stage], here, f_x, f_y, b)
+        state = (here[0], here[1], pose[m, k, 2], here[2], here[3], pose[m, k, 5])
+        out = _contact_loads(loads[m, k, stage], state, f_x, f_y, b)
         for q in range(6, 9):
             loads[m, k, stage, q] = out[q]
+        if stage == 0:
+            pose[m, k, 13], pose[m, k, 14] = f_x, f_y
 
 
 @device_function
@@ -377,7 +394,7 @@ def _advance_bodies(state, surface, body, arrays, scratch, tables, walls, params
             columns [lo, hi) of the interior cells per row.
         body: (E, K) the bodies' records (``BODY``; an argument of its own, so that numba's
             CUDA simulator reads its fields by name).
-        arrays: (pills (E, P, 7), pose (E, K, 13) updated, drawn (E, K, 3) and box
+        arrays: (pills (E, P, 7), pose (E, K, 15) updated, drawn (E, K, 3) and box
             (E, K, 4) of the last drawing, kept between launches), as for
             :func:`pde_rotor.kernels.bodies.advance_bodies`.
         scratch: (normals (E, K, 2, C), centres (E, 2, P), loads (E, K, 2, 9) (the

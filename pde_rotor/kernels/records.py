@@ -30,7 +30,7 @@ The fields, by the equation that uses them (Koyano et al., Chaos 2020):
   ``vessel_x``, ``vessel_y`` and sizes ``vessel_a``, ``vessel_b`` (R1, R2 or the half
   widths; the dish's rim domain_radius - dx in ``vessel_b``);
 * the contact between bodies and with the walls (``contact:``): ``contact_stiffness``
-  kappa, ``contact_range`` ell (0: no contact);
+  kappa, ``contact_range`` ell (0: no contact), ``contact_damping`` gamma;
 * the scheme (:mod:`pde_rotor.model.schemes`): ``contour`` (contour-form torque),
   ``tan_half`` tan(pi/N), ``window_lo``, ``window_hi`` (the spline window),
   ``taps_lo``, ``taps_hi`` (its part the contour's taps read), and for the
@@ -137,6 +137,7 @@ PARAMS = np.dtype(
         ("vessel_b", _F8),
         ("contact_stiffness", _F8),
         ("contact_range", _F8),
+        ("contact_damping", _F8),
         ("flow", _B1),
         ("contour", _B1),
         ("filtered", _B1),
@@ -180,6 +181,7 @@ def make_record(config: RotorConfig, scheme: Scheme, dt: float) -> np.ndarray:
     if config.contact.enabled:
         rec["contact_stiffness"] = config.contact.stiffness
         rec["contact_range"] = config.contact.range
+        rec["contact_damping"] = config.contact.damping
     if vessel is not None:
         if vessel.shape == "annulus":
             rec["vessel"] = VESSEL_ANNULUS

@@ -102,43 +102,47 @@ def held_bodies(bodies: Sequence[Body], step: int, dt: float) -> np.ndarray:
 
 
 def contact_forces(poses: np.ndarray, bodies: Sequence[Body], config: RotorConfig) -> np.ndarray:
-    """(K, 2) the contact forces of ``contact:`` on each body at `poses` (0 where off):
-    kappa (ell - g) for each gap g < ell between two footprints, along their centres'
-    line, and between a footprint and each wall, along the wall's normal
-    (:mod:`pde_rotor.config.contact`)."""
+    """(K, 2) the contact forces of ``contact:`` on each body at `poses` (positions and
+    velocities; 0 where off): kappa (ell - g) - gamma dg/dt for each gap g < ell between
+    two footprints, along their centres' line, and between a footprint and each wall,
+    along the wall's normal (:mod:`pde_rotor.config.contact`)."""
     out = np.zeros((len(bodies), 2))
     contact = config.contact
     if not contact.enabled:
         return out
-    kappa, ell = contact.stiffness, contact.range
+    kappa, ell, gamma = contact.stiffness, contact.range, contact.damping
+
+    def push(gap: np.ndarray, rate: np.ndarray) -> np.ndarray:
+        """The force along the gap's normal where the gap is in range."""
+        return np.where(gap < ell, kappa * (ell - gap) - gamma * rate, 0.0)
+
     reach = np.array([b.shape.reach for b in bodies])
     centres = poses[:, 0:2]
+    velocities = poses[:, 3:5]
     for k in range(len(bodies)):
         for j in range(len(bodies)):
             if j != k:
                 line = centres[k] - centres[j]
                 d = float(np.hypot(*line))
-                gap = d - reach[k] - reach[j]
-                if gap < ell:
-                    out[k] += kappa * (ell - gap) * line / d
+                rate = float(line @ (velocities[k] - velocities[j])) / d
+                out[k] += push(np.array(d - reach[k] - reach[j]), np.array(rate)) * line / d
     grid = config.grid
     vessel = grid.vessel
     rel = centres - np.array(grid.domain_centre)
     if vessel is not None and vessel.shape == "rectangle":
         for axis, half in enumerate(vessel.half_widths):
-            for sign in (1.0, -1.0):
-                gap = half - sign * rel[:, axis] - reach
-                out[:, axis] -= sign * np.where(gap < ell, kappa * (ell - gap), 0.0)
+            for sign in (1.0, -1.0):  # the wall at -sign half: its clearance grows with sign U
+                gap = half + sign * rel[:, axis] - reach
+                out[:, axis] += sign * push(gap, sign * velocities[:, axis])
         return out
     r = np.hypot(rel[:, 0], rel[:, 1])
     normal = rel / r[:, None]
+    outward = np.sum(normal * velocities, axis=1)
     outer = grid.domain_radius - grid.dx if vessel is None else vessel.outer_radius
-    gap = outer - r - reach
-    push = -np.where(gap < ell, kappa * (ell - gap), 0.0)
+    force = -push(outer - r - reach, -outward)
     if vessel is not None:
-        gap = r - reach - vessel.inner_radius
-        push += np.where(gap < ell, kappa * (ell - gap), 0.0)
-    return out + push[:, None] * normal
+        force += push(r - reach - vessel.inner_radius, outward)
+    return out + force[:, None] * normal
 
 
 def accelerations(

@@ -72,10 +72,13 @@ POSE_COLUMNS = (
     "drag_y",
     "friction",
     "stopped",
+    "contact_x",
+    "contact_y",
 )
 """The columns of :attr:`BodiesState.poses`: position, angle, velocity U, angular
 velocity, then the last step's tension force and torque, the friction force and torque,
-and whether the body was held (1) or free to move (0)."""
+whether the body was held (1) or free to move (0), and the last step's contact force
+(``contact:``; 0 where off; it has no torque about X)."""
 
 
 @dataclass
@@ -84,7 +87,7 @@ class BodiesState:
 
     Attributes:
         names: the bodies' names.
-        poses: (K, 13) float array, columns :data:`POSE_COLUMNS`, positions on the surface.
+        poses: (K, 15) float array, columns :data:`POSE_COLUMNS`, positions on the surface.
     """
 
     names: tuple[str, ...]
@@ -118,7 +121,8 @@ class SurfaceFields(FieldCollection):
             **kwargs: passed to :class:`~pde.FieldCollection`.
         """
         super().__init__(fields, *args, **kwargs)
-        self.bodies = bodies if bodies is not None else BodiesState((), np.zeros((0, 13)))
+        none = BodiesState((), np.zeros((0, len(POSE_COLUMNS))))
+        self.bodies = bodies if bodies is not None else none
 
     def copy(self, *, label: str | None = None, dtype: Any = None) -> SurfaceFields:
         """A copy of the fields' data and of the bodies (not of the grid)."""
@@ -346,7 +350,8 @@ class SurfacePDE(PDEBase):
         heun`` the same at the Euler-predicted state and poses, and the trapezoid of both
         (:func:`~pde_rotor.model.motion.heun_poses`). No noise; the absorbing wall (the
         no-flux wall's step is :meth:`camphor_step`). The force columns of the result
-        hold the forces at the step's start, ``stopped`` whether a body was held.
+        hold the forces at the step's start (the contact force of every body that is not
+        ``fixed``), ``stopped`` whether a body was held.
 
         Returns:
             The new state (`state` is not changed).
@@ -358,9 +363,8 @@ class SurfacePDE(PDEBase):
         rate = self.evolution_rate(start).data
         forces = self.body_forces(start)
         poses = start.bodies.poses[:, :6]
-        accel = accelerations(
-            forces, inertia, poses, contact_forces(poses, self.bodies, self.config)
-        )
+        contact = contact_forces(poses, self.bodies, self.config)
+        accel = accelerations(forces, inertia, poses, contact)
         new = start.copy()
         new.data[...] = start.data + dt * rate
         new.bodies.poses[:, :6] = euler_poses(poses, accel, held, inertia, dt)
@@ -375,6 +379,7 @@ class SurfacePDE(PDEBase):
             )
         new.bodies.poses[:, 6:12] = forces
         new.bodies.poses[:, 12] = held
+        new.bodies.poses[:, 13:15] = np.where(inertia.fixed[:, None], 0.0, contact)
         return new
 
 

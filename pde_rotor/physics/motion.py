@@ -40,11 +40,13 @@ stays on it to round-off (:func:`track_step`).
 
 A footprint that crosses a wall of an annular or rectangular vessel (:func:`leaves_vessel`)
 ends the run as one that reaches the dish's edge, unless contact is on (``contact:``,
-:mod:`pde_rotor.config.contact`): then a soft linear spring kappa (ell - g) on the gap g
-between footprints (:func:`pair_contact`) and between a footprint and a wall
-(:func:`wall_contact`) pushes them apart, its force added to a free body's and projected
-on a track body's tangent (:func:`contact_loads`); the record's ``contact_stiffness``
-kappa and ``contact_range`` ell (0: off).
+:mod:`pde_rotor.config.contact`): then a linear spring and dashpot
+kappa (ell - g) - gamma dg/dt on the gap g between footprints (:func:`pair_contact`) and
+between a footprint and a wall (:func:`wall_contact`), while g < ell, pushes them apart,
+its force added to a free body's and projected on a track body's tangent
+(:func:`contact_loads`); the record's ``contact_stiffness`` kappa, ``contact_range`` ell
+(0: off) and ``contact_damping`` gamma. The force acts along the line of the footprints'
+centres or the wall's normal through X, so it has no torque about X.
 
 The body's parameters come as a record `b` read by field name: a body's row of the
 ``BODY`` records or the rotor's ``PARAMS`` (:mod:`pde_rotor.kernels.records`), both with
@@ -261,47 +263,53 @@ def make_motion(jit: Callable[[Callable], Callable]) -> Motion:
         return False
 
     @jit
-    def spring(gap, ell, kappa):
-        """The contact spring's force kappa (ell - gap) for a gap below ell, else 0."""
+    def contact_push(gap, rate, p):
+        """The contact's force along the gap's normal, kappa (ell - gap) - gamma rate for a
+        gap below ell (`rate` its rate of change dg/dt), else 0 (record `p`)."""
+        ell = p.contact_range
         if gap < ell:
-            return kappa * (ell - gap)
+            return p.contact_stiffness * (ell - gap) - p.contact_damping * rate
         return 0.0
 
     @jit
-    def pair_contact(x, y, reach, x_o, y_o, reach_o, p):
-        """The contact force on the footprint of radius `reach` about (x, y) from the one
-        of radius `reach_o` about (x_o, y_o): kappa (ell - g) along their centres' line,
-        away from the other, for the gap g = d - reach - reach_o < ell (else 0)."""
-        dx = x - x_o
-        dy = y - y_o
+    def pair_contact(here, reach, there, reach_o, p):
+        """The contact force on the footprint of radius `reach` whose centre and velocity
+        are `here` = (x, y, u, v) from the one of radius `reach_o` at `there` (the
+        same): kappa (ell - g) - gamma dg/dt along their centres' line, away from the
+        other, for the gap g = d - reach - reach_o < ell (else 0), dg/dt = (X - X_o) .
+        (U - U_o) / d."""
+        dx = here[0] - there[0]
+        dy = here[1] - there[1]
         d = math.sqrt(dx * dx + dy * dy)
         if d == 0.0:
             return 0.0, 0.0
-        size = spring(d - reach - reach_o, p.contact_range, p.contact_stiffness) / d
+        rate = (dx * (here[2] - there[2]) + dy * (here[3] - there[3])) / d
+        size = contact_push(d - reach - reach_o, rate, p) / d
         return size * dx, size * dy
 
     @jit
-    def wall_contact(x, y, reach, p):
-        """The contact force on the footprint of radius `reach` about (x, y) from the
-        walls within ell of it: kappa (ell - g) along each wall's normal into the vessel,
-        g the footprint's clearance (the dish's rim and an annulus' outer circle at
-        ``vessel_b``, its inner one at ``vessel_a``, a tank's sides at +-a, +-b)."""
-        dx = x - p.vessel_x
-        dy = y - p.vessel_y
-        ell = p.contact_range
-        kappa = p.contact_stiffness
+    def wall_contact(here, reach, p):
+        """The contact force on the footprint of radius `reach` whose centre and velocity
+        are `here` = (x, y, u, v) from the walls within ell of it: kappa (ell - g) -
+        gamma dg/dt along each wall's normal into the vessel, g the footprint's clearance
+        (the dish's rim and an annulus' outer circle at ``vessel_b``, its inner one at
+        ``vessel_a``, a tank's sides at +-a, +-b)."""
+        dx = here[0] - p.vessel_x
+        dy = here[1] - p.vessel_y
+        u, v = here[2], here[3]
         if p.vessel == VESSEL_RECTANGLE:
-            f_x = spring(p.vessel_a + dx - reach, ell, kappa)
-            f_x -= spring(p.vessel_a - dx - reach, ell, kappa)
-            f_y = spring(p.vessel_b + dy - reach, ell, kappa)
-            f_y -= spring(p.vessel_b - dy - reach, ell, kappa)
+            f_x = contact_push(p.vessel_a + dx - reach, u, p)
+            f_x -= contact_push(p.vessel_a - dx - reach, -u, p)
+            f_y = contact_push(p.vessel_b + dy - reach, v, p)
+            f_y -= contact_push(p.vessel_b - dy - reach, -v, p)
             return f_x, f_y
         r = math.sqrt(dx * dx + dy * dy)
         if r == 0.0:
             return 0.0, 0.0
-        push = -spring(p.vessel_b - r - reach, ell, kappa)
+        outward = (dx * u + dy * v) / r
+        push = -contact_push(p.vessel_b - r - reach, -outward, p)
         if p.vessel == VESSEL_ANNULUS:
-            push += spring(r - reach - p.vessel_a, ell, kappa)
+            push += contact_push(r - reach - p.vessel_a, outward, p)
         return push * dx / r, push * dy / r
 
     @jit

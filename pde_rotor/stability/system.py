@@ -29,7 +29,7 @@ from pde import CartesianGrid, ScalarField, VectorField
 
 from ..config import DISH_CENTRE, ConfigError, RotorConfig
 from ..model.pde import RotorFields, RotorPDE, RotorState
-from ..model.surface import BodiesState, SurfaceFields, SurfacePDE
+from ..model.surface import POSE_COLUMNS, BodiesState, SurfaceFields, SurfacePDE
 
 _GRIDS: dict[tuple, CartesianGrid] = {}
 """One py-pde grid per grid geometry: py-pde compiles its operators per grid object, and a
@@ -176,7 +176,7 @@ class DiscreteModel:
             rotor = RotorState(phi=float(q[0]), omega=float(p[0]))
             return RotorFields(fields, rotor=rotor)
         bodies = self.pde.bodies
-        poses = np.zeros((len(bodies), 13))
+        poses = np.zeros((len(bodies), len(POSE_COLUMNS)))
         for k, body in enumerate(bodies):
             poses[k, :3] = body.start
         for i, dof in enumerate(self.dofs):

@@ -1,9 +1,9 @@
 """The record of a run with bodies: every body's motion in bodies.nc, its inversions, a movie.
 
 :class:`BodiesTracker` samples the state of every body (:class:`BodiesState`: position,
-angle, velocities, the tension force and torque and the friction of the last step,
-whether it was held) every ``interval`` and at the start and end of every stop of every
-body's own protocol, and writes ``bodies.nc`` (dimensions ``time`` and ``body``).
+angle, velocities, the tension force and torque, the friction and the contact force of
+the last step, whether it was held) every ``interval`` and at the start and end of every
+stop of every body's own protocol, and writes ``bodies.nc`` (dimensions ``time`` and ``body``).
 :meth:`BodiesTracker.events` classifies each stop of each body with a protocol by the
 rule of :mod:`pde_rotor.statistics.inversion`, from the same samples the rotor's
 :class:`~pde_rotor.trackers.events.InversionTracker` reads (omega just before the stop,
@@ -50,6 +50,8 @@ BODY_VARIABLES: dict[str, dict[str, str]] = {
     "drag_y": {"long_name": "friction force -mu int F_k (u_k - v)_y dA (last step)"},
     "friction": {"long_name": "friction torque about X, Eq. (eq_motion) (last step)"},
     "stopped": {"long_name": "1 if the body was held during the last step", "units": "1"},
+    "contact_x": {"long_name": "contact force of contact: on the body, x (last step)"},
+    "contact_y": {"long_name": "contact force of contact: on the body, y (last step)"},
 }
 """Variables of bodies.nc (dimensions time, body) with their attributes."""
 

@@ -37,6 +37,7 @@ from typer.testing import CliRunner
 from pde_rotor import RotorConfig
 from pde_rotor.backends.gpu_bodies import gpu_bodies_stepper, run_bodies_ensemble
 from pde_rotor.cli.main import app
+from pde_rotor.model.surface import POSE_COLUMNS
 from pde_rotor.solver.bodies import BodyContactError
 from pde_rotor.solver.simulation import Simulation
 
@@ -284,8 +285,9 @@ def test_track_boats_agree_with_the_cpu(integrator: str) -> None:
 
 @pytest.mark.parametrize("integrator", ["euler", "heun"])
 def test_contact_agrees_with_the_cpu(integrator: str) -> None:
-    """With contact on, two boats whose footprints are within its range of each other and
-    of both walls run on the GPU as on the CPU, with Euler and with Heun."""
+    """With contact on (spring and dashpot), two boats whose footprints are within its
+    range of each other and of both walls run on the GPU as on the CPU, with Euler and
+    with Heun, their recorded contact forces too."""
     half = math.asin(3.3 / 2 / 2.25)  # chord 3.3: the footprints (1.628 each) 0.044 apart
     boats = [
         {**TRACK_BOATS[0], "start": {"x": 2.25, "y": 0.0}},
@@ -295,12 +297,13 @@ def test_contact_agrees_with_the_cpu(integrator: str) -> None:
         },
     ]
     numerics = {"scheme": "paper", "integrator": integrator}
-    contact = {"enabled": True, "stiffness": 100.0, "range": 0.2}
+    contact = {"enabled": True, "stiffness": 100.0, "range": 0.2, "damping": 0.1}
     grid = {"domain_radius": 4.0, "vessel": VESSEL}
     cpu, gpu = pair(config(boats, grid=grid, numerics=numerics, contact=contact))
     cpu.run(0.003)
     gpu.run(0.003)
-    assert_same(cpu, gpu)
+    assert_same(cpu, gpu)  # with the recorded contact forces
+    assert np.abs(cpu.bodies.poses[:, POSE_COLUMNS.index("contact_x")]).min() > 0.1
     plain, _ = pair(config(boats, grid=grid, numerics=numerics))
     plain.run(0.003)
     assert np.abs(plain.bodies.poses[:, 3:6] - cpu.bodies.poses[:, 3:6]).max() > 1e-3
