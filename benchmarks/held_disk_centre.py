@@ -2,7 +2,9 @@
 
 A free disk (radius 0.1, no plate) held by a stop of its own at the centre of a dish of radius 2,
 coarse grid dx = delta = 0.05, dt = 4e-4, flow on: the largest |f_x|, |f_y| over ten samples
-up to t = 0.4 on each scheme given. Then the cubic spline's prefilter
+up to t = 0.4 on each scheme given. Then how far the grid's cell centres are from mirror
+images of each other, and where 1 / dx from cell 0's centre puts the dish's centre. Then
+the cubic spline's prefilter
 (:func:`pde_rotor.kernels.spline.spline_window`) on a field exactly symmetric about the
 centre of a symmetric 60 x 60 window: the largest asymmetry of its coefficients. Then, on
 the consistent scheme at t = 0.04, the contour force
@@ -13,7 +15,7 @@ on the held disk (the spline window and its circle's nodes, the least of five ro
 `--calls` calls, the thread's CPU time), and ms per step of the held disk's run on the
 consistent scheme (the least of five rounds of 100 steps).
 
-Run:  python benchmarks/held_disk_centre.py [--schemes paper consistent] [--calls 2000]
+Run:  python benchmarks/held_disk_centre.py [--schemes [paper] [consistent]] [--calls 2000]
 """
 
 from __future__ import annotations
@@ -26,6 +28,7 @@ import numpy as np
 from pde_rotor import RotorConfig
 from pde_rotor.kernels.body_sums import body_contour
 from pde_rotor.kernels.spline import spline_window
+from pde_rotor.model.surface import SurfacePDE
 from pde_rotor.physics.motion import N_INTEGRALS
 from pde_rotor.solver.bodies import make_bodies_stepper
 from pde_rotor.solver.simulation import Simulation
@@ -57,6 +60,14 @@ def held_force(scheme: str) -> tuple[float, float]:
         sim.run(t)
         forces.append(sim.bodies.poses[0, 6:8].copy())
     return tuple(np.abs(np.array(forces)).max(axis=0))
+
+
+def grid_mirror() -> tuple[float, float, float]:
+    """(largest |x_i + x_(n-1-i)| of the cell centres, the dish's centre in cells from
+    cell 0's centre as the contour once placed it, the grid's middle (n - 1) / 2)."""
+    coords = SurfacePDE(held_config("consistent")).domain.coords
+    centre = (0.0 - coords[0]) / (coords[1] - coords[0])
+    return float(np.abs(coords + coords[::-1]).max()), float(centre), (coords.size - 1) / 2
 
 
 def prefilter_asymmetry(n: int = 80, lo: int = 10, hi: int = 70) -> tuple[float, float]:
@@ -123,12 +134,17 @@ def contour_cost(calls: int, rounds: int = 5) -> tuple[float, float]:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--schemes", nargs="+", default=["paper", "consistent"])
+    parser.add_argument("--schemes", nargs="*", default=["paper", "consistent"])
     parser.add_argument("--calls", type=int, default=0, help="time the contour force")
     args = parser.parse_args()
     for scheme in args.schemes:
         fx, fy = held_force(scheme)
         print(f"{scheme}: largest |f_x| {fx:.3g}, |f_y| {fy:.3g}", flush=True)
+    mirror, centre, middle = grid_mirror()
+    print(
+        f"grid: cell centres mirror images to {mirror:.3g}; the dish's centre {centre!r} cells "
+        f"from cell 0's centre, the middle {middle}"
+    )
     asym, top = prefilter_asymmetry()
     print(
         f"prefilter on a symmetric field: coefficients asymmetric by {asym:.3g} (largest {top:.3g})"

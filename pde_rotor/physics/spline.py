@@ -140,8 +140,7 @@ def make_spline(jit: Callable[[Callable], Callable]) -> Spline:
         weight 0.
         """
         g = abs(d) + 0.5 * (1 - n % 2)
-        # int(): numba-cuda types math.floor as float64, numba's CPU target as int64
-        past = int(math.floor(g))  # noqa: RUF046
+        past = int(g)  # g >= 0: truncation is the floor
         k = (n - 1) // 2 + past
         if d >= 0.0:
             return k - 1, 1, g - past
