@@ -12,8 +12,9 @@ none of their own.
   one pass over the rows shared among threads;
 * :mod:`.bodies`: the step of K bodies and the fields on the CPU (Euler or Heun, both
   schemes), with :mod:`.body_draw` (a body's F, G and owner on its footprint's chords),
-  :mod:`.body_sums` (a body's integrals, area and contour form) and :mod:`.body_fields`
-  (the fields' update over the bodies' runs of cells);
+  :mod:`.body_sums` (a body's integrals, area and contour form; the contour form's
+  circles in :mod:`.body_arcs`) and :mod:`.body_fields` (the fields' update over the
+  bodies' runs of cells);
 * :mod:`.wall`: the step of the fields behind a no-flux dish wall (cut cells of the circle);
 * :mod:`.cuda_target`: the CUDA compiler (numba-cuda), imported in this one place;
 * :mod:`.cuda`: the batched CUDA kernel of an ensemble (:mod:`pde_rotor.backends.gpu`);

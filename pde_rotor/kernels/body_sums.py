@@ -17,9 +17,9 @@ import math
 import numba as nb
 import numpy as np
 
-from ..model.body_schemes import ARC_EDGES
 from ..physics.build import CPU, FASTMATH
-from ..physics.indicators import PLATE_DISK, PLATE_POLYGON, PLATE_STRIP
+from ..physics.indicators import PLATE_POLYGON, PLATE_STRIP
+from .body_arcs import circle_sums
 from .body_draw import orient
 from .spline import ROW_GROUP, spline_columns, spline_rows
 
@@ -27,7 +27,6 @@ _tension_integrand = CPU.tension.tension_integrand
 _friction_moments = CPU.motion.friction_moments
 _edge_sums = CPU.tension.edge_sums
 _polygon_band = CPU.tension.polygon_band
-_arc_node = CPU.tension.arc_node
 _footprint_chord = CPU.indicators.footprint_chord
 
 
@@ -142,28 +141,28 @@ def body_contour(cur, coords, k, bodies, p, out):
     cell of X_k (:func:`spline_box`), then the contour nodes of the tension: a
     polygon's or a strip's edges (``edge_sums``; per (edge, band node) the sum along
     the edge, the pairs added in order, as the rotor's contour torque; a strip's four
-    edges of two lengths, its band nodes without a parallel skipped), a disk plate's
-    circle about X_k, or each pill's circle about its centre, its torque (P - X) x its
-    force (``arc_node``, the angles phi + 2 pi l / L, their cosines and sines taken once
-    per call for every ring). `delta` is the edge width; `bodies` as for
+    edges of two lengths, its band nodes without a parallel skipped), or a disk plate's
+    circle about X_k or each pill's about its centre, its torque (P - X) x its force
+    (:func:`~pde_rotor.kernels.body_arcs.circle_sums`, the nodes in orbits of four
+    mirror images). `delta` is the edge width; `bodies` as for
     :func:`pde_rotor.kernels.bodies.advance_bodies`.
     """
     body, pills, pose, _, _, normals, centres, tables = bodies
-    quad_s, quad_t, _, pill_tab, _, _, rings, coef, carry = tables
+    quad_s, quad_t, _, _, _, _, _, coef, carry = tables
     delta = p.smoothing
     orient(k, body, pills, pose, normals, centres)  # scratch: a new stepper starts with 0
     b = body[k]
     n = coords.size
     x0 = coords[0]
     inv_dx = 1.0 / (coords[1] - x0)
-    x_k, y_k, phi = pose[k, 0], pose[k, 1], pose[k, 2]
+    x_k, y_k = pose[k, 0], pose[k, 1]
     half = b.window_half
     ic = math.floor((x_k - x0) * inv_dx) + 1
     jc = math.floor((y_k - x0) * inv_dx) + 1
     i0, i1 = max(1, ic - half), min(n - 1, ic + half)
     j0, j1 = max(1, jc - half), min(n - 1, jc + half)
     spline_box(cur, coef, n, i0, i1, j0, j1, carry)
-    n_s, n_t = quad_s.shape[1], quad_t.shape[1]
+    n_s = quad_s.shape[1]
     grid = (0, n, x0, inv_dx)
     f_x = 0.0
     f_y = 0.0
@@ -194,32 +193,5 @@ def body_contour(cur, coords, k, bodies, p, out):
                 torque += pair_t
             ex, ey = -ey, ex
     else:
-        n_arc = ARC_EDGES * n_t
-        step = 2.0 * math.pi / n_arc
-        trig = np.empty((2, n_arc))  # the nodes' directions, shared by every ring
-        for a_l in range(n_arc):
-            angle = phi + step * a_l
-            trig[0, a_l] = math.cos(angle)
-            trig[1, a_l] = math.sin(angle)
-        first = b.pill_start
-        last = b.pill_start + b.pill_count
-        if b.plate == PLATE_DISK:
-            first, last = 0, 1
-        for q in range(first, last):
-            cx, cy, r0, r1 = x_k, y_k, b.ring_start, b.ring_start + b.ring_count
-            if b.plate != PLATE_DISK:
-                cx, cy = centres[0, q], centres[1, q]
-                r0, r1 = pill_tab[q, 4], pill_tab[q, 4] + pill_tab[q, 5]
-            q_x = 0.0
-            q_y = 0.0
-            for m in range(r0, r1):
-                h = rings[0, m]
-                weight = rings[1, m] * h * step
-                for a_l in range(n_arc):
-                    a, c = _arc_node(coef, grid, cx, cy, h, trig[0, a_l], trig[1, a_l], weight, p)
-                    q_x += a
-                    q_y += c
-            f_x += q_x
-            f_y += q_y
-            torque += (cx - x_k) * q_y - (cy - y_k) * q_x
+        f_x, f_y, torque = circle_sums(coef, (0, n, inv_dx), k, bodies, p)
     out[0], out[1], out[2] = f_x, f_y, torque

@@ -18,7 +18,7 @@ evaluation of the right-hand side (:func:`_stage`: once per Euler step, twice pe
 2. the integrals of each moving body (:mod:`pde_rotor.kernels.cuda_body_sums`: the
    cells of its box it owns, area form, ``tension_integrand`` and ``friction_moments``;
    for ``consistent`` the tension force and torque in contour form: the spline of c on
-   the body's window, then its edges' or circles' nodes, ``edge_sums``, ``arc_node``;
+   the body's window, then its edges' or circles' nodes, ``edge_sums``, ``arc_orbit``;
    c read through the surface pressure of a saturating tension law), each a fixed-order
    tree reduction in shared memory, and its loads (``body_loads``: tension, friction and
    external load, the accelerations; ``finite_loads``);

@@ -2,7 +2,7 @@
 the area form over the cells of its box it owns (central differences; the CPU's
 :func:`pde_rotor.kernels.body_sums.body_integrals`) and, for ``consistent``, the tension
 force and torque in contour form (the spline of c on the body's window, then its edges'
-or circles' nodes, ``edge_sums``, ``arc_node``; the CPU's
+or circles' nodes, ``edge_sums``, ``arc_orbit``; the CPU's
 :func:`pde_rotor.kernels.body_sums.body_contour`), each split among a block's threads and
 summed by a fixed-order tree in shared memory (:func:`reduce_sums`).
 """
@@ -26,7 +26,7 @@ _tension_integrand = GPU.tension.tension_integrand
 _friction_moments = GPU.motion.friction_moments
 _polygon_band = GPU.tension.polygon_band
 _edge_sums = GPU.tension.edge_sums
-_arc_node = GPU.tension.arc_node
+_arc_orbit = GPU.tension.arc_orbit
 
 
 @device_function
@@ -102,7 +102,9 @@ def area_sums(src, k, m, state, surface, bodies, p, red):
 def contour_sums(src, k, m, state, surface, bodies, scratch, tables, p, red):
     """Body k's int F_k grad c dA (x, y) and int F_k (r - X_k) x grad c dA in contour form
     (``consistent``) into red[0], red[n_threads], red[2 n_threads] (all threads; the
-    sums of :func:`pde_rotor.kernels.body_sums.body_contour`)."""
+    sums of :func:`pde_rotor.kernels.body_sums.body_contour`: a thread takes a polygon's
+    or strip's (edge, band node), or a circle's orbit of four mirror-image nodes on one
+    ring, ``arc_orbit``, turned into the lab frame on its own)."""
     buf = state[0]
     coords, _ = surface
     body, _, pose, _, _ = bodies
@@ -134,6 +136,7 @@ def contour_sums(src, k, m, state, surface, bodies, scratch, tables, p, red):
     n_s, n_t = quad_s.shape[1], quad_t.shape[1]
     delta = p.smoothing
     grid = (0, n, x0, inv_dx)
+    lattice = (0, n, inv_dx)
     f_x = 0.0
     f_y = 0.0
     torque = 0.0
@@ -166,33 +169,39 @@ def contour_sums(src, k, m, state, surface, bodies, scratch, tables, p, red):
             f_y += c
             torque += e
     else:  # a disk plate's circles about X_k, or each pill's about its centre
-        n_arc = ARC_EDGES * n_t
-        step = 2.0 * math.pi / n_arc
+        quarter = ARC_EDGES * n_t // 4  # the nodes in orbits of four mirror images
+        step = 0.5 * math.pi / quarter
+        cos_phi, sin_phi = math.cos(phi), math.sin(phi)
         first, last = b.pill_start, b.pill_start + b.pill_count
         if b.plate == PLATE_DISK:
             first, last = 0, 1
         total = 0
         for q in range(first, last):
-            total += (b.ring_count if b.plate == PLATE_DISK else pill_tab[q, 5]) * n_arc
-        for node in range(tid, total, n_threads):  # (circle, ring node, angle) in order
-            rest = node
+            total += (b.ring_count if b.plate == PLATE_DISK else pill_tab[q, 5]) * quarter
+        for orbit in range(tid, total, n_threads):  # (circle, ring node, orbit) in order
+            rest = orbit
             q = first
             r0, r_count = b.ring_start, b.ring_count
             for each in range(first, last):
                 q = each
                 if b.plate != PLATE_DISK:
                     r0, r_count = pill_tab[each, 4], pill_tab[each, 5]
-                if rest < r_count * n_arc:
+                if rest < r_count * quarter:
                     break
-                rest -= r_count * n_arc
+                rest -= r_count * quarter
             cx, cy = x_k, y_k
             if b.plate != PLATE_DISK:
                 cx, cy = centres[m, 0, q], centres[m, 1, q]
-            ring = r0 + rest // n_arc
+            ring = r0 + rest // quarter
             h = rings[0, ring]
             weight = rings[1, ring] * h * step
-            angle = phi + step * (rest % n_arc)
-            a, c = _arc_node(cm, grid, cx, cy, h, math.cos(angle), math.sin(angle), weight, p)
+            angle = step * (rest % quarter)
+            circle = (cx, cy, h, cos_phi, sin_phi)
+            s_x, s_y = _arc_orbit(cm, lattice, circle, math.cos(angle), math.sin(angle), p)
+            s_x *= weight
+            s_y *= weight
+            a = cos_phi * s_x - sin_phi * s_y
+            c = sin_phi * s_x + cos_phi * s_y
             f_x += a
             f_y += c
             torque += (cx - x_k) * c - (cy - y_k) * a

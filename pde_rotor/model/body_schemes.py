@@ -80,7 +80,9 @@ from .schemes import sech2_gauss, surface_pressure
 
 ARC_EDGES = 4
 """A circle carries as many equally spaced contour nodes as this many straight edges
-(``numerics.contour_nodes`` each)."""
+(``numerics.contour_nodes`` each); a multiple of 4, so that the compiled kernels take the
+nodes in orbits of four under the body frame's mirrors
+(:func:`pde_rotor.kernels.body_arcs.circle_sums`)."""
 
 
 @dataclass(frozen=True)

@@ -5,8 +5,9 @@ the ``consistent`` scheme (:mod:`.indicators`) read a field between its cell cen
 through its interpolating cubic spline: Unser's recursive B-spline prefilter, symmetric
 under mirroring (:func:`spline_line` from its steps :func:`spline_reach`,
 :func:`spline_coefficient`), the B-spline weights and taps
-(:func:`bspline_weights`, :func:`spline_node`, :func:`spline_sum`) and the value at a
-point (:func:`interpolate`). ``scipy.ndimage`` does the same outside compiled code
+(:func:`bspline_weights`, :func:`spline_node`, :func:`spline_sum`; about the grid's
+middle, mirror for mirror, :func:`mirror_node`) and the value at a point
+(:func:`interpolate`). ``scipy.ndimage`` does the same outside compiled code
 (:func:`pde_rotor.model.schemes.interpolate_spline`, the test oracle).
 """
 
@@ -34,6 +35,7 @@ class Spline(NamedTuple):
     spline_line: Callable
     bspline_weights: Callable
     spline_node: Callable
+    mirror_node: Callable
     spline_sum: Callable
     interpolate: Callable
 
@@ -120,6 +122,31 @@ def make_spline(jit: Callable[[Callable], Callable]) -> Spline:
         return k, f - k
 
     @jit
+    def mirror_node(n, d):
+        """(first, step, t): the taps of the cubic spline along an axis of n nodes at the
+        point d nodes from their middle (n - 1) / 2, read as mirror images of each other
+        at d and -d.
+
+        The point lies at |d| + 1/2 (n even) or |d| (n odd) past the node n // 2 - 1 or
+        (n - 1) / 2; k is the node at or before it, t in [0, 1) the fraction of the way
+        to the next. For d >= 0 the taps are the nodes k - 1 .. k + 2 (first k - 1,
+        step +1) with the weights :func:`bspline_weights` of t, those of
+        :func:`spline_node`; for d < 0 their mirror images n - 1 - (k - 1) ..
+        n - 1 - (k + 2) (first n - k, step -1) with the same weights in the same order.
+        A point and its mirror image thus do the same arithmetic on mirrored taps: on
+        coefficients symmetric under i -> n - 1 - i their values agree bit for bit,
+        whatever the rounding of t, the order of the sums or the fused multiply-adds.
+        Where t = 0 a point at d < 0 reads one tap beyond spline_node's four, with
+        weight 0.
+        """
+        g = abs(d) + 0.5 * (1 - n % 2)
+        past = int(g)  # g >= 0: truncation is the floor
+        k = (n - 1) // 2 + past
+        if d >= 0.0:
+            return k - 1, 1, g - past
+        return n - k, -1, g - past
+
+    @jit
     def spline_sum(coef, row, sx, sy, wx, wy):
         """sum_(a, b) wx_a wy_b coef[row + a sx + b sy], a, b = 0 .. 3: the 4 x 4 taps
         of a cubic spline from its first, `row`, the offsets `sx`, `sy` of the next node
@@ -169,6 +196,7 @@ def make_spline(jit: Callable[[Callable], Callable]) -> Spline:
         spline_line=spline_line,
         bspline_weights=bspline_weights,
         spline_node=spline_node,
+        mirror_node=mirror_node,
         spline_sum=spline_sum,
         interpolate=interpolate,
     )

@@ -25,13 +25,17 @@ the bodies':
   :func:`edge_node` (its shares); :func:`edge_sums` adds an edge's nodes in order,
   :func:`polygon_band` gives the level of a polygon's band node and
   :func:`polygon_node` enumerates a polygon's nodes one by one (the GPU's threads). A
-  circle's node is :func:`arc_node`.
+  circle's nodes come four at a time, mirror images of each other (:func:`arc_orbit`,
+  c at each from :func:`arc_value`).
 
 A ``grid`` is the tuple (o0, n, x0, inv_dx): the offset of the first of the n x n
 B-spline coefficients of c, their count along a side, the coordinate of cell 0's centre
 and 1 / dx. An ``edge`` is (cx, cy, ex, ey, h, half): the centre X, the edge's normal e,
 the level h and the half length of the edge, whose points are X + h e + t tau,
-tau = e turned by +pi/2, |t| <= half. Every function that reads c takes the run's
+tau = e turned by +pi/2, |t| <= half. A circle's nodes are placed about the grid's middle,
+the origin of the dish frame in which the kernels' coordinates and the poses are measured
+(:mod:`pde_rotor.model.domain`), which both mirrors of the grid fix: its ``lattice`` is
+(o0, n, inv_dx). Every function that reads c takes the run's
 parameter record `p` (:data:`pde_rotor.kernels.records.PARAMS`, as
 :mod:`pde_rotor.physics.rates` does) and reads the law's scalars from it, so that a new
 scalar of the tension law is a field of the record read here, with no signature to change.
@@ -55,7 +59,8 @@ class Tension(NamedTuple):
     edge_node: Callable
     edge_sums: Callable
     polygon_node: Callable
-    arc_node: Callable
+    arc_value: Callable
+    arc_orbit: Callable
 
 
 def make_tension(jit: Callable[[Callable], Callable], spline: Spline) -> Tension:
@@ -71,6 +76,7 @@ def make_tension(jit: Callable[[Callable], Callable], spline: Spline) -> Tension
         The compiled functions.
     """
     spline_node = spline.spline_node
+    mirror_node = spline.mirror_node
     bspline_weights = spline.bspline_weights
     spline_sum = spline.spline_sum
 
@@ -185,24 +191,63 @@ def make_tension(jit: Callable[[Callable], Callable], spline: Spline) -> Tension
         return edge_node(coef, grid, edge, quad_s, quad_t, m, k_t, p)
 
     @jit
-    def arc_node(coef, grid, cx, cy, h, ca, sa, weight, p):
-        """A node of a circle of the contour form: the point (cx, cy) + h (ca, sa) on the
-        level set h of a disk's gauge |r - P|, P = (cx, cy), with the quadrature weight
-        `weight` (band weight times h times the angle step).
+    def arc_value(coef, lattice, x, y, p):
+        """Pi(c) / k (:func:`surface_pressure`) at the point (x, y) of the dish frame from
+        the spline of c, its taps those of :func:`~pde_rotor.physics.spline` ``mirror_node``
+        along both axes: at the point's images under the grid's mirrors (x -> -x, y -> -y)
+        the same arithmetic on mirrored coefficients, so that on coefficients symmetric
+        under a mirror the values at a point and at its image agree bit for bit.
+        `lattice` is (o0, n, inv_dx) (module docstring)."""
+        o0, n, inv_dx = lattice
+        i, step_i, tx = mirror_node(n, x * inv_dx)
+        j, step_j, ty = mirror_node(n, y * inv_dx)
+        row = o0 + i * n + j
+        value = spline_sum(coef, row, step_i * n, step_j, bspline_weights(tx), bspline_weights(ty))
+        return surface_pressure(value, p)
+
+    @jit
+    def arc_orbit(coef, lattice, circle, ca, sa, p):
+        """Four nodes of a circle of the contour form, the images of one another under
+        the body frame's mirrors: the points P + h R(phi) (+-ca, +-sa) on the level set h
+        of a disk's gauge |r - P|, P = (cx, cy) in the dish frame, R(phi) the body's
+        turn; `circle` is (cx, cy, h, cos phi, sin phi), `lattice` as for
+        :func:`arc_value`. (ca, sa) = (cos a, sin a), 0 < a < pi/2, gives the nodes at
+        the angles a, pi - a, -a, pi + a of the body frame; (1, 0) the four on its axes,
+        0, pi, pi/2, 3 pi/2.
+
+        The nodes' offsets from P are sign flips of R(phi) (h ca, 0) and R(phi) (0, h sa),
+        not cosines and sines of their own, and the values at mirror images are
+        subtracted before anything else is added. The two products h ca and h sa, the
+        only ones that round when phi = 0, are taken on their own (no fused
+        multiply-add can take them into a sum at one node and not at its image). So on
+        a c symmetric under a mirror of the grid that is one of the body frame's
+        (phi = 0, P on the mirror's axis) the images read the same coordinates, or
+        opposite ones, each difference is 0 and so is the orbit's share across that
+        axis, exactly.
 
         Returns:
-            the node's share of int F grad c dA (x, y), weight c (ca, sa); its torque
-            about P is 0 ((r - P) x n = 0 on the circle).
+            the orbit's share of int F grad c dA in the body frame, without the ring's
+            weight: sum c n, ca ((c1 - c2) + (c3 - c4)) along the body's x axis and
+            sa ((c1 - c3) + (c2 - c4)) along its y axis (c1 .. c4 at a, pi - a, -a,
+            pi + a); its torque about P is 0 ((r - P) x n = 0 on the circle).
         """
-        o0, n, x0, inv_dx = grid
-        i, tx = spline_node(x0, inv_dx, cx + h * ca)
-        j, ty = spline_node(x0, inv_dx, cy + h * sa)
-        row = o0 + (i - 1) * n + j - 1
-        c = surface_pressure(
-            spline_sum(coef, row, n, 1, bspline_weights(tx), bspline_weights(ty)), p
-        )
-        w = weight * c
-        return w * ca, w * sa
+        cx, cy, h, cos_phi, sin_phi = circle
+        along = h * ca
+        across = h * sa
+        if sa == 0.0:  # the axes: P +- R(phi) (h, 0) and P +- R(phi) (0, h)
+            ux, uy = cos_phi * h, sin_phi * h
+            east = arc_value(coef, lattice, cx + ux, cy + uy, p)
+            west = arc_value(coef, lattice, cx - ux, cy - uy, p)
+            north = arc_value(coef, lattice, cx - uy, cy + ux, p)
+            south = arc_value(coef, lattice, cx + uy, cy - ux, p)
+            return east - west, north - south
+        ux, uy = cos_phi * along, sin_phi * along
+        vx, vy = -sin_phi * across, cos_phi * across
+        c1 = arc_value(coef, lattice, cx + (ux + vx), cy + (uy + vy), p)
+        c2 = arc_value(coef, lattice, cx + (vx - ux), cy + (vy - uy), p)
+        c3 = arc_value(coef, lattice, cx + (ux - vx), cy + (uy - vy), p)
+        c4 = arc_value(coef, lattice, cx - (ux + vx), cy - (uy + vy), p)
+        return ca * ((c1 - c2) + (c3 - c4)), sa * ((c1 - c3) + (c2 - c4))
 
     return Tension(
         surface_pressure=surface_pressure,
@@ -212,5 +257,6 @@ def make_tension(jit: Callable[[Callable], Callable], spline: Spline) -> Tension
         edge_node=edge_node,
         edge_sums=edge_sums,
         polygon_node=polygon_node,
-        arc_node=arc_node,
+        arc_value=arc_value,
+        arc_orbit=arc_orbit,
     )

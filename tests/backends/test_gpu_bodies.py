@@ -9,7 +9,8 @@ forward Euler and Heun, to 1e-10 (poses, velocities, forces, c and v), also with
 forces and torques and the saturating tension law, and so do a strip, a body without a
 plate and a fixed body, a disk in an annular channel and boats on a circular track; with
 Heun one fixed_axis body is the CPU rotor's Heun, and a free disk's trajectory converges
-at second order in dt; the no-flux dish; an early end at the dish's edge and at an
+at second order in dt; a disk at the dish's centre on a mirror-symmetric c feels no
+force, bit for bit, as on the CPU; the no-flux dish; an early end at the dish's edge and at an
 annulus' inner wall; an ensemble of members; and
 ``pde-rotor run --backend gpu`` with a bodies: list.
 """
@@ -175,6 +176,24 @@ STRIP_AND_PILLS: list[dict[str, Any]] = [
     },
 ]
 """The other plates: a free strip and a free body floating on two pills (no plate)."""
+
+
+def test_a_disk_on_a_symmetric_field_feels_no_force_as_on_the_cpu() -> None:
+    """The free disk (a disk plate, its pill off the centre) at the dish's centre, turned
+    by 0, on a c symmetric under both mirrors of the grid: on the GPU as on the CPU its
+    plate's circle feels a contour force of 0 bit for bit, each thread's orbits of four
+    mirror-image nodes adding up to 0 (tests/kernels/test_body_arcs.py)."""
+    disk = {**DISK, "start": {"x": 0.0, "y": 0.0, "omega": 2.0}}
+    cfg = config([disk], grid={"domain_radius": 1.6}, numerics={"scheme": "consistent"})
+    for stepper in (None, gpu_bodies_stepper):
+        sim = Simulation(cfg) if stepper is None else Simulation(cfg, stepper=stepper)
+        smooth_fields(sim)
+        c = sim.state.data[0]
+        c = c + c[::-1, :]
+        sim.state.data[0] = c + c[:, ::-1]
+        sim.run(cfg.grid.dt)
+        assert np.all(sim.bodies.poses[0, 6:8] == 0.0)
+        assert sim.bodies.poses[0, 11] != 0.0  # the step did take the disk's integrals
 
 
 @pytest.mark.parametrize("scheme", ["paper", "consistent"])
