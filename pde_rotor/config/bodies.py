@@ -60,6 +60,7 @@ from .fields import (
     _Section,
 )
 from .protocol import ProtocolConfig
+from .recorded import BuiltInto
 
 INSIDE_TOLERANCE = 1e-12
 """A pill may touch its plate's edge to within this (the paper's pills touch both edges
@@ -314,8 +315,20 @@ class StartConfig(_Section):
     )
 
 
-class BodyConfig(_Section):
-    """One camphor object on the surface: plate, pills, motion, start, protocol, noise."""
+class BodyLoads(_Section):
+    """The constant external loads of Eq. (eq_motion) that every turning body takes, the
+    shorthand's rotor included (its ``rotor:`` section derives from this class, and
+    :meth:`pde_rotor.config.RotorConfig.rotor_body` hands each key to the rotor's body):
+    a load added here reaches every body and the rotor alike."""
+
+    external_torque: FiniteFloat = Field(
+        0.0, description="a constant external torque about the body's origin, Eq. (eq_motion)"
+    )
+
+
+class BodyConfig(BodyLoads):
+    """One camphor object on the surface: plate, pills, motion, start, protocol, noise and
+    its external loads (:class:`BodyLoads` and ``external_force``)."""
 
     name: str | None = Field(
         None,
@@ -333,7 +346,7 @@ class BodyConfig(_Section):
     protocol: ProtocolConfig | None = Field(
         None, description="the body's own stops (null: never stopped)"
     )
-    noise_sigma: NonNegativeFloat | None = Field(
+    noise_sigma: Annotated[NonNegativeFloat | None, BuiltInto("kick")] = Field(
         None,
         description=(
             "sigma of the torque noise on the body's rotation, Eq. (noiseav) (null: the "
@@ -343,9 +356,6 @@ class BodyConfig(_Section):
     external_force: tuple[FiniteFloat, FiniteFloat] = Field(
         (0.0, 0.0),
         description="[f_x, f_y]: a constant external force on a free body, Eq. (eq_motion)",
-    )
-    external_torque: FiniteFloat = Field(
-        0.0, description="a constant external torque about the body's origin, Eq. (eq_motion)"
     )
 
     def extent(self) -> float:
