@@ -326,9 +326,9 @@ class BodyLoads(_Section):
     )
 
 
-class BodyConfig(BodyLoads):
-    """One camphor object on the surface: plate, pills, motion, start, protocol, noise and
-    its external loads (:class:`BodyLoads` and ``external_force``)."""
+class BodyKeys(_Section):
+    """A body's keys besides :class:`BodyLoads`: plate, pills, motion, start, protocol,
+    noise, external force (a base of :class:`BodyConfig`, so that its keys come first)."""
 
     name: str | None = Field(
         None,
@@ -357,6 +357,11 @@ class BodyConfig(BodyLoads):
         (0.0, 0.0),
         description="[f_x, f_y]: a constant external force on a free body, Eq. (eq_motion)",
     )
+
+
+class BodyConfig(BodyLoads, BodyKeys):
+    """One camphor object on the surface: plate, pills, motion, start, protocol, noise and
+    its external loads (:class:`BodyKeys`, then :class:`BodyLoads`)."""
 
     def extent(self) -> float:
         """Radius of the smallest disk about the body's origin holding plate and pills."""

@@ -25,9 +25,9 @@ from .recorded import BuiltInto, NotRecorded
 _INITIAL = NotRecorded("an initial condition: the rotor's state at t = 0")
 
 
-class RotorDynamicsConfig(BodyLoads):
-    """Rotor dynamics, Eq. (eq_motion), and its initial condition; the external loads a body
-    takes (:class:`~pde_rotor.config.bodies.BodyLoads`), handed to the rotor's body."""
+class RotorKeys(_Section):
+    """The rotor's own keys: its dynamics, Eq. (eq_motion), and initial condition (a base
+    of :class:`RotorDynamicsConfig`, so that they come before the loads)."""
 
     inertia: PositiveFloat = Field(
         PAPER_INERTIA,
@@ -51,6 +51,12 @@ class RotorDynamicsConfig(BodyLoads):
             "printed: T = int_Omega r x (-grad gamma) dA as printed in Eq. (torque)"
         ),
     )
+
+
+class RotorDynamicsConfig(BodyLoads, RotorKeys):
+    """Rotor dynamics, Eq. (eq_motion), and its initial condition (:class:`RotorKeys`), and
+    the external loads every body takes (:class:`~pde_rotor.config.bodies.BodyLoads`),
+    handed to the rotor's body (:meth:`pde_rotor.config.RotorConfig.rotor_body`)."""
 
 
 CALIBRATED_SIGMA = 1.5e-7
