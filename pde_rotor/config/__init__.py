@@ -31,7 +31,8 @@ is compiled.
 * :mod:`.yaml_io`: YAML in and out, ``--set`` overrides, the dotted-key setter;
 * :mod:`.messages`: one-line messages naming the key path and the allowed values;
 * :mod:`.errors`: the two errors of configuration input;
-* :mod:`.compare`: which physics settings two configs differ in.
+* :mod:`.compare`: which physics settings two configs differ in;
+* :mod:`.recorded`: how each key reaches the compiled records, declared next to the key.
 """
 
 from __future__ import annotations
@@ -39,6 +40,7 @@ from __future__ import annotations
 from .bodies import (
     FREE_FRICTION,
     BodyConfig,
+    BodyLoads,
     DiskPlate,
     FixedAxisMotion,
     FixedMotion,
@@ -92,6 +94,7 @@ __all__ = [
     "TIME_KEYS",
     "X_SATURATION",
     "BodyConfig",
+    "BodyLoads",
     "CamphorConfig",
     "ConfigError",
     "ContactConfig",

@@ -60,6 +60,7 @@ from .fields import (
     _Section,
 )
 from .protocol import ProtocolConfig
+from .recorded import BuiltInto
 
 INSIDE_TOLERANCE = 1e-12
 """A pill may touch its plate's edge to within this (the paper's pills touch both edges
@@ -330,8 +331,20 @@ class StartConfig(_Section):
     )
 
 
-class BodyConfig(_Section):
-    """One camphor object on the surface: plate, pills, motion, start, protocol, noise."""
+class BodyLoads(_Section):
+    """The constant external loads of Eq. (eq_motion) that every turning body takes, the
+    shorthand's rotor included (its ``rotor:`` section derives from this class, and
+    :meth:`pde_rotor.config.RotorConfig.rotor_body` hands each key to the rotor's body):
+    a load added here reaches every body and the rotor alike."""
+
+    external_torque: FiniteFloat = Field(
+        0.0, description="a constant external torque about the body's origin, Eq. (eq_motion)"
+    )
+
+
+class BodyKeys(_Section):
+    """A body's keys besides :class:`BodyLoads`: plate, pills, motion, start, protocol,
+    noise, external force (a base of :class:`BodyConfig`, so that its keys come first)."""
 
     name: str | None = Field(
         None,
@@ -349,7 +362,7 @@ class BodyConfig(_Section):
     protocol: ProtocolConfig | None = Field(
         None, description="the body's own stops (null: never stopped)"
     )
-    noise_sigma: NonNegativeFloat | None = Field(
+    noise_sigma: Annotated[NonNegativeFloat | None, BuiltInto("kick")] = Field(
         None,
         description=(
             "sigma of the torque noise on the body's rotation, Eq. (noiseav) (null: the "
@@ -360,9 +373,11 @@ class BodyConfig(_Section):
         (0.0, 0.0),
         description="[f_x, f_y]: a constant external force on a free body, Eq. (eq_motion)",
     )
-    external_torque: FiniteFloat = Field(
-        0.0, description="a constant external torque about the body's origin, Eq. (eq_motion)"
-    )
+
+
+class BodyConfig(BodyLoads, BodyKeys):
+    """One camphor object on the surface: plate, pills, motion, start, protocol, noise and
+    its external loads (:class:`BodyKeys`, then :class:`BodyLoads`)."""
 
     def extent(self) -> float:
         """Radius of the smallest disk about the body's origin holding plate and pills."""

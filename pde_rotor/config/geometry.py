@@ -7,6 +7,7 @@ pills, Eqs. (rc), (rj) and paper Fig. 1.
 from __future__ import annotations
 
 import math
+from typing import Annotated
 
 from pydantic import Field, model_validator
 
@@ -22,6 +23,7 @@ from .fields import (
     PositiveFloat,
     _Section,
 )
+from .recorded import BuiltInto
 
 
 class GeometryConfig(_Section):
@@ -30,11 +32,13 @@ class GeometryConfig(_Section):
     n_corners: Int = Field(
         PAPER_N_CORNERS, ge=3, le=24, description="N: number of plate corners and pills"
     )
-    radius: PositiveFloat = Field(PAPER_PLATE_RADIUS, description="R: circumradius of the plate")
+    radius: Annotated[PositiveFloat, BuiltInto("apothem")] = Field(
+        PAPER_PLATE_RADIUS, description="R: circumradius of the plate"
+    )
     pill_radius: PositiveFloat = Field(
         PAPER_PILL_RADIUS, description="rho: radius of one camphor pill"
     )
-    pill_inset: NonNegativeFloat = Field(
+    pill_inset: Annotated[NonNegativeFloat, BuiltInto("pill_distance")] = Field(
         0.05, description="p: extra inward shift of the pills, Eq. (rc)"
     )
     asymmetry: FiniteFloat = Field(

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Annotated, Literal
 
 from pydantic import Field
 
@@ -11,6 +11,7 @@ from .fields import (
     PositiveFloat,
     _Section,
 )
+from .recorded import BuiltInto
 from .vessel import VesselShape
 
 DISH_CENTRE = (0.0, 0.0)
@@ -23,12 +24,14 @@ class GridConfig(_Section):
     """Cartesian grid covering the circular domain of radius L (v = 0 outside; c = 0 outside
     with the absorbing wall, dc/dr = 0 at L with the no-flux wall)."""
 
-    domain_radius: PositiveFloat = Field(
+    domain_radius: Annotated[PositiveFloat, BuiltInto("vessel_b")] = Field(
         3.0, le=100.0, description="L: radius of the circular domain"
     )
     dx: PositiveFloat = Field(0.025, description="grid spacing")
-    dt: PositiveFloat = Field(1e-4, description="explicit Euler time step")
-    domain_centre: tuple[FiniteFloat, FiniteFloat] = Field(
+    dt: Annotated[PositiveFloat, BuiltInto("dt")] = Field(
+        1e-4, description="explicit Euler time step"
+    )
+    domain_centre: Annotated[tuple[FiniteFloat, FiniteFloat], BuiltInto("vessel_x")] = Field(
         DISH_CENTRE,
         description="[x, y]: centre of the circular domain (the dish) that holds the bodies",
     )

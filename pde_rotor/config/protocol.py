@@ -2,22 +2,25 @@
 
 from __future__ import annotations
 
+from typing import Annotated
+
 from pydantic import Field, model_validator
 
 from .errors import FieldError
 from .fields import CYCLES_BOUND, TIME_BOUND, Int, NonNegativeFloat, PositiveFloat, _Section
+from .recorded import BuiltInto
 
 
 class ProtocolConfig(_Section):
     """Stop-and-release operations (paper section "Model", last part)."""
 
-    t_ini: NonNegativeFloat = Field(
+    t_ini: Annotated[NonNegativeFloat, BuiltInto("n_ini")] = Field(
         10.0, le=TIME_BOUND, description="t_ini: free rotation before the first stop"
     )
-    t_stop: NonNegativeFloat = Field(
+    t_stop: Annotated[NonNegativeFloat, BuiltInto("n_stop")] = Field(
         0.5, le=TIME_BOUND, description="t_stop: duration of one forced stop"
     )
-    t_release: PositiveFloat = Field(
+    t_release: Annotated[PositiveFloat, BuiltInto("n_period")] = Field(
         10.0, le=TIME_BOUND, description="t_release: free rotation after a stop"
     )
     cycles: Int = Field(

@@ -3,10 +3,11 @@ section (its torque noise, Eq. (noiseav)), with the calibrated noise intensities
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Annotated, Literal
 
 from pydantic import Field
 
+from .bodies import BodyLoads
 from .fields import (
     ANGLE_BOUND,
     OMEGA_BOUND,
@@ -19,10 +20,14 @@ from .fields import (
     PositiveFloat,
     _Section,
 )
+from .recorded import BuiltInto, NotRecorded
+
+_INITIAL = NotRecorded("an initial condition: the rotor's state at t = 0")
 
 
-class RotorDynamicsConfig(_Section):
-    """Rotor dynamics, Eq. (eq_motion), and its initial condition."""
+class RotorKeys(_Section):
+    """The rotor's own keys: its dynamics, Eq. (eq_motion), and initial condition (a base
+    of :class:`RotorDynamicsConfig`, so that they come before the loads)."""
 
     inertia: PositiveFloat = Field(
         PAPER_INERTIA,
@@ -33,22 +38,25 @@ class RotorDynamicsConfig(_Section):
     friction: NonNegativeFloat = Field(
         PAPER_FRICTION, le=PAPER_FRICTION * SCALE_BOUND, description="mu: friction constant"
     )
-    phi0: FiniteFloat = Field(
+    phi0: Annotated[FiniteFloat, _INITIAL] = Field(
         1.0, ge=-ANGLE_BOUND, le=ANGLE_BOUND, description="phi(0): initial angle [rad]"
     )
-    omega0: FiniteFloat = Field(
+    omega0: Annotated[FiniteFloat, _INITIAL] = Field(
         0.1, ge=-OMEGA_BOUND, le=OMEGA_BOUND, description="dphi/dt(0): initial angular velocity"
     )
-    external_torque: FiniteFloat = Field(
-        0.0, description="a constant external torque on the rotor, Eq. (eq_motion)"
-    )
-    torque: Literal["physical", "printed"] = Field(
+    torque: Annotated[Literal["physical", "printed"], BuiltInto("torque_sign")] = Field(
         "physical",
         description=(
             "physical: T = -k int F r x grad c dA (contour integral of gamma n); "
             "printed: T = int_Omega r x (-grad gamma) dA as printed in Eq. (torque)"
         ),
     )
+
+
+class RotorDynamicsConfig(BodyLoads, RotorKeys):
+    """Rotor dynamics, Eq. (eq_motion), and its initial condition (:class:`RotorKeys`), and
+    the external loads every body takes (:class:`~pde_rotor.config.bodies.BodyLoads`),
+    handed to the rotor's body (:meth:`pde_rotor.config.RotorConfig.rotor_body`)."""
 
 
 CALIBRATED_SIGMA = 1.5e-7
@@ -85,7 +93,9 @@ class NoiseConfig(_Section):
     no noise, and :data:`CALIBRATED_SIGMA` is the intensity calibrated to the paper.
     """
 
-    sigma: NonNegativeFloat = Field(0.0, description="sigma: torque noise intensity")
-    seed: Int | None = Field(
+    sigma: Annotated[NonNegativeFloat, BuiltInto("kick")] = Field(
+        0.0, description="sigma: torque noise intensity"
+    )
+    seed: Annotated[Int | None, NotRecorded("seeds the host's generator of the normals")] = Field(
         None, ge=0, description="seed of the numpy Generator (null: drawn and recorded per run)"
     )

@@ -26,6 +26,7 @@ from pydantic import Field, model_validator
 
 from .bodies import (
     BodyConfig,
+    BodyLoads,
     FixedAxisMotion,
     FixedMotion,
     FreeMotion,
@@ -343,14 +344,8 @@ class RotorConfig(_Section):
     def body_list(self) -> list[BodyConfig]:
         """The bodies on the surface, every inherited key resolved (:mod:`.bodies`).
 
-        Without ``bodies``: one body, the paper's rotor of the shorthand. Its plate is
-        the polygon (geometry.n_corners, geometry.radius); its pills lie at
-        R_c e(2 pi j / N + Delta), j = 1..N, computed with the expression of
-        :func:`pde_rotor.model.geometry.pill_angles` and ``pill_centres`` (bit for bit
-        their positions at phi = 0), with geometry.pill_radius and camphor.supply; it
-        turns about the origin (fixed_axis with rotor.inertia, rotor.friction), starts
-        at rotor.phi0, rotor.omega0, is stopped by the run's protocol and kicked by the
-        run's noise.sigma.
+        Without ``bodies``: one body, the paper's rotor of the shorthand
+        (:meth:`rotor_body`).
         """
         if self.bodies is not None:
             return [
@@ -364,6 +359,21 @@ class RotorConfig(_Section):
                 )
                 for k, body in enumerate(self.bodies)
             ]
+        return [self.rotor_body()]
+
+    def rotor_body(self) -> BodyConfig:
+        """The paper's rotor of the shorthand (``geometry:``, ``rotor:``) as a body.
+
+        Its plate is the polygon (geometry.n_corners, geometry.radius); its pills lie at
+        R_c e(2 pi j / N + Delta), j = 1..N, computed with the expression of
+        :func:`pde_rotor.model.geometry.pill_angles` and ``pill_centres`` (bit for bit
+        their positions at phi = 0), with geometry.pill_radius and camphor.supply; it
+        turns about the origin (fixed_axis with rotor.inertia, rotor.friction), starts
+        at rotor.phi0, rotor.omega0, is stopped by the run's protocol, kicked by the
+        run's noise.sigma and loaded by every key of :class:`BodyLoads` in ``rotor:``
+        (rotor.external_torque). The one body of :meth:`body_list` without ``bodies``;
+        with them, the run record's body fields (:mod:`pde_rotor.kernels.records`).
+        """
         geo = self.geometry
         n = geo.n_corners
         angles = 0.0 + 2 * np.pi * np.arange(1, n + 1) / n + geo.asymmetry
@@ -373,7 +383,7 @@ class RotorConfig(_Section):
             for px, py in centres
         ]
         rotor = self.rotor
-        body = BodyConfig(
+        return BodyConfig(
             name="body0",
             plate=PolygonPlate(n_corners=n, radius=geo.radius),
             pills=pills,
@@ -381,9 +391,8 @@ class RotorConfig(_Section):
             start=StartConfig(angle=rotor.phi0, omega=rotor.omega0),
             protocol=self.protocol,
             noise_sigma=self.noise.sigma,
-            external_torque=rotor.external_torque,
+            **{key: getattr(rotor, key) for key in BodyLoads.model_fields},
         )
-        return [body]
 
     def time_keys(self) -> list[str]:
         """:data:`TIME_KEYS` and the times of every body's own protocol

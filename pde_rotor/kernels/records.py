@@ -1,11 +1,20 @@
-"""The scalar parameters of the compiled kernels as one numpy record per run.
+"""The parameters of the compiled kernels as numpy records: ``PARAMS`` per run, ``BODY``
+per body.
 
 :data:`PARAMS` is the structured dtype that the CPU loops (:mod:`pde_rotor.kernels.cpu`),
 the CUDA kernel (:mod:`pde_rotor.kernels.cuda`) and the compiled physics
 (:mod:`pde_rotor.physics`) read by field name (numba compiles ``p.dt`` to a load of
-the record's field on both targets); :func:`make_record` is the one place that fills it
-from a run's configuration. Adding a parameter to the kernels touches the schema
-(:mod:`pde_rotor.config.schema`), this builder and the physics function that uses it.
+the record's field on both targets); :func:`make_record` fills it from a run's
+configuration, :func:`make_body_records` the :data:`BODY` records of the bodies.
+
+Their fields that come from the config are derived from the schema, not listed here
+(:mod:`pde_rotor.config.recorded`): every numeric key of the run's sections
+:data:`PARAMS_SECTIONS` and of a body (:class:`pde_rotor.config.BodyConfig`, whose
+:class:`~pde_rotor.config.BodyLoads` the rotor's ``rotor:`` section takes too) is the
+field of its name with its value, or the field its marker names. A new numeric key
+therefore reaches ``p.NAME`` (``b.NAME`` for a body's) with no edit of this module; what is
+written here are the fields computed from several keys, from the time step, from the
+scheme or from the bodies' shapes (:data:`BUILT_PARAMS`, :data:`BUILT_BODY`).
 
 The fields, by the equation that uses them (Koyano et al., Chaos 2020):
 
@@ -45,10 +54,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from functools import cache
 
 import numpy as np
+from pydantic import BaseModel
 
-from ..config import RotorConfig
+from ..config import BodyConfig, RotorConfig
+from ..config.recorded import record_layout, record_values
 from ..model.bodies import Body
 from ..model.body_schemes import BodyScheme
 from ..model.filtering import CREASE_WIDTHS
@@ -58,91 +70,93 @@ from ..model.protocol import StopSchedule
 from ..model.schemes import Scheme
 from ..physics.motion import MOTION_FIXED_AXIS, VESSEL_ANNULUS, VESSEL_RECTANGLE
 
-_F8, _I8, _B1 = np.float64, np.int64, np.bool_
+_F8, _I8, _B1 = "f8", "i8", "b1"
 
-CONFIG_FIELDS: dict[str, str] = {
-    "dx": "grid.dx",
-    "diffusion": "camphor.diffusion",
-    "evaporation": "camphor.evaporation",
-    "tension_slope": "camphor.tension_slope",
-    "flow": "flow.enabled",
-    "drag": "flow.drag",
-    "bulk_drag": "flow.bulk_drag",
-    "viscosity": "flow.viscosity",
-    "inertia": "rotor.inertia",
-    "friction": "rotor.friction",
-    "external_torque": "rotor.external_torque",
-    "n_corners": "geometry.n_corners",
-    "pill_radius": "geometry.pill_radius",
-    "pill_distance": "geometry.pill_distance",
-    "asymmetry": "geometry.asymmetry",
-    "smoothing": "geometry.smoothing",
-    "cycles": "protocol.cycles",
-}
-"""Record fields copied from the configuration: field name -> dotted key of the config."""
+PARAMS_SECTIONS = ("geometry", "camphor", "flow", "rotor", "noise", "protocol", "grid")
+"""The run's sections whose keys are fields of :data:`PARAMS` (with the rotor's body's,
+:meth:`pde_rotor.config.RotorConfig.rotor_body`)."""
 
-PARAMS = np.dtype(
-    [
-        ("dt", _F8),
-        ("dx", _F8),
-        ("diffusion", _F8),
-        ("evaporation", _F8),
-        ("source", _F8),
-        ("drag", _F8),
-        ("bulk_drag", _F8),
-        ("viscosity", _F8),
-        ("tension_slope", _F8),
-        ("inv_saturation", _F8),
-        ("torque_sign", _F8),
-        ("inertia", _F8),
-        ("friction", _F8),
-        ("kick", _F8),
-        ("n_corners", _I8),
-        ("apothem", _F8),
-        ("pill_radius", _F8),
-        ("pill_distance", _F8),
-        ("asymmetry", _F8),
-        ("smoothing", _F8),
-        ("n_ini", _I8),
-        ("n_stop", _I8),
-        ("n_period", _I8),
-        ("cycles", _I8),
-        ("motion", _I8),
-        ("mass", _F8),
-        ("external_force_x", _F8),
-        ("external_force_y", _F8),
-        ("external_torque", _F8),
-        ("track_x", _F8),
-        ("track_y", _F8),
-        ("track_radius", _F8),
-        ("track_direction", _F8),
-        ("track_force", _F8),
-        ("tan_half", _F8),
-        ("window_lo", _I8),
-        ("window_hi", _I8),
-        ("taps_lo", _I8),
-        ("taps_hi", _I8),
-        ("table_n", _I8),
-        ("table_x0", _F8),
-        ("table_inv_step", _F8),
-        ("profile_inv_step", _F8),
-        ("crease", _F8),
-        ("corner_end", _F8),
-        ("edge_u0", _F8),
-        ("edge_inv_step", _F8),
-        ("vessel", _I8),
-        ("vessel_x", _F8),
-        ("vessel_y", _F8),
-        ("vessel_a", _F8),
-        ("vessel_b", _F8),
-        ("contact_stiffness", _F8),
-        ("contact_range", _F8),
-        ("contact_damping", _F8),
-        ("flow", _B1),
-        ("contour", _B1),
-        ("filtered", _B1),
-    ],
-    align=True,
+BUILT_PARAMS: tuple[tuple[str, str], ...] = (
+    ("dt", _F8),
+    ("source", _F8),
+    ("torque_sign", _F8),
+    ("kick", _F8),
+    ("apothem", _F8),
+    ("pill_distance", _F8),
+    ("n_ini", _I8),
+    ("n_stop", _I8),
+    ("n_period", _I8),
+    ("motion", _I8),
+    ("mass", _F8),
+    ("track_x", _F8),
+    ("track_y", _F8),
+    ("track_radius", _F8),
+    ("track_direction", _F8),
+    ("track_force", _F8),
+    ("tan_half", _F8),
+    ("window_lo", _I8),
+    ("window_hi", _I8),
+    ("taps_lo", _I8),
+    ("taps_hi", _I8),
+    ("table_n", _I8),
+    ("table_x0", _F8),
+    ("table_inv_step", _F8),
+    ("profile_inv_step", _F8),
+    ("crease", _F8),
+    ("corner_end", _F8),
+    ("edge_u0", _F8),
+    ("edge_inv_step", _F8),
+    ("vessel", _I8),
+    ("vessel_x", _F8),
+    ("vessel_y", _F8),
+    ("vessel_a", _F8),
+    ("vessel_b", _F8),
+    ("contact_stiffness", _F8),
+    ("contact_range", _F8),
+    ("contact_damping", _F8),
+    ("contour", _B1),
+    ("filtered", _B1),
+)
+"""The fields of :data:`PARAMS` that :func:`make_record` computes (module docstring)."""
+
+
+def _dtype(
+    built: Sequence[tuple[str, str]],
+    sections: Sequence[list[tuple[str, str]]],
+    body: list[tuple[str, str]],
+) -> np.dtype:
+    """The record of the `built` fields, the config's `sections` and the `body` layout
+    (:func:`pde_rotor.config.recorded.record_layout`). A body field that a section has
+    with the same type is one field (the ``rotor:`` section's loads are its body's).
+
+    Raises:
+        TypeError: a config field named as a built one or as one of another section.
+    """
+    fields = dict(built)
+    shared = {}
+    for layout in (*sections, body):
+        for name, kind in layout:
+            if name in fields and shared.get(name) != kind:
+                msg = (
+                    f"the config's record field {name!r} ({kind}) is already a field of the "
+                    f"record ({fields[name]}): rename the key or mark it "
+                    "(pde_rotor/config/recorded.py)"
+                )
+                raise TypeError(msg)
+            fields[name] = kind
+            if layout is not body:
+                shared[name] = kind
+    return np.dtype(list(fields.items()), align=True)
+
+
+@cache
+def params_dtype(sections: tuple[type[BaseModel], ...], body: type[BaseModel]) -> np.dtype:
+    """:data:`PARAMS` for the section classes of :data:`PARAMS_SECTIONS` and the body's class."""
+    return _dtype(BUILT_PARAMS, [record_layout(cls) for cls in sections], record_layout(body))
+
+
+PARAMS = params_dtype(
+    tuple(RotorConfig.model_fields[name].annotation for name in PARAMS_SECTIONS), BodyConfig
 )
 """The kernels' parameter record (fields: see the module docstring)."""
 
@@ -159,17 +173,19 @@ def make_record(config: RotorConfig, scheme: Scheme, dt: float) -> np.ndarray:
         A (1,) array of dtype :data:`PARAMS`, which the CPU loops take (and read as
         ``params[0]``); the GPU stacks one per member.
     """
-    rec = np.zeros(1, dtype=PARAMS)
-    for name, key in CONFIG_FIELDS.items():
-        rec[name] = config.get(key)
+    body = config.rotor_body()
+    sections = [getattr(config, name) for name in PARAMS_SECTIONS]
+    rec = np.zeros(1, dtype=params_dtype(tuple(map(type, sections)), type(body)))
+    for part in (body, *sections):
+        for name, value in record_values(part).items():
+            rec[name] = value
     rho = config.geometry.pill_radius
     rec["dt"] = dt
     rec["source"] = config.camphor.supply / (math.pi * rho**2)
     rec["torque_sign"] = TORQUE_SIGN[config.rotor.torque]
-    saturation = config.camphor.saturation
-    rec["inv_saturation"] = 0.0 if saturation is None else 1.0 / saturation
     rec["kick"] = config.kick_scale(dt)
     rec["apothem"] = RotorShape.from_config(config.geometry).apothem
+    rec["pill_distance"] = config.geometry.pill_distance
     schedule = StopSchedule.from_config(config.protocol, dt)
     rec["n_ini"] = schedule.n_ini
     rec["n_stop"] = schedule.n_stop
@@ -207,50 +223,55 @@ def make_record(config: RotorConfig, scheme: Scheme, dt: float) -> np.ndarray:
     return rec
 
 
-BODY = np.dtype(
-    [
-        ("plate", _I8),
-        ("n_corners", _I8),
-        ("size_a", _F8),
-        ("size_b", _F8),
-        ("reach", _F8),
-        ("pill_start", _I8),
-        ("pill_count", _I8),
-        ("motion", _I8),
-        ("mass", _F8),
-        ("inertia", _F8),
-        ("friction", _F8),
-        ("kick", _F8),
-        ("n_ini", _I8),
-        ("n_stop", _I8),
-        ("n_period", _I8),
-        ("cycles", _I8),
-        ("external_force_x", _F8),
-        ("external_force_y", _F8),
-        ("external_torque", _F8),
-        ("track_x", _F8),
-        ("track_y", _F8),
-        ("track_radius", _F8),
-        ("track_direction", _F8),
-        ("track_force", _F8),
-        ("tan_half", _F8),
-        ("crease", _F8),
-        ("corner_end", _F8),
-        ("f_start", _I8),
-        ("f_count", _I8),
-        ("table_start", _I8),
-        ("table_n", _I8),
-        ("table_m", _I8),
-        ("table_x0", _F8),
-        ("edge_start", _I8),
-        ("edge_count", _I8),
-        ("edge_u0", _F8),
-        ("ring_start", _I8),
-        ("ring_count", _I8),
-        ("window_half", _I8),
-    ],
-    align=True,
+BUILT_BODY: tuple[tuple[str, str], ...] = (
+    ("plate", _I8),
+    ("n_corners", _I8),
+    ("size_a", _F8),
+    ("size_b", _F8),
+    ("reach", _F8),
+    ("pill_start", _I8),
+    ("pill_count", _I8),
+    ("motion", _I8),
+    ("mass", _F8),
+    ("inertia", _F8),
+    ("friction", _F8),
+    ("kick", _F8),
+    ("n_ini", _I8),
+    ("n_stop", _I8),
+    ("n_period", _I8),
+    ("cycles", _I8),
+    ("track_x", _F8),
+    ("track_y", _F8),
+    ("track_radius", _F8),
+    ("track_direction", _F8),
+    ("track_force", _F8),
+    ("tan_half", _F8),
+    ("crease", _F8),
+    ("corner_end", _F8),
+    ("f_start", _I8),
+    ("f_count", _I8),
+    ("table_start", _I8),
+    ("table_n", _I8),
+    ("table_m", _I8),
+    ("table_x0", _F8),
+    ("edge_start", _I8),
+    ("edge_count", _I8),
+    ("edge_u0", _F8),
+    ("ring_start", _I8),
+    ("ring_count", _I8),
+    ("window_half", _I8),
 )
+"""The fields of :data:`BODY` that :func:`make_body_records` and :func:`make_body_tables`
+compute (the rest: a body's own keys, :mod:`pde_rotor.config.recorded`)."""
+
+
+@cache
+def body_dtype(body: type[BaseModel]) -> np.dtype:
+    """:data:`BODY` for the bodies' config class."""
+    return _dtype(BUILT_BODY, [], record_layout(body))
+
+
+BODY = body_dtype(BodyConfig)
 """One body of :func:`pde_rotor.kernels.bodies.advance_bodies`: plate kind
 (:data:`pde_rotor.physics.indicators.PLATE_POLYGON`...), its corners and sizes (``size_a``:
 apothem, radius or half length; ``size_b``: half width), the footprint radius ``reach``,
@@ -286,7 +307,8 @@ def make_body_records(
         pill's source density s_j / (pi rho_j^2) relative to the run record's ``source``,
         the distance from X, its angle in the body frame, and 0).
     """
-    records = np.zeros(len(bodies), dtype=BODY)
+    dtype = body_dtype(type(bodies[0].config)) if bodies else BODY
+    records = np.zeros(len(bodies), dtype=dtype)
     rows = []
     reference = config.camphor.supply / (math.pi * config.geometry.pill_radius**2)
     for k, body in enumerate(bodies):
@@ -308,7 +330,8 @@ def make_body_records(
         rec["motion"] = _MOTIONS[body.motion]
         rec["mass"], rec["inertia"], rec["friction"] = body.mass, body.inertia, body.friction
         rec["kick"] = math.sqrt(2.0 * dt) * body.noise_sigma / body.inertia
-        rec["external_force_x"], rec["external_force_y"], rec["external_torque"] = body.external
+        for name, value in record_values(body.config).items():
+            rec[name] = value
         if body.track is not None:
             track = body.track
             rec["track_x"], rec["track_y"] = track.centre

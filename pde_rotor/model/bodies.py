@@ -149,7 +149,9 @@ class Body:
         omega0: the angular velocity at t = 0.
         velocity0: the velocity U at t = 0.
         protocol: its stop-and-release schedule (None: never stopped).
-        external: its external force (x, y) and torque, Eq. (eq_motion).
+        config: the resolved config it was built from, whose own numeric keys (the
+            external loads, a new term's constants) the records and the numpy reference
+            read as they are (:mod:`pde_rotor.config.recorded`).
         track: the circle of a ``track`` body (None for the others).
     """
 
@@ -164,7 +166,7 @@ class Body:
     omega0: float
     velocity0: tuple[float, float]
     protocol: ProtocolConfig | None
-    external: tuple[float, float, float]
+    config: BodyConfig
     track: Track | None = None
 
     @classmethod
@@ -190,7 +192,7 @@ class Body:
             omega0=start.omega,
             velocity0=start.velocity,
             protocol=body.protocol,
-            external=(*body.external_force, body.external_torque),
+            config=body,
         )
 
     @classmethod
@@ -216,7 +218,7 @@ class Body:
             omega0=speed / motion.radius,
             velocity0=(-speed * math.sin(theta), speed * math.cos(theta)),
             protocol=body.protocol,
-            external=(*body.external_force, 0.0),
+            config=body,
             track=Track((cx, cy), motion.radius, motion.sign, motion.force),
         )
 

@@ -68,7 +68,10 @@ class Inertia:
             inertia=np.array([b.inertia for b in bodies], dtype=float),
             free=np.array([b.motion == "free" for b in bodies]),
             fixed=np.array([b.motion == "fixed" for b in bodies]),
-            external=np.array([b.external for b in bodies], dtype=float).reshape(-1, 3),
+            external=np.array(
+                [(*b.config.external_force, b.config.external_torque) for b in bodies],
+                dtype=float,
+            ).reshape(-1, 3),
             track=np.array([b.track is not None for b in bodies], dtype=bool),
             centre=np.array(
                 [b.track.centre if b.track else (0.0, 0.0) for b in bodies], dtype=float

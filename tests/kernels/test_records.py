@@ -1,56 +1,37 @@
-"""The kernels' parameter record against the configuration it is built from.
+"""The kernels' parameter records against the configuration they are built from.
 
-:func:`pde_rotor.kernels.records.make_record` is the one place that packs the
-configuration for the compiled kernels. Every physical parameter of the schema must reach
-the record with its value, directly (:data:`CONFIG_FIELDS`) or through the derived field
-the kernels use instead; a parameter the kernels do not read is named here with the
-reason.
+:func:`pde_rotor.kernels.records.make_record` and ``make_body_records`` pack the
+configuration for the compiled kernels; their config fields are read off the schema
+(:mod:`pde_rotor.config.recorded`). Every numeric key of the record sections and of a
+body must reach its record with its value, or through the field its marker names; a key
+added to the schema in a test reaches the records with no other change.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from typing import Any
+from typing import Annotated, Any
 
 import numpy as np
 import pytest
+from pydantic import BaseModel, Field
 
-from pde_rotor.config import RotorConfig
-from pde_rotor.kernels.records import CONFIG_FIELDS, PARAMS, make_record
+from pde_rotor.config import BodyConfig, CamphorConfig, RotorConfig
+from pde_rotor.config.fields import FiniteFloat, NonNegativeFloat, PositiveFloat
+from pde_rotor.config.recorded import BuiltInto, NotRecorded, RecordAs, markers
+from pde_rotor.kernels.records import (
+    BODY,
+    BUILT_BODY,
+    BUILT_PARAMS,
+    PARAMS,
+    PARAMS_SECTIONS,
+    make_body_records,
+    make_record,
+)
+from pde_rotor.model.bodies import make_bodies
 from pde_rotor.model.pde import TORQUE_SIGN
 from pde_rotor.model.schemes import Scheme
-
-PHYSICAL_SECTIONS = ("geometry", "camphor", "flow", "rotor", "noise", "protocol", "grid")
-"""The schema sections that hold the model's parameters (numerics: :func:`test_scheme_fields`)."""
-
-DERIVED: dict[str, str] = {
-    "camphor.supply": "source = s0 / (pi rho^2)",
-    "rotor.torque": "torque_sign",
-    "camphor.saturation": "inv_saturation = 1 / c_sat (0: linear)",
-    "noise.sigma": "kick = sqrt(2 dt) sigma / I",
-    "geometry.radius": "apothem = R cos(pi/N)",
-    "geometry.pill_inset": "pill_distance, Eq. (rc)",
-    "protocol.t_ini": "n_ini",
-    "protocol.t_stop": "n_stop",
-    "protocol.t_release": "n_period",
-    "grid.dt": "dt",
-}
-"""Config keys the kernels read through a derived field (key -> the field)."""
-
-NOT_IN_KERNELS: dict[str, str] = {
-    "geometry.phi0": "initial condition, the rotor array",
-    "geometry.omega0": "initial condition, the rotor array",
-    "geometry.torque": "the geometry section's copy; the kernels use rotor.torque",
-    "rotor.phi0": "initial condition, the rotor array",
-    "rotor.omega0": "initial condition, the rotor array",
-    "noise.seed": "seeds the host's Generator of the normals",
-    "grid.domain_radius": "the domain's loop ranges",
-    "grid.domain_centre": "the domain's frame (the kernels loop over coords about it)",
-    "grid.wall": "the domain's cut cells, passed to the bodies' step as arrays",
-    "grid.vessel": "the vessel's cut cells and wet spans, passed to the bodies' step as arrays",
-}
-"""Config keys of the physical sections that are not kernel parameters (key -> why)."""
 
 VARIED: dict[str, Any] = {
     "geometry": {"n_corners": 5, "asymmetry": 0.03, "smoothing": 0.03, "pill_radius": 0.09},
@@ -61,38 +42,73 @@ VARIED: dict[str, Any] = {
         "tension_slope": 0.7,
         "saturation": 0.4,
     },
-    "flow": {"drag": 1.2, "bulk_drag": 0.8, "viscosity": 0.6},
+    "flow": {"enabled": False, "drag": 1.2, "bulk_drag": 0.8, "viscosity": 0.6},
     "rotor": {"inertia": 2e-5, "friction": 3e-4, "torque": "printed", "external_torque": 1e-6},
     "noise": {"sigma": 1e-7},
     "protocol": {"t_ini": 0.4, "t_stop": 0.2, "t_release": 0.6, "cycles": 3},
 }
 """A configuration whose parameters differ from each other and from the defaults."""
 
+BODIES: list[dict[str, Any]] = [
+    {
+        "pills": [{"x": 0.0, "y": 0.0}],
+        "motion": {"kind": "free", "mass": 0.02, "inertia": 0.004},
+        "external_force": [0.3, -0.1],
+        "external_torque": 0.02,
+    },
+    {"pills": [{"x": 0.0, "y": 0.0}], "start": {"x": 2.0}, "external_torque": -0.01},
+]
+"""Two bodies whose own keys differ from their defaults."""
 
-def physical_keys(config: RotorConfig) -> list[str]:
-    """The dotted keys of every parameter in the physical sections."""
-    return [
-        f"{section}.{name}"
-        for section in PHYSICAL_SECTIONS
-        for name in type(getattr(config, section)).model_fields
-    ]
+
+def numeric_values(section: BaseModel) -> dict[str, Any]:
+    """The record fields the unmarked numeric keys of `section` must give, written out
+    (a pair as NAME_x, NAME_y), independently of the layout's code."""
+    marked = markers(type(section))
+    out: dict[str, Any] = {}
+    for key in type(section).model_fields:
+        value = getattr(section, key)
+        if key in marked or isinstance(value, BaseModel | str | list) or value is None:
+            continue
+        if isinstance(value, tuple):
+            out[f"{key}_x"], out[f"{key}_y"] = value
+        elif isinstance(value, bool | int | float):
+            out[key] = value
+    return out
+
+
+def assert_marked_keys(section: BaseModel, rec: np.void) -> None:
+    """Each marked key of `section` names a field of the record; one derived here holds
+    its value."""
+    for key, mark in markers(type(section)).items():
+        if isinstance(mark, RecordAs):
+            value = getattr(section, key)
+            assert rec[mark.field] == (value if mark.value is None else mark.value(value)), key
+        elif isinstance(mark, BuiltInto):
+            assert mark.field in rec.dtype.names, key
+        else:
+            assert isinstance(mark, NotRecorded) and mark.why, key
 
 
 @pytest.mark.parametrize("scheme", ["paper", "consistent"])
 def test_record_holds_every_parameter_of_the_schema(
     small_config: Callable[..., RotorConfig], scheme: str
 ) -> None:
-    """Each config field of the record equals the config's value; every physical key is
-    in the record, derived (with the value the kernels need) or named as not used."""
+    """Each numeric key of the record sections is the field of its name with the
+    config's value, or reaches the field its marker names; the built fields hold what
+    the kernels need."""
     cfg = small_config({**VARIED, "numerics": {"scheme": scheme}})
     dt = cfg.grid.dt
     rec = make_record(cfg, Scheme.from_config(cfg), dt)[0]
     assert rec.dtype == PARAMS
-    for name, key in CONFIG_FIELDS.items():
-        assert rec[name] == cfg.get(key), name
-    covered = set(CONFIG_FIELDS.values()) | set(DERIVED) | set(NOT_IN_KERNELS)
-    assert set(physical_keys(cfg)) <= covered
-    assert not set(DERIVED) & set(CONFIG_FIELDS.values())
+    for name in PARAMS_SECTIONS:
+        section = getattr(cfg, name)
+        for field, value in numeric_values(section).items():
+            assert rec[field] == value, f"{name}.{field}"
+        assert_marked_keys(section, rec)
+    assert rec["flow"] is np.False_
+    assert rec["external_torque"] == 1e-6
+    assert rec["external_force_x"] == rec["external_force_y"] == 0.0
     geo, proto = cfg.geometry, cfg.protocol
     assert rec["dt"] == dt
     assert rec["source"] == cfg.camphor.supply / (math.pi * geo.pill_radius**2)
@@ -108,6 +124,71 @@ def test_record_holds_every_parameter_of_the_schema(
         round(proto.t_stop / dt),
         round((proto.t_stop + proto.t_release) / dt),
     )
+
+
+def test_linear_law_records_no_saturation(small_config: Callable[..., RotorConfig]) -> None:
+    """The linear law (``camphor.saturation`` null) is 1 / c_sat = 0 in the record."""
+    cfg = small_config()
+    assert make_record(cfg, Scheme.from_config(cfg), cfg.grid.dt)[0]["inv_saturation"] == 0.0
+
+
+def test_body_records_hold_every_key_of_a_body() -> None:
+    """Each numeric key of a body is the field of its name in its ``BODY`` record, with
+    its value; the run record holds the same fields, those of the shorthand's rotor."""
+    cfg = RotorConfig.model_validate({"grid": {"domain_radius": 4.0}, "bodies": BODIES})
+    bodies = make_bodies(cfg)
+    records = make_body_records(bodies, cfg, cfg.grid.dt)[0]
+    assert records.dtype == BODY
+    for body, rec in zip(cfg.body_list(), records, strict=True):
+        values = numeric_values(body)
+        assert values
+        for field, value in values.items():
+            assert rec[field] == value, field
+        assert_marked_keys(body, rec)
+    assert set(BODY.names) - {name for name, _ in BUILT_BODY} <= set(PARAMS.names)
+
+
+class DummyCamphor(CamphorConfig):
+    """The camphor section with two new keys: a plain rate and a derived scalar."""
+
+    dummy_rate: NonNegativeFloat = Field(0.0, description="a new scalar of the law")
+    dummy_scale: Annotated[
+        PositiveFloat | None, RecordAs("inv_dummy_scale", lambda v: 0.0 if v is None else 1 / v)
+    ] = Field(None, description="a new derived scalar")
+
+
+class DummyBody(BodyConfig):
+    """A body with a new constant load and a new pair."""
+
+    dummy_load: FiniteFloat = Field(0.0, description="a new per-body constant")
+    dummy_pair: tuple[FiniteFloat, FiniteFloat] = Field((0.0, 0.0), description="new")
+
+
+class DummyConfig(RotorConfig):
+    """The schema with the new keys."""
+
+    camphor: DummyCamphor = Field(default_factory=DummyCamphor)
+    bodies: list[DummyBody] | None = None
+
+
+def test_a_key_added_to_the_schema_reaches_the_records(
+    small_config: Callable[..., RotorConfig],
+) -> None:
+    """A key added to a section or to a body is a field of the run's or the bodies'
+    records with its value, with no edit of the records' module: the records are read
+    off the schema."""
+    base = small_config().model_dump(mode="json")
+    cfg = DummyConfig.model_validate({**base, "camphor": {"dummy_rate": 0.7, "dummy_scale": 4.0}})
+    rec = make_record(cfg, Scheme.from_config(cfg), cfg.grid.dt)[0]
+    assert (rec["dummy_rate"], rec["inv_dummy_scale"]) == (0.7, 0.25)
+    assert set(PARAMS.names) < set(rec.dtype.names)
+    assert {name for name, _ in BUILT_PARAMS} < set(rec.dtype.names)
+    bodies = [{**BODIES[0], "dummy_load": 0.125, "dummy_pair": [1.5, -2.5]}, BODIES[1]]
+    cfg = DummyConfig.model_validate({"grid": {"domain_radius": 4.0}, "bodies": bodies})
+    records = make_body_records(make_bodies(cfg), cfg, cfg.grid.dt)[0]
+    assert list(records["dummy_load"]) == [0.125, 0.0]
+    assert (records["dummy_pair_x"][0], records["dummy_pair_y"][0]) == (1.5, -2.5)
+    assert records["external_torque"][0] == 0.02
 
 
 def test_scheme_fields(small_config: Callable[..., RotorConfig]) -> None:
