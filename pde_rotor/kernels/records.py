@@ -3,9 +3,11 @@
 :data:`PARAMS` is the structured dtype that the CPU loops (:mod:`pde_rotor.kernels.cpu`),
 the CUDA kernel (:mod:`pde_rotor.kernels.cuda`) and the compiled physics
 (:mod:`pde_rotor.physics`) read by field name (numba compiles ``p.dt`` to a load of
-the record's field on both targets); :func:`make_record` is the one place that fills it
-from a run's configuration. Adding a parameter to the kernels touches the schema
-(:mod:`pde_rotor.config.schema`), this builder and the physics function that uses it.
+the record's field on both targets); :func:`make_record` is the one place that fills it,
+from a run's objects (:class:`~pde_rotor.model.setup.Setup`: the configuration's
+scalars, the rotor's shape, the scheme and the stop schedule, made once there). Adding
+a parameter to the kernels touches the schema (:mod:`pde_rotor.config.schema`), this
+builder and the physics function that uses it.
 
 The fields, by the equation that uses them (Koyano et al., Chaos 2020):
 
@@ -48,14 +50,11 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ..config import RotorConfig
 from ..model.bodies import Body
 from ..model.body_schemes import BodyScheme
 from ..model.filtering import CREASE_WIDTHS
-from ..model.geometry import RotorShape
 from ..model.pde import TORQUE_SIGN
-from ..model.protocol import StopSchedule
-from ..model.schemes import Scheme
+from ..model.setup import Setup
 from ..physics.motion import MOTION_FIXED_AXIS, VESSEL_ANNULUS, VESSEL_RECTANGLE
 
 _F8, _I8, _B1 = np.float64, np.int64, np.bool_
@@ -146,18 +145,19 @@ PARAMS = np.dtype(
 """The kernels' parameter record (fields: see the module docstring)."""
 
 
-def make_record(config: RotorConfig, scheme: Scheme, dt: float) -> np.ndarray:
+def make_record(setup: Setup) -> np.ndarray:
     """The kernels' parameters of one run as a record array of length 1.
 
     Args:
-        config: the run configuration.
-        scheme: its discretisation (:meth:`Scheme.from_config` of `config`).
-        dt: the time step the kernels take (the solver's; ``grid.dt`` by default).
+        setup: the run's objects (:class:`~pde_rotor.model.setup.Setup`): its
+            configuration, rotor shape, scheme and stop schedule, at the time step the
+            kernels take (the solver's; ``grid.dt`` by default, :meth:`Setup.at`).
 
     Returns:
         A (1,) array of dtype :data:`PARAMS`, which the CPU loops take (and read as
         ``params[0]``); the GPU stacks one per member.
     """
+    config, scheme, dt = setup.config, setup.scheme, setup.dt
     rec = np.zeros(1, dtype=PARAMS)
     for name, key in CONFIG_FIELDS.items():
         rec[name] = config.get(key)
@@ -168,8 +168,8 @@ def make_record(config: RotorConfig, scheme: Scheme, dt: float) -> np.ndarray:
     saturation = config.camphor.saturation
     rec["inv_saturation"] = 0.0 if saturation is None else 1.0 / saturation
     rec["kick"] = config.kick_scale(dt)
-    rec["apothem"] = RotorShape.from_config(config.geometry).apothem
-    schedule = StopSchedule.from_config(config.protocol, dt)
+    rec["apothem"] = setup.shape.apothem
+    schedule = setup.schedule
     rec["n_ini"] = schedule.n_ini
     rec["n_stop"] = schedule.n_stop
     rec["n_period"] = schedule.n_period
@@ -269,25 +269,23 @@ _PLATES = {"none": 0, "polygon": 1, "disk": 2, "strip": 3}
 _MOTIONS = {"fixed": 0, "fixed_axis": 1, "free": 2, "track": 3}
 
 
-def make_body_records(
-    bodies: Sequence[Body], config: RotorConfig, dt: float
-) -> tuple[np.ndarray, np.ndarray]:
+def make_body_records(setup: Setup) -> tuple[np.ndarray, np.ndarray]:
     """The bodies of a run as the records of :func:`pde_rotor.kernels.bodies.advance_bodies`.
 
     Args:
-        bodies: the run's bodies (:func:`pde_rotor.model.bodies.make_bodies`).
-        config: the run configuration (its ``source`` scales the pills' densities).
-        dt: the time step.
+        setup: the run's objects at the kernels' time step: its bodies, their stop
+            schedules and the configuration (whose ``source`` scales the pills' densities).
 
     Returns:
         (body records of dtype :data:`BODY`, pills (P, 7): body-frame x, y, rho, the
         pill's source density s_j / (pi rho_j^2) relative to the run record's ``source``,
         the distance from X, its angle in the body frame, and 0).
     """
+    config, bodies, dt = setup.config, setup.bodies, setup.dt
     records = np.zeros(len(bodies), dtype=BODY)
     rows = []
     reference = config.camphor.supply / (math.pi * config.geometry.pill_radius**2)
-    for k, body in enumerate(bodies):
+    for k, (body, schedule) in enumerate(zip(bodies, setup.body_schedules, strict=True)):
         shape = body.shape
         rec = records[k]
         rec["plate"] = _PLATES[shape.plate]
@@ -312,10 +310,9 @@ def make_body_records(
             rec["track_x"], rec["track_y"] = track.centre
             rec["track_radius"], rec["track_direction"] = track.radius, track.direction
             rec["track_force"] = track.force
-        if body.protocol is not None:
-            schedule = StopSchedule.from_config(body.protocol, dt)
+        if schedule is not None:
             rec["n_ini"], rec["n_stop"] = schedule.n_ini, schedule.n_stop
-            rec["n_period"], rec["cycles"] = schedule.n_period, body.protocol.cycles
+            rec["n_period"], rec["cycles"] = schedule.n_period, schedule.cycles
         else:
             rec["n_period"] = 1
     return records, np.array(rows, dtype=float).reshape(-1, 7)
