@@ -69,11 +69,11 @@ def contour_forces(t: float = 0.04) -> list[tuple[float, np.ndarray]]:
     cfg = held_config("consistent")
     sim = Simulation(cfg)
     sim.run(t)
-    pde, dt = sim.pde, cfg.grid.dt
-    bodies, pills = make_body_records(pde.bodies, cfg, dt)
+    pde = sim.pde
+    bodies, pills = make_body_records(pde.setup)
     n = pde.domain.coords.size
     tables = make_body_tables(pde.bodies, pde.body_scheme, bodies, n)
-    record = make_record(cfg, pde.scheme, dt)[0]
+    record = make_record(pde.setup)[0]
     c = sim.state.data[0]
     mirrored = 0.25 * ((c + c[::-1, :]) + (c[:, ::-1] + c[::-1, ::-1]))
     results = []

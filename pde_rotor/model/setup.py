@@ -28,7 +28,7 @@ from __future__ import annotations
 from functools import cached_property
 
 from ..config import RotorConfig
-from .bodies import Body, make_bodies
+from .bodies import Body, BodyShape
 from .body_schemes import BodyScheme
 from .geometry import RotorShape
 from .protocol import StopSchedule
@@ -78,7 +78,11 @@ class Setup:
         ``fixed_axis`` body at the origin)."""
         if self._parent is not None:
             return self._parent.bodies
-        return make_bodies(self.config)
+        smoothing = self.config.geometry.smoothing
+        return tuple(
+            Body.from_config(body, BodyShape.from_config(body, smoothing))
+            for body in self.config.body_list()
+        )
 
     @cached_property
     def schedule(self) -> StopSchedule:

@@ -19,7 +19,7 @@ import pytest
 from pde_rotor.config import RotorConfig
 from pde_rotor.kernels.records import CONFIG_FIELDS, PARAMS, make_record
 from pde_rotor.model.pde import TORQUE_SIGN
-from pde_rotor.model.schemes import Scheme
+from pde_rotor.model.setup import Setup
 
 PHYSICAL_SECTIONS = ("geometry", "camphor", "flow", "rotor", "noise", "protocol", "grid")
 """The schema sections that hold the model's parameters (numerics: :func:`test_scheme_fields`)."""
@@ -86,7 +86,7 @@ def test_record_holds_every_parameter_of_the_schema(
     in the record, derived (with the value the kernels need) or named as not used."""
     cfg = small_config({**VARIED, "numerics": {"scheme": scheme}})
     dt = cfg.grid.dt
-    rec = make_record(cfg, Scheme.from_config(cfg), dt)[0]
+    rec = make_record(Setup(cfg))[0]
     assert rec.dtype == PARAMS
     for name, key in CONFIG_FIELDS.items():
         assert rec[name] == cfg.get(key), name
@@ -115,8 +115,9 @@ def test_scheme_fields(small_config: Callable[..., RotorConfig]) -> None:
     layout of its tables), neither for ``paper``."""
     for name in ("paper", "consistent"):
         cfg = small_config({"numerics": {"scheme": name}})
-        scheme = Scheme.from_config(cfg)
-        rec = make_record(cfg, scheme, cfg.grid.dt)[0]
+        setup = Setup(cfg)
+        scheme = setup.scheme
+        rec = make_record(setup)[0]
         consistent = name == "consistent"
         assert rec["contour"] == rec["filtered"] == consistent
         assert rec["tan_half"] == math.tan(math.pi / cfg.geometry.n_corners)
@@ -138,7 +139,7 @@ def test_kick_follows_the_solver_step(small_config: Callable[..., RotorConfig]) 
     """The noise factor and the schedule's step counts use the step the kernels take."""
     cfg = small_config({"noise": {"sigma": 1e-7}})
     dt = cfg.grid.dt / 2
-    rec = make_record(cfg, Scheme.from_config(cfg), dt)[0]
+    rec = make_record(Setup(cfg).at(dt))[0]
     assert rec["dt"] == dt
     assert rec["kick"] == cfg.kick_scale(dt) == math.sqrt(2.0 * dt) * 1e-7 / cfg.rotor.inertia
     assert rec["n_ini"] == round(cfg.protocol.t_ini / dt)
