@@ -68,7 +68,7 @@ def euler_seconds(scheme: str, calls: int = 300) -> float:
     pde = sim.pde
     cur = sim.state.data.reshape(-1).copy()
     nxt = cur.copy()
-    record = make_record(config, pde.scheme, config.grid.dt)
+    record = make_record(pde.setup)
     args = (cur, nxt, pde.F.reshape(-1), pde.G.reshape(-1), pde.domain.arrays(), record, 1.0)
     euler_fields(*args)
     start = time.thread_time()

@@ -95,7 +95,7 @@ def time_parts(sim: Simulation, calls: int) -> dict[str, float]:
     tab = np.empty((4, pde.shape.n_corners))
     tables = scheme.kernel_tables()
     domain = dom.arrays()
-    params = make_record(sim.config, scheme, sim.config.grid.dt)
+    params = make_record(sim.setup)
     cur = sim.state.data.reshape(-1).copy()
     nxt = cur.copy()
     n = dom.coords.size

@@ -50,7 +50,7 @@ def main(scheme: str = "paper", wall: str = "absorbing") -> None:
     pde = SurfacePDE(cfg)
     n = pde.domain.coords.size
     nn, e = n * n, 2
-    rec, pills = make_body_records(pde.bodies, cfg, 1e-3)
+    rec, pills = make_body_records(pde.setup.at(1e-3))
     tables = make_body_tables(pde.bodies, pde.body_scheme, rec, n)[:7]
     coords, lo, hi, _, _ = pde.domain.arrays()
     cells = pde.domain.cut_cells
@@ -73,7 +73,7 @@ def main(scheme: str = "paper", wall: str = "absorbing") -> None:
         ),
         tuple(np.ascontiguousarray(t) for t in tables),
         (NO_WALL if cells is None else cells.arrays(0.1), np.zeros((e, nn))),
-        np.stack([make_record(cfg, pde.scheme, 1e-3)[0]] * e),
+        np.stack([make_record(pde.setup.at(1e-3))[0]] * e),
         (np.zeros((e, 4)), np.zeros((e, 4), np.int64)),
         (np.int64(0),) * 4,
     )

@@ -37,7 +37,7 @@ from pde_rotor.gallery.common import (
 )
 from pde_rotor.io.mp4 import Mp4Writer
 from pde_rotor.io.output import atomic_path
-from pde_rotor.model.bodies import make_bodies
+from pde_rotor.model.setup import Setup
 from pde_rotor.plotting.bodies import BodiesFrame
 from pde_rotor.solver.bodies import BodyContactError
 from pde_rotor.solver.simulation import Simulation
@@ -150,7 +150,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
             ax.imshow(frames[k])
             ax.set_axis_off()
         axes[row][0].set_title(f"{name}.gif: first, middle and last frame", loc="left")
-    bodies = len(make_bodies(rotors)) + len(make_bodies(disk))
+    bodies = len(Setup(rotors).bodies) + len(Setup(disk).bodies)
     story.suptitle(f"{bodies} camphor bodies in two scenes (frames of the movies)")
     add_footer(story, fidelity_label(args.fidelity, rotors, "coarse grid in every fidelity"))
     return [*save(story, args.out, NAME), *written]

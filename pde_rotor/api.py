@@ -21,7 +21,7 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from datetime import datetime, timezone
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import xarray as xr
@@ -37,6 +37,9 @@ from .io.output import (
     write_text_atomic,
 )
 from .units import LENGTH_UNITS, TIME_UNITS
+
+if TYPE_CHECKING:
+    from .model.setup import Setup
 
 _logger = logging.getLogger(__name__)
 
@@ -234,8 +237,11 @@ def run(
         cfg = cfg.model_copy(update={"output": cfg.output.model_copy(update=output_update)})
     cfg = with_seed(cfg)
     backend = backend_for(cfg)
+    from .model.setup import Setup
+
+    setup = Setup(cfg)  # the config made into the model's objects, once for the whole run
     if cfg.bodies is not None:
-        return _run_bodies(cfg, out, backend, overwrite=overwrite, check=check)
+        return _run_bodies(setup, out, backend, overwrite=overwrite, check=check)
     device = device_name(backend)
     from . import trackers as tr
 
@@ -290,20 +296,20 @@ def run(
         # one run path: py-pde's Controller and the same trackers on every backend;
         # on the GPU the run is an ensemble of one member between the interrupts
         sim = (
-            Simulation(cfg, stepper=member_stepper(backend))
+            Simulation(setup, stepper=member_stepper(backend))
             if backend == "gpu"
-            else Simulation(cfg)
+            else Simulation(setup)
         )
         out_cfg = cfg.output
         ts_tracker = tr.TimeSeriesTracker(
-            cfg,
+            setup,
             out_cfg.timeseries_interval,
             run_dir.timeseries if run_dir else None,
             checkpoint_seconds=out_cfg.checkpoint_seconds,
             attrs=attrs,
         )
         ev_tracker = tr.InversionTracker(
-            cfg,
+            setup,
             out_cfg.event_interval,
             out_cfg.commit_fraction,
             run_dir.events_csv if run_dir else None,
@@ -314,12 +320,12 @@ def run(
         if run_dir is not None and out_cfg.snapshot_interval is not None:
             info = {k: v for k, v in attrs.items() if isinstance(v, (str, int, float))}
             trackers.append(
-                tr.SnapshotTracker(cfg, run_dir.snapshots, out_cfg.snapshot_interval, info)
+                tr.SnapshotTracker(setup, run_dir.snapshots, out_cfg.snapshot_interval, info)
             )
         if run_dir is not None and out_cfg.movie:
             trackers.append(
                 tr.MovieTracker(
-                    cfg,
+                    setup,
                     run_dir.movie,
                     out_cfg.movie_interval,
                     fps=out_cfg.movie_fps,
@@ -328,7 +334,7 @@ def run(
                 )
             )
         if out_cfg.progress:
-            trackers.append(tr.ProgressBarTracker(cfg))
+            trackers.append(tr.ProgressBarTracker(setup))
 
         start = time.perf_counter()
         error: BaseException | None = None
@@ -387,7 +393,7 @@ def run(
 
 
 def _run_bodies(
-    cfg: RotorConfig, out: str | Path | None, backend: str, *, overwrite: bool, check: bool
+    setup: Setup, out: str | Path | None, backend: str, *, overwrite: bool, check: bool
 ) -> RunResult:
     """:func:`run` for a config with ``bodies:``: bodies.nc, the events of every body
     with stops, config.yaml, run.log, summary.png and (``output.movie``) movie.mp4
@@ -398,9 +404,9 @@ def _run_bodies(
     run with status "stopped" and the message naming it; what was recorded is kept. On
     the GPU (`backend` "gpu") the bodies advance on
     :func:`pde_rotor.backends.gpu_bodies.gpu_bodies_stepper` under the same Controller
-    and trackers.
+    and trackers. `setup` is the run's (:class:`~pde_rotor.model.setup.Setup`).
     """
-    from .model.bodies import make_bodies
+    cfg = setup.config
     from .plotting.bodies import bodies_summary
     from .solver.bodies import BodyContactError
     from .solver.rotor import SimulationDivergedError
@@ -429,7 +435,7 @@ def _run_bodies(
             run_dir.path if run_dir else "(in memory)",
             attrs["config_hash"],
             len(cfg.bodies),
-            ", ".join(b.name for b in make_bodies(cfg)),
+            ", ".join(b.name for b in setup.bodies),
             cfg.numerics.scheme,
             cfg.protocol.t_end,
             grid.dx,
@@ -438,24 +444,24 @@ def _run_bodies(
         if backend == "gpu":
             from .backends.gpu_bodies import gpu_bodies_stepper
 
-            sim = Simulation(cfg, stepper=gpu_bodies_stepper)
+            sim = Simulation(setup, stepper=gpu_bodies_stepper)
         else:
-            sim = Simulation(cfg)
+            sim = Simulation(setup)
         tracker = BodiesTracker(
-            cfg,
+            setup,
             cfg.output.timeseries_interval,
             run_dir / "bodies.nc" if run_dir else None,
             checkpoint_seconds=cfg.output.checkpoint_seconds,
             attrs=attrs,
         )
         out_cfg = cfg.output
-        trackers: list[Any] = [tracker, BodiesLogTracker(cfg, out_cfg.timeseries_interval)]
+        trackers: list[Any] = [tracker, BodiesLogTracker(setup, out_cfg.timeseries_interval)]
         if out_cfg.progress:
-            trackers.append(ProgressBarTracker(cfg))
+            trackers.append(ProgressBarTracker(setup))
         if run_dir is not None and out_cfg.movie:
             trackers.append(
                 BodiesMovieTracker(
-                    cfg, run_dir.movie, out_cfg.movie_interval, fps=out_cfg.movie_fps,
+                    setup, run_dir.movie, out_cfg.movie_interval, fps=out_cfg.movie_fps,
                     dpi=out_cfg.movie_dpi,
                 )
             )  # fmt: skip
@@ -487,7 +493,7 @@ def _run_bodies(
         _logger.info("bodies run %s after %.1f s%s", status, result.wall_time, said)
         if run_dir is not None:
             write_netcdf_atomic(result.events, run_dir / "events.nc")
-            fig = bodies_summary(result.timeseries, cfg, make_bodies(cfg))
+            fig = bodies_summary(result.timeseries, cfg, setup.bodies)
             with atomic_path(run_dir.summary) as tmp:
                 fig.savefig(tmp, format="png", dpi=110)
             names = ("config.yaml", "bodies.nc", "events.nc", "summary.png", "movie.mp4", "run.log")

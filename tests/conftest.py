@@ -212,7 +212,7 @@ def compiled_indicators(pde: RotorPDE, phi: float) -> tuple[np.ndarray, np.ndarr
         F.reshape(-1),
         G.reshape(-1),
         dom.arrays(),
-        make_record(pde.config, pde.scheme, pde.config.grid.dt),
+        make_record(pde.setup),
         tab,
         pde.scheme.kernel_tables(),
         phi,

@@ -44,6 +44,7 @@ if TYPE_CHECKING:  # imported on first use: `pde-rotor info` asks for the GPU qu
 
     from ..config import RotorConfig
     from ..model.pde import RotorPDE, RotorState
+    from ..model.setup import Setup
     from ..solver.rotor import MemberStepper, StepperFactory
     from .base import EnsembleBackend, EnsembleRunner
     from .batch import MemberRun, run_batch
@@ -211,7 +212,7 @@ def member_stepper(backend: str) -> StepperFactory:
 
 
 def run_ensemble(
-    configs: Sequence[RotorConfig],
+    configs: Sequence[Setup | RotorConfig],
     t_end: float | None = None,
     *,
     backend: str = "auto",
@@ -224,7 +225,9 @@ def run_ensemble(
     """Advance every member of an ensemble to `t_end`; the entry point of sweeps and the CLI.
 
     Args:
-        configs: one validated configuration per member; all with the same ``grid``.
+        configs: one validated configuration per member, or its setup
+            (:class:`~pde_rotor.model.setup.Setup`, made once by the caller); all with the
+            same ``grid``.
         t_end: final time (default: the latest ``protocol.t_end`` of the members);
             a multiple of ``grid.dt``.
         backend: ``cpu``, ``gpu`` or ``auto`` (see :func:`resolve_backend`).

@@ -18,6 +18,7 @@ from typing import Protocol, runtime_checkable
 import numpy as np
 
 from ..config import RotorConfig
+from ..model.setup import Setup
 from .ensemble import EnsembleResult, EnsembleState
 
 
@@ -27,7 +28,7 @@ class EnsembleRunner(Protocol):
 
     def __call__(
         self,
-        configs: Sequence[RotorConfig],
+        configs: Sequence[Setup | RotorConfig],
         t_end: float | None = None,
         *,
         record_interval: float | None = None,
@@ -38,7 +39,8 @@ class EnsembleRunner(Protocol):
         """Advance every member to `t_end`.
 
         Args:
-            configs: one configuration per member, all with the same ``grid`` and
+            configs: one configuration per member, or its setup
+                (:class:`~pde_rotor.model.setup.Setup`), all with the same ``grid`` and
                 ``numerics`` sections.
             t_end: final time (default: the latest ``protocol.t_end``), a multiple of dt.
             record_interval: time between records, a multiple of dt.
@@ -61,7 +63,7 @@ class EnsembleBackend(Protocol):
 
     def run_ensemble(
         self,
-        configs: Sequence[RotorConfig],
+        configs: Sequence[Setup | RotorConfig],
         t_end: float | None = None,
         *,
         record_interval: float | None = None,

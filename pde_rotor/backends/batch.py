@@ -19,7 +19,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..config import RotorConfig
-from ..model.protocol import StopSchedule, steps_of
+from ..model.protocol import steps_of
+from ..model.setup import Setup, as_setup
 from ..statistics.inversion import ReleaseEvent
 from .ensemble import EnsembleResult, EnsembleState
 
@@ -47,12 +48,13 @@ class MemberRun:
     rotor: np.ndarray
 
 
-def _record_steps(configs: Sequence[RotorConfig], step0: int) -> int:
+def _record_steps(setups: Sequence[Setup], step0: int) -> int:
     """Steps between records: the gcd of every step a member's classification reads."""
     steps = [step0]
-    for cfg in configs:
+    for setup in setups:
+        cfg = setup.config
         dt = cfg.grid.dt
-        schedule = StopSchedule.from_config(cfg.protocol, dt)
+        schedule = setup.at(dt).schedule
         steps += [
             steps_of(cfg.output.event_interval, dt),
             schedule.n_ini,
@@ -65,10 +67,11 @@ def _record_steps(configs: Sequence[RotorConfig], step0: int) -> int:
 
 def _member(result: EnsembleResult, m: int, step_end: int) -> MemberRun:
     """Member m of `result`: its events, the paper estimator's omegas, its end state."""
-    cfg = result.configs[m]
+    setup = result.setups[m]
+    cfg = setup.config
     dt = cfg.grid.dt
     events = result.release_events(m, cfg.output.commit_fraction, cfg.output.event_interval)
-    schedule = StopSchedule.from_config(cfg.protocol, dt)
+    schedule = setup.at(dt).schedule
     ends = np.append(schedule.stop_steps(), steps_of(cfg.protocol.t_end, dt))
     steps = np.round(result.t / dt).astype(np.int64)
     omegas = [float(result.omega[m, steps == s][0]) for s in ends if s in steps and s <= step_end]
@@ -83,7 +86,7 @@ def _member(result: EnsembleResult, m: int, step_end: int) -> MemberRun:
 
 
 def run_batch(
-    configs: Sequence[RotorConfig],
+    configs: Sequence[Setup | RotorConfig],
     *,
     backend: str = "auto",
     max_members: int | None = None,
@@ -95,7 +98,9 @@ def run_batch(
     protocol ends earlier goes on rotating freely; its results only use its protocol).
 
     Args:
-        configs: one validated configuration per member; noise seeds as each wants.
+        configs: one validated configuration per member, or its setup
+            (:class:`~pde_rotor.model.setup.Setup`, made here once if not); noise seeds
+            as each wants.
         backend: ``cpu``, ``gpu`` or ``auto`` (:func:`pde_rotor.backends.resolve_backend`).
         max_members: most members per ensemble call (None: a whole group at once).
         initial: states to start from, one member per config, all at ``initial.step``
@@ -110,7 +115,8 @@ def run_batch(
     """
     from . import run_ensemble
 
-    configs = list(configs)
+    setups = [as_setup(member) for member in configs]
+    configs = [setup.config for setup in setups]
     if not configs:
         msg = "run_batch needs at least one member config"
         raise ValueError(msg)
@@ -129,12 +135,12 @@ def run_batch(
     for members in groups.values():
         for first in range(0, len(members), size):
             chunk = members[first : first + size]
-            part = [configs[m] for m in chunk]
+            part = [setups[m] for m in chunk]
             start = None
             if initial is not None:
                 start = EnsembleState(initial.data[chunk], initial.rotor[chunk], initial.step)
             step0 = 0 if start is None else start.step
-            dt = part[0].grid.dt
+            dt = part[0].config.grid.dt
             result = run_ensemble(
                 part,
                 backend=backend,

@@ -15,6 +15,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from ..config import RotorConfig
+from ..model.setup import Setup
 from ..solver.rotor import SimulationDivergedError
 from ..solver.simulation import Simulation
 from .ensemble import RECORD_FIELDS, EnsembleResult, EnsembleState, default_rngs, make_plan
@@ -26,7 +27,7 @@ def _record(sim: Simulation, cell_area: float) -> np.ndarray:
 
 
 def run_ensemble(
-    configs: Sequence[RotorConfig],
+    configs: Sequence[Setup | RotorConfig],
     t_end: float | None = None,
     *,
     record_interval: float | None = None,
@@ -54,8 +55,8 @@ def run_ensemble(
     targets = plan.record_steps[1:].tolist()
     if plan.record_steps[-1] < plan.step_end:  # t_end between two records: advance to it
         targets.append(plan.step_end)
-    for m, cfg in enumerate(plan.configs):
-        sim = Simulation(cfg, rng=rngs[m])
+    for m, setup in enumerate(plan.setups):
+        sim = Simulation(setup, rng=rngs[m])
         sim.state.data[:] = state.data[m]
         sim.state.rotor.update_from(state.rotor[m])
         stepper = sim.solver.make_stepper(sim.state, dt)

@@ -1,9 +1,12 @@
 """Data shared by the ensemble backends: the batch's state, its plan and its result.
 
 An ensemble is a list of :class:`~pde_rotor.config.RotorConfig`, one per member, that
-share the ``grid`` and ``numerics`` sections. Both backends (:mod:`.cpu`, :mod:`.gpu`) take the same
-arguments, build the same :class:`EnsemblePlan` and return the same
-:class:`EnsembleResult`, so a sweep can switch backends without other changes.
+share the ``grid`` and ``numerics`` sections; :func:`make_plan` makes each member's
+setup (:class:`~pde_rotor.model.setup.Setup`) once, or takes the setups it is given,
+and the backends and the result read the members' objects from them. Both backends
+(:mod:`.cpu`, :mod:`.gpu`) take the same arguments, build the same :class:`EnsemblePlan`
+and return the same :class:`EnsembleResult`, so a sweep can switch backends without
+other changes.
 """
 
 from __future__ import annotations
@@ -16,8 +19,8 @@ import xarray as xr
 
 from ..config import RotorConfig
 from ..model.domain import Domain, make_domain
-from ..model.geometry import RotorShape
-from ..model.protocol import StopSchedule, steps_of
+from ..model.protocol import steps_of
+from ..model.setup import Setup, as_setup
 from ..statistics.inversion import ReleaseEvent, release_events
 
 ROTOR_FIELDS = ("phi", "omega", "torque", "friction", "stopped")
@@ -56,7 +59,7 @@ class EnsemblePlan:
     """What a call of ``run_ensemble`` will do, checked before any step.
 
     Attributes:
-        configs: one configuration per member.
+        setups: one setup per member (its configuration and objects).
         domain: the common grid and loop ranges.
         dt: common time step.
         step_start, step_end: global step range [step_start, step_end).
@@ -65,7 +68,7 @@ class EnsemblePlan:
             multiple of record_every up to step_end.
     """
 
-    configs: tuple[RotorConfig, ...]
+    setups: tuple[Setup, ...]
     domain: Domain
     dt: float
     step_start: int
@@ -74,9 +77,14 @@ class EnsemblePlan:
     record_steps: np.ndarray
 
     @property
+    def configs(self) -> tuple[RotorConfig, ...]:
+        """The members' configurations."""
+        return tuple(setup.config for setup in self.setups)
+
+    @property
     def n_members(self) -> int:
         """E, the number of members."""
-        return len(self.configs)
+        return len(self.setups)
 
     @property
     def n_steps(self) -> int:
@@ -89,19 +97,21 @@ class EnsemblePlan:
 
 
 def make_plan(
-    configs: Sequence[RotorConfig],
+    members: Sequence[Setup | RotorConfig],
     t_end: float | None,
     record_interval: float | None,
     initial: EnsembleState | None,
 ) -> EnsemblePlan:
-    """Check an ensemble request and turn times into step counts.
+    """Check an ensemble request, make each member's setup once (a setup given is kept,
+    :func:`~pde_rotor.model.setup.as_setup`) and turn times into step counts.
 
     Raises:
         ValueError: no members, members on different grids, t_end or record_interval
             not a multiple of dt, t_end before the initial state, or an initial state
             of the wrong shape.
     """
-    configs = tuple(configs)
+    setups = tuple(as_setup(member) for member in members)
+    configs = tuple(setup.config for setup in setups)
     if not configs:
         msg = "an ensemble needs at least one member config"
         raise ValueError(msg)
@@ -120,7 +130,7 @@ def make_plan(
             )
             raise ValueError(msg)
     dt = grid.dt
-    domain = make_domain(grid, RotorShape.from_config(configs[0].geometry))
+    domain = make_domain(grid, setups[0].shape)
     if t_end is None:
         t_end = max(cfg.protocol.t_end for cfg in configs)
     step_end = steps_of(t_end, dt)
@@ -147,7 +157,7 @@ def make_plan(
         [[step_start], np.arange(first, step_end + 1, record_every, dtype=np.int64)]
     ).astype(np.int64)
     return EnsemblePlan(
-        configs=configs,
+        setups=setups,
         domain=domain,
         dt=dt,
         step_start=step_start,
@@ -167,7 +177,7 @@ class EnsembleResult:
     """Rotor time series of every member of an ensemble.
 
     Attributes:
-        configs: the member configurations.
+        setups: the members' setups (their configurations and objects).
         t: record times, shape (T,).
         phi, omega: rotor angle and angular velocity after each record step, (E, T).
         torque, friction: surface-tension torque T, Eq. (torque), and friction torque
@@ -181,7 +191,7 @@ class EnsembleResult:
         wall_seconds: wall-clock time of the run (compilation included).
     """
 
-    configs: tuple[RotorConfig, ...]
+    setups: tuple[Setup, ...]
     t: np.ndarray
     phi: np.ndarray
     omega: np.ndarray
@@ -212,7 +222,7 @@ class EnsembleResult:
                 diverged_at[m] = step * plan.dt
                 records[m, plan.record_steps > step] = np.nan
         return cls(
-            configs=plan.configs,
+            setups=plan.setups,
             t=plan.record_steps * plan.dt,
             phi=records[..., 0],
             omega=records[..., 1],
@@ -227,9 +237,14 @@ class EnsembleResult:
         )
 
     @property
+    def configs(self) -> tuple[RotorConfig, ...]:
+        """The members' configurations."""
+        return tuple(setup.config for setup in self.setups)
+
+    @property
     def n_members(self) -> int:
         """E, the number of members."""
-        return len(self.configs)
+        return len(self.setups)
 
     def release_events(
         self, member: int, commit_fraction: float, check_interval: float | None = None
@@ -251,9 +266,9 @@ class EnsembleResult:
             ValueError: a stop start or end within the records was not recorded, or
                 check_interval is not a multiple of the record interval.
         """
-        cfg = self.configs[member]
-        dt = cfg.grid.dt
-        schedule = StopSchedule.from_config(cfg.protocol, dt)
+        setup = self.setups[member]
+        dt = setup.config.grid.dt
+        schedule = setup.at(dt).schedule
         steps = np.round(self.t / dt).astype(np.int64)
         starts = schedule.stop_steps()
         needed = np.concatenate([starts, starts + schedule.n_stop])

@@ -31,6 +31,7 @@ from ..kernels.cuda_target import cuda, simulator_enabled
 if TYPE_CHECKING:  # imported by the functions that use them: `pde-rotor info` asks quickly
     from ..config import RotorConfig
     from ..model.pde import RotorPDE
+    from ..model.setup import Setup
     from .ensemble import EnsemblePlan, EnsembleResult, EnsembleState
 
 SIMULATOR_THREADS = 2
@@ -77,13 +78,14 @@ def _member_arrays(
     params = np.empty(n_members, dtype=PARAMS)
     support = np.empty((n_members, 2, n), dtype=np.int64)
     models: dict[str, RotorPDE] = {}  # members often share all but seed and protocol
-    for m, cfg in enumerate(plan.configs):
+    for m, setup in enumerate(plan.setups):
+        cfg = setup.config
         key = cfg.model_dump_json(include={"geometry", "camphor", "flow", "rotor", "grid"})
         pde = models.get(key)
         if pde is None:
-            pde = models[key] = RotorPDE(cfg)
-        params[m] = make_record(cfg, pde.scheme, plan.dt)[0]
-        tables = pde.scheme.kernel_tables()
+            pde = models[key] = RotorPDE(setup)
+        params[m] = make_record(setup.at(plan.dt))[0]
+        tables = setup.scheme.kernel_tables()
         if m == 0:
             first_tables = tables
         elif not all(np.array_equal(a, b) for a, b in zip(tables, first_tables, strict=True)):
@@ -135,7 +137,7 @@ def _draw_normals(
 
 
 def run_ensemble(
-    configs: Sequence[RotorConfig],
+    configs: Sequence[Setup | RotorConfig],
     t_end: float | None = None,
     *,
     record_interval: float | None = None,
@@ -156,7 +158,7 @@ def run_ensemble(
     defaults to that kernel's).
 
     Args:
-        configs: one configuration per member (common ``grid`` section).
+        configs: one configuration or setup per member (common ``grid`` section).
         t_end: final time (default: latest protocol end).
         record_interval: time between records (default: ``output.timeseries_interval``).
         initial: state to continue from.

@@ -32,6 +32,7 @@ from ..kernels.cuda_target import cuda, simulator_enabled
 from ..kernels.records import make_body_records, make_body_tables, make_record
 from ..kernels.wall import NO_WALL
 from ..model.protocol import steps_of
+from ..model.setup import Setup, as_setup
 from ..model.surface import POSE_COLUMNS, BodiesState, SurfacePDE
 from ..solver.bodies import raise_early_end
 from .ensemble import RECORD_FIELDS, EnsemblePlan, EnsembleResult, EnsembleState
@@ -95,7 +96,8 @@ class BodiesBatch:
         for m, pde in enumerate(self.pdes):
             if pde.domain.grid != first.domain.grid or pde.config.numerics != first.config.numerics:
                 raise ValueError(f"member {m}: its grid or numerics differ from member 0's")
-            rec, pill = make_body_records(pde.bodies, pde.config, dt)
+            setup = pde.setup.at(dt)
+            rec, pill = make_body_records(setup)
             table = make_body_tables(pde.bodies, pde.body_scheme, rec, n)[:7]
             cells = pde.domain.cut_cells
             coefficient = dt * pde.config.camphor.diffusion / pde.domain.dx**2
@@ -114,7 +116,7 @@ class BodiesBatch:
                 raise ValueError(msg)
             records.append(rec)
             pills.append(pill)
-            params.append(make_record(pde.config, pde.scheme, dt)[0])
+            params.append(make_record(setup)[0])
         e, k = len(self.pdes), len(records[0])
         corners = max(1, *(b.shape.n_corners for b in first.bodies))
         n_pills = max(1, len(pills[0]))
@@ -285,7 +287,7 @@ def run_rotor_ensemble(
     """
     wall = time.perf_counter()
     heun = plan.configs[0].numerics.integrator == "heun"
-    batch = BodiesBatch([SurfacePDE(c) for c in plan.configs], plan.dt, heun, threads_per_block)
+    batch = BodiesBatch([SurfacePDE(s) for s in plan.setups], plan.dt, heun, threads_per_block)
     poses = np.zeros((plan.n_members, 1, len(POSE_COLUMNS)))
     poses[:, 0, PHI], poses[:, 0, OMEGA] = initial.rotor[:, 0], initial.rotor[:, 1]
     batch.put(initial.data, poses)
@@ -340,7 +342,7 @@ class BodiesEnsembleResult:
 
 
 def run_bodies_ensemble(
-    configs: Sequence[RotorConfig],
+    configs: Sequence[Setup | RotorConfig],
     t_end: float | None = None,
     *,
     record_interval: float | None = None,
@@ -350,7 +352,8 @@ def run_bodies_ensemble(
     """Advance E members with ``bodies:`` on the GPU from their start poses (c = v = 0).
 
     Args:
-        configs: one configuration per member (common grid, numerics, bodies' layout).
+        configs: one configuration or setup (:class:`~pde_rotor.model.setup.Setup`) per
+            member (common grid, numerics, bodies' layout).
         t_end: end time (default: the latest ``protocol.t_end``).
         record_interval: time between records (default: ``output.timeseries_interval``
             of member 0); a multiple of dt.
@@ -361,12 +364,13 @@ def run_bodies_ensemble(
         ValueError: members that cannot share one launch, or bad times (one line).
     """
     wall = time.perf_counter()
-    configs = tuple(configs)
+    setups = tuple(as_setup(member) for member in configs)
+    configs = tuple(setup.config for setup in setups)
     if not configs or any(c.bodies is None for c in configs):
         raise ValueError("run_bodies_ensemble needs configs with a bodies: list")
     dt = configs[0].grid.dt
     heun = configs[0].numerics.integrator == "heun"
-    pdes = [SurfacePDE(c) for c in configs]
+    pdes = [SurfacePDE(s) for s in setups]
     batch = BodiesBatch(pdes, dt, heun, threads_per_block)
     t_end = max(c.protocol.t_end for c in configs) if t_end is None else t_end
     every = steps_of(record_interval or configs[0].output.timeseries_interval, dt)

@@ -4,8 +4,10 @@ per body.
 :data:`PARAMS` is the structured dtype that the CPU loops (:mod:`pde_rotor.kernels.cpu`),
 the CUDA kernel (:mod:`pde_rotor.kernels.cuda`) and the compiled physics
 (:mod:`pde_rotor.physics`) read by field name (numba compiles ``p.dt`` to a load of
-the record's field on both targets); :func:`make_record` fills it from a run's
-configuration, :func:`make_body_records` the :data:`BODY` records of the bodies.
+the record's field on both targets); :func:`make_record` fills it from a run's objects
+(:class:`~pde_rotor.model.setup.Setup`: the configuration, the rotor's shape, the scheme
+and the stop schedule, made once there), :func:`make_body_records` the :data:`BODY`
+records of its bodies.
 
 Their fields that come from the config are derived from the schema, not listed here
 (:mod:`pde_rotor.config.recorded`): every numeric key of the run's sections
@@ -64,10 +66,8 @@ from ..config.recorded import record_layout, record_values
 from ..model.bodies import Body
 from ..model.body_schemes import BodyScheme
 from ..model.filtering import CREASE_WIDTHS
-from ..model.geometry import RotorShape
 from ..model.pde import TORQUE_SIGN
-from ..model.protocol import StopSchedule
-from ..model.schemes import Scheme
+from ..model.setup import Setup
 from ..physics.motion import MOTION_FIXED_AXIS, VESSEL_ANNULUS, VESSEL_RECTANGLE
 
 _F8, _I8, _B1 = "f8", "i8", "b1"
@@ -161,18 +161,19 @@ PARAMS = params_dtype(
 """The kernels' parameter record (fields: see the module docstring)."""
 
 
-def make_record(config: RotorConfig, scheme: Scheme, dt: float) -> np.ndarray:
+def make_record(setup: Setup) -> np.ndarray:
     """The kernels' parameters of one run as a record array of length 1.
 
     Args:
-        config: the run configuration.
-        scheme: its discretisation (:meth:`Scheme.from_config` of `config`).
-        dt: the time step the kernels take (the solver's; ``grid.dt`` by default).
+        setup: the run's objects (:class:`~pde_rotor.model.setup.Setup`): its
+            configuration, rotor shape, scheme and stop schedule, at the time step the
+            kernels take (the solver's; ``grid.dt`` by default, :meth:`Setup.at`).
 
     Returns:
         A (1,) array of dtype :data:`PARAMS`, which the CPU loops take (and read as
         ``params[0]``); the GPU stacks one per member.
     """
+    config, scheme, dt = setup.config, setup.scheme, setup.dt
     body = config.rotor_body()
     sections = [getattr(config, name) for name in PARAMS_SECTIONS]
     rec = np.zeros(1, dtype=params_dtype(tuple(map(type, sections)), type(body)))
@@ -184,9 +185,9 @@ def make_record(config: RotorConfig, scheme: Scheme, dt: float) -> np.ndarray:
     rec["source"] = config.camphor.supply / (math.pi * rho**2)
     rec["torque_sign"] = TORQUE_SIGN[config.rotor.torque]
     rec["kick"] = config.kick_scale(dt)
-    rec["apothem"] = RotorShape.from_config(config.geometry).apothem
+    rec["apothem"] = setup.shape.apothem
     rec["pill_distance"] = config.geometry.pill_distance
-    schedule = StopSchedule.from_config(config.protocol, dt)
+    schedule = setup.schedule
     rec["n_ini"] = schedule.n_ini
     rec["n_stop"] = schedule.n_stop
     rec["n_period"] = schedule.n_period
@@ -292,26 +293,24 @@ _PLATES = {"none": 0, "polygon": 1, "disk": 2, "strip": 3}
 _MOTIONS = {"fixed": 0, "fixed_axis": 1, "free": 2, "track": 3}
 
 
-def make_body_records(
-    bodies: Sequence[Body], config: RotorConfig, dt: float
-) -> tuple[np.ndarray, np.ndarray]:
+def make_body_records(setup: Setup) -> tuple[np.ndarray, np.ndarray]:
     """The bodies of a run as the records of :func:`pde_rotor.kernels.bodies.advance_bodies`.
 
     Args:
-        bodies: the run's bodies (:func:`pde_rotor.model.bodies.make_bodies`).
-        config: the run configuration (its ``source`` scales the pills' densities).
-        dt: the time step.
+        setup: the run's objects at the kernels' time step: its bodies, their stop
+            schedules and the configuration (whose ``source`` scales the pills' densities).
 
     Returns:
         (body records of dtype :data:`BODY`, pills (P, 7): body-frame x, y, rho, the
         pill's source density s_j / (pi rho_j^2) relative to the run record's ``source``,
         the distance from X, its angle in the body frame, and 0).
     """
+    config, bodies, dt = setup.config, setup.bodies, setup.dt
     dtype = body_dtype(type(bodies[0].config)) if bodies else BODY
     records = np.zeros(len(bodies), dtype=dtype)
     rows = []
     reference = config.camphor.supply / (math.pi * config.geometry.pill_radius**2)
-    for k, body in enumerate(bodies):
+    for k, (body, schedule) in enumerate(zip(bodies, setup.body_schedules, strict=True)):
         shape = body.shape
         rec = records[k]
         rec["plate"] = _PLATES[shape.plate]
@@ -337,10 +336,9 @@ def make_body_records(
             rec["track_x"], rec["track_y"] = track.centre
             rec["track_radius"], rec["track_direction"] = track.radius, track.direction
             rec["track_force"] = track.force
-        if body.protocol is not None:
-            schedule = StopSchedule.from_config(body.protocol, dt)
+        if schedule is not None:
             rec["n_ini"], rec["n_stop"] = schedule.n_ini, schedule.n_stop
-            rec["n_period"], rec["cycles"] = schedule.n_period, body.protocol.cycles
+            rec["n_period"], rec["cycles"] = schedule.n_period, schedule.cycles
         else:
             rec["n_period"] = 1
     return records, np.array(rows, dtype=float).reshape(-1, 7)

@@ -23,7 +23,11 @@ it is the independent reference of.
   fields and bodies), and its state;
 * :mod:`.motion`: the equation of motion of K bodies (accelerations, Euler and Heun
   steps of the poses), the paper's rotor being the ``fixed_axis`` body at the origin;
-* :mod:`.analysis`: what needs no time stepping (the stopped plate's steady state).
+* :mod:`.analysis`: what needs no time stepping (the stopped plate's steady state);
+* :mod:`.setup`: :class:`~pde_rotor.model.setup.Setup`, the one place where a run's
+  configuration is made into the objects above (the rotor's shape, the bodies, the stop
+  schedules, the schemes); the PDEs, the compiled loops' parameter records, the
+  steppers, the trackers and the backends read them from it.
 
 The exact onsets of motion the bodies are checked against are :mod:`pde_rotor.theory`'s.
 """

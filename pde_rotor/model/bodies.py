@@ -42,7 +42,6 @@ from ..config import (
     FreeMotion,
     PolygonPlate,
     ProtocolConfig,
-    RotorConfig,
     TrackMotion,
 )
 from .domain import Domain
@@ -170,11 +169,13 @@ class Body:
     track: Track | None = None
 
     @classmethod
-    def from_config(cls, body: BodyConfig, smoothing: float) -> Body:
-        """The body of a resolved body config (:meth:`RotorConfig.body_list`)."""
+    def from_config(cls, body: BodyConfig, shape: BodyShape) -> Body:
+        """The body of a resolved body config (:meth:`RotorConfig.body_list`) whose plate
+        and pills are `shape` (:meth:`BodyShape.from_config` of the same config; both
+        made by :attr:`pde_rotor.model.setup.Setup.bodies`)."""
         motion = body.motion
         if isinstance(motion, TrackMotion):
-            return cls._on_track(body, motion, smoothing)
+            return cls._on_track(body, motion, shape)
         turns = motion.kind != "fixed"
         if turns and (motion.inertia is None or motion.friction is None):
             msg = "the body is not resolved: inertia or friction is null (use body_list)"
@@ -182,7 +183,7 @@ class Body:
         start = body.start
         return cls(
             name=str(body.name),
-            shape=BodyShape.from_config(body, smoothing),
+            shape=shape,
             motion=motion.kind,
             mass=motion.mass if isinstance(motion, FreeMotion) else MOTIONLESS,
             inertia=float(motion.inertia) if turns else MOTIONLESS,
@@ -196,7 +197,7 @@ class Body:
         )
 
     @classmethod
-    def _on_track(cls, body: BodyConfig, motion: TrackMotion, smoothing: float) -> Body:
+    def _on_track(cls, body: BodyConfig, motion: TrackMotion, shape: BodyShape) -> Body:
         """The body of a resolved track body config: its start velocity w(0) e_theta and
         omega(0) = w(0) / R from the signed speed w(0) = d ``speed``."""
         if motion.radius is None or motion.centre is None:
@@ -208,7 +209,7 @@ class Body:
         speed = motion.sign * motion.speed
         return cls(
             name=str(body.name),
-            shape=BodyShape.from_config(body, smoothing),
+            shape=shape,
             motion=motion.kind,
             mass=motion.mass,
             inertia=MOTIONLESS,
@@ -221,12 +222,6 @@ class Body:
             config=body,
             track=Track((cx, cy), motion.radius, motion.sign, motion.force),
         )
-
-
-def make_bodies(config: RotorConfig) -> tuple[Body, ...]:
-    """The bodies of a run configuration (the shorthand's one rotor without ``bodies``)."""
-    smoothing = config.geometry.smoothing
-    return tuple(Body.from_config(body, smoothing) for body in config.body_list())
 
 
 def pill_offsets(shape: BodyShape, phi: float) -> np.ndarray:

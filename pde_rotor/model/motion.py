@@ -92,14 +92,15 @@ class Inertia:
         return theta, tangent, np.sum(poses[:, 3:5] * tangent, axis=1)
 
 
-def held_bodies(bodies: Sequence[Body], step: int, dt: float) -> np.ndarray:
+def held_bodies(
+    bodies: Sequence[Body], schedules: Sequence[StopSchedule | None], step: int
+) -> np.ndarray:
     """(K,) whether each body is held during the step from t = step dt: ``fixed``, or in a
-    stop of its own schedule."""
+    stop of its own schedule (`schedules`: each body's, None for none,
+    :attr:`pde_rotor.model.setup.Setup.body_schedules`)."""
     held = []
-    for body in bodies:
-        stopped = body.protocol is not None and StopSchedule.from_config(
-            body.protocol, dt
-        ).is_stopped(step)
+    for body, schedule in zip(bodies, schedules, strict=True):
+        stopped = schedule is not None and schedule.is_stopped(step)
         held.append(body.motion == "fixed" or stopped)
     return np.array(held, dtype=bool)
 

@@ -37,13 +37,9 @@ from pde.pdes.base import PDEBase
 from ..config import DISH_CENTRE, ConfigError, RotorConfig
 from .domain import Domain, make_domain
 from .filtering import filtered_indicators
-from .geometry import (
-    RotorShape,
-    edge_normal_angles,
-    pill_indicator,
-    plate_indicator,
-)
-from .schemes import Scheme, contour_cross_grad, surface_pressure
+from .geometry import edge_normal_angles, pill_indicator, plate_indicator
+from .schemes import contour_cross_grad, surface_pressure
+from .setup import Setup, as_setup
 
 BOUNDARY = {"value": 0}
 """py-pde boundary condition on the square; it never reaches an interior cell."""
@@ -131,29 +127,32 @@ class RotorPDE(PDEBase):
     """Camphor rotor of Koyano et al. (Chaos 2020): Eqs. (eqc), (eqv), (eq_motion).
 
     Attributes:
+        setup: the run's objects (:class:`~pde_rotor.model.setup.Setup`).
         config: the run configuration (all parameters).
-        shape: derived rotor geometry.
+        shape: derived rotor geometry (the setup's).
         domain: grid and loop ranges.
-        scheme: discretisation of F, G and the torque (``numerics``).
+        scheme: discretisation of F, G and the torque (``numerics``, the setup's).
         F, G: plate and pill indicators on the grid, maintained by the solver.
     """
 
     check_implementation = False
 
-    def __init__(self, config: RotorConfig):
+    def __init__(self, run: Setup | RotorConfig):
         """
         Args:
-            config: the run configuration.
+            run: the run's setup, or its configuration (made into a setup here).
 
         Raises:
             ConfigError: the config has bodies (:func:`refuse_bodies`).
         """
         super().__init__()
-        refuse_bodies(config)
-        self.config = config
-        self.shape = RotorShape.from_config(config.geometry)
-        self.domain: Domain = make_domain(config.grid, self.shape)
-        self.scheme = Scheme.from_config(config)
+        setup = as_setup(run)
+        refuse_bodies(setup.config)
+        self.setup = setup
+        self.config = setup.config
+        self.shape = setup.shape
+        self.domain: Domain = make_domain(self.config.grid, self.shape)
+        self.scheme = setup.scheme
         self.F = np.zeros(self.domain.grid.shape)
         self.G = np.zeros(self.domain.grid.shape)
 

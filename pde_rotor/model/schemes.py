@@ -131,8 +131,9 @@ class Scheme:
     taps: tuple[int, int]
 
     @classmethod
-    def from_config(cls, config: RotorConfig) -> Scheme:
-        """The scheme of a run configuration (``numerics`` section)."""
+    def from_config(cls, config: RotorConfig, shape: RotorShape) -> Scheme:
+        """The scheme of a run configuration (``numerics`` section) for the rotor `shape`
+        of its ``geometry`` (:attr:`pde_rotor.model.setup.Setup.shape`)."""
         num = config.numerics
         consistent = num.scheme == "consistent"
         n_cells = 2 * math.ceil(config.grid.domain_radius / config.grid.dx - 1e-9) + 2
@@ -152,7 +153,7 @@ class Scheme:
             taps = (max(window[0], n_cells // 2 - inner), min(window[1], n_cells // 2 + inner))
             # F and G's profiles do not depend on Delta: one table for a sweep over it
             tables = make_tables(
-                replace(RotorShape.from_config(geo), asymmetry=0.0),
+                replace(shape, asymmetry=0.0),
                 config.grid.dx,
                 num.table_refinement,
                 plate=(num.plate_filter_kernel, num.plate_filter_width),

@@ -42,8 +42,8 @@ from pde import FieldCollection, ScalarField, VectorField
 from pde.pdes.base import PDEBase
 
 from ..config import RotorConfig
-from .bodies import Body, Pose, make_bodies, pill_source, plate_indicator
-from .body_schemes import BodyScheme, contour_integrals, filtered_body_fields
+from .bodies import Body, Pose, pill_source, plate_indicator
+from .body_schemes import contour_integrals, filtered_body_fields
 from .domain import Domain, make_domain
 from .geometry import RotorShape
 from .motion import (
@@ -55,7 +55,8 @@ from .motion import (
     heun_poses,
 )
 from .pde import BOUNDARY, TORQUE_SIGN
-from .schemes import Scheme, surface_pressure
+from .schemes import surface_pressure
+from .setup import Setup, as_setup
 from .wall import make_wall_step, wall_fluxes, wall_rate
 
 POSE_COLUMNS = (
@@ -135,8 +136,9 @@ class SurfacePDE(PDEBase):
     """The camphor model with K bodies on one surface (see the module docstring).
 
     Attributes:
+        setup: the run's objects (:class:`~pde_rotor.model.setup.Setup`).
         config: the run configuration.
-        bodies: the bodies (:func:`pde_rotor.model.bodies.make_bodies`).
+        bodies: the bodies (the setup's).
         scheme: the discretisation of the parameter record (``numerics``).
         body_scheme: the bodies' discretisation (``paper``: point values, area-form
             integrals; ``consistent``: filtered indicators, contour forms).
@@ -151,16 +153,19 @@ class SurfacePDE(PDEBase):
 
     check_implementation = False
 
-    def __init__(self, config: RotorConfig):
+    def __init__(self, run: Setup | RotorConfig):
         """
         Args:
-            config: the run configuration (with or without ``bodies``).
+            run: the run's setup, or its configuration (with or without ``bodies``; made
+                into a setup here).
         """
         super().__init__()
-        self.config = config
-        self.bodies: tuple[Body, ...] = make_bodies(config)
-        self.scheme = Scheme.from_config(config)
-        self.body_scheme = BodyScheme.from_config(config, self.bodies)
+        setup = as_setup(run)
+        self.setup = setup
+        self.config = config = setup.config
+        self.bodies: tuple[Body, ...] = setup.bodies
+        self.scheme = setup.scheme
+        self.body_scheme = setup.body_scheme
         # the dish's loop ranges; the bodies' supports are their own footprints
         self.domain: Domain = make_domain(config.grid, _NO_SUPPORT)
         shape = self.domain.grid.shape
@@ -357,7 +362,7 @@ class SurfacePDE(PDEBase):
             The new state (`state` is not changed).
         """
         inertia = Inertia.of(self.bodies)
-        held = held_bodies(self.bodies, step, dt)
+        held = held_bodies(self.bodies, self.setup.at(dt).body_schedules, step)
         start = state.copy()
         start.bodies.poses[held, 3:6] = 0.0
         rate = self.evolution_rate(start).data

@@ -28,6 +28,7 @@ from matplotlib.patches import Circle, Polygon
 
 from ..config import RotorConfig
 from ..model.geometry import RotorShape, pill_centres
+from ..model.setup import Setup
 from ..units import CONCENTRATION_UNITS, LENGTH_UNITS, OMEGA_UNITS, TIME_UNITS
 
 SUMMARY_SIZE = (13.0, 8.5)
@@ -354,7 +355,7 @@ def summary_figure(
         ax_snap.text(0.5, 0.5, "no field snapshot stored", ha="center", va="center")
         ax_snap.set_axis_off()
     else:
-        shape = RotorShape.from_config(config.geometry)
+        shape = Setup(config).shape
         ax_snap.set_anchor("N")  # the room the square leaves goes below it
         frame = RotorFrame(
             shape, snapshot.coords, config.output.movie_view, ax=ax_snap, colorbar="bottom"

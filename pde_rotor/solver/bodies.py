@@ -52,8 +52,9 @@ class BodiesStepper:
 
     def __post_init__(self) -> None:
         pde = self.pde
-        self._record = make_record(pde.config, pde.scheme, self.dt)
-        self._bodies, self._pills = make_body_records(pde.bodies, pde.config, self.dt)
+        setup = pde.setup.at(self.dt)
+        self._record = make_record(setup)
+        self._bodies, self._pills = make_body_records(setup)
         self._spare = np.zeros((3, *pde.domain.grid.shape))
         heun = pde.config.numerics.integrator == "heun"
         self._stage = np.zeros_like(self._spare) if heun else np.empty(0)

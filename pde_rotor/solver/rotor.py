@@ -56,7 +56,7 @@ class FusedStepper:
 
     def __post_init__(self) -> None:
         self.threads = resolve_threads(self.pde.config.solver.threads)
-        self._record = make_record(self.pde.config, self.pde.scheme, self.dt)
+        self._record = make_record(self.pde.setup.at(self.dt))
         self._spare = np.zeros((3, *self.pde.domain.grid.shape))
         heun = self.pde.config.numerics.integrator == "heun"
         self._stage = np.zeros_like(self._spare) if heun else np.empty(0)

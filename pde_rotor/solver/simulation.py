@@ -14,6 +14,7 @@ from pde.trackers.base import TrackerBase
 
 from ..config import RotorConfig
 from ..model.pde import RotorFields, RotorPDE, RotorState
+from ..model.setup import Setup, as_setup
 from ..model.surface import BodiesState, SurfaceFields, SurfacePDE
 from .bodies import make_bodies_stepper
 from .rotor import RotorSolver, StepperFactory, make_fused_stepper
@@ -28,6 +29,8 @@ class Simulation:
     """One run of the model: the PDE, its state, the fused solver and the time reached.
 
     Attributes:
+        setup: the run's objects (:class:`~pde_rotor.model.setup.Setup`), which the PDE,
+            the stepper and the trackers read.
         config: the run configuration.
         pde: the model (parameters, domain, scheme).
         state: the fields c and v with the rotor's phi and omega
@@ -38,13 +41,14 @@ class Simulation:
 
     def __init__(
         self,
-        config: RotorConfig,
+        run: Setup | RotorConfig,
         rng: np.random.Generator | None = None,
         stepper: StepperFactory | None = None,
     ):
         """
         Args:
-            config: the run configuration (validated).
+            run: the run's setup, or its configuration (validated; made into a setup
+                here).
             rng: Generator for the noise; default: seeded from ``config.noise.seed``.
             stepper: what advances the run (:class:`RotorSolver`): the fused CPU kernel
                 by default (the rotor's, or with ``bodies:`` the bodies'
@@ -52,32 +56,33 @@ class Simulation:
                 :func:`pde_rotor.backends.member_stepper` for a GPU run (with bodies
                 :func:`pde_rotor.backends.gpu_bodies.gpu_bodies_stepper`).
         """
-        self.config = config
+        self.setup = setup = as_setup(run)
+        self.config = config = setup.config
         self.pde: RotorPDE | SurfacePDE
         if config.bodies is None:
-            self.pde = RotorPDE(config)
+            self.pde = RotorPDE(setup)
             default: StepperFactory = make_fused_stepper
         else:
-            self.pde = SurfacePDE(config)
+            self.pde = SurfacePDE(setup)
             default = make_bodies_stepper
         self.state: RotorFields | SurfaceFields = self.pde.initial_state()
         self.solver = RotorSolver(self.pde, rng=rng, stepper=stepper or default)
         self.t = 0.0
 
     def branch(
-        self, config: RotorConfig | None = None, rng: np.random.Generator | None = None
+        self, run: Setup | RotorConfig | None = None, rng: np.random.Generator | None = None
     ) -> Simulation:
         """A new simulation that starts from this one's fields, rotor state and time.
 
         Args:
-            config: configuration of the branch (default: this one's); it must describe
-                the same grid.
+            run: setup or configuration of the branch (default: this one's setup); it
+                must describe the same grid.
             rng: Generator for the branch's noise (default: from ``config.noise.seed``).
 
         Raises:
             ValueError: if the grids differ.
         """
-        other = Simulation(config or self.config, rng=rng, stepper=self.solver.make_member)
+        other = Simulation(run or self.setup, rng=rng, stepper=self.solver.make_member)
         if other.pde.domain.grid != self.pde.domain.grid:
             msg = "branch: the configuration describes a different grid (grid.*)"
             raise ValueError(msg)

@@ -29,6 +29,7 @@ from pde import CartesianGrid, ScalarField, VectorField
 
 from ..config import DISH_CENTRE, ConfigError, RotorConfig
 from ..model.pde import RotorFields, RotorPDE, RotorState
+from ..model.setup import Setup, as_setup
 from ..model.surface import POSE_COLUMNS, BodiesState, SurfaceFields, SurfacePDE
 
 _GRIDS: dict[tuple, CartesianGrid] = {}
@@ -90,14 +91,16 @@ class DiscreteModel:
         c_mask, v_mask: (n, n) cells that hold c and v.
     """
 
-    def __init__(self, config: RotorConfig):
+    def __init__(self, run: Setup | RotorConfig):
         """
         Args:
-            config: any valid config (the shorthand rotor or ``bodies:``).
+            run: any valid config (the shorthand rotor or ``bodies:``), or its setup
+                (:class:`~pde_rotor.model.setup.Setup`; made here once from a config).
         """
-        self.config = config
+        setup = as_setup(run)
+        self.config = config = setup.config
         self.rotor = config.bodies is None and config.grid.domain_centre == DISH_CENTRE
-        self.pde: RotorPDE | SurfacePDE = RotorPDE(config) if self.rotor else SurfacePDE(config)
+        self.pde: RotorPDE | SurfacePDE = RotorPDE(setup) if self.rotor else SurfacePDE(setup)
         _share_grid(self.pde)
         self.flow = bool(config.flow.enabled)
         domain = self.pde.domain

@@ -39,7 +39,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from ..config import RotorConfig
-from ..model.geometry import RotorShape
+from ..model.setup import Setup
 from ..solver.threads import other_load, usable_cores
 
 if TYPE_CHECKING:
@@ -102,7 +102,7 @@ def cell_counts(config: RotorConfig) -> tuple[int, int]:
     """(interior cells, support cells) of the config's grid: the areas of the dish (or of
     ``grid.vessel``, whose step walks only its wet cells) and of the support over dx^2."""
     dx2 = config.grid.dx**2
-    support = RotorShape.from_config(config.geometry).support_radius
+    support = Setup(config).shape.support_radius
     vessel = config.grid.vessel
     area = math.pi * config.grid.domain_radius**2 if vessel is None else vessel.area()
     return (

@@ -10,7 +10,8 @@ angular velocity just before each stop is sampled exactly.
 Every tracker reads what it records from the state py-pde hands it: the fields c and v
 and ``state.rotor`` (:class:`~pde_rotor.model.pde.RotorFields`), which holds phi, omega
 (Eq. (eq_motion)) and the torque T (Eq. (torque)) and friction torque of the last step.
-Its constructor takes the run's configuration, which sets its sampling times.
+Its constructor takes the run's setup (:class:`~pde_rotor.model.setup.Setup`) or its
+configuration, whose stop schedule sets its sampling times.
 
 What the records of a run need in memory and on disk is estimated, and a run that
 cannot fit refused, by :mod:`.budget`. One module per tracker; this package hands them

@@ -15,6 +15,7 @@ from pde.trackers.base import InfoDict, TrackerBase
 
 from ..config import RotorConfig
 from ..model.protocol import StopSchedule
+from ..model.setup import Setup, as_setup
 
 
 def sampling_times(schedule: StopSchedule, interval: float, t_end: float) -> np.ndarray:
@@ -31,14 +32,24 @@ class RotorTracker(TrackerBase):
     """Base of the trackers of a rotor run; finalize runs at most once.
 
     A tracker reads everything it records from the state it is handed: the fields and
-    ``state.rotor`` (:class:`~pde_rotor.model.pde.RotorFields`); the run's configuration
-    gives it its sampling times.
+    ``state.rotor`` (:class:`~pde_rotor.model.pde.RotorFields`); the run's setup
+    (:class:`~pde_rotor.model.setup.Setup`: its configuration and stop schedule) gives it
+    its sampling times.
+
+    Attributes:
+        setup: the run's objects; config: its configuration; schedule: its stop schedule.
     """
 
-    def __init__(self, config: RotorConfig, interrupts: Any):
+    def __init__(self, run: Setup | RotorConfig, interrupts: Any):
+        """
+        Args:
+            run: the run's setup, or its configuration (made into a setup here).
+            interrupts: py-pde's interrupts of the tracker.
+        """
         super().__init__(interrupts=interrupts)
-        self.config = config
-        self.schedule = StopSchedule.from_config(config.protocol, config.grid.dt)
+        self.setup = as_setup(run)
+        self.config = self.setup.config
+        self.schedule = self.setup.schedule
         self.status: dict[str, Any] | None = None
         self._finalized = False
 

@@ -28,8 +28,7 @@ from pde.trackers.interrupts import FixedInterrupts
 from ..config import RotorConfig
 from ..io.mp4 import Mp4Writer, figure_frame
 from ..io.output import write_netcdf_atomic
-from ..model.bodies import make_bodies
-from ..model.protocol import StopSchedule
+from ..model.setup import Setup, as_setup
 from ..model.surface import POSE_COLUMNS, SurfaceFields
 from ..plotting.bodies import BodiesFrame
 from ..statistics.inversion import classify_release
@@ -67,7 +66,7 @@ class BodiesTracker(RotorTracker):
 
     def __init__(
         self,
-        config: RotorConfig,
+        run: Setup | RotorConfig,
         interval: float,
         path: str | Path | None = None,
         *,
@@ -76,20 +75,21 @@ class BodiesTracker(RotorTracker):
     ):
         """
         Args:
-            config: the run's configuration (with ``bodies``).
+            run: the run's setup (:class:`~pde_rotor.model.setup.Setup`) or configuration
+                (with ``bodies``).
             interval: time between samples (a multiple of dt).
             path: NetCDF file to write (None: keep in memory only).
             checkpoint_seconds: wall time between intermediate writes.
             attrs: global attributes of the Dataset.
         """
-        dt, t_end = config.grid.dt, config.protocol.t_end
-        self.bodies = make_bodies(config)
-        times = sampling_times(StopSchedule.from_config(config.protocol, dt), interval, t_end)
-        for body in self.bodies:
-            if body.protocol is not None:
-                schedule = StopSchedule.from_config(body.protocol, dt)
+        setup = as_setup(run)
+        t_end = setup.config.protocol.t_end
+        self.bodies = setup.bodies
+        times = sampling_times(setup.schedule, interval, t_end)
+        for schedule in setup.body_schedules:
+            if schedule is not None:
                 times = np.union1d(times, sampling_times(schedule, interval, t_end))
-        super().__init__(config, FixedInterrupts(times))
+        super().__init__(setup, FixedInterrupts(times))
         self.path = Path(path) if path is not None else None
         self.checkpoint_seconds = checkpoint_seconds
         self.attrs = dict(attrs or {})
@@ -135,10 +135,11 @@ class BodiesTracker(RotorTracker):
         times = np.asarray(self.times)
         omega = np.array(self.samples).reshape(len(times), len(self.bodies), -1)[:, :, 5]
         rows = []
-        for k, body in enumerate(self.bodies):
-            if body.protocol is None:
+        for k, (body, schedule) in enumerate(
+            zip(self.bodies, self.setup.body_schedules, strict=True)
+        ):
+            if schedule is None:
                 continue
-            schedule = StopSchedule.from_config(body.protocol, self.schedule.dt)
             starts = schedule.stop_steps() * schedule.dt
             for m, start in enumerate(starts):
                 before = np.searchsorted(times, start - 1e-12)
@@ -181,23 +182,25 @@ class BodiesMovieTracker(RotorTracker):
     ``movie.mp4.part``, renamed when complete.
     """
 
-    def __init__(self, config: RotorConfig, path: str | Path, interval: float, *, fps: int = 20,
-                 dpi: int = 100):  # fmt: skip
+    def __init__(self, run: Setup | RotorConfig, path: str | Path, interval: float, *,
+                 fps: int = 20, dpi: int = 100):  # fmt: skip
         """
         Args:
-            config: the run's configuration (with ``bodies``).
+            run: the run's setup or configuration (with ``bodies``).
             path: final mp4 file name.
             interval: simulated time between frames (a multiple of dt).
             fps: frames per second; dpi: resolution of the frames.
         """
-        dt = config.grid.dt
+        setup = as_setup(run)
+        dt = setup.dt
         every = max(1, round(interval / dt))
-        times = np.arange(0, round(config.protocol.t_end / dt) + 1, every, dtype=np.int64) * dt
-        super().__init__(config, FixedInterrupts(times))
+        steps = round(setup.config.protocol.t_end / dt)
+        times = np.arange(0, steps + 1, every, dtype=np.int64) * dt
+        super().__init__(setup, FixedInterrupts(times))
         self.path = Path(path)
         self.fps = fps
         self.dpi = dpi
-        self.bodies = make_bodies(config)
+        self.bodies = setup.bodies
         self._frame: BodiesFrame | None = None
         self._writer: Mp4Writer | None = None
         self._last_step = -1
@@ -238,19 +241,20 @@ class BodiesLogTracker(RotorTracker):
     angular velocity, so run.log grows while the run goes.
     """
 
-    def __init__(self, config: RotorConfig, interval: float):
+    def __init__(self, run: Setup | RotorConfig, interval: float):
         """
         Args:
-            config: the run's configuration (with ``bodies``).
+            run: the run's setup or configuration (with ``bodies``).
             interval: simulated time between checks (a multiple of dt).
         """
-        dt, t_end = config.grid.dt, config.protocol.t_end
+        setup = as_setup(run)
+        dt, t_end = setup.dt, setup.config.protocol.t_end
         every = max(1, round(interval / dt))
         steps = round(t_end / dt)
         marks = np.unique(np.round(np.linspace(0, steps, 11)).astype(np.int64))
         times = np.union1d(np.arange(0, steps + 1, every, dtype=np.int64), marks) * dt
-        super().__init__(config, FixedInterrupts(times))
-        self.bodies = make_bodies(config)
+        super().__init__(setup, FixedInterrupts(times))
+        self.bodies = setup.bodies
         self.marks = set(int(m) for m in marks[1:])
         self.warned: set[str] = set()
 

@@ -31,7 +31,7 @@ from pde.trackers.interrupts import FixedInterrupts
 from ..config import RotorConfig
 from ..io.output import AppendOnlyCSV, write_netcdf_atomic
 from ..model.pde import RotorFields
-from ..model.protocol import StopSchedule
+from ..model.setup import Setup, as_setup
 from ..statistics.inversion import ReleaseWatch, direction
 from .base import RotorTracker, sampling_times
 from .variables import EVENT_ATTRS, EVENT_COLUMNS
@@ -63,7 +63,7 @@ class InversionTracker(RotorTracker):
 
     def __init__(
         self,
-        config: RotorConfig,
+        run: Setup | RotorConfig,
         interval: float,
         commit_fraction: float,
         csv_path: str | Path | None = None,
@@ -73,17 +73,17 @@ class InversionTracker(RotorTracker):
     ):
         """
         Args:
-            config: the run's configuration.
+            run: the run's setup (:class:`~pde_rotor.model.setup.Setup`) or configuration.
             interval: time between omega samples after a release (a multiple of dt).
             commit_fraction: commit criterion |omega| >= commit_fraction |omega_before|.
             csv_path: events.csv, appended row by row (None: not written).
             nc_path: events.nc, written at the end (None: not written).
             attrs: global attributes of events.nc.
         """
-        cfg = config
-        schedule = StopSchedule.from_config(cfg.protocol, cfg.grid.dt)
+        setup = as_setup(run)
+        schedule = setup.schedule
         super().__init__(
-            config, FixedInterrupts(sampling_times(schedule, interval, cfg.protocol.t_end))
+            setup, FixedInterrupts(sampling_times(schedule, interval, setup.config.protocol.t_end))
         )
         self.interval = interval
         self.commit_fraction = commit_fraction

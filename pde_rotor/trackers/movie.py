@@ -11,8 +11,8 @@ from pde.trackers.interrupts import FixedInterrupts
 
 from ..config import RotorConfig
 from ..io.mp4 import Mp4Writer, figure_frame
-from ..model.geometry import RotorShape
 from ..model.pde import RotorFields
+from ..model.setup import Setup, as_setup
 from ..plotting.run import RotorFrame, frame_title
 from .base import RotorTracker
 
@@ -27,7 +27,7 @@ class MovieTracker(RotorTracker):
 
     def __init__(
         self,
-        config: RotorConfig,
+        run: Setup | RotorConfig,
         path: str | Path,
         interval: float,
         *,
@@ -37,18 +37,19 @@ class MovieTracker(RotorTracker):
     ):
         """
         Args:
-            config: the run's configuration.
+            run: the run's setup (:class:`~pde_rotor.model.setup.Setup`) or configuration.
             path: final mp4 file name.
             interval: simulated time between frames (a multiple of dt).
             fps: frames per second of the movie.
             dpi: resolution of the frames.
             half_width: half width of the square shown.
         """
-        dt = config.grid.dt
+        setup = as_setup(run)
+        dt = setup.dt
         every = max(1, round(interval / dt))
-        n_end = round(config.protocol.t_end / dt)
+        n_end = round(setup.config.protocol.t_end / dt)
         times = np.arange(0, n_end + 1, every, dtype=np.int64) * dt
-        super().__init__(config, FixedInterrupts(times))
+        super().__init__(setup, FixedInterrupts(times))
         self.path = Path(path)
         self.fps = fps
         self.dpi = dpi
@@ -60,8 +61,7 @@ class MovieTracker(RotorTracker):
 
     def initialize(self, field: RotorFields, info: InfoDict | None = None) -> float:
         """Create the figure and the mp4 writer."""
-        shape = RotorShape.from_config(self.config.geometry)
-        self._frame = RotorFrame(shape, field.grid.axes_coords[0], self.half_width)
+        self._frame = RotorFrame(self.setup.shape, field.grid.axes_coords[0], self.half_width)
         self._writer = Mp4Writer(self.path, self.fps)
         return super().initialize(field, info)
 

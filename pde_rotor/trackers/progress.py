@@ -20,6 +20,7 @@ with warnings.catch_warnings():
 
 from ..config import RotorConfig
 from ..model.pde import RotorFields
+from ..model.setup import Setup, as_setup
 from ..model.surface import SurfaceFields
 from .base import RotorTracker
 
@@ -40,7 +41,7 @@ class ProgressBarTracker(RotorTracker):
 
     def __init__(
         self,
-        config: RotorConfig,
+        run: Setup | RotorConfig,
         refresh_seconds: float = 0.5,
         *,
         leave: bool = True,
@@ -48,13 +49,14 @@ class ProgressBarTracker(RotorTracker):
     ):
         """
         Args:
-            config: the run's configuration.
+            run: the run's setup (:class:`~pde_rotor.model.setup.Setup`) or configuration.
             refresh_seconds: wall-clock time between updates.
             leave: keep the bar on screen when the run ends.
             clock: wall clock in seconds (for tests).
         """
+        setup = as_setup(run)
         super().__init__(
-            config, RealtimeInterrupts(duration=refresh_seconds, dt_initial=100 * config.grid.dt)
+            setup, RealtimeInterrupts(duration=refresh_seconds, dt_initial=100 * setup.dt)
         )
         self.leave = leave
         self.clock = clock

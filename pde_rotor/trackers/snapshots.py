@@ -15,7 +15,7 @@ from pde.trackers.interrupts import FixedInterrupts
 from ..config import RotorConfig
 from ..io.output import commit, part_path
 from ..model.pde import RotorFields
-from ..model.protocol import StopSchedule
+from ..model.setup import Setup, as_setup
 from .base import run_status, sampling_times
 from .budget import free_disk, snapshot_reserve
 
@@ -36,15 +36,17 @@ class SnapshotTracker(StorageTracker):
     """
 
     def __init__(
-        self, config: RotorConfig, path: str | Path, interval: float, info: dict | None = None
+        self, run: Setup | RotorConfig, path: str | Path, interval: float, info: dict | None = None
     ):
         """
         Args:
-            config: the run's configuration.
+            run: the run's setup (:class:`~pde_rotor.model.setup.Setup`) or configuration.
             path: final HDF5 file name.
             interval: time between snapshots (a multiple of dt).
             info: extra attributes of the file (config hash, config YAML, versions).
         """
+        setup = as_setup(run)
+        config = setup.config
         self.path = Path(path)
         self.reserve = self.path.with_name(f".{self.path.name}.reserve")
         try:
@@ -54,13 +56,14 @@ class SnapshotTracker(StorageTracker):
             self.reserve.unlink(missing_ok=True)
             raise
         storage = FileStorage(part_path(self.path), info=dict(info or {}), write_mode="truncate")
-        schedule = StopSchedule.from_config(config.protocol, config.grid.dt)
+        schedule = setup.schedule
         times = sampling_times(schedule, interval, config.protocol.t_end)
         # multiples of the interval and the final time (no stop times)
         every = round(interval / schedule.dt)
         steps = np.round(times / schedule.dt).astype(np.int64)
         times = times[(steps % every == 0) | (steps == steps[-1])]
         super().__init__(storage, interrupts=FixedInterrupts(times))
+        self.setup = setup
         self.config = config
         self.phi: list[float] = []
         self.omega: list[float] = []

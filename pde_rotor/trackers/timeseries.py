@@ -13,7 +13,7 @@ from pde.trackers.interrupts import FixedInterrupts
 from ..config import RotorConfig
 from ..io.output import write_netcdf_atomic
 from ..model.pde import RotorFields, RotorState
-from ..model.protocol import StopSchedule
+from ..model.setup import Setup, as_setup
 from ..units import TIME_UNITS
 from .base import RotorTracker, sampling_times
 from .variables import TIMESERIES_VARIABLES
@@ -28,7 +28,7 @@ class TimeSeriesTracker(RotorTracker):
 
     def __init__(
         self,
-        config: RotorConfig,
+        run: Setup | RotorConfig,
         interval: float,
         path: str | Path | None = None,
         *,
@@ -37,18 +37,15 @@ class TimeSeriesTracker(RotorTracker):
     ):
         """
         Args:
-            config: the run's configuration.
+            run: the run's setup (:class:`~pde_rotor.model.setup.Setup`) or configuration.
             interval: time between samples (a multiple of dt).
             path: NetCDF file to write (None: keep in memory only).
             checkpoint_seconds: wall time between intermediate writes.
             attrs: global attributes of the Dataset (config hash, versions, ...).
         """
-        times = sampling_times(
-            StopSchedule.from_config(config.protocol, config.grid.dt),
-            interval,
-            config.protocol.t_end,
-        )
-        super().__init__(config, FixedInterrupts(times))
+        setup = as_setup(run)
+        times = sampling_times(setup.schedule, interval, setup.config.protocol.t_end)
+        super().__init__(setup, FixedInterrupts(times))
         self.interval = interval
         self.path = Path(path) if path is not None else None
         self.checkpoint_seconds = checkpoint_seconds

@@ -62,7 +62,7 @@ def test_row_loops_equal_the_cell_functions(small_config, scheme: str, phi: floa
     dom = pde.domain
     F_cell, G_cell = cell_indicators(
         dom.coords, dom.support_lo, dom.support_hi,
-        make_record(pde.config, pde.scheme, pde.config.grid.dt), tab,
+        make_record(pde.setup), tab,
         *pde.scheme.kernel_tables()[2:],
     )  # fmt: skip
     assert F.max() > 0.99 and G.max() > 0.9  # the fields are there

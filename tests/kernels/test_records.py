@@ -29,9 +29,8 @@ from pde_rotor.kernels.records import (
     make_body_records,
     make_record,
 )
-from pde_rotor.model.bodies import make_bodies
 from pde_rotor.model.pde import TORQUE_SIGN
-from pde_rotor.model.schemes import Scheme
+from pde_rotor.model.setup import Setup
 
 VARIED: dict[str, Any] = {
     "geometry": {"n_corners": 5, "asymmetry": 0.03, "smoothing": 0.03, "pill_radius": 0.09},
@@ -99,7 +98,7 @@ def test_record_holds_every_parameter_of_the_schema(
     the kernels need."""
     cfg = small_config({**VARIED, "numerics": {"scheme": scheme}})
     dt = cfg.grid.dt
-    rec = make_record(cfg, Scheme.from_config(cfg), dt)[0]
+    rec = make_record(Setup(cfg))[0]
     assert rec.dtype == PARAMS
     for name in PARAMS_SECTIONS:
         section = getattr(cfg, name)
@@ -129,15 +128,14 @@ def test_record_holds_every_parameter_of_the_schema(
 def test_linear_law_records_no_saturation(small_config: Callable[..., RotorConfig]) -> None:
     """The linear law (``camphor.saturation`` null) is 1 / c_sat = 0 in the record."""
     cfg = small_config()
-    assert make_record(cfg, Scheme.from_config(cfg), cfg.grid.dt)[0]["inv_saturation"] == 0.0
+    assert make_record(Setup(cfg))[0]["inv_saturation"] == 0.0
 
 
 def test_body_records_hold_every_key_of_a_body() -> None:
     """Each numeric key of a body is the field of its name in its ``BODY`` record, with
     its value; the run record holds the same fields, those of the shorthand's rotor."""
     cfg = RotorConfig.model_validate({"grid": {"domain_radius": 4.0}, "bodies": BODIES})
-    bodies = make_bodies(cfg)
-    records = make_body_records(bodies, cfg, cfg.grid.dt)[0]
+    records = make_body_records(Setup(cfg))[0]
     assert records.dtype == BODY
     for body, rec in zip(cfg.body_list(), records, strict=True):
         values = numeric_values(body)
@@ -179,13 +177,13 @@ def test_a_key_added_to_the_schema_reaches_the_records(
     off the schema."""
     base = small_config().model_dump(mode="json")
     cfg = DummyConfig.model_validate({**base, "camphor": {"dummy_rate": 0.7, "dummy_scale": 4.0}})
-    rec = make_record(cfg, Scheme.from_config(cfg), cfg.grid.dt)[0]
+    rec = make_record(Setup(cfg))[0]
     assert (rec["dummy_rate"], rec["inv_dummy_scale"]) == (0.7, 0.25)
     assert set(PARAMS.names) < set(rec.dtype.names)
     assert {name for name, _ in BUILT_PARAMS} < set(rec.dtype.names)
     bodies = [{**BODIES[0], "dummy_load": 0.125, "dummy_pair": [1.5, -2.5]}, BODIES[1]]
     cfg = DummyConfig.model_validate({"grid": {"domain_radius": 4.0}, "bodies": bodies})
-    records = make_body_records(make_bodies(cfg), cfg, cfg.grid.dt)[0]
+    records = make_body_records(Setup(cfg))[0]
     assert list(records["dummy_load"]) == [0.125, 0.0]
     assert (records["dummy_pair_x"][0], records["dummy_pair_y"][0]) == (1.5, -2.5)
     assert records["external_torque"][0] == 0.02
@@ -196,8 +194,9 @@ def test_scheme_fields(small_config: Callable[..., RotorConfig]) -> None:
     layout of its tables), neither for ``paper``."""
     for name in ("paper", "consistent"):
         cfg = small_config({"numerics": {"scheme": name}})
-        scheme = Scheme.from_config(cfg)
-        rec = make_record(cfg, scheme, cfg.grid.dt)[0]
+        setup = Setup(cfg)
+        scheme = setup.scheme
+        rec = make_record(setup)[0]
         consistent = name == "consistent"
         assert rec["contour"] == rec["filtered"] == consistent
         assert rec["tan_half"] == math.tan(math.pi / cfg.geometry.n_corners)
@@ -219,7 +218,7 @@ def test_kick_follows_the_solver_step(small_config: Callable[..., RotorConfig]) 
     """The noise factor and the schedule's step counts use the step the kernels take."""
     cfg = small_config({"noise": {"sigma": 1e-7}})
     dt = cfg.grid.dt / 2
-    rec = make_record(cfg, Scheme.from_config(cfg), dt)[0]
+    rec = make_record(Setup(cfg).at(dt))[0]
     assert rec["dt"] == dt
     assert rec["kick"] == cfg.kick_scale(dt) == math.sqrt(2.0 * dt) * 1e-7 / cfg.rotor.inertia
     assert rec["n_ini"] == round(cfg.protocol.t_ini / dt)

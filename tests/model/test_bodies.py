@@ -24,7 +24,6 @@ from pde_rotor.model.bodies import (
     BodyShape,
     Pose,
     body_support,
-    make_bodies,
     pill_centres,
     pill_indicator,
     pill_source,
@@ -36,6 +35,7 @@ from pde_rotor.model.geometry import RotorShape
 from pde_rotor.model.geometry import pill_centres as rotor_pill_centres
 from pde_rotor.model.geometry import pill_indicator as rotor_pill_indicator
 from pde_rotor.model.geometry import plate_indicator as rotor_plate_indicator
+from pde_rotor.model.setup import Setup
 
 PHIS = (0.0, 0.3, 1.0, 2.5, -4.2)
 DYADIC_DX = 2.0**-6
@@ -45,7 +45,7 @@ DYADIC_DX = 2.0**-6
 def one_body(body: dict[str, Any], **sections: Any) -> Body:
     """The one body of a config (a large dish, the paper's smoothing)."""
     data = {"grid": {"domain_radius": 5.0}, **sections, "bodies": [body]}
-    return make_bodies(validate_config(data))[0]
+    return Setup(validate_config(data)).bodies[0]
 
 
 def with_smoothing(shape: BodyShape, smoothing: float) -> BodyShape:
@@ -80,7 +80,7 @@ def test_shorthand_body_is_the_paper_rotor_bit_for_bit(phi: float) -> None:
     R_c e((phi + 2 pi j / N) + Delta): the same points up to rounding (1e-15).
     """
     config = RotorConfig.model_validate({"geometry": {"asymmetry": 0.05, "smoothing": 0.03}})
-    (body,) = make_bodies(config)
+    (body,) = Setup(config).bodies
     rotor = RotorShape.from_config(config.geometry)
     assert np.array_equal(body.shape.pills[:, :2], rotor_pill_centres(rotor, 0.0))
     assert body.shape.reach == rotor.support_radius
@@ -102,7 +102,7 @@ def test_shorthand_body_is_the_paper_rotor_bit_for_bit(phi: float) -> None:
 def test_shorthand_body_moves_as_the_rotor() -> None:
     """Motion, start, protocol and noise of the shorthand's body are the rotor's."""
     config = RotorConfig.model_validate({"noise": {"sigma": 1e-7}})
-    (body,) = make_bodies(config)
+    (body,) = Setup(config).bodies
     rotor = config.rotor
     assert (body.motion, body.inertia, body.friction) == (
         "fixed_axis",
@@ -227,7 +227,7 @@ def test_plate_velocity_is_a_rigid_motion_weighted_by_f() -> None:
     """F u with u = U + omega z x (r - X): the paper rotor's omega (-y, x) F at the
     origin, bit for bit; at the body's position it is U; its divergence F-weighted 0."""
     config = RotorConfig()
-    (body,) = make_bodies(config)
+    (body,) = Setup(config).bodies
     x, y = square(1.0, 0.025)
     pose, omega = Pose(0.0, 0.0, 0.4), 3.0
     f = plate_indicator(x, y, body.shape, pose)
@@ -249,7 +249,7 @@ def test_footprint_holds_every_nonzero_value(body: dict[str, Any]) -> None:
     config = validate_config(
         {"grid": {"domain_radius": 3.0, "domain_centre": [0.4, -0.3]}, "bodies": [body]}
     )
-    (shape_body,) = make_bodies(config)
+    (shape_body,) = Setup(config).bodies
     shape = shape_body.shape
     pose = Pose(0.6, -0.1, 1.1)
     ring = np.linspace(0, 2 * math.pi, 721)
@@ -290,7 +290,7 @@ def test_motion_coefficients_follow_the_kind() -> None:
             ],
         }
     )
-    fixed, axis, free = make_bodies(config)
+    fixed, axis, free = Setup(config).bodies
     assert (fixed.mass, fixed.inertia, fixed.friction) == (MOTIONLESS, MOTIONLESS, 0.0)
     assert (axis.mass, axis.inertia, axis.friction) == (MOTIONLESS, 2e-5, 3e-4)
     assert (free.mass, free.inertia, free.friction) == (1e-4, 4e-5, FREE_FRICTION)

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from pde_rotor import RotorConfig
-from pde_rotor.model.bodies import Pose, make_bodies, plate_indicator
+from pde_rotor.model.bodies import Pose, plate_indicator
 from pde_rotor.model.body_schemes import (
     BodyScheme,
     contour_integrals,
@@ -17,6 +17,7 @@ from pde_rotor.model.body_schemes import (
     ring_rule,
 )
 from pde_rotor.model.filtering import PROFILE_REFINEMENT, disk_profile
+from pde_rotor.model.setup import Setup
 
 DX = 0.025
 BODIES = [
@@ -72,10 +73,10 @@ def consistent_surface(specs: list[dict], radius: float) -> tuple[list, BodySche
             "bodies": specs,
         }
     )
-    bodies = make_bodies(config)
+    setup = Setup(config)
     cells = 2 * math.ceil(radius / DX) + 2
     axis = DX * (np.arange(cells) - (cells - 1) / 2)
-    return bodies, BodyScheme.from_config(config, bodies), axis
+    return setup.bodies, setup.body_scheme, axis
 
 
 def test_contour_forms_equal_the_area_integrals() -> None:

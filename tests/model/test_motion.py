@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from pde_rotor import RotorConfig
-from pde_rotor.model.bodies import make_bodies
 from pde_rotor.model.motion import Inertia, accelerations, euler_poses, held_bodies, heun_poses
+from pde_rotor.model.setup import Setup
 
 PILL = [{"x": 0.0, "y": 0.0}]
 BODIES = [
@@ -24,7 +24,7 @@ BODIES = [
 
 def three_bodies() -> Inertia:
     config = RotorConfig.model_validate({"grid": {"domain_radius": 4.0}, "bodies": BODIES})
-    return Inertia.of(make_bodies(config))
+    return Inertia.of(Setup(config).bodies)
 
 
 def test_accelerations_are_the_loads_over_mass_and_inertia() -> None:
@@ -63,6 +63,7 @@ def test_held_bodies_are_the_fixed_ones_and_those_in_a_stop() -> None:
     config = RotorConfig.model_validate(
         {"grid": {"domain_radius": 4.0, "dt": 1e-4}, "bodies": bodies}
     )
-    found = make_bodies(config)
-    steps = [held_bodies(found, step, 1e-4).tolist() for step in (9, 10, 19, 20)]
+    setup = Setup(config)
+    found, schedules = setup.bodies, setup.body_schedules
+    steps = [held_bodies(found, schedules, step).tolist() for step in (9, 10, 19, 20)]
     assert steps == [[False, True], [True, True], [True, True], [False, True]]

@@ -128,7 +128,7 @@ def test_steady_flow_around_rotating_disk_matches_bessel_solution() -> None:
     pde = RotorPDE(cfg)
     dom = pde.domain
     dt = 0.9 * cfg.dt_limit()
-    params = make_record(cfg, pde.scheme, cfg.grid.dt)
+    params = make_record(pde.setup)
     params["dt"] = dt  # euler_fields reads no stop schedule, which needs the config's step
     x, y = pde.cell_coordinates()
     r = np.hypot(x, y)
@@ -186,7 +186,7 @@ def test_steady_camphor_of_fixed_pill_matches_bessel_solution() -> None:
     pde = RotorPDE(cfg)
     dom = pde.domain
     dt = 0.9 * cfg.dt_limit()
-    params = make_record(cfg, pde.scheme, cfg.grid.dt)
+    params = make_record(pde.setup)
     params["dt"] = dt  # euler_fields reads no stop schedule, which needs the config's step
     x, y = pde.cell_coordinates()
     r = np.hypot(x, y)

@@ -187,7 +187,7 @@ def test_compiled_contour_torque_equals_numpy_reference(
         state.reshape(-1),
         F.reshape(-1),
         dom.arrays(),
-        make_record(cfg, scheme, cfg.grid.dt),
+        make_record(pde.setup),
         tab,
         scheme.kernel_tables(),
         np.zeros(x.size),

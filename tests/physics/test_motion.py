@@ -8,8 +8,8 @@ import pytest
 
 from pde_rotor import RotorConfig
 from pde_rotor.kernels.records import make_body_records
-from pde_rotor.model.bodies import make_bodies
 from pde_rotor.model.motion import Inertia, accelerations, euler_poses, heun_poses
+from pde_rotor.model.setup import Setup
 from pde_rotor.physics.build import CPU
 
 PILL = [{"x": 0.0, "y": 0.0}]
@@ -35,8 +35,8 @@ motion = CPU.motion
 
 def records() -> tuple[np.ndarray, Inertia]:
     config = RotorConfig.model_validate({"grid": {"domain_radius": 4.0}, "bodies": BODIES})
-    bodies = make_bodies(config)
-    return make_body_records(bodies, config, config.grid.dt)[0], Inertia.of(bodies)
+    setup = Setup(config)
+    return make_body_records(setup)[0], Inertia.of(setup.bodies)
 
 
 @pytest.mark.parametrize("flow", [True, False])

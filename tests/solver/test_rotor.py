@@ -15,9 +15,9 @@ from pde.trackers import CallbackTracker
 from scipy.stats import chi2
 
 from pde_rotor import RotorConfig, Simulation
-from pde_rotor.model.bodies import make_bodies
 from pde_rotor.model.motion import Inertia, accelerations, euler_poses, held_bodies
 from pde_rotor.model.pde import RotorPDE
+from pde_rotor.model.setup import Setup
 from pde_rotor.solver.rotor import RotorSolver, SimulationDivergedError
 
 STOP_AT_ONCE = {"t_ini": 0.0, "t_stop": 0.5, "t_release": 1.0, "cycles": 1}
@@ -80,9 +80,10 @@ def test_fused_step_equals_numpy_reference(
     assert new.rotor.friction == pytest.approx(friction, rel=1e-12, abs=1e-300)
     assert new.rotor.stopped is stopped
     # the equation of motion of the numpy reference: the rotor is the fixed_axis body at 0
-    bodies = make_bodies(cfg)
+    setup = Setup(cfg)
+    bodies = setup.bodies
     inertia = Inertia.of(bodies)
-    held = held_bodies(bodies, 0, dt)
+    held = held_bodies(bodies, setup.body_schedules, 0)
     assert bool(held[0]) is stopped
     pose = np.array([[0.0, 0.0, phi, 0.0, 0.0, 0.0 if stopped else omega]])
     accel = accelerations(np.array([[0.0, 0.0, torque, 0.0, 0.0, friction]]), inertia, pose)

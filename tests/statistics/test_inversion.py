@@ -23,6 +23,7 @@ from pde_rotor.backends.ensemble import EnsembleResult, EnsembleState
 from pde_rotor.config import RotorConfig
 from pde_rotor.model.pde import RotorState
 from pde_rotor.model.protocol import StopSchedule
+from pde_rotor.model.setup import Setup
 from pde_rotor.statistics.inversion import Release, classify_release, commits, direction
 from pde_rotor.statistics.proportions import protocol_counts, restart_counts
 from pde_rotor.sweep import RestartEstimator
@@ -117,7 +118,7 @@ def by_ensemble(record_steps: int) -> list[tuple[int, int, bool, bool]]:
     omega = np.array([[omega_at(int(s)) for s in steps]])
     nan = np.full_like(omega, np.nan)
     result = EnsembleResult(
-        configs=(CONFIG,),
+        setups=(Setup(CONFIG),),
         t=steps * CONFIG.grid.dt,
         phi=nan,
         omega=omega,

@@ -18,6 +18,7 @@ import numpy as np
 from ...backends.base import EnsembleRunner
 from ...backends.ensemble import EnsembleResult, EnsembleState
 from ...config import RotorConfig
+from ...model.setup import Setup, as_setup
 
 
 class DelayedNoise:
@@ -48,7 +49,7 @@ def noise_free(configs: Sequence[RotorConfig]) -> list[RotorConfig]:
 
 def run_distinct(
     ensemble: EnsembleRunner,
-    configs: Sequence[RotorConfig],
+    members: Sequence[Setup | RotorConfig],
     state: EnsembleState,
     t_end: float,
     record_interval: float,
@@ -58,16 +59,17 @@ def run_distinct(
 
     Args:
         ensemble: the backend's ``run_ensemble``.
-        configs: the members' noise-free configurations.
+        members: the members' noise-free configurations, or their setups.
         state: the members' state.
         t_end: the time to advance to.
         record_interval: the time between records.
     """
+    setups = [as_setup(member) for member in members]
     firsts: dict[tuple[str, bytes, bytes], int] = {}
     inverse = []
-    for m, config in enumerate(configs):
+    for m, setup in enumerate(setups):
         key = (
-            config.model_dump_json(exclude={"noise"}),
+            setup.config.model_dump_json(exclude={"noise"}),
             state.data[m].tobytes(),
             state.rotor[m].tobytes(),
         )
@@ -75,20 +77,18 @@ def run_distinct(
     unique = [next(m for m, i in enumerate(inverse) if i == j) for j in range(len(firsts))]
     initial = EnsembleState(state.data[unique], state.rotor[unique], state.step)
     result = ensemble(
-        [configs[m] for m in unique], t_end, record_interval=record_interval, initial=initial
+        [setups[m] for m in unique], t_end, record_interval=record_interval, initial=initial
     )
-    return _expand(result, configs, np.array(inverse))
+    return _expand(result, setups, np.array(inverse))
 
 
-def _expand(
-    result: EnsembleResult, configs: Sequence[RotorConfig], inverse: np.ndarray
-) -> EnsembleResult:
+def _expand(result: EnsembleResult, setups: Sequence[Setup], inverse: np.ndarray) -> EnsembleResult:
     """`result` of the distinct members, as the result of every member (`inverse`:
     member -> distinct member)."""
     state = result.state
     return dataclasses.replace(
         result,
-        configs=tuple(configs),
+        setups=tuple(setups),
         phi=result.phi[inverse],
         omega=result.omega[inverse],
         torque=result.torque[inverse],

@@ -19,6 +19,7 @@ import numpy as np
 from ...backends.base import EnsembleRunner
 from ...backends.ensemble import ROTOR_FIELDS, EnsembleResult, EnsembleState
 from ...config import RotorConfig
+from ...model.setup import Setup
 from ..plan import Run
 from ..spec import BankEstimator, RestartEstimator
 from .bank import DelayedNoise, noise_free, run_distinct
@@ -125,10 +126,11 @@ def _parts(order: list[int], members: Sequence[_Member], bank: bool) -> list[lis
 
 @dataclass
 class _Phase:
-    """A stretch of an ensemble's steps with fixed member configs and noise."""
+    """A stretch of an ensemble's steps with fixed member setups (made once for all of
+    its ensemble calls) and noise."""
 
     end: int
-    configs: list[RotorConfig]
+    setups: list[Setup]
     rngs: list[Any] | None
 
 
@@ -163,11 +165,11 @@ class _Reader:
         if bank:
             approach = min(m.timing.release for m in members)
             quiet = noise_free([m.config for m in members])
-            self.phases.append(_Phase(approach, quiet, None))
+            self.phases.append(_Phase(approach, [Setup(c) for c in quiet], None))
             start = approach
         rngs = [DelayedNoise(m.rng, m.timing.release - start) if bank else m.rng for m in members]
         end = max(m.timing.release + m.timing.n_cap for m in members)
-        self.phases.append(_Phase(end, [m.config for m in members], rngs))
+        self.phases.append(_Phase(end, [Setup(m.config) for m in members], rngs))
         reads: set[int] = set()
         for m in members:
             t = m.timing
@@ -203,16 +205,16 @@ class _Reader:
     def _run(self, phase: _Phase, target: int, every: int) -> EnsembleResult:
         """The ensemble call of `phase` to `target`; a noise-free phase computes members
         with equal configurations and states once (:func:`.bank.run_distinct`)."""
-        configs, state = phase.configs, self.state
+        setups, state = phase.setups, self.state
         if phase.rngs is not None:
             return self.ensemble(
-                configs,
+                setups,
                 target * self.dt,
                 record_interval=every * self.dt,
                 initial=state,
                 rngs=phase.rngs,
             )
-        return run_distinct(self.ensemble, configs, state, target * self.dt, every * self.dt)
+        return run_distinct(self.ensemble, setups, state, target * self.dt, every * self.dt)
 
     def outcome(self, k: int, estimator: RestartEstimator) -> dict:
         """The result of member `k` (:func:`restart_result`)."""

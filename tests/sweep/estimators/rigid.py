@@ -16,6 +16,7 @@ import numpy as np
 
 from pde_rotor.backends.ensemble import EnsembleResult, EnsembleState
 from pde_rotor.config import RotorConfig
+from pde_rotor.model.setup import Setup, as_setup
 from pde_rotor.sweep import Sweep, SweepSpec
 
 
@@ -27,13 +28,15 @@ class RigidRotor:
 
     def __call__(
         self,
-        configs: Sequence[RotorConfig],
+        members: Sequence[Setup | RotorConfig],
         t_end: float,
         *,
         record_interval: float,
         initial: EnsembleState | None = None,
         rngs: Sequence[Any] | None = None,
     ) -> EnsembleResult:
+        setups = tuple(as_setup(member) for member in members)
+        configs = [setup.config for setup in setups]
         dt = configs[0].grid.dt
         if initial is None:
             omega = np.array([c.rotor.omega0 for c in configs])
@@ -50,7 +53,7 @@ class RigidRotor:
         rotor[:, 0] = phi[:, -1]
         self.calls.append({"members": len(configs), "steps": end - initial.step, "rngs": rngs})
         return EnsembleResult(
-            configs=tuple(configs),
+            setups=setups,
             t=steps * dt,
             phi=phi,
             omega=np.broadcast_to(omega, shape).copy(),
