@@ -18,7 +18,7 @@ Records, in one results file (``gpu_check_results.json`` and a text copy,
    and on the CPU from the same smooth fields, poses, velocities, forces, c and v
    compared (to :data:`BODIES_TOLERANCE`), and the wall time per step of each;
 6. a crowd: the ring channel of configs/sweeps/crowd_ring.yaml with 16 boats on their
-   track, contact on, flow on, Heun's method (:data:`CROWD_SETS`), E members (one
+   track, contact on, flow on (:data:`CROWD_SETS`), E members (one
    placement each) advanced from rest by ``run_bodies_ensemble`` on the GPU; member 0
    against the CPU's run of the same config (poses and fields, to
    :data:`BODIES_TOLERANCE`), and member-steps/s of the GPU ensemble against one member
@@ -136,11 +136,15 @@ CROWD_SETS: dict[bool, list[str]] = {
         "set.grid.vessel.inner_radius=0.4",
         "set.grid.vessel.outer_radius=3.8",
         "crowd.placement.radius=2.1",
+        "set.numerics.scheme=paper",
+        "set.numerics.integrator=heun",
     ],
 }
-"""The crowd case: 16 boats at the sweep's grid (dx = 0.05 in the annulus 3.6 < r < 5.6,
-224 x 224 cells), or, tiny, 3 boats in a wider annulus on a grid of 76 x 76 cells (the
-coarser grid's smoothing needs a channel 3.4 wide to hold a boat's footprint)."""
+"""The crowd case: 16 boats at the sweep's grid, scheme and integrator (dx = 0.05 in the
+annulus 3.6 < r < 5.6, 224 x 224 cells, consistent, forward Euler with the contact's
+dashpot), or, tiny, 3 boats in a wider annulus on a grid of 76 x 76 cells (the coarser
+grid's smoothing needs a channel 3.4 wide to hold a boat's footprint) on the paper scheme
+with Heun's method, the other pair of the two."""
 
 SWEEP_FILE = "configs/sweeps/fig5_quick.yaml"
 SWEEP_SETS = ["samples=2", "axes.protocol.t_stop=[0.5,1.0]"]

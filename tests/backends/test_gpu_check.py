@@ -167,12 +167,14 @@ def test_the_full_check_sweeps_one_design_on_both_backends():
 
 
 def test_the_full_check_crowd_is_the_ring_sweep_point():
-    """16 boats at the crowd_ring sweep's grid and integrator, one placement per member."""
+    """16 boats at the crowd_ring sweep's grid, scheme and integrator, one placement per
+    member."""
     configs = gpu_check.crowd_configs(False, 3)
     assert [len(c.bodies) for c in configs] == [16] * 3
-    assert {(c.grid.dx, c.numerics.integrator, c.flow.enabled) for c in configs} == {
-        (0.05, "heun", True)
+    assert {(c.grid.dx, c.numerics.scheme, c.numerics.integrator) for c in configs} == {
+        (0.05, "consistent", "euler")
     }
+    assert all(c.flow.enabled and c.contact.damping > 0 for c in configs)
     assert len({c.bodies[0].start.x for c in configs}) == 3
 
 
