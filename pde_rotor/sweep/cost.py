@@ -76,14 +76,15 @@ COMMIT_TIME = 0.8
 """Release time until a restart has committed to a direction: the mean ``t_commit`` of
 the 6814 releases stored under data/sweeps/ is 0.82 (0.77 to 0.87 by sweep)."""
 BODIES_STEP_COSTS: dict[str, float] = {
-    "cell": 6.19e-10,
-    "flow_cell": 1.72e-9,
-    "no_flux_cell": 3.16e-8,
-    "no_flux_box_cell": 2.8e-8,
-    "paper_box_cell": 2.66e-9,
-    "consistent_box_cell": 2.28e-8,
-    "drawn_pill_cell": 7.43e-9,
-    "heun_average_cell": 1.2e-9,
+    "cell": 6.32e-10,
+    "flow_cell": 1.78e-9,
+    "no_flux_cell": 3.23e-8,
+    "no_flux_flow_cell": 4.71e-9,
+    "no_flux_box_cell": 2.42e-8,
+    "paper_box_cell": 3.04e-9,
+    "consistent_box_cell": 2.49e-8,
+    "drawn_pill_cell": 8.33e-9,
+    "heun_average_cell": 1.55e-9,
 }
 """CPU seconds of one step of the bodies' kernel per unit of each term of
 :func:`bodies_step_terms` (one thread on one core of the project's machine), fitted by
@@ -91,14 +92,15 @@ BODIES_STEP_COSTS: dict[str, float] = {
 with Euler and Heun, the crowd sweeps' largest runs and single bodies in dishes
 (docs/results.md, 2026-11-28). Per wet cell: ``cell`` the field update without flow,
 ``flow_cell`` what the flow adds, ``no_flux_cell`` what a no-flux wall's cut-cell update
-adds. Per cell of a body's box (2 R / dx)^2, R its footprint's reach: ``no_flux_box_cell``
-its plate terms in the cut-cell update (every body, behind a no-flux wall; in the open
-update they cost what a bare cell costs), ``<scheme>_box_cell`` its force integrals (every
-body but a ``fixed`` one, held or not; with ``consistent`` also its filtered F and the
-contour form). ``drawn_pill_cell``: per cell of each pill's box (2 (rho + 20 delta) /
-dx)^2, its source term G (and F without a plate) redrawn while the body moves (the
-plate's own F is within the fit's noise). ``heun_average_cell``: Heun's average per wet
-cell and field (c, and v with the flow)."""
+adds, ``no_flux_flow_cell`` what the flow adds there besides. Per cell of a body's box
+(2 R / dx)^2, R its footprint's reach: ``no_flux_box_cell`` its plate terms in the
+cut-cell update (every body, behind a no-flux wall; in the open update they cost what a
+bare cell costs), ``<scheme>_box_cell`` its force integrals (every body but a ``fixed``
+one, held or not; with ``consistent`` also its filtered F and the contour form).
+``drawn_pill_cell``: per cell of each pill's box (2 (rho + 20 delta) / dx)^2, its source
+term G (and F without a plate) redrawn while the body moves (the plate's own F is within
+the fit's noise). ``heun_average_cell``: Heun's average per wet cell and field (c, and v
+with the flow)."""
 LONG_RUN_SECONDS = 600.0
 """Runs estimated to take longer than this announce their estimate before they start."""
 
@@ -165,6 +167,7 @@ def bodies_step_terms(
     terms["cell"] = interior
     terms["flow_cell"] = interior if flow else 0.0
     terms["no_flux_cell"] = interior if walled else 0.0
+    terms["no_flux_flow_cell"] = interior if walled and flow else 0.0
     for body, share in zip(bodies, shares, strict=True):
         box = (2 * body.reach(delta) / dx) ** 2
         terms["no_flux_box_cell"] += box if walled else 0.0

@@ -269,8 +269,8 @@ def test_a_sweep_estimate_counts_the_threads_of_each_worker():
 )
 def test_a_vessel_with_a_no_flux_wall_pays_for_its_cut_cells(inner, outer, charged) -> None:
     """An annulus with a no-flux wall costs what the no-flux dish's cut cells cost per
-    interior cell, and per cell of a body's box its plate terms in that update; with
-    absorbing walls only it does not."""
+    interior cell (with the flow's part there), and per cell of a body's box its plate
+    terms in that update; with absorbing walls only it does not."""
 
     def config(inner_wall: str, outer_wall: str):
         vessel = {"shape": "annulus", "inner_radius": 1.0, "outer_radius": 2.5}
@@ -292,7 +292,8 @@ def test_a_vessel_with_a_no_flux_wall_pays_for_its_cut_cells(inner, outer, charg
     with_walls, without = config(inner, outer), config("absorbing", "absorbing")
     assert no_flux_walls(with_walls) is charged
     walled = (
-        BODIES_STEP_COSTS["no_flux_cell"] * cell_counts(with_walls)[0]
+        (BODIES_STEP_COSTS["no_flux_cell"] + BODIES_STEP_COSTS["no_flux_flow_cell"])
+        * cell_counts(with_walls)[0]  # the flow is on
         + BODIES_STEP_COSTS["no_flux_box_cell"] * (2 * 0.6 / 0.05) ** 2  # the pill's box
     )
     extra = walled if charged else 0.0
