@@ -101,6 +101,10 @@ one, held or not; with ``consistent`` also its filtered F and the contour form).
 term G (and F without a plate) redrawn while the body moves (the plate's own F is within
 the fit's noise). ``heun_average_cell``: Heun's average per wet cell and field (c, and v
 with the flow)."""
+COLLECTIVE_SET_UP_SECONDS = 1.5
+"""CPU time of a collective run besides its steps (its Simulation, the bodies' placement,
+the recorded measures): the crowd dish's runs that ended at t = 1 took 1.0 to 2.3 s more
+than their steps (benchmarks/crowd_cost.py, docs/results.md, 2026-11-28)."""
 LONG_RUN_SECONDS = 600.0
 """Runs estimated to take longer than this announce their estimate before they start."""
 
@@ -344,7 +348,8 @@ def estimate_sweep(runs: Sequence[Run], workers: int | None, threads: int = 1) -
     """Estimated cost of computing `runs` of one sweep (no trackers, no movie).
 
     * protocol estimator: t_end of each run (:func:`protocol_seconds`); collective (a
-      bodies run): likewise, every step at :func:`bodies_step_seconds`;
+      bodies run): likewise, every step at :func:`bodies_step_seconds`, and
+      :data:`COLLECTIVE_SET_UP_SECONDS` a run;
     * restart: the stop (steps of a stopped plate) and a release of :data:`COMMIT_TIME`
       (at most the release cap) per run, with the set-up of its calls of the CPU backend
       (:func:`call_seconds`: the approach, the stop and a commitment check every
@@ -369,7 +374,10 @@ def estimate_sweep(runs: Sequence[Run], workers: int | None, threads: int = 1) -
         if (run.point, run.direction) not in points:
             config = RotorConfig.model_validate(run.config)
             if run.estimator["kind"] in ("protocol", "collective"):
-                points[run.point, run.direction] = (config, None, protocol_seconds(config), 0.0)
+                seconds = protocol_seconds(config)
+                if run.estimator["kind"] == "collective":
+                    seconds += COLLECTIVE_SET_UP_SECONDS
+                points[run.point, run.direction] = (config, None, seconds, 0.0)
             else:
                 estimator = RestartEstimator.model_validate({**run.estimator, "kind": "restart"})
                 spin_up = warm_key(config, estimator, run.direction)

@@ -348,3 +348,17 @@ def test_a_body_costs_its_integrals_unless_fixed_and_its_pills_redraw_while_it_m
     assert bodies_step_seconds(free) == pytest.approx(bodies_step_seconds(fixed) + sums + drawn)
     held = bodies_step_seconds(free, moving=[0.0])
     assert held == pytest.approx(bodies_step_seconds(fixed) + sums)
+
+
+def test_a_collective_run_costs_its_steps_and_its_set_up() -> None:
+    """A crowd sweep's run: every step at the bodies' step estimate, and its set-up."""
+    from pathlib import Path
+
+    from pde_rotor.sweep.cost import COLLECTIVE_SET_UP_SECONDS
+
+    sweep_file = Path(__file__).resolve().parents[2] / "configs" / "sweeps" / "crowd_dish.yaml"
+    run = Sweep.load(sweep_file).runs()[0]
+    config = validate_config(run.config)
+    assert estimate_sweep([run], None).core_seconds == pytest.approx(
+        protocol_seconds(config) + COLLECTIVE_SET_UP_SECONDS
+    )
