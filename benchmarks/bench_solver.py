@@ -128,15 +128,12 @@ def time_parts(sim: Simulation, calls: int) -> dict[str, float]:
         parts["of which spline window"] = timed(
             lambda k: spline_window(cur, coef, n, lo, hi, t_lo, t_hi)
         )
+    bufs = (cur, nxt, F, G)
     parts["fused pass over rows"] = timed(
-        lambda k: sweep_rows(
-            cur, nxt, F, G, domain, params, tab, tables, True, omega, coef, sums, 1
-        )
+        lambda k: sweep_rows(bufs, domain, params, tables, (tab, True, omega), (coef, sums), 1)
     )
     parts["same, plate stopped"] = timed(
-        lambda k: sweep_rows(
-            cur, nxt, F, G, domain, params, tab, tables, False, omega, coef, sums, 1
-        )
+        lambda k: sweep_rows(bufs, domain, params, tables, (tab, False, omega), (coef, sums), 1)
     )
     if scheme.contour:
         parts["columns, contour nodes"] = timed(

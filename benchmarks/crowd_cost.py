@@ -5,10 +5,10 @@ its store data/sweeps/crowd_dish), prints the estimate of ``pde-rotor sweep --dr
 for that run alone (:func:`pde_rotor.sweep.cost.estimate_sweep`, one idle core) beside
 the CPU time its worker spent on it (``cpu_time`` of its record: CPU seconds, which the
 load of other work does not inflate), and their ratio. A run that ended early (two
-footprints met) is compared with the estimate scaled to the time it reached (its last
-record; one that ended before it is left out); the set-up of a run (the model, numba's
-cached kernels) is in its CPU time and not in the estimate, so short runs measure above
-their estimate. The totals compare the runs that reached t_end.
+footprints met) is compared with the estimate of its steps scaled to the time it reached
+(its last record; one that ended before it is left out) and the run's set-up
+(:data:`pde_rotor.sweep.cost.COLLECTIVE_SET_UP_SECONDS`). The totals compare the runs
+that reached t_end.
 
 Run:  python benchmarks/crowd_cost.py [SWEEP_FILE [STORE]]
 """
@@ -20,7 +20,7 @@ from pathlib import Path
 
 from pde_rotor.config import RotorConfig
 from pde_rotor.sweep import Sweep, read_runs
-from pde_rotor.sweep.cost import estimate_sweep
+from pde_rotor.sweep.cost import COLLECTIVE_SET_UP_SECONDS, estimate_sweep
 
 
 def main(argv: list[str]) -> None:
@@ -37,7 +37,8 @@ def main(argv: list[str]) -> None:
         estimate = estimate_sweep([run], None).core_seconds
         t_end = RotorConfig.model_validate(run.config).protocol.t_end
         reached = record["result"]["t"][-1] if record["result"]["end"] else t_end
-        scaled = estimate * reached / t_end
+        steps = estimate - COLLECTIVE_SET_UP_SECONDS
+        scaled = COLLECTIVE_SET_UP_SECONDS + steps * reached / t_end
         if not scaled:
             continue  # ended before its first record
         cpu = record["cpu_time"]

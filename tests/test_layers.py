@@ -153,3 +153,48 @@ def test_every_subpackage_says_what_each_of_its_modules_does():
             if f":mod:`.{module}`" not in doc:
                 silent.append(f"{init.parent.relative_to(PACKAGE)}/{module}")
     assert silent == []
+
+
+MAX_PARAMETERS = 10
+"""The most parameters a function outside cli/ may take (arrays travel as named bundles,
+scalars in the parameter record; the command line's options are the exception)."""
+
+
+def parameter_count(node: ast.FunctionDef | ast.AsyncFunctionDef | ast.Lambda) -> int:
+    """Every parameter of a function: positional, keyword-only, *args and **kwargs."""
+    args = node.args
+    starred = (args.vararg is not None) + (args.kwarg is not None)
+    return len(args.posonlyargs) + len(args.args) + len(args.kwonlyargs) + starred
+
+
+def long_signatures(tree: ast.AST, where: str) -> list[str]:
+    """``where:line name (count)`` of each function (nested ones and lambdas too) in `tree`
+    that takes more than :data:`MAX_PARAMETERS` parameters."""
+    return [
+        f"{where}:{node.lineno} {getattr(node, 'name', 'lambda')} ({parameter_count(node)})"
+        for node in ast.walk(tree)
+        if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef | ast.Lambda)
+        and parameter_count(node) > MAX_PARAMETERS
+    ]
+
+
+def test_the_signature_walk_sees_every_kind_of_parameter():
+    source = (
+        "def eleven(a, b, /, c, d, *rest, e, f, g, h, i, **more): pass\n"
+        "def ten(a, b, c, d, e, f, g, h, i, j): pass\n"
+        "class K:\n"
+        "    def method(self, a, b, c, d, e, f, g, h, i, j): pass\n"
+        "def outer():\n"
+        "    return lambda a, b, c, d, e, f, g, h, i, j, k: a\n"
+    )
+    found = long_signatures(ast.parse(source), "x.py")
+    assert found == ["x.py:1 eleven (11)", "x.py:4 method (11)", "x.py:6 lambda (11)"]
+
+
+def test_no_function_outside_cli_takes_more_than_ten_parameters():
+    too_long = []
+    for path in sorted(PACKAGE.rglob("*.py")):
+        where = path.relative_to(PACKAGE.parent)
+        if where.parts[1] != "cli":
+            too_long += long_signatures(ast.parse(path.read_text(encoding="utf-8")), str(where))
+    assert too_long == []

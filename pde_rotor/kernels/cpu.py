@@ -57,8 +57,11 @@ _PARALLEL = {**_LOOP, "parallel": True}
 
 
 @nb.njit(inline="always", **_LOOP)
-def _euler_cells(cur, nxt, F, G, y_of, coef, dt, omega, x, base, sx, nn, j0, j1, flow, plate):
-    """Euler step of the cells [j0, j1) of one row (offset `base`) (compiled)."""
+def _euler_cells(bufs, row, j0, j1, coef, dt, omega, flow, plate):
+    """Euler step of the cells [j0, j1) of one row (compiled): `bufs` is (cur, nxt, F, G,
+    coords), `row` (x, the row's offset, the strides sx and nn of the rates' ``strides``)."""
+    cur, nxt, F, G, y_of = bufs
+    x, base, sx, nn = row
     sy = np.uint64(1)
     f = 0.0
     g = 0.0
@@ -82,23 +85,24 @@ def _euler_cells(cur, nxt, F, G, y_of, coef, dt, omega, x, base, sx, nn, j0, j1,
 
 
 @nb.njit(inline="always", **_LOOP)
-def _euler_row(cur, nxt, F, G, i, coords, lo, hi, slo, shi, coef, dt, omega, flow):
+def _euler_row(bufs, i, domain, coef, dt, omega, flow):
     """One Euler step of Eqs. (eqc) and (eqv) (or (eqc) alone) on the interior cells of
     row i: the cells before, on and after the support (where F, G may be nonzero), an
     empty support where the row has none (no branch around the loops, which would keep
-    numba's reference counts in the loop over rows)."""
+    numba's reference counts in the loop over rows); `bufs` is (cur, nxt, F, G), `domain`
+    as for :func:`advance`."""
+    cur, nxt, F, G = bufs
+    coords, lo, hi, slo, shi = domain
     n = coords.size
-    sx = np.uint64(n)
-    nn = np.uint64(n * n)
-    x = coords[i]
-    base = np.uint64(i * n)
+    cells = (cur, nxt, F, G, coords)
+    row = (coords[i], np.uint64(i * n), np.uint64(n), np.uint64(n * n))
     j0, j1 = np.uint64(lo[i]), np.uint64(hi[i])
     plate = shi[i] > slo[i]
     s0 = np.uint64(slo[i]) if plate else j0
     s1 = np.uint64(shi[i]) if plate else j0
-    _euler_cells(cur, nxt, F, G, coords, coef, dt, omega, x, base, sx, nn, j0, s0, flow, False)
-    _euler_cells(cur, nxt, F, G, coords, coef, dt, omega, x, base, sx, nn, s0, s1, flow, True)
-    _euler_cells(cur, nxt, F, G, coords, coef, dt, omega, x, base, sx, nn, s1, j1, flow, False)
+    _euler_cells(cells, row, j0, s0, coef, dt, omega, flow, False)
+    _euler_cells(cells, row, s0, s1, coef, dt, omega, flow, True)
+    _euler_cells(cells, row, s1, j1, coef, dt, omega, flow, False)
 
 
 @nb.njit(inline="always", **_LOOP)
@@ -132,22 +136,24 @@ def _row_integrals(cur, F, i, coords, j0, j1, p, inv_2dx, area, sums):
 
 
 @nb.njit(inline="always", **_LOOP)
-def _euler_rows(cur, nxt, F, G, i0, i1, domain, coef, dt, omega, flow):
-    """:func:`_euler_row` of the rows [i0, i1), `flow` a compile-time constant."""
-    coords, lo, hi, slo, shi = domain
+def _euler_rows(bufs, i0, i1, domain, coef, dt, omega, flow):
+    """:func:`_euler_row` of the rows [i0, i1), `flow` a compile-time constant; `bufs` is
+    (cur, nxt, F, G)."""
     for i in range(i0, i1):
-        _euler_row(cur, nxt, F, G, i, coords, lo, hi, slo, shi, coef, dt, omega, flow)
+        _euler_row(bufs, i, domain, coef, dt, omega, flow)
 
 
 # Called, not inlined: a prange body stays small and fast to compile. numba's (private)
 # ``_nrt=False``: no reference counting of the arrays, which in these nested loops numba
 # would not prune (a fifth of the Euler update); the block allocates nothing.
 @nb.njit(_nrt=False, **_LOOP)
-def _sweep_block(cur, nxt, F, G, domain, params, tab, tables, turned, omega, work, b, blocks):
+def _sweep_block(bufs, domain, params, tables, plate, work, b, blocks):
     """The rows of block b of `blocks` (groups of :data:`.spline.ROW_GROUP` rows, every
     `blocks`-th group): see :func:`sweep_rows`; `work` is (coef, sums, scratch
     (:data:`.indicators.SCRATCH_ROWS`, n), taps (n, unsigned))."""
     p = params[0]  # read here: numba cannot pass a record into a prange loop's body
+    cur, _, F, G = bufs
+    tab, turned, omega = plate
     coef, sums, scratch, taps = work
     coords, _, _, slo, shi = domain
     n = coords.size
@@ -167,17 +173,22 @@ def _sweep_block(cur, nxt, F, G, domain, params, tab, tables, turned, omega, wor
             else:
                 _row_integrals(cur, F, i, coords, j0, j1, p, inv_2dx, True, sums)
         if p.flow:  # two loops, so that `flow` is a compile-time constant of each
-            _euler_rows(cur, nxt, F, G, i0, i1, domain, rates, dt, omega, True)
+            _euler_rows(bufs, i0, i1, domain, rates, dt, omega, True)
         else:
-            _euler_rows(cur, nxt, F, G, i0, i1, domain, rates, dt, omega, False)
+            _euler_rows(bufs, i0, i1, domain, rates, dt, omega, False)
         if p.contour and max(i0, w_lo) < min(i1, w_hi):
             r0, r1 = max(i0, w_lo), min(i1, w_hi)
             spline_rows(cur, coef, n, r0, r1, w_lo, w_hi, p.taps_lo, scratch[3])
 
 
 @nb.njit(**_PARALLEL)
-def sweep_rows(cur, nxt, F, G, domain, params, tab, tables, turned, omega, coef, sums, threads):
+def sweep_rows(bufs, domain, params, tables, plate, out, threads):
     """One pass over the rows of the grid: all of a step's work that goes row by row.
+
+    `bufs` is (cur, nxt, F, G): the flat state now and after the step, the flat
+    indicators; `plate` is (tab, turned, omega): the rotor table, whether the plate
+    turned, its angular velocity; `out` is (coef, sums); `domain`, `params` and `tables`
+    as for :func:`advance`.
 
     For each row i: F and G of its support cells at the angle of the rotor table `tab`
     if the plate `turned` (:func:`pde_rotor.kernels.indicators.indicator_row`), the
@@ -190,30 +201,17 @@ def sweep_rows(cur, nxt, F, G, domain, params, tab, tables, turned, omega, coef,
     ``prange`` (one block per thread of ``numba.set_num_threads``); each row's results
     are the same however the rows are shared.
     """
+    coef, sums = out
     n = domain[0].size
     blocks = min(threads, n // ROW_GROUP)
     if blocks <= 1:  # no parallel region to start
         for b in range(blocks):
             work = (coef, sums, np.empty((SCRATCH_ROWS, n)), np.empty(n, np.uint64))
-            _sweep_block(cur, nxt, F, G, domain, params, tab, tables, turned, omega, work, b, 1)
+            _sweep_block(bufs, domain, params, tables, plate, work, b, 1)
     else:
         for b in nb.prange(blocks):
             work = (coef, sums, np.empty((SCRATCH_ROWS, n)), np.empty(n, np.uint64))
-            _sweep_block(
-                cur,
-                nxt,
-                F,
-                G,
-                domain,
-                params,
-                tab,
-                tables,
-                turned,
-                omega,
-                work,
-                np.int64(b),
-                blocks,
-            )
+            _sweep_block(bufs, domain, params, tables, plate, work, np.int64(b), blocks)
 
 
 @nb.njit(**_LOOP)
@@ -337,13 +335,13 @@ def _total_integrals(sums, coords):
 
 
 @nb.njit(inline="always", **_LOOP)
-def _step(cur, nxt, F, G, domain, params, tab, tables, pose, turned, work, threads):
+def _step(bufs, domain, params, tables, tab, pose, turned, work, threads):
     """A step's pass over the grid at the rotor's `pose` (angle phi, angular velocity
     omega; the motion's pose of the body at X = 0): F and G anew if
     the plate `turned` since they were computed, the Euler step of the fields from `cur`
-    into `nxt` (:func:`sweep_rows`) and the torques on `cur` (the contour form by
-    :func:`contour_torque`), in `threads` blocks. `work` is (coef, row sums, pair sums)
-    scratch.
+    into `nxt` (`bufs` = (cur, nxt, F, G), :func:`sweep_rows`) and the torques on `cur`
+    (the contour form by :func:`contour_torque`), in `threads` blocks. `tab` is the rotor
+    table, `work` (coef, row sums, pair sums) scratch.
 
     Returns:
         The rotor's loads, Eqs. (torque), (eq_motion) (the motion's ``body_loads`` of the
@@ -354,7 +352,7 @@ def _step(cur, nxt, F, G, domain, params, tab, tables, pose, turned, work, threa
     coef, sums, pair_sums = work
     if turned:
         _rotor_table(phi, p.n_corners, p.pill_distance, p.asymmetry, tab)
-    sweep_rows(cur, nxt, F, G, domain, params, tab, tables, turned, omega, coef, sums, threads)
+    sweep_rows(bufs, domain, params, tables, (tab, turned, omega), (coef, sums), threads)
     cross_grad, moment, cross_v = _total_integrals(sums, domain[0])
     if p.contour:
         cross_grad = contour_torque(coef, domain[0], params, tab, tables, pair_sums, threads)
@@ -363,7 +361,7 @@ def _step(cur, nxt, F, G, domain, params, tab, tables, pose, turned, work, threa
 
 
 @nb.njit(**_LOOP)
-def advance(data, spare, stage, F, G, domain, params, tables, rotor, xi, step0, n_steps, threads):
+def advance(states, maps, domain, params, tables, rotor, xi, steps, threads):
     """Advance c, v, phi, omega by `n_steps` fused steps, Euler or Heun (compiled).
 
     Forward Euler (the paper's method) when `stage` is empty. Otherwise Heun's method
@@ -382,10 +380,11 @@ def advance(data, spare, stage, F, G, domain, params, tables, rotor, xi, step0, 
     pairs) in a fixed order, so the result has the same bits for any number of threads.
 
     Args:
-        data: flat state (c, v_x, v_y), 3 n^2 values, updated in place.
-        spare: scratch array of the same shape.
-        stage: scratch of the same shape for Heun's method, or empty for Euler.
-        F, G: flat indicator arrays (n^2), zero outside the support, updated in place.
+        states: (data, spare, stage): the flat state (c, v_x, v_y), 3 n^2 values,
+            updated in place; scratch of the same shape; scratch of the same shape for
+            Heun's method, or empty for Euler.
+        maps: (F, G): flat indicator arrays (n^2), zero outside the support, updated in
+            place.
         domain: (coords, lo, hi, slo, shi): cell-centre coordinates, the interior and
             the support column ranges [lo, hi) per row.
         params: the run's parameter record, the (1,) array of
@@ -396,14 +395,17 @@ def advance(data, spare, stage, F, G, domain, params, tables, rotor, xi, step0, 
             filter tables (:class:`~pde_rotor.model.schemes.Scheme`).
         rotor: [phi, omega, torque, friction, stopped], updated in place.
         xi: one standard normal per step for the noise (read where ``kick`` != 0).
-        step0: global index of the first step (t = step0 dt).
-        n_steps: number of steps.
+        steps: (step0, n_steps): global index of the first step (t = step0 dt), number
+            of steps.
         threads: blocks the grid's work is split into (1: one thread, no parallel region).
 
     Returns:
         -1 on success, else the index of the step at which phi, omega or T stopped
         being finite (the state is then left at the start of that step).
     """
+    data, spare, stage = states
+    F, G = maps
+    step0, n_steps = steps
     p = params[0]
     dt = p.dt
     pose = (0.0, 0.0, rotor[0], 0.0, 0.0, rotor[1])
@@ -427,7 +429,7 @@ def advance(data, spare, stage, F, G, domain, params, tables, rotor, xi, step0, 
         stopped = _held(step0 + s, p)
         pose = _hold(pose, stopped)
         loads = _step(
-            cur, nxt, F, G, domain, params, tab, tables, pose, pose[2] != phi_f, work, threads
+            (cur, nxt, F, G), domain, params, tables, tab, pose, pose[2] != phi_f, work, threads
         )
         phi_f = pose[2]
         if not _finite_loads(loads):
@@ -439,7 +441,7 @@ def advance(data, spare, stage, F, G, domain, params, tables, rotor, xi, step0, 
             predicted = pose if stopped else _euler_pose(pose, loads, dt, p)
             turned = predicted[2] != phi_f
             loads_p = _step(
-                nxt, stage, F, G, domain, params, tab, tables, predicted, turned, work, threads
+                (nxt, stage, F, G), domain, params, tables, tab, predicted, turned, work, threads
             )
             phi_f = predicted[2]
             heun_average(cur, stage, nxt, domain, p.flow, threads)
@@ -475,9 +477,9 @@ def euler_fields(cur, nxt, F, G, domain, params, omega):
     rates = _rate_coefficients(p)
     n = domain[0].size
     if p.flow:  # as in _sweep_block
-        _euler_rows(cur, nxt, F, G, 0, n, domain, rates, p.dt, omega, True)
+        _euler_rows((cur, nxt, F, G), 0, n, domain, rates, p.dt, omega, True)
     else:
-        _euler_rows(cur, nxt, F, G, 0, n, domain, rates, p.dt, omega, False)
+        _euler_rows((cur, nxt, F, G), 0, n, domain, rates, p.dt, omega, False)
 
 
 @nb.njit(**_LOOP)

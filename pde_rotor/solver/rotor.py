@@ -81,18 +81,14 @@ class FusedStepper:
         work = data if data.flags.c_contiguous else np.ascontiguousarray(data)
         with running_on(self.threads):
             failed = advance(
-                work.reshape(-1),
-                self._spare.reshape(-1),
-                self._stage.reshape(-1),
-                pde.F.reshape(-1),
-                pde.G.reshape(-1),
+                (work.reshape(-1), self._spare.reshape(-1), self._stage.reshape(-1)),
+                (pde.F.reshape(-1), pde.G.reshape(-1)),
                 dom.arrays(),
                 self._record,
                 scheme.kernel_tables(),
                 rotor,
                 self.normals(n_steps),
-                step0,
-                n_steps,
+                (step0, n_steps),
                 self.threads,
             )
         if work is not data:

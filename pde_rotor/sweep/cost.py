@@ -24,11 +24,13 @@ sweep estimate adds the load it finds on the machine (:class:`SweepEstimate`) an
 threads of each run (:func:`thread_speedup`). Other machines differ by their speed.
 
 A run with ``bodies:`` steps another kernel (:func:`bodies_step_seconds`): the field update
-on every interior cell (with or without the flow, and the no-flux wall's cut cells), and
-per body its box of (2 R / dx)^2 cells (R its footprint), where the forces are integrated
-every step and F and G are redrawn while the body moves (not while it is fixed or held).
-``benchmarks/bodies_cost.py`` checks the estimate against the measured step of the shipped
-bodies configs (docs/results.md, 2026-11-28).
+on every wet cell (with or without the flow, and a no-flux wall's cut cells), and per body
+its box of (2 R / dx)^2 cells (R its footprint), where its plate terms enter the update,
+its forces are integrated every step (unless it is fixed) and F and G are redrawn while it
+moves (not while it is fixed or held); Heun's method does all of it twice and averages the
+fields. ``benchmarks/calibrate_cost.py`` measures these steps (every config of
+configs/bodies/ with Euler and Heun, the crowd sweeps' largest runs, single bodies in
+dishes) and fits :data:`BODIES_STEP_COSTS` to them (docs/results.md, 2026-11-28).
 """
 
 from __future__ import annotations
@@ -38,7 +40,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from ..config import RotorConfig
+from ..config import X_SATURATION, RotorConfig
 from ..model.setup import Setup
 from ..solver.threads import other_load, usable_cores
 
@@ -73,27 +75,36 @@ workers' start (imports, the compiled kernels read from numba's cache) and the r
 COMMIT_TIME = 0.8
 """Release time until a restart has committed to a direction: the mean ``t_commit`` of
 the 6814 releases stored under data/sweeps/ is 0.82 (0.77 to 0.87 by sweep)."""
-SECONDS_PER_BODIES_CELL_STEP: dict[bool, float] = {True: 4.0e-9, False: 1.95e-9}
-"""Wall time of one step of the bodies' kernel per interior cell, with (True) and without
-the flow: a dish of radius 4 at dx = 0.025 with one small fixed pill, 0.393 and 0.227
-ms/step (thread CPU time, 2026-11-28), less that pill's box."""
-SECONDS_PER_NO_FLUX_CELL_STEP = 3.3e-8
-"""What the no-flux wall's cut cells add per interior cell and step (radius 2 and 4 with
-one fixed pill, no flow: 0.76 and 2.86 ms/step); also charged for a vessel with a no-flux
-wall (:func:`no_flux_walls`)."""
-SECONDS_PER_BODY_BOX_CELL_STEP: dict[str, float] = {"paper": 3.05e-8, "consistent": 4.5e-8}
-"""Per cell of a body's box (2 R / dx)^2 and step, the force integrals of a body that is
-not redrawn (fixed or held): the paper's hexagon held fixed adds 0.156 ms over a fixed pill
-(boxes of 7424 and 2304 cells). The consistent scheme's split between this and
-:data:`SECONDS_PER_DRAWN_BOX_CELL_STEP` is assumed; their sum is measured (0.495 ms for the
-turning hexagon)."""
-SECONDS_PER_DRAWN_BOX_CELL_STEP: dict[str, float] = {"paper": 8.1e-9, "consistent": 2.2e-8}
-"""Per cell of a body's box and step, the redraw of F, G and the owner map while the body
-moves: the paper's hexagon turning costs 0.060 ms more than held fixed."""
-HEUN_EVALUATIONS = 2.0
-"""A Heun step of the bodies' kernel draws, sums and updates the fields twice (at the
-state and at the prediction, :func:`pde_rotor.kernels.bodies.advance_bodies`) and adds an
-average of the fields: counted as two Euler steps."""
+BODIES_STEP_COSTS: dict[str, float] = {
+    "cell": 6.32e-10,
+    "flow_cell": 1.78e-9,
+    "no_flux_cell": 3.23e-8,
+    "no_flux_flow_cell": 4.71e-9,
+    "no_flux_box_cell": 2.42e-8,
+    "paper_box_cell": 3.04e-9,
+    "consistent_box_cell": 2.49e-8,
+    "drawn_pill_cell": 8.33e-9,
+    "heun_average_cell": 1.55e-9,
+}
+"""CPU seconds of one step of the bodies' kernel per unit of each term of
+:func:`bodies_step_terms` (one thread on one core of the project's machine), fitted by
+``benchmarks/calibrate_cost.py`` to measured steps of every config of configs/bodies/
+with Euler and Heun, the crowd sweeps' largest runs and single bodies in dishes
+(docs/results.md, 2026-11-28). Per wet cell: ``cell`` the field update without flow,
+``flow_cell`` what the flow adds, ``no_flux_cell`` what a no-flux wall's cut-cell update
+adds, ``no_flux_flow_cell`` what the flow adds there besides. Per cell of a body's box
+(2 R / dx)^2, R its footprint's reach: ``no_flux_box_cell`` its plate terms in the
+cut-cell update (every body, behind a no-flux wall; in the open update they cost what a
+bare cell costs), ``<scheme>_box_cell`` its force integrals (every body but a ``fixed``
+one, held or not; with ``consistent`` also its filtered F and the contour form).
+``drawn_pill_cell``: per cell of each pill's box (2 (rho + 20 delta) / dx)^2, its source
+term G (and F without a plate) redrawn while the body moves (the plate's own F is within
+the fit's noise). ``heun_average_cell``: Heun's average per wet cell and field (c, and v
+with the flow)."""
+COLLECTIVE_SET_UP_SECONDS = 1.5
+"""CPU time of a collective run besides its steps (its Simulation, the bodies' placement,
+the recorded measures): the crowd dish's runs that ended at t = 1 took 1.0 to 2.3 s more
+than their steps (benchmarks/crowd_cost.py, docs/results.md, 2026-11-28)."""
 LONG_RUN_SECONDS = 600.0
 """Runs estimated to take longer than this announce their estimate before they start."""
 
@@ -124,28 +135,63 @@ def step_seconds(config: RotorConfig, stopped: bool = False) -> float:
     return interior * SECONDS_PER_CELL_STEP + support * table[config.numerics.scheme]
 
 
-def bodies_step_seconds(config: RotorConfig) -> float:
-    """Estimated wall time of one step of a run with ``bodies:``, averaged over the run:
-    each body redrawn while it moves (a fixed body never, a body with stops not while held).
-    """
-    interior = cell_counts(config)[0]
-    cell = SECONDS_PER_BODIES_CELL_STEP[config.flow.enabled]
-    if no_flux_walls(config):
-        cell += SECONDS_PER_NO_FLUX_CELL_STEP
-    scheme = config.numerics.scheme
-    seconds = interior * cell
+def moving_shares(config: RotorConfig) -> list[float]:
+    """Each body's share of the run's steps in which it moves (and is redrawn): 0 for a
+    ``fixed`` body, else 1 less the share of t_end its own stops hold it."""
     t_end = config.protocol.t_end
+    shares = []
     for body in config.bodies or []:
-        box = (2 * body.reach(config.geometry.smoothing) / config.grid.dx) ** 2
         moving = 0.0 if body.motion.kind == "fixed" else 1.0
         if moving and body.protocol is not None and t_end > 0:
             held = body.protocol.cycles * body.protocol.t_stop
             moving = max(0.0, 1.0 - min(held, t_end) / t_end)
-        seconds += box * (
-            SECONDS_PER_BODY_BOX_CELL_STEP[scheme]
-            + moving * SECONDS_PER_DRAWN_BOX_CELL_STEP[scheme]
-        )
-    return seconds * HEUN_EVALUATIONS if config.numerics.integrator == "heun" else seconds
+        shares.append(moving)
+    return shares
+
+
+def bodies_step_terms(
+    config: RotorConfig, moving: Sequence[float] | None = None
+) -> dict[str, float]:
+    """What one step of a run with ``bodies:`` walks, by the key of
+    :data:`BODIES_STEP_COSTS` that prices it: the wet cells (with the flow, behind a
+    no-flux wall), each body's box of (2 R / dx)^2 cells (its plate terms behind a no-flux
+    wall, its force integrals unless it is ``fixed``) and its pills' boxes (redrawn in the
+    share `moving` of the steps, each body's, default :func:`moving_shares`). Heun's method
+    (:func:`pde_rotor.kernels.bodies.advance_bodies`) draws, sums and updates the fields
+    twice a step (at the state and at the prediction) and averages the fields once: twice
+    every term, and ``heun_average_cell``.
+    """
+    interior = cell_counts(config)[0]
+    flow = config.flow.enabled
+    walled = no_flux_walls(config)
+    delta, dx = config.geometry.smoothing, config.grid.dx
+    bodies = config.bodies or []
+    shares = moving_shares(config) if moving is None else moving
+    terms = dict.fromkeys(BODIES_STEP_COSTS, 0.0)
+    terms["cell"] = interior
+    terms["flow_cell"] = interior if flow else 0.0
+    terms["no_flux_cell"] = interior if walled else 0.0
+    terms["no_flux_flow_cell"] = interior if walled and flow else 0.0
+    for body, share in zip(bodies, shares, strict=True):
+        box = (2 * body.reach(delta) / dx) ** 2
+        terms["no_flux_box_cell"] += box if walled else 0.0
+        if body.motion.kind != "fixed":
+            terms[f"{config.numerics.scheme}_box_cell"] += box
+            for pill in body.pills:
+                pill_box = (2 * (pill.radius + X_SATURATION * delta) / dx) ** 2
+                terms["drawn_pill_cell"] += share * pill_box
+    if config.numerics.integrator == "heun":
+        terms = {key: 2.0 * value for key, value in terms.items()}
+        terms["heun_average_cell"] = interior * (3 if flow else 1)
+    return terms
+
+
+def bodies_step_seconds(config: RotorConfig, moving: Sequence[float] | None = None) -> float:
+    """Estimated CPU time of one step of a run with ``bodies:``, averaged over the run
+    (:func:`bodies_step_terms` priced by :data:`BODIES_STEP_COSTS`): each body redrawn
+    while it moves (a fixed body never, a body with stops not while held)."""
+    terms = bodies_step_terms(config, moving)
+    return sum(BODIES_STEP_COSTS[key] * count for key, count in terms.items())
 
 
 def no_flux_walls(config: RotorConfig) -> bool:
@@ -302,7 +348,8 @@ def estimate_sweep(runs: Sequence[Run], workers: int | None, threads: int = 1) -
     """Estimated cost of computing `runs` of one sweep (no trackers, no movie).
 
     * protocol estimator: t_end of each run (:func:`protocol_seconds`); collective (a
-      bodies run): likewise, every step at :func:`bodies_step_seconds`;
+      bodies run): likewise, every step at :func:`bodies_step_seconds`, and
+      :data:`COLLECTIVE_SET_UP_SECONDS` a run;
     * restart: the stop (steps of a stopped plate) and a release of :data:`COMMIT_TIME`
       (at most the release cap) per run, with the set-up of its calls of the CPU backend
       (:func:`call_seconds`: the approach, the stop and a commitment check every
@@ -327,7 +374,10 @@ def estimate_sweep(runs: Sequence[Run], workers: int | None, threads: int = 1) -
         if (run.point, run.direction) not in points:
             config = RotorConfig.model_validate(run.config)
             if run.estimator["kind"] in ("protocol", "collective"):
-                points[run.point, run.direction] = (config, None, protocol_seconds(config), 0.0)
+                seconds = protocol_seconds(config)
+                if run.estimator["kind"] == "collective":
+                    seconds += COLLECTIVE_SET_UP_SECONDS
+                points[run.point, run.direction] = (config, None, seconds, 0.0)
             else:
                 estimator = RestartEstimator.model_validate({**run.estimator, "kind": "restart"})
                 spin_up = warm_key(config, estimator, run.direction)

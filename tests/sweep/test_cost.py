@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import time
 
 import pytest
@@ -12,11 +13,11 @@ from pde_rotor.model.geometry import RotorShape
 from pde_rotor.solver.simulation import Simulation
 from pde_rotor.sweep import Sweep, SweepSpec
 from pde_rotor.sweep.cost import (
+    BODIES_STEP_COSTS,
     CALLS_PER_RESTART,
     COMMIT_TIME,
     LONG_RUN_SECONDS,
     SECONDS_PER_CELL_STEP,
-    SECONDS_PER_NO_FLUX_CELL_STEP,
     bodies_step_seconds,
     call_seconds,
     cell_counts,
@@ -268,7 +269,8 @@ def test_a_sweep_estimate_counts_the_threads_of_each_worker():
 )
 def test_a_vessel_with_a_no_flux_wall_pays_for_its_cut_cells(inner, outer, charged) -> None:
     """An annulus with a no-flux wall costs what the no-flux dish's cut cells cost per
-    interior cell; with absorbing walls only it does not."""
+    interior cell (with the flow's part there), and per cell of a body's box its plate
+    terms in that update; with absorbing walls only it does not."""
 
     def config(inner_wall: str, outer_wall: str):
         vessel = {"shape": "annulus", "inner_radius": 1.0, "outer_radius": 2.5}
@@ -289,7 +291,12 @@ def test_a_vessel_with_a_no_flux_wall_pays_for_its_cut_cells(inner, outer, charg
 
     with_walls, without = config(inner, outer), config("absorbing", "absorbing")
     assert no_flux_walls(with_walls) is charged
-    extra = SECONDS_PER_NO_FLUX_CELL_STEP * cell_counts(with_walls)[0] if charged else 0.0
+    walled = (
+        (BODIES_STEP_COSTS["no_flux_cell"] + BODIES_STEP_COSTS["no_flux_flow_cell"])
+        * cell_counts(with_walls)[0]  # the flow is on
+        + BODIES_STEP_COSTS["no_flux_box_cell"] * (2 * 0.6 / 0.05) ** 2  # the pill's box
+    )
+    extra = walled if charged else 0.0
     assert bodies_step_seconds(with_walls) == pytest.approx(bodies_step_seconds(without) + extra)
 
 
@@ -305,9 +312,53 @@ def test_the_estimate_notes_what_it_assumes_of_the_runs_it_counts() -> None:
     assert estimate_sweep([], 1).restarts is None
 
 
-def test_a_heun_step_of_bodies_is_charged_as_two_euler_steps() -> None:
-    """Heun evaluates every phase of the bodies' step twice (the state and the prediction)."""
+def test_a_heun_step_of_bodies_is_two_euler_steps_and_an_average() -> None:
+    """Heun evaluates every phase of the bodies' step twice (the state and the prediction)
+    and averages the fields once: c on the wet cells, and v with the flow."""
     data = {"bodies": [{"pills": [{"radius": 0.1}], "start": {"x": 1.0}}]}
-    euler = validate_config(data)
-    heun = validate_config(data | {"numerics": {"integrator": "heun"}})
-    assert bodies_step_seconds(heun) == pytest.approx(2.0 * bodies_step_seconds(euler))
+    for flow, fields in ((True, 3), (False, 1)):
+        euler = validate_config(data | {"flow": {"enabled": flow}})
+        heun = validate_config(
+            data | {"flow": {"enabled": flow}, "numerics": {"integrator": "heun"}}
+        )
+        average = BODIES_STEP_COSTS["heun_average_cell"] * fields * cell_counts(heun)[0]
+        assert bodies_step_seconds(heun) == pytest.approx(
+            2.0 * bodies_step_seconds(euler) + average
+        )
+
+
+def test_a_body_costs_its_integrals_unless_fixed_and_its_pills_redraw_while_it_moves() -> None:
+    """On the open dish a fixed body costs nothing beyond the wet cells (its plate terms
+    are a bare cell's price); a free one its integrals over its box, and its pills'
+    redraw in the share of the run it moves (none while held)."""
+    strip = {"shape": "strip", "length": 0.4, "width": 0.2}
+    body = {"plate": strip, "pills": [{"radius": 0.1}], "start": {"x": 1.0}}
+    fixed = validate_config(PAPER | {"bodies": [body | {"motion": {"kind": "fixed"}}]})
+    free = validate_config(
+        PAPER | {"bodies": [body | {"motion": {"kind": "free", "mass": 1e-4, "friction": 0.2}}]}
+    )
+    dx, grow = fixed.grid.dx, 20 * fixed.geometry.smoothing
+    box = (2 * math.hypot(0.2 + grow, 0.1 + grow) / dx) ** 2  # the strip's corner's reach
+    pill_box = (2 * (0.1 + grow) / dx) ** 2
+    assert bodies_step_seconds(fixed) == pytest.approx(
+        cell_counts(fixed)[0] * (BODIES_STEP_COSTS["cell"] + BODIES_STEP_COSTS["flow_cell"])
+    )
+    sums = BODIES_STEP_COSTS["paper_box_cell"] * box
+    drawn = BODIES_STEP_COSTS["drawn_pill_cell"] * pill_box
+    assert bodies_step_seconds(free) == pytest.approx(bodies_step_seconds(fixed) + sums + drawn)
+    held = bodies_step_seconds(free, moving=[0.0])
+    assert held == pytest.approx(bodies_step_seconds(fixed) + sums)
+
+
+def test_a_collective_run_costs_its_steps_and_its_set_up() -> None:
+    """A crowd sweep's run: every step at the bodies' step estimate, and its set-up."""
+    from pathlib import Path
+
+    from pde_rotor.sweep.cost import COLLECTIVE_SET_UP_SECONDS
+
+    sweep_file = Path(__file__).resolve().parents[2] / "configs" / "sweeps" / "crowd_dish.yaml"
+    run = Sweep.load(sweep_file).runs()[0]
+    config = validate_config(run.config)
+    assert estimate_sweep([run], None).core_seconds == pytest.approx(
+        protocol_seconds(config) + COLLECTIVE_SET_UP_SECONDS
+    )
