@@ -75,7 +75,7 @@ def profile(sim: Simulation, steps: int) -> dict[str, float]:
     record, body, pills, tables = step._record, step._bodies, step._pills, step._tables
     coords, lo, hi, _, _ = pde.domain.arrays()
     n = coords.size
-    domain = (coords, lo, hi, *step._rows)
+    domain = (coords, lo, hi)
     cur = np.ascontiguousarray(sim.state.data).reshape(-1).copy()
     nxt = np.zeros_like(cur)
     F, G, owner = pde.F.reshape(-1), pde.G.reshape(-1), pde.owner.reshape(-1)
@@ -87,8 +87,12 @@ def profile(sim: Simulation, steps: int) -> dict[str, float]:
     count = len(body)
     x0, inv_dx = coords[0], 1.0 / (coords[1] - coords[0])
     out = np.zeros(N_INTEGRALS)
-    work = (np.empty((body_draw.SCRATCH_ROWS, n)), np.empty(n, np.uint64))
+    chords = np.zeros((2, len(body), n), np.int64)
+    work = (np.empty((body_draw.SCRATCH_ROWS, n)), np.empty(n, np.uint64), chords,
+            np.zeros((2, n), np.int64))  # fmt: skip
     bodies = (body, pills, pose, pose[:, :3].copy(), box, normals, centres, tables)
+    for k in range(len(body)):
+        body_draw.footprint_rows(coords, k, bodies, chords)
     segments = (np.zeros(n + 1, np.int64), np.zeros((3, count * n), np.int64))
     bare = (np.zeros(n + 1, np.int64), np.zeros((3, 0), np.int64))
     times = dict.fromkeys(
@@ -107,10 +111,10 @@ def profile(sim: Simulation, steps: int) -> dict[str, float]:
         for k in range(count):
             timed("draw (F, G, owner)", body_draw.draw_body, F, G, owner, domain, k, bodies,
                   p, work, False)  # fmt: skip
-        body_fields.body_segments(coords, bodies, segments)
+        body_fields.body_segments(bodies, chords, segments)
         for k in range(count):
-            timed("area integrals", body_sums.body_integrals, cur, F, coords, k, bodies, p,
-                  out)  # fmt: skip
+            timed("area integrals", body_sums.body_integrals, cur, F, coords, k,
+                  (bodies, chords), p, out)  # fmt: skip
             if p.contour:
                 half = int(body[k]["window_half"])
                 ic = int(np.floor((pose[k, 0] - x0) * inv_dx)) + 1

@@ -137,7 +137,7 @@ def bare_surface(sim: Simulation):
     pde = sim.pde
     step = make_bodies_stepper(pde, sim.config.grid.dt, np.random.default_rng(0))
     p = step._record.view(np.recarray)[0]
-    domain = pde.domain.arrays()
+    domain = pde.domain.arrays()[:3]
     runs = (np.zeros(domain[0].size + 1, np.int64), np.zeros((3, 0), np.int64))
     cur = np.ascontiguousarray(sim.state.data).reshape(-1).copy()
     nxt = np.zeros_like(cur)
@@ -162,7 +162,7 @@ def bare_vessel(sim: Simulation):
     pde = sim.pde
     step = make_bodies_stepper(pde, sim.config.grid.dt, np.random.default_rng(0))
     p = step._record.view(np.recarray)[0]
-    domain = pde.domain.arrays()
+    domain = pde.domain.arrays()[:3]
     n = domain[0].size
     maps = (
         pde.F.reshape(-1),

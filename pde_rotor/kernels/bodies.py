@@ -38,7 +38,14 @@ import numpy as np
 
 from ..physics.build import CPU
 from ..physics.motion import MOTION_FIXED, N_INTEGRALS
-from .body_draw import SCRATCH_ROWS, STATUS_EDGE, STATUS_FINITE, STATUS_OVERLAP, draw_body
+from .body_draw import (
+    SCRATCH_ROWS,
+    STATUS_EDGE,
+    STATUS_FINITE,
+    STATUS_OVERLAP,
+    draw_body,
+    footprint_rows,
+)
 from .body_fields import average_fields, body_segments, fields
 from .body_sums import body_contour, body_integrals
 
@@ -64,20 +71,26 @@ def _draw_bodies(maps, domain, surface, bodies, p, work, status):
     """Draw every body whose pose changed since it was last drawn
     (:func:`~pde_rotor.kernels.body_draw.draw_body`), then the bodies' runs of each row
     (:func:`~pde_rotor.kernels.body_fields.body_segments`) (compiled); `maps` is (F, G,
-    owner), `surface` is (wall, first: whether the rows must be redone anyway),
-    `bodies` as for :func:`advance_bodies`, `work` (scratch, taps, segments).
+    owner), `surface` is (wall, first: the first step of a call, whose chords of the
+    bodies' last drawings are taken anew, :func:`~pde_rotor.kernels.body_draw.footprint_rows`,
+    and whose runs are redone anyway), `bodies` as for :func:`advance_bodies`, `work`
+    (the drawing's work: scratch, taps, chords, fresh; segments).
 
     Returns:
         True, or False on a contact (the reason and bodies in `status`).
     """
     F, G, owner = maps
     body, _, pose, drawn, _, _, _, _ = bodies
-    scratch, taps, segments = work
+    draw_work, segments = work
+    chords = draw_work[2]
     redrawn = surface[1]
+    if redrawn:
+        for k in range(body.shape[0]):
+            footprint_rows(domain[0], k, bodies, chords)
     for k in range(body.shape[0]):
         moved = pose[k, 0] != drawn[k, 0] or pose[k, 1] != drawn[k, 1]
         if moved or pose[k, 2] != drawn[k, 2]:
-            code = draw_body(F, G, owner, domain, k, bodies, p, (scratch, taps), moved)
+            code = draw_body(F, G, owner, domain, k, bodies, p, draw_work, moved)
             if code != 0:
                 status[0] = STATUS_EDGE if code > 0 else STATUS_OVERLAP
                 status[1] = k
@@ -86,12 +99,12 @@ def _draw_bodies(maps, domain, surface, bodies, p, work, status):
             drawn[k, 0], drawn[k, 1], drawn[k, 2] = pose[k, 0], pose[k, 1], pose[k, 2]
             redrawn = True
     if redrawn:  # the runs are scratch of each call
-        body_segments(domain[0], bodies, segments)
+        body_segments(bodies, chords, segments)
     return True
 
 
 @nb.njit(cache=True, nogil=True)
-def _loads(cur, F, domain, bodies, p, integrals, loads, status):
+def _loads(cur, F, domain, bodies, chords, p, integrals, loads, status):
     """Each moving body's loads at its pose on the state `cur` into loads[k] (compiled):
     its integrals (:func:`~pde_rotor.kernels.body_sums.body_integrals`, and
     :func:`~pde_rotor.kernels.body_sums.body_contour` for the contour form)
@@ -117,7 +130,7 @@ def _loads(cur, F, domain, bodies, p, integrals, loads, status):
             status[1] = k
             status[2] = -1
             return False
-        body_integrals(cur, F, coords, k, bodies, p, integrals)
+        body_integrals(cur, F, coords, k, (bodies, chords), p, integrals)
         if p.contour:
             body_contour(cur, coords, k, bodies, p, integrals)
         state = (pose[k, 0], pose[k, 1], pose[k, 2], pose[k, 3], pose[k, 4], pose[k, 5])
@@ -206,8 +219,8 @@ def advance_bodies(states, maps, domain, wall, params, bodies, xi, status, steps
             Heun's method, or empty for Euler.
         maps: (F, G, owner): flat indicator arrays and the owner map (-1: no body),
             updated.
-        domain: (coords, lo, hi, slo, shi) (slo, shi unread: the bodies' runs of each
-            row replace them).
+        domain: (coords, lo, hi): the cells' centres of the dish frame and the interior
+            columns [lo, hi) of each row.
         wall: the cut cells of a no-flux dish wall (:meth:`pde_rotor.model.wall.CutCells.arrays`;
             empty, :data:`pde_rotor.kernels.wall.NO_WALL`, for the absorbing wall).
         params: the run's parameter record (:func:`pde_rotor.kernels.records.make_record`).
@@ -251,8 +264,10 @@ def advance_bodies(states, maps, domain, wall, params, bodies, xi, status, steps
     rhs = np.zeros(nn if wall[0].size > 0 else 0)
     scratch = np.empty((SCRATCH_ROWS, n))
     taps = np.empty(n, np.uint64)
-    work = (scratch, taps, (np.zeros(n + 1, np.int64), np.zeros((3, n_bodies * n), np.int64)))
-    surface = (wall, work[2])
+    chords = np.zeros((2, n_bodies, n), np.int64)
+    draw_work = (scratch, taps, chords, np.zeros((2, n), np.int64))
+    work = (draw_work, (np.zeros(n + 1, np.int64), np.zeros((3, n_bodies * n), np.int64)))
+    surface = (wall, work[1])
     if not p.flow:
         data[nn:] = 0.0
         spare[nn:] = 0.0
@@ -269,7 +284,7 @@ def advance_bodies(states, maps, domain, wall, params, bodies, xi, status, steps
         _set_poses(pose, start)
         ok = _draw_bodies(maps, domain, (wall, s == 0), bodies, p, work, status)
         if ok:
-            ok = _loads(cur, F, domain, bodies, p, integrals, loads, status)
+            ok = _loads(cur, F, domain, bodies, chords, p, integrals, loads, status)
         if not ok:
             if s % 2 == 1:
                 data[:] = spare
@@ -293,7 +308,7 @@ def advance_bodies(states, maps, domain, wall, params, bodies, xi, status, steps
         if heun:
             ok = _draw_bodies(maps, domain, (wall, False), bodies, p, work, status)
             if ok:
-                ok = _loads(nxt, F, domain, bodies, p, integrals, loads_p, status)
+                ok = _loads(nxt, F, domain, bodies, chords, p, integrals, loads_p, status)
             if not ok:
                 _set_poses(pose, start)
                 if s % 2 == 1:

@@ -19,43 +19,42 @@ import numba as nb
 import numpy as np
 
 from ..physics.build import CPU, FASTMATH
-from .wall import euler_walled_fields
+from .wall import cell_plate, euler_walled_fields, run_strides
 
 _plate_rates = CPU.rates.plate_rates
-_plate_velocity = CPU.rates.plate_velocity
 _rate_coefficients = CPU.rates.rate_coefficients
-_footprint_chord = CPU.indicators.footprint_chord
 
 
 @nb.njit(cache=True, nogil=True)
-def body_segments(coords, bodies, segments):
+def body_segments(bodies, chords, segments):
     """The chords of the bodies' drawn footprints, row by row (compiled).
 
     segments = (row_start (n + 1), runs (3, K n)): the runs of row i are
     runs[:, row_start[i]:row_start[i + 1]], each (first column, end column, body),
     sorted by their first column (footprints do not overlap, so neither do the runs).
-    A body's chord on row i is ``footprint_chord`` of its box at the pose it was last
-    drawn at, the cells :func:`~pde_rotor.kernels.body_draw.draw_body` made its own;
-    `bodies` as for :func:`pde_rotor.kernels.bodies.advance_bodies`.
+    A body's runs are its non-empty `chords` (2, K, n) on the rows of its drawn box, the
+    cells :func:`~pde_rotor.kernels.body_draw.draw_body` made its own; `bodies` as for
+    :func:`pde_rotor.kernels.bodies.advance_bodies`.
     """
-    body, _, _, drawn, box, _, _, _ = bodies
+    body, _, _, _, box, _, _, _ = bodies
     row_start, runs = segments
-    n = coords.size
+    n = row_start.size - 1
     for i in range(n + 1):
         row_start[i] = 0
     for k in range(body.shape[0]):
         for i in range(box[k, 0], box[k, 1]):
-            row_start[i + 1] += 1
+            if chords[0, k, i] < chords[1, k, i]:
+                row_start[i + 1] += 1
     for i in range(n):
         row_start[i + 1] += row_start[i]
     fill = row_start[:n].copy()
     for k in range(body.shape[0]):
-        x_k, y_k, reach = drawn[k, 0], drawn[k, 1], body[k].reach
         for i in range(box[k, 0], box[k, 1]):
-            ja, jb = _footprint_chord(coords, box[k, 2], box[k, 3], coords[i] - x_k, y_k, reach)
-            s = fill[i]
-            runs[0, s], runs[1, s], runs[2, s] = ja, jb, k
-            fill[i] = s + 1
+            ja, jb = chords[0, k, i], chords[1, k, i]
+            if ja < jb:
+                s = fill[i]
+                runs[0, s], runs[1, s], runs[2, s] = ja, jb, k
+                fill[i] = s + 1
     for i in range(n):  # insertion sort of each row's few runs by their first column
         for s in range(row_start[i] + 1, row_start[i + 1]):
             a, b, k = runs[0, s], runs[1, s], runs[2, s]
@@ -67,46 +66,21 @@ def body_segments(coords, bodies, segments):
 
 
 @nb.njit(inline="always", cache=True, nogil=True, fastmath=FASTMATH)
-def _bare_cells(bufs, base, a, b, coef, dt, flow):
-    """The Euler step on the cells [a, b) of the row at offset `base`, none owned by a body
-    (F = G = 0: no plate terms); `bufs` = (cur, nxt, F, G, coords)."""
-    cur, nxt, _, _, coords = bufs
-    sx = np.uint64(coords.size)
-    sy = np.uint64(1)
-    nn = sx * sx
-    for j in range(a, b):
-        o = np.uint64(base + j)
-        cc = cur[o]
-        ux = cur[o + nn] if flow else 0.0
-        uy = cur[o + nn + nn] if flow else 0.0
-        rate_c, rate_x, rate_y = _plate_rates(
-            cur, o, (sx, sy, nn), 0.0, 0.0, (0.0, 0.0), coef, flow, False
-        )
-        nxt[o] = cc + dt * rate_c
-        if flow:
-            nxt[o + nn] = ux + dt * rate_x
-            nxt[o + nn + nn] = uy + dt * rate_y
-
-
-@nb.njit(inline="always", cache=True, nogil=True, fastmath=FASTMATH)
-def _plate_cells(bufs, base, a, b, motion, coef, dt, flow):
-    """The Euler step on the cells [a, b) of the row at offset `base`, all owned by one
-    body: its F, G and plate velocity U + omega z x (r - X) (the rates' ``plate_velocity``);
-    `motion` = (U_x, U_y, omega, x - X_x of the row, X_y); `bufs` as for :func:`_bare_cells`."""
+def _run_cells(bufs, base, a, b, plate, motion, coef, dt, flow):
+    """The Euler step on the cells [a, b) of the row at offset `base`: with `plate` all
+    owned by one body, its F, G and plate velocity (:func:`~pde_rotor.kernels.wall.cell_plate`,
+    `motion` = (U_x, U_y, omega, x - X_x of the row, X_y)), else none owned (F = G = 0: no
+    plate terms); `bufs` = (cur, nxt, F, G, coords)."""
     cur, nxt, F, G, coords = bufs
-    u, v, omega, rx, y_k = motion
-    sx = np.uint64(coords.size)
-    sy = np.uint64(1)
-    nn = sx * sx
+    strides = run_strides(coords.size)
+    nn = strides[2]
     for j in range(a, b):
         o = np.uint64(base + j)
-        px, py = _plate_velocity(u, v, omega, rx, coords[j] - y_k)
+        f, g, px, py = cell_plate((F, G), o, coords[j], plate, motion)
         cc = cur[o]
         ux = cur[o + nn] if flow else 0.0
         uy = cur[o + nn + nn] if flow else 0.0
-        rate_c, rate_x, rate_y = _plate_rates(
-            cur, o, (sx, sy, nn), F[o], G[o], (px, py), coef, flow, True
-        )
+        rate_c, rate_x, rate_y = _plate_rates(cur, o, strides, f, g, (px, py), coef, flow, plate)
         nxt[o] = cc + dt * rate_c
         if flow:
             nxt[o + nn] = ux + dt * rate_x
@@ -123,26 +97,27 @@ def euler_body_fields(cur, nxt, F, G, pose, domain, segments, coef, dt, flow):
         cur, nxt: flat states (c, v_x, v_y) now and after the step.
         F, G: flat indicators.
         pose: (K, 13) the bodies' poses.
-        domain: (coords, lo, hi, slo, shi) (slo, shi unread).
+        domain: (coords, lo, hi).
         segments: the runs of :func:`body_segments` (no runs: the bare surface).
         coef: the physics' ``rate_coefficients``.
         dt: time step.
         flow: whether v evolves (else only c is written).
     """
-    coords, lo, hi, _, _ = domain
+    coords, lo, hi = domain[0], domain[1], domain[2]
     row_start, runs = segments
     n = coords.size
     bufs = (cur, nxt, F, G, coords)
+    still = (0.0, 0.0, 0.0, 0.0, 0.0)
     for i in range(n):
         base = i * n
         j = lo[i]
         for s in range(row_start[i], row_start[i + 1]):
             a, b, k = runs[0, s], runs[1, s], runs[2, s]
-            _bare_cells(bufs, base, j, a, coef, dt, flow)
+            _run_cells(bufs, base, j, a, False, still, coef, dt, flow)
             motion = (pose[k, 3], pose[k, 4], pose[k, 5], coords[i] - pose[k, 0], pose[k, 1])
-            _plate_cells(bufs, base, a, b, motion, coef, dt, flow)
+            _run_cells(bufs, base, a, b, True, motion, coef, dt, flow)
             j = b
-        _bare_cells(bufs, base, j, hi[i], coef, dt, flow)
+        _run_cells(bufs, base, j, hi[i], False, still, coef, dt, flow)
 
 
 @nb.njit(cache=True, nogil=True)
@@ -167,7 +142,7 @@ def average_fields(cur, stage, nxt, domain, wall, flow):
     """nxt = (cur + stage) / 2 where a step writes (compiled): c on the interior cells (on
     the runs of cut cells of each row behind a no-flux wall or in a vessel), v on the
     interior cells with `flow`."""
-    coords, lo, hi, _, _ = domain
+    coords, lo, hi = domain[0], domain[1], domain[2]
     n = coords.size
     nn = n * n
     if wall[0].size > 0:

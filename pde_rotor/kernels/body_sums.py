@@ -23,11 +23,9 @@ from .body_arcs import circle_sums
 from .body_draw import orient
 from .spline import ROW_GROUP, spline_columns, spline_rows
 
-_tension_integrand = CPU.tension.tension_integrand
-_friction_moments = CPU.motion.friction_moments
+_cell_integrals = CPU.motion.cell_integrals
 _edge_sums = CPU.tension.edge_sums
 _polygon_band = CPU.tension.polygon_band
-_footprint_chord = CPU.indicators.footprint_chord
 
 
 SUM_FASTMATH = FASTMATH | {"reassoc"}
@@ -36,46 +34,40 @@ so that LLVM vectorises the sums along a chord (their order, and so their roundi
 LLVM's: the sums agree with row-major order to rounding)."""
 
 
-def make_chord_sums(flow: bool):
-    """The sums of :func:`body_integrals` over a chord, compiled for `flow` (v read, or 0),
-    a constant of the loop, so that LLVM vectorises it.
+def make_chord_sums(flow: bool, tension: bool):
+    """The sums of :func:`body_integrals` over a chord, compiled for `flow` (v read, or 0)
+    and `tension` (the tension's terms taken, or 0 where the contour form replaces them),
+    constants of the loop, so that LLVM vectorises it.
 
     Returns:
         ``sums(cur, F, base, ja, jb, frame, consts)``: the ten sums over the cells
-        [ja, jb) of the row at offset `base`; `frame` = (coords, rx, y_k) (rx = x - X_x
-        of the row), `consts` = (n, 1 / (2 dx), the parameter record).
+        [ja, jb) of the row at offset `base` (the motion's ``cell_integrals``); `frame` =
+        (coords, rx, y_k) (rx = x - X_x of the row), `consts` = (n, 1 / (2 dx), the
+        parameter record).
     """
+    terms = (tension, flow)
 
     @nb.njit(cache=True, nogil=True, fastmath=SUM_FASTMATH)
     def sums(cur, F, base, ja, jb, frame, consts):
         coords, rx, y_k = frame
         n, inv_2dx, p = consts
         sx = np.uint64(n)  # unsigned offsets: no test for negative indices at each load
-        nn = sx * sx
-        s0 = s1 = s2 = s3 = s4 = s5 = s6 = s7 = s8 = s9 = 0.0
+        strides = (sx, np.uint64(1), sx * sx)
+        total = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
         for j in range(ja, jb):
             o = np.uint64(base + j)
-            f = F[o]
-            ry = coords[j] - y_k
-            t0, t1, t2 = _tension_integrand(cur, o, sx, np.uint64(1), f, rx, ry, inv_2dx, p)
-            m0, m1, m2, m3, m4, m5, m6 = _friction_moments(cur, o, nn, f, rx, ry, flow)
-            s0 += t0
-            s1 += t1
-            s2 += t2
-            s3 += m0
-            s4 += m1
-            s5 += m2
-            s6 += m3
-            s7 += m4
-            s8 += m5
-            s9 += m6
-        return s0, s1, s2, s3, s4, s5, s6, s7, s8, s9
+            r = (rx, coords[j] - y_k)
+            total = _cell_integrals(total, cur, o, strides, F[o], r, inv_2dx, p, terms)
+        return total
 
     return sums
 
 
-_still_sums = make_chord_sums(False)
-_flow_sums = make_chord_sums(True)
+_CHORD_SUMS = tuple(
+    make_chord_sums(flow, tension) for flow in (False, True) for tension in (False, True)
+)
+"""The chord sums without and with flow, each without and with the tension's terms."""
+_still_contour, _still_sums, _flow_contour, _flow_sums = _CHORD_SUMS
 
 
 @nb.njit(cache=True, nogil=True, fastmath=FASTMATH)
@@ -83,28 +75,32 @@ def body_integrals(cur, F, coords, k, bodies, p, out):
     """The integrals of body k over its plate, area form (central differences) (compiled).
 
     out[:] = (int F grad c (x, y), int F (r - X) x grad c, int F, int F (r - X) (x, y),
-    int F |r - X|^2, int F (r - X) x v, int F v (x, y)), each times dA (the tension's
-    ``tension_integrand`` and the motion's ``friction_moments``), summed over the cells
-    body k owns: row by row, the chord of its footprint at its pose (the physics'
-    ``footprint_chord``, the cells its drawing owns; the body must be drawn at its
-    pose), each chord's sums vectorised (:func:`make_chord_sums`). With X = 0 the torque's
-    integrals are those of :func:`pde_rotor.kernels.cpu.rotor_integrals` to rounding.
-    `bodies` as for :func:`pde_rotor.kernels.bodies.advance_bodies`.
+    int F |r - X|^2, int F (r - X) x v, int F v (x, y)), each times dA (the motion's
+    ``cell_integrals``), summed over the cells body k owns: row by row, the chord of its
+    footprint its drawing made its own (`bodies` = (the bundle of
+    :func:`pde_rotor.kernels.bodies.advance_bodies`, chords (2, K, n) of
+    :func:`~pde_rotor.kernels.body_draw.draw_body`); the body must be drawn at its
+    pose), each chord's sums vectorised (:func:`make_chord_sums`). For the contour form
+    (the record's ``contour``) the first three are 0: :func:`body_contour` gives them.
+    With X = 0 the torque's integrals are those of
+    :func:`pde_rotor.kernels.cpu.rotor_integrals` to rounding.
     """
-    body, _, pose, _, box, _, _, _ = bodies
+    (_, _, pose, _, box, _, _, _), chords = bodies
     n = coords.size
     dx = coords[1] - coords[0]
     consts = (n, 0.5 / dx, p)
-    x_k, y_k, reach = pose[k, 0], pose[k, 1], body[k].reach
-    j0, j1 = box[k, 2], box[k, 3]
+    x_k, y_k = pose[k, 0], pose[k, 1]
     # the sums in locals, which stay in registers (out might alias cur or F)
     s0 = s1 = s2 = s3 = s4 = s5 = s6 = s7 = s8 = s9 = 0.0
     for i in range(box[k, 0], box[k, 1]):
-        rx = coords[i] - x_k
-        ja, jb = _footprint_chord(coords, j0, j1, rx, y_k, reach)
-        frame = (coords, rx, y_k)
-        if p.flow:
+        ja, jb = chords[0, k, i], chords[1, k, i]
+        frame = (coords, coords[i] - x_k, y_k)
+        if p.flow and p.contour:
+            t = _flow_contour(cur, F, i * n, ja, jb, frame, consts)
+        elif p.flow:
             t = _flow_sums(cur, F, i * n, ja, jb, frame, consts)
+        elif p.contour:
+            t = _still_contour(cur, F, i * n, ja, jb, frame, consts)
         else:
             t = _still_sums(cur, F, i * n, ja, jb, frame, consts)
         s0 += t[0]

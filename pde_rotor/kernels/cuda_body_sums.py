@@ -22,8 +22,7 @@ N_SUMS = N_INTEGRALS
 :func:`pde_rotor.kernels.body_sums.body_integrals`)."""
 
 _spline_line = GPU.spline.spline_line
-_tension_integrand = GPU.tension.tension_integrand
-_friction_moments = GPU.motion.friction_moments
+_cell_integrals = GPU.motion.cell_integrals
 _polygon_band = GPU.tension.polygon_band
 _edge_sums = GPU.tension.edge_sums
 _arc_orbit = GPU.tension.arc_orbit
@@ -46,22 +45,22 @@ def reduce_sums(red, count, tid, n_threads):
 @device_function
 def area_sums(src, k, m, state, surface, bodies, p, red):
     """Body k's integrals over the cells of its box it owns, area form with central
-    differences (the tension's ``tension_integrand``, the motion's ``friction_moments``),
-    into red[q n_threads] (q < :data:`N_SUMS`, not yet times dA; all threads; the sums
-    of :func:`pde_rotor.kernels.body_sums.body_integrals`)."""
+    differences (the motion's ``cell_integrals``; the tension's terms 0 for the contour
+    form, which replaces them), into red[q n_threads] (q < :data:`N_SUMS`, not yet times
+    dA; all threads; the sums of :func:`pde_rotor.kernels.body_sums.body_integrals`)."""
     buf, F, _, owner = state
     coords, _ = surface
     _, _, pose, _, box = bodies
     tid = cuda.threadIdx.x
     n_threads = cuda.blockDim.x
     n = coords.size
-    nn = n * n
+    strides = (n, 1, n * n)
     inv_2dx = 0.5 / (coords[1] - coords[0])
-    flow = p.flow
+    terms = (not p.contour, p.flow)
     x_k, y_k = pose[m, k, 0], pose[m, k, 1]
     i0, j0 = box[m, k, 0], box[m, k, 2]
     width = box[m, k, 3] - j0
-    s0 = s1 = s2 = s3 = s4 = s5 = s6 = s7 = s8 = s9 = 0.0
+    s = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     for q in range(tid, (box[m, k, 1] - i0) * width, n_threads):
         i = i0 + q // width
         j = j0 + q % width
@@ -71,30 +70,18 @@ def area_sums(src, k, m, state, surface, bodies, p, red):
         f = F[m, o]
         if f == 0.0:
             continue
-        rx = coords[i] - x_k
-        ry = coords[j] - y_k
-        t0, t1, t2 = _tension_integrand(buf, src + o, n, 1, f, rx, ry, inv_2dx, p)
-        m0, m1, m2, m3, m4, m5, m6 = _friction_moments(buf, src + o, nn, f, rx, ry, flow)
-        s0 += t0
-        s1 += t1
-        s2 += t2
-        s3 += m0
-        s4 += m1
-        s5 += m2
-        s6 += m3
-        s7 += m4
-        s8 += m5
-        s9 += m6
-    red[tid] = s0
-    red[n_threads + tid] = s1
-    red[2 * n_threads + tid] = s2
-    red[3 * n_threads + tid] = s3
-    red[4 * n_threads + tid] = s4
-    red[5 * n_threads + tid] = s5
-    red[6 * n_threads + tid] = s6
-    red[7 * n_threads + tid] = s7
-    red[8 * n_threads + tid] = s8
-    red[9 * n_threads + tid] = s9
+        r = (coords[i] - x_k, coords[j] - y_k)
+        s = _cell_integrals(s, buf, src + o, strides, f, r, inv_2dx, p, terms)
+    red[tid] = s[0]
+    red[n_threads + tid] = s[1]
+    red[2 * n_threads + tid] = s[2]
+    red[3 * n_threads + tid] = s[3]
+    red[4 * n_threads + tid] = s[4]
+    red[5 * n_threads + tid] = s[5]
+    red[6 * n_threads + tid] = s[6]
+    red[7 * n_threads + tid] = s[7]
+    red[8 * n_threads + tid] = s[8]
+    red[9 * n_threads + tid] = s[9]
     reduce_sums(red, N_SUMS, tid, n_threads)
 
 

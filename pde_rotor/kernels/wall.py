@@ -38,34 +38,47 @@ NO_WALL = (_NONE, _NONE, _NONE, _NONE, _NONE, _NO_INDEX, _NO_INDEX, _NO_INDEX,
 
 
 @nb.njit(inline="always", cache=True, nogil=True, fastmath=FASTMATH)
+def run_strides(n):
+    """(sx, sy, nn): the offsets of a cell's x and y neighbours and of the next field on
+    the flat (3, n, n) state, unsigned (no test for a negative index at each load)."""
+    sx = np.uint64(n)
+    return sx, np.uint64(1), sx * sx
+
+
+@nb.njit(inline="always", cache=True, nogil=True, fastmath=FASTMATH)
+def cell_plate(maps, o, y, plate, motion):
+    """(f, g, px, py) of the cell at offset `o`, centred at `y` along its row: with `plate`
+    its owner's F, G (`maps` = (F, G)) and plate velocity U + omega z x (r - X) (the
+    rates' ``plate_velocity``; `motion` = (U_x, U_y, omega, x - X_x of the row, X_y)),
+    else none (0): the plate terms of a run of cells, one body's or none."""
+    if not plate:
+        return 0.0, 0.0, 0.0, 0.0
+    u, v, omega, rx, y_k = motion
+    px, py = _plate_velocity(u, v, omega, rx, y - y_k)
+    return maps[0][o], maps[1][o], px, py
+
+
+@nb.njit(inline="always", cache=True, nogil=True, fastmath=FASTMATH)
 def _cut_cells(bufs, base, a, b, plate, motion, coef, dt, flow):
     """The explicit part of the step on the cells [a, b) of the row at offset `base`:
     c' (and kappa c' in `rhs`) on each, v where the cell is flowing; with `plate` the
-    cells are one body's, its F, G and plate velocity U + omega z x (r - X) (the rates'
-    ``plate_velocity``), `motion` = (U_x, U_y, omega, x - X_x of the row, X_y); else none.
+    cells are one body's, its F, G and plate velocity (:func:`cell_plate`), else none.
     `bufs` = (cur, nxt, F, G, coords, rhs, wall)."""
     cur, nxt, F, G, coords, rhs, wall = bufs
     volume, pass_x, pass_y, open_x, open_y, _, _, _, flowing = wall[:9]
-    u, v, omega, rx, y_k = motion
-    sx = np.uint64(coords.size)
-    sy = np.uint64(1)
-    nn = sx * sx
+    strides = run_strides(coords.size)
+    nn = strides[2]
     for j in range(a, b):
         o = np.uint64(base + j)
-        f, g, px, py = 0.0, 0.0, 0.0, 0.0
-        if plate:
-            f, g = F[o], G[o]
-            px, py = _plate_velocity(u, v, omega, rx, coords[j] - y_k)
+        f, g, px, py = cell_plate((F, G), o, coords[j], plate, motion)
         cc = cur[o]
         kappa = volume[o]
-        q = _cut_cell_inflow(cur, o, (sx, sy, nn), (open_x, open_y, pass_x, pass_y), coef, flow)
+        q = _cut_cell_inflow(cur, o, strides, (open_x, open_y, pass_x, pass_y), coef, flow)
         r = kappa * cc + dt * (q + kappa * _local_rate(cc, f, g, coef, plate))
         rhs[o] = r
         nxt[o] = r / kappa
         if flow and flowing[o]:
-            _, rate_x, rate_y = _plate_rates(
-                cur, o, (sx, sy, nn), f, g, (px, py), coef, flow, plate
-            )
+            _, rate_x, rate_y = _plate_rates(cur, o, strides, f, g, (px, py), coef, flow, plate)
             nxt[o + nn] = cur[o + nn] + dt * rate_x
             nxt[o + nn + nn] = cur[o + nn + nn] + dt * rate_y
 
@@ -83,7 +96,7 @@ def euler_walled_fields(states, maps, domain, wall, coef, dt, pose, flow, rhs):
         states: (cur, nxt), the flat states (c, v_x, v_y) now and after the step.
         maps: (F, G, runs): flat indicators and the bodies' runs of each row (no runs:
             no bodies).
-        domain: (coords, lo, hi, slo, shi) (only coords read).
+        domain: (coords, lo, hi) (only coords read).
         wall: the cut cells (:meth:`pde_rotor.model.wall.CutCells.arrays`).
         coef: the physics' ``rate_coefficients``.
         dt: time step.

@@ -2,7 +2,8 @@
 
 Each module of the package builds its functions in a ``make_*`` factory for a given
 compiler; :func:`make_physics` calls them in the order of their dependencies (the
-spline before the indicators and the tension integral, which read it) and bundles the
+spline before the indicators and the tension integral, which read it, the tension
+before the motion, whose area integrals read it) and bundles the
 results by topic. :data:`CPU` is the build for numba's CPU target, inlined into the loops
 of :mod:`pde_rotor.kernels`; :mod:`pde_rotor.kernels.cuda` builds the same source as
 CUDA device functions.
@@ -47,12 +48,13 @@ def make_physics(jit: Callable[[Callable], Callable]) -> Physics:
         The compiled functions by topic; each calls only functions of the same build.
     """
     spline = make_spline(jit)
+    tension = make_tension(jit, spline)
     return Physics(
         spline=spline,
         indicators=make_indicators(jit, spline),
         rates=make_rates(jit),
-        tension=make_tension(jit, spline),
-        motion=make_motion(jit),
+        tension=tension,
+        motion=make_motion(jit, tension),
     )
 
 

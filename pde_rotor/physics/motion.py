@@ -69,6 +69,8 @@ import math
 from collections.abc import Callable
 from typing import NamedTuple
 
+from .tension import Tension
+
 MOTION_FIXED, MOTION_FIXED_AXIS, MOTION_FREE, MOTION_TRACK = 0, 1, 2, 3
 """Motions in the body record."""
 
@@ -86,6 +88,7 @@ class Motion(NamedTuple):
     held: Callable
     hold: Callable
     friction_moments: Callable
+    cell_integrals: Callable
     body_loads: Callable
     finite_loads: Callable
     euler_pose: Callable
@@ -99,17 +102,19 @@ class Motion(NamedTuple):
     contact_loads: Callable
 
 
-def make_motion(jit: Callable[[Callable], Callable]) -> Motion:
+def make_motion(jit: Callable[[Callable], Callable], tension: Tension) -> Motion:
     """Compile the motion functions with `jit`.
 
     Args:
         jit: decorator turning a scalar Python function into a compiled one that other
             compiled functions of the same target can call (numba ``njit`` or
             ``cuda.jit(device=True)``, :func:`pde_rotor.physics.build.make_physics`).
+        tension: the tension functions compiled with the same `jit`.
 
     Returns:
         The compiled functions.
     """
+    tension_integrand = tension.tension_integrand
 
     @jit
     def stopped_at(step, n_ini, n_stop, n_period, cycles):
@@ -150,6 +155,39 @@ def make_motion(jit: Callable[[Callable], Callable]) -> Motion:
             f_vx = f * vx
             f_vy = f * vy
         return f, f * rx, f * ry, f * (rx * rx + ry * ry), cross_v, f_vx, f_vy
+
+    @jit
+    def cell_integrals(sums, buf, o, strides, f, r, inv_2dx, p, terms):
+        """`sums` plus one cell's share of a body's integrals in area form (no dA): the
+        tension's ``tension_integrand`` (central differences) and :func:`friction_moments`,
+        in the order of the integrals (module docstring); the running sums of every loop
+        that takes them, CPU and GPU.
+
+        Args:
+            sums: the 10 sums so far.
+            buf, o: the flat state (c, v_x, v_y) and the cell's offset in it.
+            strides: (sx, sy, nn), the offsets of the x and y neighbours and of the next
+                field, of the caller's integer type.
+            f: F at the cell.
+            r: (rx, ry) = r - X at the cell centre.
+            inv_2dx: 1 / (2 dx).
+            p: the parameter record (the tension law).
+            terms: (tension, flow): whether the tension's terms are taken (else 0: the
+                contour form replaces them) and whether v is read (else 0).
+        """
+        sx, sy, nn = strides
+        rx, ry = r
+        tension, flow = terms
+        t0 = 0.0
+        t1 = 0.0
+        t2 = 0.0
+        if tension:
+            t0, t1, t2 = tension_integrand(buf, o, sx, sy, f, rx, ry, inv_2dx, p)
+        m0, m1, m2, m3, m4, m5, m6 = friction_moments(buf, o, nn, f, rx, ry, flow)
+        return (
+            sums[0] + t0, sums[1] + t1, sums[2] + t2, sums[3] + m0, sums[4] + m1,
+            sums[5] + m2, sums[6] + m3, sums[7] + m4, sums[8] + m5, sums[9] + m6,
+        )  # fmt: skip
 
     @jit
     def body_loads(integrals, pose, b, sign_k):
@@ -378,6 +416,7 @@ def make_motion(jit: Callable[[Callable], Callable]) -> Motion:
         held=held,
         hold=hold,
         friction_moments=friction_moments,
+        cell_integrals=cell_integrals,
         body_loads=body_loads,
         finite_loads=finite_loads,
         euler_pose=euler_pose,

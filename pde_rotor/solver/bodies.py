@@ -46,7 +46,6 @@ class BodiesStepper:
     _spare: np.ndarray = field(init=False, repr=False)
     _normals: np.ndarray = field(init=False, repr=False)
     _centres: np.ndarray = field(init=False, repr=False)
-    _rows: tuple[np.ndarray, np.ndarray] = field(init=False, repr=False)
     _tables: tuple[np.ndarray, ...] = field(init=False, repr=False)
     _wall: tuple[np.ndarray, ...] = field(init=False, repr=False)
 
@@ -63,7 +62,6 @@ class BodiesStepper:
         self._normals = np.zeros((2, corners, k))
         self._centres = np.zeros((2, max(1, len(self._pills))))
         n = pde.domain.coords.size
-        self._rows = (np.zeros(n, dtype=np.int64), np.zeros(n, dtype=np.int64))
         self._tables = make_body_tables(pde.bodies, pde.body_scheme, self._bodies, n)
         cells = pde.domain.cut_cells
         coefficient = self.dt * pde.config.camphor.diffusion / pde.domain.dx**2
@@ -94,7 +92,7 @@ class BodiesStepper:
         failed = advance_bodies(
             (work.reshape(-1), self._spare.reshape(-1), self._stage.reshape(-1)),
             (pde.F.reshape(-1), pde.G.reshape(-1), pde.owner.reshape(-1)),
-            (coords, lo, hi, *self._rows),
+            (coords, lo, hi),
             self._wall,
             self._record,
             (

@@ -75,6 +75,48 @@ def test_loads_are_the_friction_integrals_and_the_numpy_accelerations(flow: bool
         assert motion.finite_loads(loads)
 
 
+@pytest.mark.parametrize("flow", [True, False])
+@pytest.mark.parametrize("tension", [True, False])
+def test_cell_integrals_are_the_area_integrands_summed(tension: bool, flow: bool) -> None:
+    """``cell_integrals`` summed over a grid's interior cells equals the area integrands
+    written out with numpy: F grad c by central differences and its moment
+    (r - X) x F grad c (0 where `tension` is off: the contour form replaces them), and
+    the friction's moments of F (v read only with `flow`)."""
+    rng = np.random.default_rng(7)
+    n, dx = 9, 0.1
+    c = rng.uniform(0, 1, (n, n))
+    v = rng.normal(size=(2, n, n)) if flow else np.zeros((2, n, n))
+    buf = np.concatenate([c.ravel(), v.ravel()])
+    f = rng.uniform(0, 1, (n, n))
+    rx, ry = rng.normal(size=n), rng.normal(size=n)
+    p = np.zeros(1, dtype=[("inv_saturation", "f8")]).view(np.recarray)[0]
+    sums = (0.0,) * 10
+    for i in range(1, n - 1):
+        for j in range(1, n - 1):
+            r = (rx[i], ry[j])
+            terms = (tension, flow)
+            sums = motion.cell_integrals(
+                sums, buf, i * n + j, (n, 1, n * n), f[i, j], r, 0.5 / dx, p, terms
+            )
+    inner = (slice(1, -1), slice(1, -1))
+    dcdx = (c[2:, 1:-1] - c[:-2, 1:-1]) / (2 * dx)
+    dcdy = (c[1:-1, 2:] - c[1:-1, :-2]) / (2 * dx)
+    fi, x, y = f[inner], rx[1:-1, None], ry[None, 1:-1]
+    vx, vy = v[0][inner], v[1][inner]
+    grad = [np.sum(fi * dcdx), np.sum(fi * dcdy), np.sum(fi * (x * dcdy - y * dcdx))]
+    want = [
+        *(grad if tension else [0.0, 0.0, 0.0]),
+        np.sum(fi),
+        np.sum(fi * x),
+        np.sum(fi * y),
+        np.sum(fi * (x * x + y * y)),
+        np.sum(fi * (x * vy - y * vx)),
+        np.sum(fi * vx),
+        np.sum(fi * vy),
+    ]
+    np.testing.assert_allclose(sums, want, rtol=1e-13, atol=1e-14)
+
+
 def test_euler_and_heun_poses_are_the_numpy_ones() -> None:
     """One Euler and one Heun step of the poses equal the numpy reference's, for a free
     and a fixed_axis body."""
