@@ -40,10 +40,14 @@ channel's exact speed at the rung's width with V_2D over it.
 one idle core; the ring's estimate was measured 25-30 % low, docs/results.md) and the total
 in core-hours.
 
-Run (the full ladder, about 18 core-hours; rungs 0 and 1 in about 10 core-minutes):
+Estimated (``--dry-run``, N = 1 and 8, flow off and on, t_end = 6): rungs 0 and 1 about
+0.11 core-hours, rung 2 1.0, rung 3 10.9, rung 4 142; the whole ladder 154 core-hours.
+Run (rungs 0 and 1 were run, docs/results.md 2026-11-28; rungs 2 and 3, about 12
+core-hours, are the ones worth running next; the straight channel alone takes seconds):
     NUMBA_NUM_THREADS=1 PYTHONPATH=. python benchmarks/ring_channel_limit.py --dry-run
     NUMBA_NUM_THREADS=1 PYTHONPATH=. python benchmarks/ring_channel_limit.py \
-        --rungs 0 1 2 3 --count 1 8 --flow off on
+        --rungs 2 3 --count 1 8 --flow off on
+    PYTHONPATH=. python benchmarks/ring_channel_limit.py --theory
 """
 
 from __future__ import annotations
