@@ -22,8 +22,15 @@ vessel's field update without bodies
 (:func:`pde_rotor.kernels.wall.euler_walled_fields` on its cut cells with no body runs);
 goal: 16 boats <= 2x.
 
+``--case sweep``: the ring sweep's own boats (`configs/sweeps/crowd_ring.yaml` at N = 16
+and N = 1, mu = 0.05, flow off: strips 0.3 x 0.15 on their track, contact on), on its grid
+or on the one of ``--dx``, ``--smoothing``, ``--dt`` (the scheme: ``--scheme``), stepped by
+forward Euler so that each step is one evaluation, as the vessel's field update it is
+timed against (the sweep's Heun step is two of each).
+
 Run:  NUMBA_NUM_THREADS=1 python benchmarks/bench_crowd.py [--steps 300] [--repeats 3]
-      [--scheme paper consistent] [--case disks ring] [--profile]
+      [--scheme paper consistent] [--case disks ring sweep] [--profile]
+      [--dx DX --smoothing DELTA --dt DT]
 """
 
 from __future__ import annotations
@@ -40,6 +47,9 @@ from pde_rotor import RotorConfig
 from pde_rotor.kernels import body_fields, wall
 from pde_rotor.solver.bodies import make_bodies_stepper
 from pde_rotor.solver.simulation import Simulation
+from pde_rotor.sweep.plan import Sweep
+
+SWEEP = "configs/sweeps/crowd_ring.yaml"
 
 RINGS = [(0.0, 1), (1.25, 6), (2.6, 13)]
 """(radius, count) of the rings the 20 disks sit on: neighbours >= 1.2 apart (a disk's
@@ -124,6 +134,25 @@ def ring_config(count: int, scheme: str) -> RotorConfig:
     )
 
 
+def sweep_config(count: int, scheme: str, grid: dict) -> RotorConfig:
+    """The ring sweep's resolved config with `count` boats (mu = 0.05, no flow), `scheme`,
+    forward Euler, and the grid's changes in `grid` (dx, dt, smoothing; None: the sweep's)."""
+    overrides = [
+        f"axes.crowd.count=[{count}]",
+        "axes.crowd.body.motion.friction=[0.05]",
+        "axes.flow.enabled=[false]",
+    ]
+    data = Sweep.load(SWEEP, overrides).runs()[0].config
+    data["numerics"].update(scheme=scheme, integrator="euler")
+    for key in ("dx", "dt"):
+        if grid[key] is not None:
+            data["grid"][key] = grid[key]
+    if grid["smoothing"] is not None:
+        data["geometry"]["smoothing"] = grid["smoothing"]
+    data["protocol"] = {"t_ini": 100.0, "cycles": 0}
+    return RotorConfig.model_validate(data)
+
+
 def ms_per_step(sim: Simulation, steps: int) -> float:
     """Milliseconds of the thread's CPU time per step over `steps` steps of `sim`."""
     start = time.thread_time()
@@ -187,9 +216,14 @@ def bare_vessel(sim: Simulation):
     return timer
 
 
-def cases(case: str, scheme: str) -> tuple[dict, Simulation]:
-    """The timers of `case` (``disks`` or ``ring``) on `scheme`, and the crowd's run."""
-    if case == "disks":
+def cases(case: str, scheme: str, grid: dict) -> tuple[dict, Simulation]:
+    """The timers of `case` (``disks``, ``ring`` or ``sweep``) on `scheme`, and the crowd's
+    run."""
+    if case == "sweep":
+        crowd = Simulation(sweep_config(16, scheme, grid))
+        one = Simulation(sweep_config(1, scheme, grid))
+        names, bare = ("16 boats", "1 boat", "no bodies"), bare_vessel(one)
+    elif case == "disks":
         crowd, one = Simulation(config(20, scheme)), Simulation(config(1, scheme))
         names, bare = ("20 disks", "1 disk", "no bodies"), bare_surface(one)
     else:
@@ -206,12 +240,16 @@ def main() -> None:
     parser.add_argument("--steps", type=int, default=300)
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--scheme", nargs="+", default=["paper", "consistent"])
-    parser.add_argument("--case", nargs="+", default=["disks"], choices=["disks", "ring"])
+    parser.add_argument("--case", nargs="+", default=["disks"], choices=["disks", "ring", "sweep"])
+    parser.add_argument("--dx", type=float, help="--case sweep: grid.dx")
+    parser.add_argument("--dt", type=float, help="--case sweep: grid.dt")
+    parser.add_argument("--smoothing", type=float, help="--case sweep: delta")
     parser.add_argument("--profile", action="store_true", help="phases of the crowd's step")
     args = parser.parse_args()
     for case in args.case:
         for scheme in args.scheme:
-            runs, crowd = cases(case, scheme)
+            grid = {"dx": args.dx, "dt": args.dt, "smoothing": args.smoothing}
+            runs, crowd = cases(case, scheme, grid)
             for run in runs.values():
                 run(20)  # compile and warm up
             best = dict.fromkeys(runs, float("inf"))

@@ -19,6 +19,9 @@ nothing here steps time, and the layer imports only :mod:`pde_rotor.config`.
   onset of motion;
 * :mod:`.ring_solve`: a direct spectral solve of the same 1D equations (moving point
   sources, overdamped boats) that checks :mod:`.ring`.
+* :mod:`.ring_channel`: strip boats narrower than a straight no-flux channel, the exact
+  2D steady state of N boats moving together (Fourier-cosine modes), which tends to
+  :mod:`.ring` as the boat spans the channel.
 
 Units are the config's: lengths in sqrt(D/a) when D = a = 1, times in 1/a.
 """
