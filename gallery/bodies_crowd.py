@@ -2,9 +2,12 @@
 committed collective sweeps (docs/collective.md).
 
 * ring (configs/sweeps/crowd_ring.yaml, data/sweeps/crowd_ring): (a) the boats' mean
-  |arc speed| against their number N, per friction and flow; (b) the spacing spread
-  std(gaps) / mean(gaps) against time for each N (solid) and the cluster order (dashed);
-  (f) the mode of each run (uniform, clusters, density wave, stop) against N;
+  |arc speed| against their number N, per friction and flow, with the runs of the same
+  sweep on the paper scheme (configs/sweeps/crowd_ring_paper.yaml, crosses) beside them;
+  (b) the spacing spread std(gaps) / mean(gaps) against time for each N (solid) and the
+  cluster order (dashed); (f) the mode of each run (uniform, clusters, density wave, stop)
+  against N; while the consistent store holds no run yet, the panels show the paper
+  scheme's;
 * dish (configs/sweeps/crowd_dish.yaml, data/sweeps/crowd_dish): (c) the disks' mean
   speed against time, per friction and flow, to the end of each run (a run ends where two
   footprints meet or one reaches the wall: there is no contact force yet); (d) their pair
@@ -32,7 +35,11 @@ from pde_rotor.sweep.store import DEFAULT_ROOT, RunLog, prepare
 from pde_rotor.sweep.tasks import execute_group
 
 NAME = "bodies_crowd"
-STORES = {"ring": DEFAULT_ROOT / "crowd_ring", "dish": DEFAULT_ROOT / "crowd_dish"}
+STORES = {
+    "ring": DEFAULT_ROOT / "crowd_ring",
+    "dish": DEFAULT_ROOT / "crowd_dish",
+    "ring_paper": DEFAULT_ROOT / "crowd_ring_paper",
+}
 DISK = {
     "plate": {"shape": "none"},
     "pills": [{"radius": 0.1}],
@@ -114,17 +121,27 @@ def missing(ax: Axes, what: str) -> None:
     ax.set_yticks([])
 
 
-def draw_ring(ds: xr.Dataset | None, speed_ax: Axes, spread_ax: Axes, mode_ax: Axes) -> None:
-    """Panels (a), (b) and (f) of the ring store `ds`."""
+def draw_ring(
+    ds: xr.Dataset | None, paper: xr.Dataset | None, axes: Sequence[Axes], scheme: str
+) -> None:
+    """Panels (a), (b) and (f) of the ring store `ds` (on `scheme`), with the paper
+    scheme's runs `paper` in (a)."""
+    speed_ax, spread_ax, mode_ax = axes
     if ds is None:
-        for ax in (speed_ax, spread_ax, mode_ax):
-            missing(ax, f"no store {STORES['ring']} yet:\nthe ring sweep waits for the track")
+        for ax in axes:
+            missing(ax, f"no run in {STORES['ring']} yet")
         return
     count = "count" if "count" in ds.dims else ds["runs_done"].dims[0]
     for label, one in lines(ds, [count]):
         speed = one["abs_arc_speed"].mean("sample")
         speed_ax.plot(one[count], speed, "o-", label=label or None)
-    speed_ax.set(xlabel="boats N", ylabel="mean |arc speed|", title="(a) speed against N")
+    for label, one in lines(paper, [count]) if paper is not None else []:
+        speed = one["abs_arc_speed"].mean("sample")
+        if bool(speed.notnull().any()):
+            speed_ax.plot(one[count], speed, "x", ms=7, label=f"paper scheme: {label}")
+    speed_ax.set(
+        xlabel="boats N", ylabel="mean |arc speed|", title=f"(a) speed against N ({scheme})"
+    )
     first = lines(ds, [count])[0][1]
     for n in first[count].values:
         one = first.sel({count: n}).mean("sample")
@@ -191,9 +208,12 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     else:
         reports = {kind: stored(path) for kind, path in STORES.items()}
         source = "committed stores " + ", ".join(str(p) for p in STORES.values())
+    ring, paper, scheme = reports["ring"], reports.get("ring_paper"), "consistent scheme"
+    if ring is None or int(ring["runs_done"].sum()) == 0:
+        ring, paper, scheme = paper, None, "paper scheme"
     fig = new_figure(15.0, 8.4)
     axes = fig.subplots(2, 3)
-    draw_ring(reports["ring"], axes[0, 0], axes[0, 1], axes[0, 2])
+    draw_ring(ring, paper, axes[0], "free disks" if fid.is_tiny else scheme)
     draw_dish(reports["dish"], axes[1])
     for ax in axes.flat:
         ax.grid(alpha=0.3)
