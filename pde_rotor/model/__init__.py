@@ -21,6 +21,8 @@ it is the independent reference of.
 * :mod:`.surface`: :class:`SurfacePDE`, the same model with K bodies on one surface
   (each body's force and torque, Eq. (eq_motion) about its position, a whole step of
   fields and bodies), and its state;
+* :mod:`.rates`: the local terms of Eqs. (eqc) and (eqv) (evaporation off the plates, the
+  pills' supply, the plates' and the bulk's drag on the flow), written once for both PDEs;
 * :mod:`.motion`: the equation of motion of K bodies (accelerations, Euler and Heun
   steps of the poses), the paper's rotor being the ``fixed_axis`` body at the origin;
 * :mod:`.analysis`: what needs no time stepping (the stopped plate's steady state);

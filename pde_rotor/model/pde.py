@@ -38,6 +38,7 @@ from ..config import DISH_CENTRE, ConfigError, RotorConfig
 from .domain import Domain, make_domain
 from .filtering import filtered_indicators
 from .geometry import edge_normal_angles, pill_indicator, plate_indicator
+from .rates import camphor_local_rate, flow_local_rate
 from .schemes import contour_cross_grad, surface_pressure
 from .setup import Setup, as_setup
 
@@ -196,21 +197,16 @@ class RotorPDE(PDEBase):
         F, G = self.indicators(rotor.phi)
         mask = self.domain.interior_mask
         source = cfg.camphor.supply / (math.pi * cfg.geometry.pill_radius**2) * G
-        c_rate = (
-            cfg.camphor.diffusion * c.laplace(BOUNDARY).data
-            - cfg.camphor.evaporation * (1 - F) * c.data
-            + source
+        c_rate = cfg.camphor.diffusion * c.laplace(BOUNDARY).data + camphor_local_rate(
+            cfg.camphor, c.data, F, source
         )
         v_rate = np.zeros_like(v.data)
         if cfg.flow.enabled:
             c_rate -= (c * v).divergence(BOUNDARY).data
             x, y = self.cell_coordinates()
-            plate_velocity = rotor.omega * np.stack([-y, x])
-            v_rate = (
-                cfg.flow.drag * F * (plate_velocity - v.data)
-                - cfg.flow.bulk_drag * v.data
-                + cfg.flow.viscosity * v.laplace(BOUNDARY).data
-            )
+            plate_flow = F * rotor.omega * np.stack([-y, x])
+            v_rate = flow_local_rate(cfg.flow, v.data, F, plate_flow)
+            v_rate += cfg.flow.viscosity * v.laplace(BOUNDARY).data
         grid = self.domain.grid
         return FieldCollection([ScalarField(grid, c_rate * mask), VectorField(grid, v_rate * mask)])
 

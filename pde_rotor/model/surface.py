@@ -55,6 +55,7 @@ from .motion import (
     heun_poses,
 )
 from .pde import BOUNDARY, TORQUE_SIGN
+from .rates import camphor_local_rate, flow_local_rate
 from .schemes import surface_pressure
 from .setup import Setup, as_setup
 from .wall import make_wall_step, wall_fluxes, wall_rate
@@ -236,14 +237,13 @@ class SurfacePDE(PDEBase):
                 [u - omega * (y - poses[k, 1]), w + omega * (x - poses[k, 0])]
             )
         mask = self.domain.interior_mask
-        c_rate = self.camphor_transport(state) + self._local_rate(c.data, total_f, source)
+        c_rate = self.camphor_transport(state) + camphor_local_rate(
+            cfg.camphor, c.data, total_f, source
+        )
         v_rate = np.zeros_like(v.data)
         if cfg.flow.enabled:
-            v_rate = (
-                cfg.flow.drag * (plate_flow - total_f * v.data)
-                - cfg.flow.bulk_drag * v.data
-                + cfg.flow.viscosity * v.laplace(BOUNDARY).data
-            )
+            v_rate = flow_local_rate(cfg.flow, v.data, total_f, plate_flow)
+            v_rate += cfg.flow.viscosity * v.laplace(BOUNDARY).data
         grid = self.domain.grid
         c_rate = c_rate * self.domain.camphor_mask
         return FieldCollection([ScalarField(grid, c_rate), VectorField(grid, v_rate * mask)])
@@ -268,10 +268,6 @@ class SurfacePDE(PDEBase):
             rate -= (c * v).divergence(BOUNDARY).data
         return rate
 
-    def _local_rate(self, c: np.ndarray, total_f: np.ndarray, source: np.ndarray) -> np.ndarray:
-        """-a (1 - F) c + the sources: the terms of Eq. (eqc) local to a cell."""
-        return -self.config.camphor.evaporation * (1 - total_f) * c + source
-
     def camphor_step(self, state: SurfaceFields, dt: float) -> np.ndarray:
         """c after one step of Eq. (eqc) behind the no-flux wall, the bodies at their poses:
         the step of :func:`pde_rotor.model.wall.make_wall_step` (the implicit diffusion
@@ -293,7 +289,7 @@ class SurfacePDE(PDEBase):
             source += s_k
         step = make_wall_step(cells, self.config.camphor.diffusion, dt)
         flow = v.data if self.config.flow.enabled else None
-        return step(c.data, flow, self._local_rate(c.data, total_f, source))
+        return step(c.data, flow, camphor_local_rate(self.config.camphor, c.data, total_f, source))
 
     def body_forces(self, state: SurfaceFields) -> np.ndarray:
         """Tension force and torque, friction force and torque of every body (numpy).
