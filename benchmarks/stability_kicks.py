@@ -290,7 +290,7 @@ def with_coordinate(args: argparse.Namespace, name: str, factor: float) -> None:
     rates = real_rates_fit(times[keep], series[keep], prony.real)
     single, _ = fitted_rate(times, np.abs(series[:, 1]), window)
     differences = ", ".join(
-        f"{fit - lam.real:+.2e} ({(fit - lam.real) / abs(lam.real):+.2%})"
+        f"{fit - lam.real:+.2e} ({(fit - lam.real) / abs(lam.real):+.4%})"
         for fit, lam in zip(rates, slow, strict=True)
     )
     start_how = f"held at x = {offset:.1e}" if args.offset else f"kick {kick:.1e}"
