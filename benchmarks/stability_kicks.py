@@ -23,7 +23,8 @@ from the time the next eigenvalue has fallen `--decay` behind, over `--periods` 
 (:func:`dish_kick`).
 
 Run: ``python benchmarks/stability_kicks.py [--dx 0.025] [--relax 6] [--decay 1e4] [--span 2]
-[--systems "free disk" "two-disk rotor" dish] [--positions | --coordinates]``
+[--systems "free disk" "two-disk rotor" dish] [--positions | --coordinates [--offset 1e-4]]
+[--periods 0.5] [--amplitude 1e-4]``
 (one thread: OPENBLAS_NUM_THREADS=1 NUMBA_NUM_THREADS=1). The dish steps its cut cells
 implicitly: about 15 s of CPU per time unit on the paper grid, against 1-2 s for the
 absorbing dishes.
@@ -178,6 +179,7 @@ def dish_kick(
     decay: float = 1e4,
     periods: float = 1.0,
     span: float = 2.0,
+    amplitude: float = DISH_AMPLITUDE,
 ) -> DishKick:
     """The disk of ``gallery/bodies_dish.py`` at friction `mu` in a no-flux dish of
     `radius`: the leading eigenvalues with its position
@@ -186,14 +188,15 @@ def dish_kick(
     x axis) and released; (x, U_x) sampled every 0.05 and :func:`oscillation_fit` over
     a window that starts when the first faster eigenvalue's mode has fallen `decay`
     behind the pair (:func:`pde_rotor.gallery.onsets.gap_window`) and lasts `periods`
-    periods 2 pi / omega of the pair (at least `span`)."""
+    periods 2 pi / omega of the pair (at least `span`); the kick keeps |x| below
+    `amplitude` up to the window's end."""
     data = disk_in_dish_config(dx, dt, radius, DISH_MASS, mu, 1.0, 0.5).model_dump(mode="json")
     spectrum = spectrum_at(data, KEY, mu, k=8, positions=True)
     lam = complex(spectrum.leading)
     start_t, _ = gap_window(spectrum.eigenvalues, decay, 0.0)
     length = span if lam.imag == 0 else max(span, periods * 2 * math.pi / abs(lam.imag))
     window = (start_t, math.ceil((start_t + length) / SAMPLE) * SAMPLE)
-    kick = DISH_AMPLITUDE * math.exp(-max(lam.real, 0.0) * window[1])
+    kick = amplitude * math.exp(-max(lam.real, 0.0) * window[1])
     times = np.arange(0.0, window[1] + 1e-9, SAMPLE)
     config = disk_in_dish_config(
         dx, dt, radius, DISH_MASS, mu, round(relax + window[1] + 0.1, 2), relax
@@ -223,7 +226,16 @@ def dish(args: argparse.Namespace, factor: float) -> None:
     """Print the dish's Hopf pair and the kicked disk's fit at `factor` mu_c."""
     start = time.process_time()
     mu = factor * DISH_MU_C
-    run = dish_kick(args.dx, args.dt, DISH_RADIUS, mu, args.relax, args.decay, args.periods)
+    run = dish_kick(
+        args.dx,
+        args.dt,
+        DISH_RADIUS,
+        mu,
+        args.relax,
+        args.decay,
+        args.periods,
+        amplitude=args.amplitude,
+    )
     lam, fit = run.pair, run.fit.rate
     euler = np.log(1 + args.dt * lam) / args.dt
     print(
@@ -358,6 +370,7 @@ def main() -> None:
     parser.add_argument("--two-mode-decay", type=float, default=1e6)
     parser.add_argument("--offset", type=float, default=0.0, help="hold the free disk off")
     parser.add_argument("--periods", type=float, default=1.0, help="the dish's fit length")
+    parser.add_argument("--amplitude", type=float, default=DISH_AMPLITUDE, help="dish's |x|")
     args = parser.parse_args()
     for name in args.systems:
         for factor in args.factors or (DISH_FACTORS if name == "dish" else FACTORS):
