@@ -26,13 +26,16 @@ setup once at its top with :func:`as_setup`.
 from __future__ import annotations
 
 from functools import cached_property
+from typing import TYPE_CHECKING
 
 from ..config import RotorConfig
-from .bodies import Body, BodyShape
-from .body_schemes import BodyScheme
 from .geometry import RotorShape
-from .protocol import StopSchedule
-from .schemes import Scheme
+
+if TYPE_CHECKING:
+    from .bodies import Body
+    from .body_schemes import BodyScheme
+    from .protocol import StopSchedule
+    from .schemes import Scheme
 
 _SHARED = ("shape", "bodies", "scheme", "body_scheme")
 """The objects of a setup that do not depend on its dt (shared by :meth:`Setup.at`)."""
@@ -76,6 +79,8 @@ class Setup:
     def bodies(self) -> tuple[Body, ...]:
         """The bodies of the run (``bodies``, or the ``geometry`` shorthand's rotor as its
         ``fixed_axis`` body at the origin)."""
+        from .bodies import Body, BodyShape  # py-pde: made only where bodies are asked for
+
         if self._parent is not None:
             return self._parent.bodies
         smoothing = self.config.geometry.smoothing
@@ -87,11 +92,15 @@ class Setup:
     @cached_property
     def schedule(self) -> StopSchedule:
         """The run's stop schedule (``protocol``) in steps of :attr:`dt`."""
+        from .protocol import StopSchedule  # numba: made only where a schedule is asked for
+
         return StopSchedule.from_config(self.config.protocol, self.dt)
 
     @cached_property
     def body_schedules(self) -> tuple[StopSchedule | None, ...]:
         """Each body's own stop schedule in steps of :attr:`dt` (None: it has none)."""
+        from .protocol import StopSchedule
+
         return tuple(
             None if body.protocol is None else StopSchedule.from_config(body.protocol, self.dt)
             for body in self.bodies
@@ -100,6 +109,8 @@ class Setup:
     @cached_property
     def scheme(self) -> Scheme:
         """The discretisation of the rotor's F, G and torque (``numerics``)."""
+        from .schemes import Scheme
+
         if self._parent is not None:
             return self._parent.scheme
         return Scheme.from_config(self.config, self.shape)
@@ -107,6 +118,8 @@ class Setup:
     @cached_property
     def body_scheme(self) -> BodyScheme:
         """The discretisation of the bodies' F_k, G_k, forces and torques (``numerics``)."""
+        from .body_schemes import BodyScheme
+
         if self._parent is not None:
             return self._parent.body_scheme
         return BodyScheme.from_config(self.config, self.bodies)
