@@ -15,7 +15,8 @@ exact theory of :mod:`pde_rotor.theory` (no flow):
   own onset friction, the mu below which the plate at rest starts to turn.
 
 Run: ``python gallery/stability_onsets.py [--quick | --tiny]`` (full: the paper's grid
-dx = 0.025; quick: dx = 0.05; tiny: dx = 0.05, three frictions per branch).
+dx = 0.025; quick: dx = 0.05; tiny: dx = 0.05 in dishes of radius 1.75, a branch's two ends
+only).
 """
 
 from __future__ import annotations
@@ -43,9 +44,10 @@ DELTA = 0.025
 DISK = CamphorDisk(1.0, 1.0, 1.0, 1.0, 0.1)
 
 
-def body_data(kind: str, dx: float, flow: bool) -> dict[str, Any]:
-    """The config of one outside system on grid `dx` (paper scheme, delta = 0.025)."""
-    grid: dict[str, Any] = {"domain_radius": 3.0, "dx": dx, "dt": 1e-4}
+def body_data(kind: str, dx: float, flow: bool, radius: float) -> dict[str, Any]:
+    """The config of one outside system on grid `dx` in a dish of `radius` (paper scheme,
+    delta = 0.025)."""
+    grid: dict[str, Any] = {"domain_radius": radius, "dx": dx, "dt": 1e-4}
     if kind == "free":
         data = read_config_data("configs/bodies/free_disk.yaml")
         data["bodies"][0]["motion"].update({"mass": 2e-3, "inertia": 1e-5})
@@ -60,14 +62,14 @@ def body_data(kind: str, dx: float, flow: bool) -> dict[str, Any]:
     return data
 
 
-def theory(kind: str, mu: float) -> complex:
-    """The exact growth rate of theory/ (nan where it has none)."""
+def theory(kind: str, mu: float, radius: float) -> complex:
+    """The exact growth rate of theory/ in a dish of `radius` (nan where it has none)."""
     try:
         if kind == "free":
             return free_disk_growth_rate(DISK, mu, 2e-3)
         if kind == "rotor":
             return rotor_growth_rate(DISK, 0.5, mu, 1e-4, DELTA)
-        return dish_hopf_rate(DISK, Wall(3.0, "no_flux"), mu, 1e-4)
+        return dish_hopf_rate(DISK, Wall(radius, "no_flux"), mu, 1e-4)
     except ValueError:
         return complex(np.nan, np.nan)
 
@@ -87,8 +89,9 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     args = parse_args(__doc__.splitlines()[0], argv)
     fid = args.fidelity
     dx = 0.025 if fid.name == "full" else 0.05
-    points = 3 if fid.is_tiny else 7
-    rtol = 1e-2 if fid.is_tiny else 1e-5
+    points = 2 if fid.is_tiny else 7
+    rtol = 5e-2 if fid.is_tiny else 1e-5
+    radius = 1.75 if fid.is_tiny else 3.0
     fig = new_figure(16.0, 9.0)
     axes = fig.subplots(2, 2).ravel()
     panels = (
@@ -98,13 +101,13 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     )
     for ax, (kind, title, (lo, hi)) in zip(axes[:3], panels, strict=True):
         mus = np.linspace(lo, hi, points)
-        line = np.linspace(lo, hi, 4 if fid.is_tiny else 30)
-        exact = np.array([theory(kind, mu) for mu in line])
+        line = np.linspace(lo, hi, 2 if fid.is_tiny else 30)
+        exact = np.array([theory(kind, mu, radius) for mu in line])
         ax.plot(line, exact.real, color="tab:blue", label="exact theory, Re lambda")
         if kind == "dish":
             ax.plot(line, exact.imag, color="tab:blue", ls=":", label="exact theory, Im lambda")
         for flow, style, label in ((False, "ko-", "no flow"), (True, "rs-", "with flow")):
-            branch = follow(body_data(kind, dx, flow), KEY, mus, k=6, rtol=rtol)
+            branch = follow(body_data(kind, dx, flow, radius), KEY, mus, k=6, rtol=rtol)
             lam = branch.leading
             ax.plot(mus, lam.real, style, mfc="none", label=f"{label}: {describe(branch)}")
             if kind == "dish":
@@ -120,6 +123,8 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     frictions = np.geomspace(1e-4, 1e-2, points)
     for flow, style, label in ((False, "ko-", "no flow"), (True, "rs-", "with flow")):
         data = {"grid": {"dx": dx, "dt": 1e-4}, "flow": {"enabled": flow}}
+        if fid.is_tiny:
+            data["grid"]["domain_radius"] = radius
         branch = follow(data, "rotor.friction", frictions, k=3, rtol=rtol)
         ax.semilogx(frictions, branch.leading.real, style, mfc="none",
                     label=f"{label}: {describe(branch)}")  # fmt: skip
@@ -137,8 +142,9 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     ax.grid(alpha=0.3)
     add_footer(
         fig,
-        f"pde_rotor, {fid.name} run of the gallery; dx = {dx:g}, delta = {DELTA:g} (a-c, paper "
-        "scheme), the paper's rotor on the default scheme; eigenvalues of the linearised "
+        f"pde_rotor, {fid.name} run of the gallery; dx = {dx:g}, dish radius {radius:g}, "
+        f"delta = {DELTA:g} (a-c, paper scheme), the paper's rotor on the default scheme; "
+        "eigenvalues of the linearised "
         f"discrete model (scipy shift-invert Arnoldi), critical values by brentq (rtol {rtol:g})",
     )
     return save(fig, args.out, NAME)

@@ -135,6 +135,7 @@ def critical_value(
     rtol: float = CRITICAL_RTOL,
     k: int = 4,
     positions: bool | None = None,
+    known: Mapping[float, Spectrum] | None = None,
 ) -> Crossing:
     """The value of `key` in [lo, hi] where the leading eigenvalue's real part is 0.
 
@@ -146,14 +147,16 @@ def critical_value(
         rtol: relative tolerance of the value.
         k: eigenvalues per evaluation.
         positions: as for :func:`~pde_rotor.stability.linear.linearise`.
+        known: spectra already computed, by value (a branch's ends: not computed again).
 
     Raises:
         ValueError: Re lambda has the same sign at both ends.
     """
-    spectra: dict[float, Spectrum] = {}
+    spectra: dict[float, Spectrum] = dict(known or {})
 
     def growth(value: float) -> float:
-        spectra[value] = spectrum_at(data, key, value, k, positions)
+        if value not in spectra:
+            spectra[value] = spectrum_at(data, key, value, k, positions)
         return spectra[value].leading.real
 
     xtol = rtol * max(abs(lo), abs(hi))
@@ -210,7 +213,8 @@ def follow(
     branch = Branch(key=key, values=values, eigenvalues=eigenvalues, residuals=residuals)
     growth = eigenvalues[:, 0].real
     for i in np.nonzero(np.sign(growth[:-1]) * np.sign(growth[1:]) < 0)[0]:
+        ends = {float(values[j]): spectra[j] for j in (i, i + 1)}
         branch.crossings.append(
-            critical_value(data, key, values[i], values[i + 1], rtol, k, positions)
+            critical_value(data, key, values[i], values[i + 1], rtol, k, positions, ends)
         )
     return branch

@@ -256,7 +256,7 @@ def test_launch_configuration_and_restart_do_not_change_the_result(
             {"noise": {"sigma": inertia, "seed": 3}, "protocol": {**PROTOCOL, "t_ini": 0.0}},
         ),
     ]
-    t_mid, t_end = 0.02, 0.04
+    t_mid, t_end = 0.015, 0.025  # the second member's release at 0.01 lies before t_mid
     one = gpu_backend.run_ensemble(members, t_end, record_interval=RECORD, threads_per_block=2)
     other = gpu_backend.run_ensemble(
         members, t_end, record_interval=RECORD, threads_per_block=8, chunk_steps=9

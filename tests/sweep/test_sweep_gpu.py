@@ -174,10 +174,10 @@ def test_restart_and_bank_batches_read_the_runs_the_tasks_compute(
 def test_a_tiny_sweep_runs_through_the_gpu_kernels(tmp_path, fast_simulator):
     """The GPU backend (CUDA simulator) stores the runs the CPU backend stores.
 
-    The protocol is shortened to 90 steps with stops of 10: the simulator interprets
+    The protocol is shortened to 45 steps with stops of 5: the simulator interprets
     every step of every member in Python.
     """
-    short = {"t_ini": 0.03, "t_stop": 0.01, "t_release": 0.02, "cycles": 2}
+    short = {"t_ini": 0.015, "t_stop": 0.005, "t_release": 0.01, "cycles": 2}
     sweep = protocol_sweep(samples=1, base={**TINY_GPU, "protocol": short})
     run_sweep(sweep, tmp_path / "cpu", ensemble=Recorder(), progress=False)
     ensemble = lambda configs, t_end, **options: gpu_backend.run_ensemble(  # noqa: E731
