@@ -12,7 +12,9 @@ runs, the area sums, the contour form (``consistent``: the spline window and the
 nodes, each timed), the contact forces (with contact on), and the field update over the
 bodies' runs against the same update without bodies (Eqs. (eqc), (eqv); on the cut
 cells for the vessel). Printed: ms per step and ns per owned cell (per interior cell,
-wet cell for the vessel, for the bare update).
+wet cell for the vessel, for the bare update); for the vessel also its implicit
+clusters' share of the bare update, and the open update (no cut cells) on the rows of
+the disk the vessel's grid covers, per cell.
 
 Run:  NUMBA_NUM_THREADS=1 python benchmarks/crowd_phases.py [--scheme paper] [--steps 300]
       [--case disks | sweep]
@@ -113,6 +115,12 @@ def _fields(steps, states, maps, pose, domain, segments, coef, p):
 
 
 @nb.njit
+def _implicit(steps, nxt, rhs, members, offsets, blocks, starts):
+    for _ in range(steps):
+        wall.implicit_clusters(nxt, rhs, members, offsets, blocks, starts)
+
+
+@nb.njit
 def _walled(steps, states, maps, pose, domain, cells, coef, p, rhs):
     for _ in range(steps):
         wall.euler_walled_fields(states, maps, domain, cells, coef, p.dt, pose, p.flow, rhs)
@@ -190,6 +198,13 @@ def phases(case: str, scheme: str, steps: int) -> tuple[dict[str, float], int, i
         result["bare update"] = timed(_walled, states, (F, G, bare), pose, domain, cells, coef,
                                       p, rhs)  # fmt: skip
         wet = int((cells[7] - cells[6]).sum())
+        members, offsets, blocks, starts = cells[9:]
+        implicit = timed(_implicit, nxt, rhs, members, offsets, blocks, starts)
+        open_rows = timed(_fields, states, (F, G), pose, domain, bare, coef, p)
+        print(f"the vessel's bare update: {implicit:.4f} ms/step its implicit clusters; the open "
+              f"update of Eq. (eqc) on the disk's rows, no cut cells, {int((hi - lo).sum())} "
+              f"cells: {open_rows:.4f} ms/step, {1e6 * open_rows / (hi - lo).sum():.2f} ns a "
+              "cell")  # fmt: skip
     else:
         with_bodies = timed(_fields, states, (F, G), pose, domain, segments, coef, p)
         result["bare update"] = timed(_fields, states, (F, G), pose, domain, bare, coef, p)
