@@ -27,6 +27,7 @@ import numpy as np
 from pde_rotor import RotorConfig
 from pde_rotor.kernels import body_draw, body_fields, body_sums
 from pde_rotor.physics.motion import N_INTEGRALS
+from pde_rotor.physics.spline import SPLINE_MARGIN
 from pde_rotor.solver.bodies import make_bodies_stepper
 from pde_rotor.solver.simulation import Simulation
 
@@ -119,8 +120,12 @@ def profile(sim: Simulation, steps: int) -> dict[str, float]:
                 half = int(body[k]["window_half"])
                 ic = int(np.floor((pose[k, 0] - x0) * inv_dx)) + 1
                 jc = int(np.floor((pose[k, 1] - x0) * inv_dx)) + 1
-                timed("spline window", body_sums.spline_box, cur, tables[7], n, max(1, ic - half),
-                      min(n - 1, ic + half), max(1, jc - half), min(n - 1, jc + half),
+                window = (max(1, ic - half), min(n - 1, ic + half), max(1, jc - half),
+                          min(n - 1, jc + half))  # fmt: skip
+                inner = half - SPLINE_MARGIN + 1
+                taps = (max(window[0], ic - inner), min(window[1], ic + inner),
+                        max(window[2], jc - inner), min(window[3], jc + inner))  # fmt: skip
+                timed("spline window", body_sums.spline_box, cur, tables[7], n, window, taps,
                       tables[8])  # fmt: skip
                 timed("contour nodes", body_sums.body_contour, cur, coords, k, bodies, p,
                       out)  # fmt: skip

@@ -9,9 +9,11 @@ surface's field update without bodies (:func:`pde_rotor.kernels.body_fields.eule
 with no body runs: Eqs. (eqc), (eqv) alone). Each is timed alternately with the others
 (`--repeats` rounds, least kept) over `--steps` steps after a compiling warm-up, in CPU
 time of the stepping thread; printed: ms/step of each and the ratios to the surface
-without bodies (goal: 20 disks <= 1.5x). With `--profile`, the phases of the 20 disks'
-step per body (``benchmarks/bench_bodies.py``'s profile: drawing, area integrals,
-spline window and contour nodes, field update over the bodies' runs).
+without bodies (goal: 20 disks <= 1.5x), and each round's ratio of the crowd to the
+surface without bodies (its spread: how much the machine's load moved the timing).
+With `--profile`, the phases of the 20 disks' step per body
+(``benchmarks/bench_bodies.py``'s profile: drawing, area integrals, spline window and
+contour nodes, field update over the bodies' runs).
 
 ``--case ring``: 16 camphor boats (strip plates 0.6 x 0.3, one pill 0.05 ahead of the
 centre, mass 0.05, friction 1, at rest, heading along the channel) evenly spaced on the
@@ -252,10 +254,11 @@ def main() -> None:
             runs, crowd = cases(case, scheme, grid)
             for run in runs.values():
                 run(20)  # compile and warm up
-            best = dict.fromkeys(runs, float("inf"))
+            rounds = {name: [] for name in runs}
             for _ in range(args.repeats):
                 for name, run in runs.items():
-                    best[name] = min(best[name], run(args.steps))
+                    rounds[name].append(run(args.steps))
+            best = {name: min(times) for name, times in rounds.items()}
             base = best["no bodies"]
             many = next(iter(best))
             cells = crowd.pde.domain.coords.size
@@ -264,6 +267,11 @@ def main() -> None:
             for name, ms in best.items():
                 print(f"{name:>9}: {ms:.4f} ms/step, {ms / base:.3f} x the surface without bodies")
             print(f"ratio {many} / no bodies = {best[many] / base:.3f} (goal <= {goal})")
+            each = np.array(rounds[many]) / np.array(rounds["no bodies"])
+            print(
+                f"  each round's ratio: {', '.join(f'{r:.3f}' for r in each)} (median "
+                f"{np.median(each):.3f}, spread {each.min():.3f} .. {each.max():.3f})"
+            )
             if args.profile:
                 print(f"phases of the {many}' step, ms per body ({scheme} scheme, thread CPU)")
                 for phase, ms in profile(crowd, args.steps).items():

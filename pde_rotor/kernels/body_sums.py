@@ -19,6 +19,7 @@ import numpy as np
 
 from ..physics.build import CPU, FASTMATH
 from ..physics.indicators import PLATE_POLYGON, PLATE_STRIP
+from ..physics.spline import SPLINE_MARGIN
 from .body_arcs import circle_sums
 from .body_draw import orient
 from .spline import ROW_GROUP, spline_columns, spline_rows
@@ -119,13 +120,20 @@ def body_integrals(cur, F, coords, k, bodies, p, out):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def spline_box(cur, coef, n, i0, i1, j0, j1, carry):
-    """coef = cubic B-spline coefficients of c (cur[:n^2]) on the rows [i0, i1) and
-    columns [j0, j1) (compiled): the rows prefiltered in groups of ``ROW_GROUP``, then
-    the columns, as the rotor's window (:mod:`pde_rotor.kernels.spline`); `carry` >= n."""
+def spline_box(cur, coef, n, window, taps, carry):
+    """coef = cubic B-spline coefficients of c (cur[:n^2]) of the window of rows
+    [i0, i1) and columns [j0, j1), `window` = (i0, i1, j0, j1), wanted on the rows and
+    columns of `taps` = (ti0, ti1, tj0, tj1) inside it (compiled): every row of the
+    window prefiltered in groups of ``ROW_GROUP``, its coefficients kept from column tj0
+    on, then only the columns [tj0, tj1), kept from row ti0 on, as the rotor's window
+    (:func:`pde_rotor.kernels.spline.spline_window`). A wanted coefficient has the same
+    bits as with the whole window wanted (each line's recursions run over the whole
+    window; only what is stored changes); the others are left as they were. `carry` >= n."""
+    i0, i1, j0, j1 = window
+    ti0, _, tj0, tj1 = taps
     for r0 in range(i0, i1, ROW_GROUP):
-        spline_rows(cur, coef, n, r0, min(i1, r0 + ROW_GROUP), j0, j1, j0, carry)
-    spline_columns(coef, n, i0, i1, j0, j1, i0, carry)
+        spline_rows(cur, coef, n, r0, min(i1, r0 + ROW_GROUP), j0, j1, tj0, carry)
+    spline_columns(coef, n, i0, i1, tj0, tj1, ti0, carry)
 
 
 @nb.njit(cache=True, nogil=True, fastmath=FASTMATH, error_model="numpy")
@@ -134,7 +142,10 @@ def body_contour(cur, coords, k, bodies, p, out):
     (``consistent``; :mod:`pde_rotor.model.body_schemes`) into out[0:3] (compiled).
 
     The spline of c on the square window of half side ``window_half`` cells about the
-    cell of X_k (:func:`spline_box`), then the contour nodes of the tension: a
+    cell of X_k (:func:`spline_box`), its coefficients wanted only where the contour's
+    taps lie (the window less ``SPLINE_MARGIN`` - 1 cells each side; the taps lie within
+    ``window_half`` - ``SPLINE_MARGIN`` cells of that cell), then the contour nodes of
+    the tension: a
     polygon's or a strip's edges (``edge_sums``; per (edge, band node) the sum along
     the edge, the pairs added in order, as the rotor's contour torque; a strip's four
     edges of two lengths, its band nodes without a parallel skipped), or a disk plate's
@@ -157,7 +168,9 @@ def body_contour(cur, coords, k, bodies, p, out):
     jc = math.floor((y_k - x0) * inv_dx) + 1
     i0, i1 = max(1, ic - half), min(n - 1, ic + half)
     j0, j1 = max(1, jc - half), min(n - 1, jc + half)
-    spline_box(cur, coef, n, i0, i1, j0, j1, carry)
+    inner = half - SPLINE_MARGIN + 1
+    taps = (max(i0, ic - inner), min(i1, ic + inner), max(j0, jc - inner), min(j1, jc + inner))
+    spline_box(cur, coef, n, (i0, i1, j0, j1), taps, carry)
     n_s = quad_s.shape[1]
     grid = (0, n, x0, inv_dx)
     f_x = 0.0

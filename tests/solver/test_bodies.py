@@ -658,3 +658,28 @@ def test_a_disk_held_at_the_dish_centre_feels_no_force(scheme: str, bound: float
     force = sim.bodies.poses[0, 6:8]
     assert np.abs(sim.state.data[0]).max() > 0.1  # the disk has spread its camphor
     assert np.abs(force).max() <= bound
+
+
+def test_spline_window_wanted_where_the_taps_lie_keeps_the_whole_windows_bits() -> None:
+    """The contour form's spline of c (``body_sums.spline_box``) wanted only on the inner
+    part of its window gives there the same coefficients, bit for bit, as the whole
+    window wanted (each line's recursions still run over the whole window), and leaves
+    the columns before the wanted ones as they were (they are not computed)."""
+    from pde_rotor.kernels.body_sums import spline_box
+
+    n = 64
+    x = np.arange(n) * 0.05
+    rng = np.random.default_rng(3)
+    a = rng.uniform(0.5, 1.5, 4)
+    c = 1 + a[0] * np.sin(1.3 * x[:, None] + a[1]) * np.cos(0.7 * x[None, :] + a[2])
+    cur = np.concatenate([(c + 0.01 * rng.standard_normal((n, n))).ravel(), np.zeros(2 * n * n)])
+    window, taps = (3, 61, 5, 60), (20, 33, 18, 40)
+    whole = np.full(n * n, np.nan)
+    spline_box(cur, whole, n, window, window, np.zeros(n))
+    part = np.full(n * n, np.nan)
+    spline_box(cur, part, n, window, taps, np.zeros(n))
+    rows, columns = slice(taps[0], taps[1]), slice(taps[2], taps[3])
+    wanted = part.reshape(n, n)[rows, columns]
+    assert np.isfinite(wanted).all()
+    assert np.array_equal(wanted, whole.reshape(n, n)[rows, columns])
+    assert np.isnan(part.reshape(n, n)[:, : taps[2]]).all()

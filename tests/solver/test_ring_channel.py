@@ -1,9 +1,13 @@
 """A camphor boat on its track in a no-flux ring channel against the straight channel's exact
-2D steady state and the 1D theory (docs/ring.md, the 2D channel against the 1D theory)."""
+2D steady state and the 1D theory (docs/ring.md, the 2D channel against the 1D theory), and
+the lattice force's measure of benchmarks/ring_lattice_force.py on series of known parts."""
 
 from __future__ import annotations
 
+import importlib.util
 import math
+from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -15,6 +19,47 @@ from pde_rotor.theory.ring_channel import ChannelBoats, channel_speed
 
 RADIUS, WIDTH, DX = 3.0, 1.9, 0.05
 LENGTH, PLATE, PILL, MU = 0.3, 0.1, 0.05, 0.1
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def load_lattice_force() -> Any:
+    """benchmarks/ring_lattice_force.py as a module (benchmarks/ is not a package)."""
+    path = ROOT / "benchmarks" / "ring_lattice_force.py"
+    spec = importlib.util.spec_from_file_location("ring_lattice_force", path)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_lattice_force_measure_recovers_a_known_ripple_on_a_drifting_force() -> None:
+    """16 boats at random places on the circle, each pulled by F0 along its e_theta plus a
+    radial force (which the measure must drop), the tangential part relaxing linearly at
+    a rate of its own (which the measure takes off) plus a ripple +-eps F0 cos(w (t - t_mid)),
+    over 40 periods (even about the window's middle: no part of it is a straight line,
+    which the measure would take off with the drift): the measure returns F0 (the drift's
+    mean), rms eps / sqrt(2) and largest eps, to the sampling's small errors."""
+    lattice_force = load_lattice_force()
+    rng = np.random.default_rng(7)
+    boats, f0, eps = 16, 0.0336, 0.004
+    times = np.linspace(2.0, 3.0, 4001)
+    theta = rng.uniform(-math.pi, math.pi, boats)
+    drift = rng.uniform(-0.01, 0.01, boats) * f0 * (times[:, None] - times.mean())
+    sign = rng.choice([-1.0, 1.0], boats)
+    ripple = sign * eps * f0 * np.cos(2 * math.pi * 40 * (times[:, None] - times.mean()))
+    along = f0 + drift + ripple
+    radial = rng.uniform(-1.0, 1.0, boats) * f0 * (1 + times[:, None])
+    forces = []
+    for t_along, t_radial in zip(along, radial, strict=True):
+        poses = np.zeros((boats, 15))
+        poses[:, 0], poses[:, 1] = RADIUS * np.cos(theta), RADIUS * np.sin(theta)
+        poses[:, 6] = t_radial * np.cos(theta) - t_along * np.sin(theta)
+        poses[:, 7] = t_radial * np.sin(theta) + t_along * np.cos(theta)
+        forces.append(lattice_force.tangential(poses, (6, 7)))
+    mean, rms, largest = lattice_force.lattice_figures(np.array(forces), times)
+    assert mean == pytest.approx(f0, rel=1e-6)  # the ripple over 40 periods and a sample
+    assert rms == pytest.approx(eps / math.sqrt(2), rel=2e-3)
+    assert largest == pytest.approx(eps, rel=2e-3)
 
 
 @pytest.mark.slow  # 7,500 steps of a 158 x 158 grid: tens of seconds
