@@ -9,7 +9,11 @@ and back, so that it moves), the rows' runs, the area sums, the contour form
 without bodies. Printed: ms per step and ns per owned cell (per interior cell for the
 bare update).
 
+``--footprint W`` draws the disks to ``numerics.footprint_widths`` = W (default 20) and
+``--contour-nodes N`` sets ``numerics.contour_nodes`` (default 32: 4 N directions a circle).
+
 Run:  NUMBA_NUM_THREADS=1 python benchmarks/crowd_phases.py [--scheme paper] [--steps 300]
+      [--footprint 20] [--contour-nodes 32]
 """
 
 from __future__ import annotations
@@ -66,9 +70,10 @@ def _fields(steps, states, maps, pose, domain, segments, coef, p):
         body_fields.euler_body_fields(cur, nxt, F, G, pose, domain, segments, coef, p.dt, p.flow)
 
 
-def phases(scheme: str, steps: int) -> tuple[dict[str, float], int, int]:
-    """ms per step of each phase, the owned and the interior cells."""
-    sim = Simulation(config(20, scheme))
+def phases(scheme: str, steps: int, numerics: dict) -> tuple[dict[str, float], int, int]:
+    """ms per step of each phase, the owned and the interior cells; `numerics`: the
+    crowd's ``numerics`` keys beside the scheme."""
+    sim = Simulation(config(20, scheme, numerics))
     sim.run(sim.t + 5 * sim.config.grid.dt)
     pde = sim.pde
     step = make_bodies_stepper(pde, sim.config.grid.dt, np.random.default_rng(0))
@@ -123,8 +128,11 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--scheme", default="paper", choices=["paper", "consistent"])
     parser.add_argument("--steps", type=int, default=300)
+    parser.add_argument("--footprint", type=float, default=20.0)
+    parser.add_argument("--contour-nodes", type=int, default=32)
     args = parser.parse_args()
-    result, owned, interior = phases(args.scheme, args.steps)
+    numerics = {"footprint_widths": args.footprint, "contour_nodes": args.contour_nodes}
+    result, owned, interior = phases(args.scheme, args.steps, numerics)
     print(f"{args.scheme}: {owned} owned cells ({owned / 20:.0f} a disk), {interior} interior")
     for phase, ms in result.items():
         cells = interior if phase == "bare update" else owned

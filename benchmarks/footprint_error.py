@@ -9,10 +9,12 @@ tension force f (the area or contour integral, Eq. (eq_motion)), each over the l
 |U| or |f| of the crowd, and of c over its largest value. The discretisation error is
 measured the same way at w = 20 on the grid of spacing 2 dx (same dt and delta): for a
 second-order scheme the difference between the two grids is about 3 times the error at
-dx, so that difference over 3 estimates the error on the paper's grid.
+dx, so that difference over 3 estimates the error on the paper's grid. ``--contour-nodes
+N ...`` adds, on the consistent scheme, each w with ``numerics.contour_nodes`` = N (4 N
+directions a circle) against w = 20 and the default 32.
 
 Run:  NUMBA_NUM_THREADS=1 python benchmarks/footprint_error.py [--time 0.3]
-      [--widths 20 10 8 6] [--scheme paper consistent]
+      [--widths 20 10 8 6] [--scheme paper consistent] [--contour-nodes 32 16]
 """
 
 from __future__ import annotations
@@ -29,9 +31,11 @@ FORCE = slice(6, 8)
 """The tension force (x, y) among a body's pose columns."""
 
 
-def crowd(scheme: str, widths: float, dx: float) -> RotorConfig:
-    """The 20 disks at footprint `widths` on the grid of spacing `dx`."""
-    data = config(20, scheme, {"footprint_widths": widths}).model_dump(mode="json")
+def crowd(scheme: str, widths: float, dx: float, nodes: int = 32) -> RotorConfig:
+    """The 20 disks at footprint `widths` and `nodes` contour nodes on the grid of
+    spacing `dx`."""
+    numerics = {"footprint_widths": widths, "contour_nodes": nodes}
+    data = config(20, scheme, numerics).model_dump(mode="json")
     data["grid"]["dx"] = dx
     return RotorConfig.model_validate(data)
 
@@ -66,6 +70,7 @@ def main() -> None:
     parser.add_argument("--time", type=float, default=0.3)
     parser.add_argument("--widths", type=float, nargs="+", default=[20.0, 10.0, 8.0, 6.0])
     parser.add_argument("--scheme", nargs="+", default=["paper", "consistent"])
+    parser.add_argument("--contour-nodes", type=int, nargs="+", default=[32])
     args = parser.parse_args()
     dx = 0.025
     for scheme in args.scheme:
@@ -75,13 +80,16 @@ def main() -> None:
             f"{scheme}: t = {args.time:g}, max |U| = {np.abs(poses[:, 3:5]).max():.4g}, "
             f"max |f| = {np.abs(poses[:, FORCE]).max():.4g}, max c = {full[1].max():.4g}"
         )
+        nodes = args.contour_nodes if scheme == "consistent" else [32]
         for w in args.widths:
-            if w == 20.0:
-                continue
-            cut = final(crowd(scheme, w, dx), args.time)
-            tail = 1.0 / (1.0 + np.exp(2.0 * w))
-            shown = ", ".join(f"{k} {v:.3g}" for k, v in differences(full, cut).items())
-            print(f"  w = {w:g} (tail {tail:.2g}) against w = 20: {shown}")
+            for n in nodes:
+                if (w, n) == (20.0, 32):
+                    continue
+                cut = final(crowd(scheme, w, dx, n), args.time)
+                tail = 1.0 / (1.0 + np.exp(2.0 * w))
+                shown = ", ".join(f"{k} {v:.3g}" for k, v in differences(full, cut).items())
+                label = f"w = {w:g}" + (f", N = {n}" if n != 32 else "")
+                print(f"  {label} (tail {tail:.2g}) against w = 20: {shown}")
         coarse = final(crowd(scheme, 20.0, 2 * dx), args.time)
         shown = ", ".join(f"{k} {v:.3g}" for k, v in differences(full, coarse, True).items())
         print(f"  dx = {2 * dx:g} against dx = {dx:g} (w = 20; error at dx about 1/3): {shown}")
