@@ -30,9 +30,15 @@ or on the one of ``--dx``, ``--smoothing``, ``--dt`` (the scheme: ``--scheme``),
 forward Euler so that each step is one evaluation, as the vessel's field update it is
 timed against (the sweep's Heun step is two of each).
 
+``--footprint W ...`` (``--case disks``): the 20 disks' crowd once per footprint
+``numerics.footprint_widths`` = W (default: 20 alone, the saturated footprint), all timed
+alternately in the same rounds against the one bare surface; ``--contour-nodes N ...``
+likewise for the consistent scheme's ``numerics.contour_nodes`` (a circle's arc nodes are
+4 N).
+
 Run:  NUMBA_NUM_THREADS=1 python benchmarks/bench_crowd.py [--steps 300] [--repeats 3]
       [--scheme paper consistent] [--case disks ring sweep] [--profile]
-      [--dx DX --smoothing DELTA --dt DT]
+      [--dx DX --smoothing DELTA --dt DT] [--footprint 20 8 6] [--contour-nodes 32 16]
 """
 
 from __future__ import annotations
@@ -78,13 +84,14 @@ def places(count: int) -> list[tuple[float, float]]:
     return spots[:count]
 
 
-def config(count: int, scheme: str) -> RotorConfig:
-    """`count` free disks on the paper's dish and grid, `scheme`."""
+def config(count: int, scheme: str, numerics: dict | None = None) -> RotorConfig:
+    """`count` free disks on the paper's dish and grid, `scheme`, and the ``numerics``
+    keys of `numerics` (e.g. ``footprint_widths``)."""
     bodies = [{**disk(x, y), "name": f"disk{k}"} for k, (x, y) in enumerate(places(count))]
     return RotorConfig.model_validate(
         {
             "grid": {"domain_radius": 4.0, "dx": 0.025, "dt": 1e-4},
-            "numerics": {"scheme": scheme},
+            "numerics": {"scheme": scheme, **(numerics or {})},
             "protocol": {"t_ini": 100.0, "cycles": 0},
             "bodies": bodies,
         }
@@ -218,6 +225,25 @@ def bare_vessel(sim: Simulation):
     return timer
 
 
+def footprint_cases(scheme: str, widths: list[float], nodes: list[int]) -> tuple[dict, Simulation]:
+    """The timers of the 20 disks at each footprint in `widths` and (``consistent``) each
+    contour node count in `nodes`, one disk at the first, and the bare surface; and the
+    first crowd's run."""
+    runs = {}
+    crowds = []
+    for w in widths:
+        for n in nodes if scheme == "consistent" else nodes[:1]:
+            label = f"20 disks w={w:g}" + (f" N={n}" if scheme == "consistent" else "")
+            crowds.append(
+                Simulation(config(20, scheme, {"footprint_widths": w, "contour_nodes": n}))
+            )
+            runs[label] = partial(ms_per_step, crowds[-1])
+    one = Simulation(config(1, scheme, {"footprint_widths": widths[0], "contour_nodes": nodes[0]}))
+    runs["1 disk"] = partial(ms_per_step, one)
+    runs["no bodies"] = bare_surface(one)
+    return runs, crowds[0]
+
+
 def cases(case: str, scheme: str, grid: dict) -> tuple[dict, Simulation]:
     """The timers of `case` (``disks``, ``ring`` or ``sweep``) on `scheme`, and the crowd's
     run."""
@@ -247,11 +273,20 @@ def main() -> None:
     parser.add_argument("--dt", type=float, help="--case sweep: grid.dt")
     parser.add_argument("--smoothing", type=float, help="--case sweep: delta")
     parser.add_argument("--profile", action="store_true", help="phases of the crowd's step")
+    parser.add_argument(
+        "--footprint", type=float, nargs="+", help="--case disks: numerics.footprint_widths"
+    )
+    parser.add_argument(
+        "--contour-nodes", type=int, nargs="+", default=[32], help="numerics.contour_nodes"
+    )
     args = parser.parse_args()
     for case in args.case:
         for scheme in args.scheme:
             grid = {"dx": args.dx, "dt": args.dt, "smoothing": args.smoothing}
-            runs, crowd = cases(case, scheme, grid)
+            if case == "disks" and args.footprint:
+                runs, crowd = footprint_cases(scheme, args.footprint, args.contour_nodes)
+            else:
+                runs, crowd = cases(case, scheme, grid)
             for run in runs.values():
                 run(20)  # compile and warm up
             rounds = {name: [] for name in runs}
@@ -266,12 +301,13 @@ def main() -> None:
             print(f"{case}: {cells}^2 cells, {scheme} scheme, thread CPU time")
             for name, ms in best.items():
                 print(f"{name:>9}: {ms:.4f} ms/step, {ms / base:.3f} x the surface without bodies")
-            print(f"ratio {many} / no bodies = {best[many] / base:.3f} (goal <= {goal})")
-            each = np.array(rounds[many]) / np.array(rounds["no bodies"])
-            print(
-                f"  each round's ratio: {', '.join(f'{r:.3f}' for r in each)} (median "
-                f"{np.median(each):.3f}, spread {each.min():.3f} .. {each.max():.3f})"
-            )
+            for name in [name for name in best if name.startswith("20 disks")] or [many]:
+                print(f"ratio {name} / no bodies = {best[name] / base:.3f} (goal <= {goal})")
+                each = np.array(rounds[name]) / np.array(rounds["no bodies"])
+                print(
+                    f"  each round's ratio: {', '.join(f'{r:.3f}' for r in each)} (median "
+                    f"{np.median(each):.3f}, spread {each.min():.3f} .. {each.max():.3f})"
+                )
             if args.profile:
                 print(f"phases of the {many}' step, ms per body ({scheme} scheme, thread CPU)")
                 for phase, ms in profile(crowd, args.steps).items():

@@ -16,8 +16,11 @@ wet cell for the vessel, for the bare update); for the vessel also its implicit
 clusters' share of the bare update, and the open update (no cut cells) on the rows of
 the disk the vessel's grid covers, per cell.
 
+``--footprint W`` draws the disks to ``numerics.footprint_widths`` = W (default 20) and
+``--contour-nodes N`` sets ``numerics.contour_nodes`` (default 32: 4 N directions a circle).
+
 Run:  NUMBA_NUM_THREADS=1 python benchmarks/crowd_phases.py [--scheme paper] [--steps 300]
-      [--case disks | sweep]
+      [--case disks | sweep] [--footprint 20] [--contour-nodes 32]
 """
 
 from __future__ import annotations
@@ -131,11 +134,12 @@ SAIL = 14.0
 boats move by SAIL dt a step."""
 
 
-def phases(case: str, scheme: str, steps: int) -> tuple[dict[str, float], int, int]:
+def phases(case: str, scheme: str, steps: int, numerics: dict) -> tuple[dict[str, float], int, int]:
     """ms per step of each phase of `case` (``disks`` or ``sweep``), the owned and the
-    interior (wet) cells."""
+    interior (wet) cells; `numerics`: the disks' ``numerics`` keys beside the scheme."""
     grid = dict.fromkeys(("dx", "dt", "smoothing"))
-    sim = Simulation(sweep_config(16, scheme, grid) if case == "sweep" else config(20, scheme))
+    crowd = sweep_config(16, scheme, grid) if case == "sweep" else config(20, scheme, numerics)
+    sim = Simulation(crowd)
     sim.run(sim.t + 5 * sim.config.grid.dt)
     pde = sim.pde
     step = make_bodies_stepper(pde, sim.config.grid.dt, np.random.default_rng(0))
@@ -218,8 +222,11 @@ def main() -> None:
     parser.add_argument("--scheme", default="paper", choices=["paper", "consistent"])
     parser.add_argument("--steps", type=int, default=300)
     parser.add_argument("--case", default="disks", choices=["disks", "sweep"])
+    parser.add_argument("--footprint", type=float, default=20.0)
+    parser.add_argument("--contour-nodes", type=int, default=32)
     args = parser.parse_args()
-    result, owned, interior = phases(args.case, args.scheme, args.steps)
+    numerics = {"footprint_widths": args.footprint, "contour_nodes": args.contour_nodes}
+    result, owned, interior = phases(args.case, args.scheme, args.steps, numerics)
     count, what = (16, "a boat") if args.case == "sweep" else (20, "a disk")
     print(f"{args.case}, {args.scheme}: {owned} owned cells ({owned / count:.0f} {what}), "
           f"{interior} {'wet' if args.case == 'sweep' else 'interior'}")  # fmt: skip

@@ -87,13 +87,15 @@ class PolygonPlate(_Section):
         """The plate's area, (N / 2) R^2 sin(2 pi / N)."""
         return self.n_corners / 2 * self.radius**2 * math.sin(2 * math.pi / self.n_corners)
 
-    def reach(self, smoothing: float) -> float:
-        """Radius beyond which F = 0 to 4.3e-18: R + X_SATURATION delta / cos(pi/N).
+    def reach(self, smoothing: float, widths: float = X_SATURATION) -> float:
+        """Radius beyond which F < e^(-2 w), w = `widths` (4.3e-18 at the default
+        X_SATURATION): R + w delta / cos(pi/N).
 
         F is 1/2 [1 + tanh((R cos(pi/N) - h) / delta)] with the gauge h >= |r| cos(pi/N);
-        the same expression as :attr:`pde_rotor.config.GeometryConfig.support_radius`.
+        at the default the same expression as
+        :attr:`pde_rotor.config.GeometryConfig.support_radius`.
         """
-        return self.radius + X_SATURATION * smoothing / math.cos(math.pi / self.n_corners)
+        return self.radius + widths * smoothing / math.cos(math.pi / self.n_corners)
 
     def margin(self, x: float, y: float) -> float:
         """Distance from (x, y) inside the plate to its nearest edge (negative outside)."""
@@ -118,9 +120,10 @@ class DiskPlate(_Section):
         """The plate's area, pi R^2."""
         return math.pi * self.radius**2
 
-    def reach(self, smoothing: float) -> float:
-        """Radius beyond which F = 0 to 4.3e-18: R + X_SATURATION delta."""
-        return self.radius + X_SATURATION * smoothing
+    def reach(self, smoothing: float, widths: float = X_SATURATION) -> float:
+        """Radius beyond which F < e^(-2 w), w = `widths` (4.3e-18 at the default
+        X_SATURATION): R + w delta."""
+        return self.radius + widths * smoothing
 
     def margin(self, x: float, y: float) -> float:
         """Distance from (x, y) inside the plate to its edge (negative outside)."""
@@ -142,10 +145,11 @@ class StripPlate(_Section):
         """The plate's area, L W."""
         return self.length * self.width
 
-    def reach(self, smoothing: float) -> float:
-        """Radius beyond which F = 0 to 4.3e-18: the corner of the rectangle grown by
-        X_SATURATION delta (F is a function of the gauge max(|x'| - L/2, |y'| - W/2))."""
-        grow = X_SATURATION * smoothing
+    def reach(self, smoothing: float, widths: float = X_SATURATION) -> float:
+        """Radius beyond which F < e^(-2 w), w = `widths` (4.3e-18 at the default
+        X_SATURATION): the corner of the rectangle grown by w delta (F is a function of
+        the gauge max(|x'| - L/2, |y'| - W/2))."""
+        grow = widths * smoothing
         return math.hypot(self.length / 2 + grow, self.width / 2 + grow)
 
     def margin(self, x: float, y: float) -> float:
@@ -166,7 +170,7 @@ class NoPlate(_Section):
         """No plate: 0 (the pills give the body's area)."""
         return 0.0
 
-    def reach(self, smoothing: float) -> float:
+    def reach(self, smoothing: float, widths: float = X_SATURATION) -> float:
         """No plate: 0 (the pills give the body's reach)."""
         return 0.0
 
@@ -194,9 +198,10 @@ class PillConfig(_Section):
         """|p|: distance of the centre from the body's origin."""
         return math.hypot(self.x, self.y)
 
-    def reach(self, smoothing: float) -> float:
-        """Radius about the body's origin beyond which the pill's G is 0 to 4.3e-18."""
-        return self.distance + self.radius + X_SATURATION * smoothing
+    def reach(self, smoothing: float, widths: float = X_SATURATION) -> float:
+        """Radius about the body's origin beyond which the pill's G < e^(-2 w),
+        w = `widths` (4.3e-18 at the default X_SATURATION): |p| + rho + w delta."""
+        return self.distance + self.radius + widths * smoothing
 
 
 _Inertia = Annotated[
@@ -390,10 +395,14 @@ class BodyConfig(BodyLoads, BodyKeys):
             return sum(math.pi * pill.radius**2 for pill in self.pills)
         return self.plate.area()
 
-    def reach(self, smoothing: float) -> float:
-        """Footprint: radius about the body's origin beyond which F_k and G_k are 0 to
-        4.3e-18, the plate's and pills' extent plus X_SATURATION delta."""
-        return max([self.plate.reach(smoothing), *(p.reach(smoothing) for p in self.pills)])
+    def reach(self, smoothing: float, widths: float = X_SATURATION) -> float:
+        """Footprint: radius about the body's origin beyond which F_k and G_k are below
+        e^(-2 w) (4.3e-18 at the default w = X_SATURATION), the plate's and pills' extent
+        plus w delta (``numerics.footprint_widths``). At the default it is also the
+        body's contact radius (:attr:`pde_rotor.model.bodies.BodyShape.contact`)."""
+        return max(
+            [self.plate.reach(smoothing, widths), *(p.reach(smoothing, widths) for p in self.pills)]
+        )
 
     def pill_overlap(self) -> tuple[int, int, float] | None:
         """(i, j, distance) of the first pills i < j whose disks overlap (their sources

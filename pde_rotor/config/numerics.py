@@ -8,9 +8,14 @@ from typing import Any, Literal
 from pydantic import Field
 
 from .fields import (
+    X_SATURATION,
     Int,
     _Section,
 )
+
+FOOTPRINT_WIDTHS_MIN = 3.0
+"""The shortest footprint ``numerics.footprint_widths`` allows: 3 smoothing widths beyond
+plate and pills, where a point-value indicator's tail is 1 / (1 + e^6) = 2.5e-3."""
 
 
 class NumericsConfig(_Section):
@@ -73,13 +78,29 @@ class NumericsConfig(_Section):
         description="consistent scheme: Gauss nodes across the smoothed plate edge",
     )
 
+    footprint_widths: float = Field(
+        X_SATURATION,
+        ge=FOOTPRINT_WIDTHS_MIN,
+        le=X_SATURATION,
+        description=(
+            "bodies: w, the radius of a body's footprint beyond its plate and pills in "
+            "smoothing widths delta; F_k and G_k are 0 outside it. A point-value indicator "
+            "is cut where its tail is 1 / (1 + e^(2w)) < e^(-2w) (20: 4.2e-18, where the "
+            "tanh is saturated in float64; 10: 2.1e-9; 8: 1.1e-7; 6: 6.1e-6); the "
+            "consistent scheme's circles end their contour rule there too. Contact and the "
+            "walls keep the 20-width footprint (docs/bodies.md, The footprint's precision)"
+        ),
+    )
+
     def acting(self) -> dict[str, Any]:
         """The settings that change a result of this scheme (JSON values): every one for
-        ``consistent``, only ``scheme`` and ``integrator`` for ``paper``, whose point
-        values ignore the prefilter and contour settings."""
+        ``consistent``, only ``scheme``, ``integrator`` and (where set) the bodies'
+        ``footprint_widths`` for ``paper``, whose point values ignore the prefilter and
+        contour settings."""
         data = self.model_dump(mode="json")
         if self.scheme == "paper":
-            return {key: data[key] for key in ("scheme", "integrator")}
+            kept = ("scheme", "integrator", "footprint_widths")
+            return {key: data[key] for key in kept if key in data}
         return data
 
 

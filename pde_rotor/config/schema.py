@@ -134,6 +134,14 @@ class RotorConfig(_Section):
                     "under bodies:)"
                 )
                 raise FieldError("grid.wall", self.grid.wall, msg)
+            widths = self.numerics.footprint_widths
+            if widths != X_SATURATION:
+                msg = (
+                    f"cuts the footprints of a bodies: list only (allowed: the default "
+                    f"{X_SATURATION:g} for the single rotor of geometry:, or that rotor "
+                    f"written as one fixed_axis body under bodies:)"
+                )
+                raise FieldError("numerics.footprint_widths", widths, msg)
         else:
             self._bodies_in_dish()
         check_vessel(self.grid, self.bodies is not None, self.body_list(), self.geometry.smoothing)

@@ -125,7 +125,7 @@ def _loads(cur, F, domain, bodies, chords, p, integrals, loads, status):
         b = body[k]
         if b.motion == MOTION_FIXED:
             continue
-        if _leaves_vessel(pose[k, 0], pose[k, 1], b.reach, p):
+        if _leaves_vessel(pose[k, 0], pose[k, 1], b.contact, p):
             status[0] = STATUS_EDGE
             status[1] = k
             status[2] = -1
@@ -157,11 +157,11 @@ def _contact(body, pose, p, loads):
         if b.motion == MOTION_FIXED:
             continue
         here = (pose[k, 0], pose[k, 1], pose[k, 3], pose[k, 4])
-        f_x, f_y = _wall_contact(here, b.reach, p)
+        f_x, f_y = _wall_contact(here, b.contact, p)
         for j in range(body.shape[0]):
             if j != k:
                 there = (pose[j, 0], pose[j, 1], pose[j, 3], pose[j, 4])
-                g = _pair_contact(here, b.reach, there, body[j].reach, p)
+                g = _pair_contact(here, b.contact, there, body[j].contact, p)
                 f_x += g[0]
                 f_y += g[1]
         state = (pose[k, 0], pose[k, 1], pose[k, 2], pose[k, 3], pose[k, 4], pose[k, 5])

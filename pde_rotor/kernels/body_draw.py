@@ -217,8 +217,10 @@ def _lone_filtered_row(maps, row, pill, coords, inv_step):
 def draw_body(F, G, owner, domain, k, bodies, p, work, moved):
     """Draw body k at its pose: F_k, G_k and owner k on the cells of its footprint.
 
-    The footprint is the disk of radius ``body[k].reach`` about X_k, beyond which F_k and
-    G_k are 0 to within 4.3e-18 (:data:`pde_rotor.config.X_SATURATION`). First its chord
+    The footprint is the disk of radius ``body[k].reach`` about X_k: plate and pills grown
+    by w delta, w = ``numerics.footprint_widths`` (default
+    :data:`pde_rotor.config.X_SATURATION`, where F_k and G_k are 0 to within 4.3e-18;
+    beyond a cut one every dropped term is below e^(-2 w)). First its chord
     on each row (the physics' ``footprint_chord``) and whether the body may own it
     (:func:`_claim`: inside the dish, no other body's cell; nothing is written
     otherwise); then, where X_k `moved`, the cells of the last drawn footprint that the

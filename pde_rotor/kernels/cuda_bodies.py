@@ -252,7 +252,7 @@ def _stage(where, state, surface, bodies, scratch, tables, walls, p, shared):
         b = body[m][k]
         if b.motion == MOTION_FIXED:
             continue
-        if _leaves_vessel(pose[m, k, 0], pose[m, k, 1], b.reach, p):
+        if _leaves_vessel(pose[m, k, 0], pose[m, k, 1], b.contact, p):
             if tid == 0:
                 flags[2] = k
                 flags[3] = -1
@@ -310,11 +310,11 @@ def _contact(m, stage, bodies, loads, p):
         if b.motion == MOTION_FIXED:
             continue
         here = (pose[m, k, 0], pose[m, k, 1], pose[m, k, 3], pose[m, k, 4])
-        f_x, f_y = _wall_contact(here, b.reach, p)
+        f_x, f_y = _wall_contact(here, b.contact, p)
         for j in range(n_bodies):
             if j != k:
                 there = (pose[m, j, 0], pose[m, j, 1], pose[m, j, 3], pose[m, j, 4])
-                g = _pair_contact(here, b.reach, there, body[m][j].reach, p)
+                g = _pair_contact(here, b.contact, there, body[m][j].contact, p)
                 f_x += g[0]
                 f_y += g[1]
         state = (here[0], here[1], pose[m, k, 2], here[2], here[3], pose[m, k, 5])

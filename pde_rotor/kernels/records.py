@@ -230,6 +230,7 @@ BUILT_BODY: tuple[tuple[str, str], ...] = (
     ("size_a", _F8),
     ("size_b", _F8),
     ("reach", _F8),
+    ("contact", _F8),
     ("pill_start", _I8),
     ("pill_count", _I8),
     ("motion", _I8),
@@ -275,7 +276,8 @@ def body_dtype(body: type[BaseModel]) -> np.dtype:
 BODY = body_dtype(BodyConfig)
 """One body of :func:`pde_rotor.kernels.bodies.advance_bodies`: plate kind
 (:data:`pde_rotor.physics.indicators.PLATE_POLYGON`...), its corners and sizes (``size_a``:
-apothem, radius or half length; ``size_b``: half width), the footprint radius ``reach``,
+apothem, radius or half length; ``size_b``: half width), the footprint radius ``reach``
+(where it is drawn) and the contact radius ``contact`` (contact springs and walls),
 its pills' range in the pill table, motion kind, m, I, mu, the noise kick
 sqrt(2 dt) sigma / I, its stop schedule in steps, its external force and torque and, for
 a ``track`` body, its track's centre, radius, direction of travel and tangential force.
@@ -322,6 +324,7 @@ def make_body_records(setup: Setup) -> tuple[np.ndarray, np.ndarray]:
         elif shape.plate == "strip":
             rec["size_a"], rec["size_b"] = shape.length / 2, shape.width / 2
         rec["reach"] = shape.reach
+        rec["contact"] = shape.contact
         rec["pill_start"], rec["pill_count"] = len(rows), len(shape.pills)
         for x, y, rho, supply in shape.pills:
             density = supply / (math.pi * rho**2)

@@ -24,9 +24,13 @@ s_j / (pi rho_j^2) times that to the source of Eq. (eqc). The plate moves with
 u_k = U_k + omega_k z x (r - X_k), which Eq. (eqv) relaxes v towards under F_k.
 
 The footprint of a body (:attr:`BodyShape.reach`) is the radius about X beyond which
-F_k and G_k are 0 to 4.3e-18 (X_SATURATION delta beyond plate and pills): the support
-box of its compiled loops (:func:`body_support`) and the disk the config keeps inside
-the dish and apart from the other bodies'.
+F_k and G_k are set to 0: w delta beyond plate and pills, w = ``numerics.footprint_widths``
+(default X_SATURATION = 20, where the tanh tail is 4.3e-18; at w every dropped term is below
+e^(-2 w)). It is the support of the compiled loops (:func:`body_support`) and the disk on
+which the numpy reference keeps F_k and G_k (:func:`footprint_mask`). The contact radius
+(:attr:`BodyShape.contact`) is the footprint at X_SATURATION whatever w: the disk the config
+keeps inside the dish and apart from the other bodies', where contact springs act and
+where a body leaves a vessel, so that the footprint's precision moves no contact.
 """
 
 from __future__ import annotations
@@ -38,6 +42,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..config import (
+    X_SATURATION,
     BodyConfig,
     FreeMotion,
     PolygonPlate,
@@ -71,7 +76,12 @@ class BodyShape:
             body frame.
         smoothing: delta, the width of every tanh edge (geometry.smoothing).
         extent: radius about X of the smallest disk holding plate and pills.
-        reach: the footprint, radius about X beyond which F_k = G_k = 0 to 4.3e-18.
+        reach: the footprint, radius about X beyond which F_k = G_k = 0: the extent plus
+            w delta (``numerics.footprint_widths``; every dropped term below e^(-2 w)).
+        contact: the contact radius, the footprint at w = X_SATURATION (4.3e-18) whatever
+            the footprint's w: contact springs, a vessel's walls and the config's checks
+            of starts read it.
+        widths: w, the footprint's margin beyond plate and pills in units of delta.
     """
 
     plate: str
@@ -84,10 +94,15 @@ class BodyShape:
     smoothing: float
     extent: float
     reach: float
+    contact: float
+    widths: float
 
     @classmethod
-    def from_config(cls, body: BodyConfig, smoothing: float) -> BodyShape:
-        """The shape of a resolved body (:meth:`RotorConfig.body_list`)."""
+    def from_config(
+        cls, body: BodyConfig, smoothing: float, widths: float = X_SATURATION
+    ) -> BodyShape:
+        """The shape of a resolved body (:meth:`RotorConfig.body_list`), its footprint
+        `widths` smoothing widths beyond plate and pills (``numerics.footprint_widths``)."""
         plate = body.plate
         pills = np.array([[p.x, p.y, p.radius, p.supply] for p in body.pills], dtype=float).reshape(
             -1, 4
@@ -106,7 +121,9 @@ class BodyShape:
             pills=pills,
             smoothing=smoothing,
             extent=body.extent(),
-            reach=body.reach(smoothing),
+            reach=body.reach(smoothing, widths),
+            contact=body.reach(smoothing),
+            widths=widths,
         )
 
 
@@ -305,7 +322,17 @@ def plate_velocity(
 def body_support(domain: Domain, shape: BodyShape, pose: Pose) -> tuple[np.ndarray, np.ndarray]:
     """Column range [lo, hi) per row of the domain's cells within the body's footprint.
 
-    The only cells where F_k or G_k can be nonzero (to 4.3e-18); the body's pose is on
-    the surface, the domain's coordinates are measured from the dish centre.
+    The only cells where F_k or G_k are not 0; the body's pose is on the surface, the
+    domain's coordinates are measured from the dish centre.
     """
     return support_rows(domain.coords, shape.reach, centre=domain.dish_frame(pose.x, pose.y))
+
+
+def footprint_mask(domain: Domain, shape: BodyShape, pose: Pose) -> np.ndarray:
+    """(n, n): whether each cell's centre lies in the body's footprint,
+    |r - X|^2 < reach^2, where F_k and G_k are kept (numpy reference of the compiled
+    ``footprint_chord``, in the same frame, :meth:`Domain.dish_frame`)."""
+    x_k, y_k = domain.dish_frame(pose.x, pose.y)
+    rx = domain.coords[:, None] - x_k
+    ry = domain.coords[None, :] - y_k
+    return rx * rx + ry * ry < shape.reach * shape.reach

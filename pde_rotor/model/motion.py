@@ -109,7 +109,9 @@ def contact_forces(poses: np.ndarray, bodies: Sequence[Body], config: RotorConfi
     """(K, 2) the contact forces of ``contact:`` on each body at `poses` (positions and
     velocities; 0 where off): kappa (ell - g) - gamma dg/dt for each gap g < ell between
     two footprints, along their centres' line, and between a footprint and each wall,
-    along the wall's normal (:mod:`pde_rotor.config.contact`)."""
+    along the wall's normal (:mod:`pde_rotor.config.contact`). A footprint here is the
+    body's contact radius (:attr:`~pde_rotor.model.bodies.BodyShape.contact`), whatever
+    ``numerics.footprint_widths`` draws."""
     out = np.zeros((len(bodies), 2))
     contact = config.contact
     if not contact.enabled:
@@ -120,7 +122,7 @@ def contact_forces(poses: np.ndarray, bodies: Sequence[Body], config: RotorConfi
         """The force along the gap's normal where the gap is in range."""
         return np.where(gap < ell, kappa * (ell - gap) - gamma * rate, 0.0)
 
-    reach = np.array([b.shape.reach for b in bodies])
+    reach = np.array([b.shape.contact for b in bodies])
     centres = poses[:, 0:2]
     velocities = poses[:, 3:5]
     for k in range(len(bodies)):

@@ -84,8 +84,9 @@ class Setup:
         if self._parent is not None:
             return self._parent.bodies
         smoothing = self.config.geometry.smoothing
+        widths = self.config.numerics.footprint_widths
         return tuple(
-            Body.from_config(body, BodyShape.from_config(body, smoothing))
+            Body.from_config(body, BodyShape.from_config(body, smoothing, widths))
             for body in self.config.body_list()
         )
 

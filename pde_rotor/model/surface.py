@@ -42,7 +42,7 @@ from pde import FieldCollection, ScalarField, VectorField
 from pde.pdes.base import PDEBase
 
 from ..config import RotorConfig
-from .bodies import Body, Pose, pill_source, plate_indicator
+from .bodies import Body, Pose, footprint_mask, pill_source, plate_indicator
 from .body_schemes import contour_integrals, filtered_body_fields
 from .domain import Domain, make_domain
 from .geometry import RotorShape
@@ -196,23 +196,22 @@ class SurfacePDE(PDEBase):
 
     def body_fields(self, state: BodiesState) -> list[tuple[np.ndarray, np.ndarray]]:
         """(F_k, source_k) of every body at its pose (numpy): point values (``paper``) or
-        the filtered fields (``consistent``)."""
+        the filtered fields (``consistent``), 0 outside its footprint
+        (:func:`~pde_rotor.model.bodies.footprint_mask`)."""
         x, y = self.cell_coordinates()
         scheme = self.body_scheme
-        if scheme.consistent:
-            return [
-                filtered_body_fields(
-                    x, y, body.shape, state.pose(k), scheme.filters[k], scheme.profile_step
-                )
-                for k, body in enumerate(self.bodies)
-            ]
-        return [
-            (
-                plate_indicator(x, y, body.shape, state.pose(k)),
-                pill_source(x, y, body.shape, state.pose(k)),
-            )
-            for k, body in enumerate(self.bodies)
-        ]
+        out = []
+        for k, body in enumerate(self.bodies):
+            pose = state.pose(k)
+            if scheme.consistent:
+                filt = scheme.filters[k]
+                f_k, s_k = filtered_body_fields(x, y, body.shape, pose, filt, scheme.profile_step)
+            else:
+                f_k = plate_indicator(x, y, body.shape, pose)
+                s_k = pill_source(x, y, body.shape, pose)
+            inside = footprint_mask(self.domain, body.shape, pose)
+            out.append((np.where(inside, f_k, 0.0), np.where(inside, s_k, 0.0)))
+        return out
 
     def evolution_rate(self, state: SurfaceFields, t: float = 0) -> FieldCollection:
         """Right-hand sides of Eqs. (eqc) and (eqv) with every body at its pose (numpy).

@@ -40,7 +40,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from ..config import X_SATURATION, RotorConfig
+from ..config import RotorConfig
 from ..model.setup import Setup
 from ..solver.threads import other_load, usable_cores
 
@@ -165,6 +165,7 @@ def bodies_step_terms(
     flow = config.flow.enabled
     walled = no_flux_walls(config)
     delta, dx = config.geometry.smoothing, config.grid.dx
+    widths = config.numerics.footprint_widths
     bodies = config.bodies or []
     shares = moving_shares(config) if moving is None else moving
     terms = dict.fromkeys(BODIES_STEP_COSTS, 0.0)
@@ -173,12 +174,12 @@ def bodies_step_terms(
     terms["no_flux_cell"] = interior if walled else 0.0
     terms["no_flux_flow_cell"] = interior if walled and flow else 0.0
     for body, share in zip(bodies, shares, strict=True):
-        box = (2 * body.reach(delta) / dx) ** 2
+        box = (2 * body.reach(delta, widths) / dx) ** 2
         terms["no_flux_box_cell"] += box if walled else 0.0
         if body.motion.kind != "fixed":
             terms[f"{config.numerics.scheme}_box_cell"] += box
             for pill in body.pills:
-                pill_box = (2 * (pill.radius + X_SATURATION * delta) / dx) ** 2
+                pill_box = (2 * (pill.radius + widths * delta) / dx) ** 2
                 terms["drawn_pill_cell"] += share * pill_box
     if config.numerics.integrator == "heun":
         terms = {key: 2.0 * value for key, value in terms.items()}

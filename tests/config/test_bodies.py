@@ -274,6 +274,26 @@ def two(body: dict[str, Any], first: dict[str, Any] | None = None) -> dict[str, 
 # config data, the key the one-line error starts with, a text it names
 BAD_BODIES: dict[str, tuple[dict[str, Any], str, str]] = {
     "empty list": ({"bodies": []}, "bodies = []", "at least one body"),
+    "footprint below 3 widths": (
+        {"numerics": {"footprint_widths": 2.5}, "bodies": [PILL]},
+        "numerics.footprint_widths = 2.5",
+        "3 <= footprint_widths <= 20",
+    ),
+    "footprint beyond saturation": (
+        {"numerics": {"footprint_widths": 21}, "bodies": [PILL]},
+        "numerics.footprint_widths = 21",
+        "3 <= footprint_widths <= 20",
+    ),
+    "footprint as text": (
+        {"numerics": {"footprint_widths": "short"}, "bodies": [PILL]},
+        "numerics.footprint_widths = 'short'",
+        "number",
+    ),
+    "footprint of the shorthand rotor": (
+        {"numerics": {"footprint_widths": 8}},
+        "numerics.footprint_widths = 8",
+        "bodies: list only",
+    ),
     "bodies not a list": ({"bodies": 5}, "bodies = 5", "a list of sections"),
     "body not a section": ({"bodies": [3]}, "bodies[0] = 3", "keys name, plate"),
     "unknown body key": ({"bodies": [{**PILL, "mass": 1}]}, "bodies[0].mass", "allowed keys"),

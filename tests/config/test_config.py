@@ -557,6 +557,24 @@ def test_acting_numerics_are_those_of_the_scheme():
     assert NumericsConfig(pill_filter_width=1.2).acting() != consistent.acting()
 
 
+def test_a_cut_footprint_acts_on_both_schemes_and_the_default_on_no_hash():
+    """``numerics.footprint_widths`` changes the drawn F_k, G_k on either scheme, so a
+    cut one is acting on ``paper`` too and changes the config hash; at its default, set
+    or left out, it is in no dump: the hash is that of a config without the key."""
+    bodies = [{"pills": [{}]}]
+    plain = validate_config({"numerics": {"scheme": "paper"}, "bodies": bodies})
+    saturated = validate_config(
+        {"numerics": {"scheme": "paper", "footprint_widths": 20.0}, "bodies": bodies}
+    )
+    cut = validate_config(
+        {"numerics": {"scheme": "paper", "footprint_widths": 8}, "bodies": bodies}
+    )
+    assert plain.config_hash() == saturated.config_hash() != cut.config_hash()
+    assert "footprint_widths" not in plain.physics()["numerics"]
+    assert cut.physics()["numerics"]["footprint_widths"] == 8.0
+    assert NumericsConfig(footprint_widths=6).acting() != NumericsConfig().acting()
+
+
 def test_physics_differences_name_the_settings_that_change_a_result():
     """Keys with both values; what changes no result (output, solver) and ignored keys
     are left out; equal configs differ in nothing."""

@@ -268,6 +268,37 @@ def test_footprint_holds_every_nonzero_value(body: dict[str, Any]) -> None:
         assert (values[inside] > 0.5).any()
 
 
+@pytest.mark.parametrize("body", PLATES, ids=[b["plate"]["shape"] for b in PLATES])
+@pytest.mark.parametrize("widths", [3.0, 6.0, 10.0])
+def test_a_cut_footprint_drops_only_its_tail(body: dict[str, Any], widths: float) -> None:
+    """At ``numerics.footprint_widths`` = w the footprint is w delta beyond plate and pills:
+    beyond it every pill's term and F are below the tail 1 / (1 + e^(2 w)) (so G_k below
+    the pills' count times it), within a quarter delta inside it some value exceeds
+    the tail / e (the footprint is no larger than the bound needs), and the contact
+    radius stays the saturated footprint, 20 delta beyond plate and pills, whatever w."""
+    full = one_body(body).shape
+    shape = one_body(body, numerics={"footprint_widths": widths}).shape
+    assert shape.widths == widths and full.widths == 20.0
+    assert shape.contact == full.contact == full.reach
+    assert shape.reach < full.reach
+    tail = 1.0 / (1.0 + math.exp(2.0 * widths))
+    count = len(shape.pills)
+    pose = Pose(0.3, -0.2, 0.7)
+    ring = np.linspace(0, 2 * math.pi, 3601)
+    outside = shape.reach * np.linspace(1.0, 1.5, 26)[:, None]
+    inside = (shape.reach - shape.smoothing / 4) * np.ones((1, 1))
+    for radii, check in ((outside, "outside"), (inside, "inside")):
+        x = pose.x + radii * np.cos(ring)
+        y = pose.y + radii * np.sin(ring)
+        f = plate_indicator(x, y, shape, pose)
+        g = pill_indicator(x, y, shape, pose)
+        if check == "outside":
+            bound = count * tail + 1e-15  # numpy's 1 + tanh(-w) loses 1e-16
+            assert f.max() < bound and g.max() < bound
+        else:
+            assert max(f.max(), g.max()) > tail / math.e
+
+
 def test_motion_coefficients_follow_the_kind() -> None:
     """A fixed body neither turns nor translates, a fixed_axis body does not translate
     (infinite mass and inertia make force / m and torque / I vanish); a free body has its

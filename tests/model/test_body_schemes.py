@@ -4,11 +4,13 @@ rewrite, and the circles' radial rule."""
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 from pde_rotor import RotorConfig
+from pde_rotor.config import load_config
 from pde_rotor.model.bodies import Pose, plate_indicator
 from pde_rotor.model.body_schemes import (
     BodyScheme,
@@ -118,13 +120,55 @@ def test_ring_rule_integrates_the_filtered_profiles_slope(radius: float) -> None
     the midpoints of half cells (the midpoint rule: to 1e-4)."""
     step = DX / PROFILE_REFINEMENT
     profile = disk_profile(radius, 0.025, DX, ("gaussian", 0.7))
-    radii, weights = ring_rule(profile, step, DX)
+    radii, weights = ring_rule(profile, step, DX, radius + 20 * 0.025)
     assert weights.sum() == pytest.approx(profile[0], rel=1e-4)
     d = np.arange(profile.size) * step
     integral = np.sum(0.5 * (profile[1:] + profile[:-1])) * step
     assert np.sum(weights * radii) == pytest.approx(integral, rel=1e-4)
     np.testing.assert_allclose(np.diff(radii), DX / 2, rtol=1e-12)
     assert radii[0] == pytest.approx(DX / 4) and radii[-1] < d[-1]
+
+
+@pytest.mark.parametrize("widths", [4.0, 8.0])
+def test_ring_rule_ends_at_a_cut_footprint(widths: float) -> None:
+    """With ``numerics.footprint_widths`` = w a circle's rule ends at its reach,
+    rho + w delta (F_eps is not drawn beyond it): its half cells lie within, the rule keeps
+    the radii of the full rule below it with their weights, and the weight it drops is
+    the filtered profile's value at its last half cell's edge, to the midpoint rule's
+    error on a tail that falls e-fold per half delta (4 %)."""
+    rho, delta = 0.1, 0.025
+    step = DX / PROFILE_REFINEMENT
+    profile = disk_profile(rho, delta, DX, ("sharpened", 0.95))
+    full = ring_rule(profile, step, DX, rho + 20 * delta)
+    reach = rho + widths * delta
+    cut = ring_rule(profile, step, DX, reach)
+    assert cut[0, -1] + DX / 4 <= reach < cut[0, -1] + 3 * DX / 4  # whole half cells within
+    assert cut.shape[1] < full.shape[1]
+    np.testing.assert_array_equal(cut, full[:, : cut.shape[1]])
+    dropped = full[1, cut.shape[1] :].sum()
+    value = np.interp(cut[0, -1] + DX / 4, np.arange(profile.size) * step, profile)
+    assert dropped == pytest.approx(value, rel=0.1)
+    assert abs(value) > 1e-12
+
+
+def test_default_footprint_keeps_every_shipped_circle_rule() -> None:
+    """At the default footprint (20 delta) every shipped bodies config's circles end
+    where their weight falls below its cutoff, short of the footprint: the rules, and the
+    runs, of before the footprint could be cut."""
+    for path in sorted(Path("configs/bodies").glob("*.yaml")):
+        config = load_config(path, ["numerics.scheme=consistent"])
+        setup = Setup(config)
+        for body, filt in zip(setup.bodies, setup.body_scheme.filters, strict=True):
+            for ring, end in zip(filt.rings, _circle_reaches(body.shape), strict=True):
+                assert ring[0, -1] + DX < end
+
+
+def _circle_reaches(shape) -> list[float]:
+    """The reach rho + 20 delta (R + 20 delta) of each circle of a body's contour form."""
+    margin = 20 * shape.smoothing
+    if shape.plate == "none":
+        return [float(r) + margin for r in shape.pills[:, 2]]
+    return [shape.radius + margin] if shape.plate == "disk" else []
 
 
 def test_square_strip_is_the_square_polygon() -> None:

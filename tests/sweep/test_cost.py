@@ -350,6 +350,30 @@ def test_a_body_costs_its_integrals_unless_fixed_and_its_pills_redraw_while_it_m
     assert held == pytest.approx(bodies_step_seconds(fixed) + sums)
 
 
+def test_a_cut_footprint_costs_its_smaller_box() -> None:
+    """With ``numerics.footprint_widths`` = w a free body's box and its pills' boxes grow
+    by w delta, not 20 delta: the estimate prices the cells the drawing walks."""
+    strip = {"shape": "strip", "length": 0.4, "width": 0.2}
+    body = {"plate": strip, "pills": [{"radius": 0.1}], "start": {"x": 1.0}}
+    body |= {"motion": {"kind": "free", "mass": 1e-4, "friction": 0.2}}
+    paper = PAPER | {"bodies": [body]}
+    free = validate_config(paper)
+    cut = validate_config(
+        paper | {"numerics": {**paper.get("numerics", {}), "footprint_widths": 8}}
+    )
+    dx, delta = free.grid.dx, free.geometry.smoothing
+    boxes = {}
+    for w in (20, 8):
+        grow = w * delta
+        box = (2 * math.hypot(0.2 + grow, 0.1 + grow) / dx) ** 2
+        pill_box = (2 * (0.1 + grow) / dx) ** 2
+        boxes[w] = BODIES_STEP_COSTS["paper_box_cell"] * box
+        boxes[w] += BODIES_STEP_COSTS["drawn_pill_cell"] * pill_box
+    assert bodies_step_seconds(free) - bodies_step_seconds(cut) == pytest.approx(
+        boxes[20] - boxes[8]
+    )
+
+
 def test_a_collective_run_costs_its_steps_and_its_set_up() -> None:
     """A crowd sweep's run: every step at the bodies' step estimate, and its set-up."""
     from pathlib import Path
