@@ -619,7 +619,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         "--crowd-members", type=int, default=None, help="members of the crowd case [64; tiny: 2]"
     )
     parser.add_argument(
-        "--crowd-steps", type=int, default=None, help="steps of the crowd case [200; tiny: 2]"
+        "--crowd-steps", type=int, default=None, help="steps of the crowd case [200; tiny: 1]"
     )
     args = parser.parse_args(argv)
     tiny = args.tiny
@@ -655,7 +655,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         print("crowd: an ensemble on the GPU, member 0 on the CPU", flush=True)
         crowd_members = args.crowd_members or (2 if tiny else 64)
         results["crowd"] = crowd_check(
-            tiny, args.crowd_steps or (2 if tiny else 200), crowd_members
+            tiny, args.crowd_steps or (1 if tiny else 200), crowd_members
         )
     else:  # nothing to test, time or compare
         results["tests"] = {"returncode": None}
