@@ -152,14 +152,33 @@ def _walk_rows(bufs, segments, pose, coef, dt, flow):
 @nb.njit(cache=True, nogil=True, fastmath=FASTMATH)
 def implicit_clusters(nxt, rhs, members, offsets, blocks, starts):
     """c' = inverse (kappa c' of the explicit part) on each cluster of implicit faces
-    (:func:`pde_rotor.model.wall.implicit_blocks`)."""
+    (:func:`pde_rotor.model.wall.implicit_blocks`).
+
+    Four rows of a block at a time, each summed in its own order: four independent
+    chains of multiply-adds instead of one, whose latency bounded the solve, with the
+    same result for each row."""
     for b in range(offsets.size - 1):
         first = offsets[b]
         size = offsets[b + 1] - first
         block = starts[b]
-        for u in range(size):
-            total = 0.0
+        u = 0
+        while u + 4 <= size:
             row = block + u * size
+            t0, t1, t2, t3 = 0.0, 0.0, 0.0, 0.0
+            for w in range(size):
+                x = rhs[members[first + w]]
+                t0 += blocks[row + w] * x
+                t1 += blocks[row + size + w] * x
+                t2 += blocks[row + 2 * size + w] * x
+                t3 += blocks[row + 3 * size + w] * x
+            nxt[members[first + u]] = t0
+            nxt[members[first + u + 1]] = t1
+            nxt[members[first + u + 2]] = t2
+            nxt[members[first + u + 3]] = t3
+            u += 4
+        for v in range(u, size):
+            total = 0.0
+            row = block + v * size
             for w in range(size):
                 total += blocks[row + w] * rhs[members[first + w]]
-            nxt[members[first + u]] = total
+            nxt[members[first + v]] = total
