@@ -83,7 +83,7 @@ def _cut_cells(bufs, base, a, b, plate, motion, coef, dt, flow):
             nxt[o + nn + nn] = cur[o + nn + nn] + dt * rate_y
 
 
-@nb.njit(cache=True, nogil=True, fastmath=FASTMATH)
+@nb.njit(cache=True, nogil=True, fastmath=FASTMATH, error_model="numpy")
 def euler_walled_fields(states, maps, domain, wall, coef, dt, pose, flow, rhs):
     """One step of Eqs. (eqc), (eqv) on cut cells (compiled).
 
@@ -127,7 +127,9 @@ def _walk_rows(bufs, segments, pose, coef, dt, flow):
     arrays at every cell, 37 ns a wet cell instead of 4. With flow it stays a run-time
     value that the compiler cannot fold (a literal True lets it contract the diffusion's
     product into the flux sum, one rounding elsewhere: other bits than the runs made so
-    far), and the loop keeps its branch and its cost."""
+    far), and the loop keeps its branch and its cost. The division by kappa > 0 (wet
+    cells only) is IEEE's, without Python's zero test (the caller's ``error_model``), so
+    that the loop without flow has no branch left in it."""
     coords, wall = bufs[4], bufs[6]
     run_start, runs = segments
     row_start, span_lo, span_hi = wall[5], wall[6], wall[7]
