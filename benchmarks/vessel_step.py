@@ -21,6 +21,7 @@ from __future__ import annotations
 import argparse
 import importlib.util
 import os
+import sys
 import time
 from types import ModuleType
 
@@ -49,6 +50,7 @@ def load_wall(path: str) -> ModuleType:
     """The ``wall.py`` at `path` as a module of this checkout's kernels package."""
     spec = importlib.util.spec_from_file_location("pde_rotor.kernels.wall_against", path)
     module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module  # numba's cache finds the module by its name
     spec.loader.exec_module(module)
     return module
 
