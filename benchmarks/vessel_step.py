@@ -1,0 +1,121 @@
+"""The vessel's cut-cell step without bodies: ms per step, ns per wet cell, and what a
+narrow annulus costs against the full box.
+
+Three no-flux vessels on the ring sweep's grid (dx = 0.05, 226 x 226 cells, dt = 4e-4):
+the sweep's annulus 3.6 < r < 5.6 (``configs/sweeps/crowd_ring.yaml``), a narrow annulus
+5.09 < r < 5.6 that wets about 15 % of its bounding box, and a square tank filling that
+box. Each is :func:`pde_rotor.kernels.wall.euler_walled_fields` (Eqs. (eqc), (eqv) on
+the cut cells, its implicit clusters included) called `steps` times in a compiled loop on
+a positive c and a random v, flow off and on, thread CPU time, the least of `rounds`.
+With ``--against PATH`` the same loop also runs the ``wall.py`` at PATH (another
+checkout's, loaded as a sibling module so that it compiles against this checkout's
+physics), the two timed in turn in each round; set ``NUMBA_CACHE_DIR`` to a scratch
+folder so that no cache is written beside PATH.
+
+Run:  NUMBA_NUM_THREADS=1 python benchmarks/vessel_step.py [--steps 100] [--rounds 3]
+      [--against /path/to/other/pde_rotor/kernels/wall.py]
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib.util
+import os
+import sys
+import time
+from types import ModuleType
+
+import numba as nb
+import numpy as np
+
+from pde_rotor.config.vessel import AnnulusVessel, RectangleVessel
+from pde_rotor.kernels import wall
+from pde_rotor.model.vessel import make_vessel_cells
+
+DX, DT, N = 0.05, 4.0e-4, 226
+VESSELS = {
+    "ring sweep's annulus 3.6 < r < 5.6": AnnulusVessel(
+        shape="annulus", inner_radius=3.6, outer_radius=5.6
+    ),
+    "narrow annulus 5.09 < r < 5.6": AnnulusVessel(
+        shape="annulus", inner_radius=5.09, outer_radius=5.6
+    ),
+    "full box |x|, |y| < 5.6": RectangleVessel(shape="rectangle", half_widths=(5.6, 5.6)),
+}
+COEF = (1.0 / DX**2, 0.5 / DX, 1.0, 1.0, 10.0, 1.0, 0.1, 0.5)
+"""The rates' coefficients (1/dx^2, 1/(2 dx), D, a, source, eta, eta_b, D_eta)."""
+
+
+def load_wall(path: str) -> ModuleType:
+    """The ``wall.py`` at `path` as a module of this checkout's kernels package."""
+    spec = importlib.util.spec_from_file_location("pde_rotor.kernels.wall_against", path)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module  # numba's cache finds the module by its name
+    spec.loader.exec_module(module)
+    return module
+
+
+def compiled_loop(module: ModuleType):
+    """`steps` calls of `module`'s walled step, compiled as one loop."""
+    step = module.euler_walled_fields
+
+    @nb.njit
+    def run(steps, states, maps, domain, cells, coef, dt, pose, flow, rhs):
+        for _ in range(steps):
+            step(states, maps, domain, cells, coef, dt, pose, flow, rhs)
+
+    return run
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--steps", type=int, default=100)
+    parser.add_argument("--rounds", type=int, default=3)
+    parser.add_argument("--against", help="another checkout's pde_rotor/kernels/wall.py")
+    args = parser.parse_args()
+    loops = {"this": compiled_loop(wall)}
+    if args.against:
+        loops = {"against": compiled_loop(load_wall(args.against)), **loops}
+    coords = (np.arange(N) - (N - 1) / 2) * DX
+    rng = np.random.default_rng(0)
+    empty = np.zeros(N * N)
+    bare = (empty, empty, (np.zeros(N + 1, np.int64), np.zeros((3, 0), np.int64)))
+    domain = (coords, np.zeros(N, np.int64), np.zeros(N, np.int64))
+    pose = np.zeros((0, 13))
+    least = {}
+    for name, vessel in VESSELS.items():
+        cells = make_vessel_cells(coords, vessel)
+        arrays = cells.arrays(DT / DX**2)
+        wet = int((arrays[7] - arrays[6]).sum())
+        box = round(2 * vessel.extent() / DX) ** 2
+        fields = np.concatenate([1.0 + rng.random(N * N), 0.1 * rng.normal(size=2 * N * N)])
+        cur = fields * np.tile(cells.mask.reshape(-1), 3)
+        for flow in (False, True):
+            times = {key: [] for key in loops}
+            for _ in range(args.rounds + 1):  # the first round compiles and warms
+                for key, loop in loops.items():
+                    states, rhs = (cur, np.zeros_like(cur)), np.zeros(N * N)
+                    start = time.thread_time()
+                    loop(args.steps, states, bare, domain, arrays, COEF, DT, pose, flow, rhs)
+                    times[key].append(1e3 * (time.thread_time() - start) / args.steps)
+            line = f"{name}, {wet} wet cells ({wet / box:.1%} of its box), flow {flow}:"
+            for key, values in times.items():
+                least[name, flow, key] = best = min(values[1:])
+                line += f" {key} {best:.4f} ms ({1e6 * best / wet:.2f} ns a wet cell);"
+            if args.against:
+                pairs = zip(times["against"][1:], times["this"][1:], strict=True)
+                ratios = [t / a for a, t in pairs]
+                line += " this / against each round " + ", ".join(f"{r:.3f}" for r in ratios)
+            print(line, flush=True)
+    narrow, full = list(VESSELS)[1:]
+    for flow in (False, True):
+        for key in loops:
+            a, b = least[narrow, flow, key], least[full, flow, key]
+            print(
+                f"flow {flow}, {key}: narrow annulus / full box = {a:.4f} / {b:.4f} = {a / b:.3f}"
+            )
+    print("load average", " ".join(f"{x:.1f}" for x in os.getloadavg()))
+
+
+if __name__ == "__main__":
+    main()
