@@ -109,7 +109,8 @@ def contact_forces(poses: np.ndarray, bodies: Sequence[Body], config: RotorConfi
     """(K, 2) the contact forces of ``contact:`` on each body at `poses` (positions and
     velocities; 0 where off): kappa (ell - g) - gamma dg/dt for each gap g < ell between
     two footprints, along their centres' line, and between a footprint and each wall,
-    along the wall's normal (:mod:`pde_rotor.config.contact`)."""
+    along the wall's normal (:mod:`pde_rotor.config.contact`; none from the walls on a
+    body that spans its channel)."""
     out = np.zeros((len(bodies), 2))
     contact = config.contact
     if not contact.enabled:
@@ -133,11 +134,12 @@ def contact_forces(poses: np.ndarray, bodies: Sequence[Body], config: RotorConfi
     grid = config.grid
     vessel = grid.vessel
     rel = centres - np.array(grid.domain_centre)
+    walled = np.array([not b.spans for b in bodies])  # a spanning body crosses the walls
     if vessel is not None and vessel.shape == "rectangle":
         for axis, half in enumerate(vessel.half_widths):
             for sign in (1.0, -1.0):  # the wall at -sign half: its clearance grows with sign U
                 gap = half + sign * rel[:, axis] - reach
-                out[:, axis] += sign * push(gap, sign * velocities[:, axis])
+                out[:, axis] += walled * sign * push(gap, sign * velocities[:, axis])
         return out
     r = np.hypot(rel[:, 0], rel[:, 1])
     normal = rel / r[:, None]
@@ -146,7 +148,7 @@ def contact_forces(poses: np.ndarray, bodies: Sequence[Body], config: RotorConfi
     force = -push(outer - r - reach, -outward)
     if vessel is not None:
         force += push(r - reach - vessel.inner_radius, outward)
-    return out + force[:, None] * normal
+    return out + (walled * force)[:, None] * normal
 
 
 def accelerations(
