@@ -163,9 +163,9 @@ def check_vessel(
 
 
 def check_spanning(grid: _Grid, k: int, body: BodyConfig, smoothing: float) -> None:
-    """A body that spans its channel (``motion.spans``) runs in an annulus whose walls
-    are both no-flux, on a track about the annulus' centre, its centre inside the
-    channel, its footprint inside the grid and each pill's footprint one cell inside
+    """A body that spans its channel (``spans: true`` in its motion) runs in an annulus
+    whose walls are both no-flux, on a track about the annulus' centre, its centre inside
+    the channel, its footprint inside the grid and each pill's footprint one cell inside
     both walls, so that all its camphor is supplied on wet whole cells (its plate may
     cross the walls; docs/bodies.md, the spanning boat).
 
