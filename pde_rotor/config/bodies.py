@@ -298,6 +298,13 @@ class TrackMotion(_Section):
     force: FiniteFloat = Field(
         0.0, description="f_t: a constant external force along the direction of travel"
     )
+    spans: bool = Field(
+        False,
+        description=(
+            "true: the body spans the channel, its plate crossing the vessel's no-flux walls "
+            "(its integrals over the wet cells only; docs/bodies.md, the spanning boat)"
+        ),
+    )
 
     @property
     def sign(self) -> float:

@@ -145,6 +145,7 @@ class RotorConfig(_Section):
         else:
             self._bodies_in_dish()
         check_vessel(self.grid, self.bodies is not None, self.body_list(), self.geometry.smoothing)
+        self._spanning_numerics()
         limit = self.dt_limit()
         if self.grid.dt > limit:
             msg = f"above the explicit stability limit (allowed: dt <= {limit:.4g} for this dx)"
@@ -278,6 +279,26 @@ class RotorConfig(_Section):
                         f"distance {apart:.4g} (allowed: distance >= {reach[k] + reach[i]:.4g})"
                     )
                     raise FieldError(f"bodies[{k}].start", [x, y], msg)
+
+    def _spanning_numerics(self) -> None:
+        """A body that spans its channel runs on the paper scheme and the CPU: its
+        integrals over the wet cells (:func:`pde_rotor.kernels.body_sums.spanning_integrals`)
+        are the area form's, and the GPU's bodies kernel has none."""
+        spanning = [k for k, b in enumerate(self.bodies or []) if getattr(b.motion, "spans", False)]
+        if not spanning:
+            return
+        if self.numerics.scheme != "paper":
+            msg = (
+                f"bodies[{spanning[0]}] spans its channel, whose wet-cell integrals are the "
+                "area form's (allowed: paper)"
+            )
+            raise FieldError("numerics.scheme", self.numerics.scheme, msg)
+        if self.solver.backend != "cpu":
+            msg = (
+                f"bodies[{spanning[0]}] spans its channel, which the CPU kernel steps only "
+                "(allowed: cpu)"
+            )
+            raise FieldError("solver.backend", self.solver.backend, msg)
 
     def _contact_sound(self) -> None:
         """Contact needs bodies, and the step must resolve it for every body that moves:

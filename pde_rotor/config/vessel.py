@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING, Annotated, Literal, Protocol
 from pydantic import Field, model_validator
 
 from .errors import FieldError
-from .fields import PositiveFloat, _Section
+from .fields import X_SATURATION, PositiveFloat, _Section
 
 if TYPE_CHECKING:
     from .bodies import BodyConfig
@@ -113,7 +113,8 @@ def check_vessel(
     grid: _Grid, has_bodies: bool, bodies: Sequence[BodyConfig], smoothing: float
 ) -> None:
     """A vessel runs with bodies, alone (no grid.wall beside it), inside the grid, wide
-    enough for its walls' cut cells, with every body's footprint one cell inside it.
+    enough for its walls' cut cells, with every body's footprint one cell inside it but
+    for a body that spans its channel (:func:`check_spanning`).
 
     Args:
         grid: the grid section.
@@ -147,6 +148,9 @@ def check_vessel(
         raise FieldError("grid.vessel", vessel.shape, msg)
     cx, cy = grid.domain_centre
     for k, body in enumerate(bodies):
+        if getattr(body.motion, "spans", False):
+            check_spanning(grid, k, body, smoothing)
+            continue
         reach = body.reach(smoothing)
         room = vessel.clearance(body.start.x - cx, body.start.y - cy)
         if room < reach + grid.dx:
@@ -156,3 +160,62 @@ def check_vessel(
                 f"at least {reach + grid.dx:.4g} inside every wall)"
             )
             raise FieldError(f"bodies[{k}].start", [body.start.x, body.start.y], msg)
+
+
+def check_spanning(grid: _Grid, k: int, body: BodyConfig, smoothing: float) -> None:
+    """A body that spans its channel (``spans: true`` in its motion) runs in an annulus
+    whose walls are both no-flux, on a track about the annulus' centre, its centre inside
+    the channel, its footprint inside the grid and each pill's footprint one cell inside
+    both walls, so that all its camphor is supplied on wet whole cells (its plate may
+    cross the walls; docs/bodies.md, the spanning boat).
+
+    Args:
+        grid: the grid section (its vessel set).
+        k: the body's index.
+        body: the body, every key resolved (a track body).
+        smoothing: geometry.smoothing (the footprints' reach).
+
+    Raises:
+        FieldError: naming the offending key.
+    """
+    vessel = grid.vessel
+    key = f"bodies[{k}].motion.spans"
+    if not isinstance(vessel, AnnulusVessel) or "absorbing" in (
+        vessel.inner_wall,
+        vessel.outer_wall,
+    ):
+        msg = (
+            "a body spans the channel of an annulus whose walls are both no_flux, its plate "
+            "crossing them (allowed: false, or grid.vessel an annulus with no_flux walls)"
+        )
+        raise FieldError(key, True, msg)
+    cx, cy = grid.domain_centre
+    motion = body.motion
+    if motion.centre is not None and tuple(motion.centre) != (cx, cy):
+        msg = (
+            f"a spanning body's track is centred on the annulus' centre {[cx, cy]} (allowed: "
+            "null, or that centre)"
+        )
+        raise FieldError(f"bodies[{k}].motion.centre", list(motion.centre), msg)
+    x, y = body.start.x - cx, body.start.y - cy
+    if vessel.clearance(x, y) <= 0:
+        msg = f"outside the {vessel.shape} (allowed: a start between its walls)"
+        raise FieldError(f"bodies[{k}].start", [body.start.x, body.start.y], msg)
+    reach = body.reach(smoothing)
+    if math.hypot(x, y) + reach > grid.domain_radius - grid.dx:
+        msg = (
+            f"the footprint of body {body.name!r}, of radius {reach:.4g}, reaches past the grid "
+            f"(allowed: domain_radius >= {math.hypot(x, y) + reach + grid.dx:.4g})"
+        )
+        raise FieldError("grid.domain_radius", grid.domain_radius, msg)
+    c, s = math.cos(body.start.angle), math.sin(body.start.angle)
+    for j, pill in enumerate(body.pills):
+        room = vessel.clearance(x + c * pill.x - s * pill.y, y + s * pill.x + c * pill.y)
+        need = pill.radius + X_SATURATION * smoothing + grid.dx
+        if room < need:
+            msg = (
+                f"a spanning body's pill lies {room:.4g} from the {vessel.shape}'s nearest "
+                f"wall, within its radius plus {X_SATURATION:g} delta plus one cell (allowed: "
+                f"at least {need:.4g} inside both walls, so that its camphor falls on wet cells)"
+            )
+            raise FieldError(f"bodies[{k}].pills[{j}]", [pill.x, pill.y], msg)

@@ -47,7 +47,7 @@ from .body_draw import (
     footprint_rows,
 )
 from .body_fields import average_fields, body_segments, fields
-from .body_sums import body_contour, body_integrals
+from .body_sums import body_contour, body_integrals, spanning_integrals
 
 _held = CPU.motion.held
 _hold = CPU.motion.hold
@@ -104,19 +104,22 @@ def _draw_bodies(maps, domain, surface, bodies, p, work, status):
 
 
 @nb.njit(cache=True, nogil=True)
-def _loads(cur, F, domain, bodies, chords, p, integrals, loads, status):
+def _loads(cur, F, domain, bodies, chords, p, integrals, loads, status, volume):
     """Each moving body's loads at its pose on the state `cur` into loads[k] (compiled):
     its integrals (:func:`~pde_rotor.kernels.body_sums.body_integrals`, and
-    :func:`~pde_rotor.kernels.body_sums.body_contour` for the contour form)
+    :func:`~pde_rotor.kernels.body_sums.body_contour` for the contour form; for a body
+    that spans its channel :func:`~pde_rotor.kernels.body_sums.spanning_integrals` over
+    the wet cells, `volume` the cut cells' kappa, flat)
     and the motion's ``body_loads``.
 
     With contact on, the contact forces are added (:func:`_contact`); `loads` is
     (K, :data:`N_LOADS`).
 
     Returns:
-        True, or False where a body's footprint crosses a wall of the vessel (the motion's
-        ``leaves_vessel``; ``STATUS_EDGE``, also with contact on, whose spring was then
-        too weak) or its accelerations are not finite (the body in `status`).
+        True, or False where the footprint of a body that does not span its channel
+        crosses a wall of the vessel (the motion's ``leaves_vessel``; ``STATUS_EDGE``,
+        also with contact on, whose spring was then too weak) or its accelerations are
+        not finite (the body in `status`).
     """
     body, _, pose, _, _, _, _, _ = bodies
     coords = domain[0]
@@ -125,14 +128,17 @@ def _loads(cur, F, domain, bodies, chords, p, integrals, loads, status):
         b = body[k]
         if b.motion == MOTION_FIXED:
             continue
-        if _leaves_vessel(pose[k, 0], pose[k, 1], b.contact, p):
+        if b.spans:
+            spanning_integrals(cur, F, volume, coords, k, (bodies, chords), p, integrals)
+        elif _leaves_vessel(pose[k, 0], pose[k, 1], b.contact, p):
             status[0] = STATUS_EDGE
             status[1] = k
             status[2] = -1
             return False
-        body_integrals(cur, F, coords, k, (bodies, chords), p, integrals)
-        if p.contour:
-            body_contour(cur, coords, k, bodies, p, integrals)
+        else:
+            body_integrals(cur, F, coords, k, (bodies, chords), p, integrals)
+            if p.contour:
+                body_contour(cur, coords, k, bodies, p, integrals)
         state = (pose[k, 0], pose[k, 1], pose[k, 2], pose[k, 3], pose[k, 4], pose[k, 5])
         out = _body_loads(integrals, state, b, sign_k)
         for m in range(9):
@@ -148,7 +154,8 @@ def _loads(cur, F, domain, bodies, chords, p, integrals, loads, status):
 
 @nb.njit(cache=True, nogil=True)
 def _contact(body, pose, p, loads):
-    """Add each moving body's contact force with every other body and the walls to its
+    """Add each moving body's contact force with every other body and the walls (not for
+    a body that spans its channel, whose plate crosses them by design) to its
     accelerations in loads[k, 6:9] and put the force into loads[k, 9:11] (compiled; the
     motion's ``pair_contact``, ``wall_contact`` at the poses' positions and velocities,
     ``contact_loads``)."""
@@ -157,7 +164,7 @@ def _contact(body, pose, p, loads):
         if b.motion == MOTION_FIXED:
             continue
         here = (pose[k, 0], pose[k, 1], pose[k, 3], pose[k, 4])
-        f_x, f_y = _wall_contact(here, b.contact, p)
+        f_x, f_y = (0.0, 0.0) if b.spans else _wall_contact(here, b.contact, p)
         for j in range(body.shape[0]):
             if j != k:
                 there = (pose[j, 0], pose[j, 1], pose[j, 3], pose[j, 4])
@@ -284,7 +291,7 @@ def advance_bodies(states, maps, domain, wall, params, bodies, xi, status, steps
         _set_poses(pose, start)
         ok = _draw_bodies(maps, domain, (wall, s == 0), bodies, p, work, status)
         if ok:
-            ok = _loads(cur, F, domain, bodies, chords, p, integrals, loads, status)
+            ok = _loads(cur, F, domain, bodies, chords, p, integrals, loads, status, wall[0])
         if not ok:
             if s % 2 == 1:
                 data[:] = spare
@@ -308,7 +315,7 @@ def advance_bodies(states, maps, domain, wall, params, bodies, xi, status, steps
         if heun:
             ok = _draw_bodies(maps, domain, (wall, False), bodies, p, work, status)
             if ok:
-                ok = _loads(nxt, F, domain, bodies, chords, p, integrals, loads_p, status)
+                ok = _loads(nxt, F, domain, bodies, chords, p, integrals, loads_p, status, wall[0])
             if not ok:
                 _set_poses(pose, start)
                 if s % 2 == 1:

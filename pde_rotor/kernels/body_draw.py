@@ -75,19 +75,22 @@ def _claim(owner, domain, k, new_box, frame, fresh):
     """The chords of body k's footprint on the rows of `new_box` into `fresh` (2, n),
     and whether it may own them: 0, ``STATUS_EDGE`` (a cell outside the dish), or
     ``-1 - j`` (the first cell, in row-major order, that body j owns); `frame` is
-    (X_x, X_y, reach). Nothing is written but `fresh`."""
+    (X_x, X_y, reach, spans): a body that spans its channel may own cells beyond the
+    vessel's walls, anywhere inside the grid's outermost ring of cells. Nothing is
+    written but `fresh`."""
     coords, lo, hi = domain[0], domain[1], domain[2]
     i0, i1, j0, j1 = new_box
-    x_k, y_k, reach = frame
+    x_k, y_k, reach, spans = frame
     n = coords.size
     for i in range(i0, i1):
         ja, jb = _footprint_chord(coords, j0, j1, coords[i] - x_k, y_k, reach)
         fresh[0, i], fresh[1, i] = ja, jb
         if ja >= jb:
             continue
-        if ja < lo[i]:
+        first, last = (1, n - 1) if spans else (lo[i], hi[i])
+        if ja < first or (spans and (i == 0 or i == n - 1)):
             return STATUS_EDGE
-        end = max(ja, min(jb, hi[i]))
+        end = max(ja, min(jb, last))
         other = False
         for j in range(ja, end):  # branch-free, several cells at a time
             who = owner[np.uint64(i * n + j)]
@@ -97,7 +100,7 @@ def _claim(owner, domain, k, new_box, frame, fresh):
                 who = owner[np.uint64(i * n + j)]
                 if who >= 0 and who != k:
                     return -1 - who
-        if jb > hi[i]:
+        if jb > last:
             return STATUS_EDGE
     return 0
 
@@ -261,7 +264,7 @@ def draw_body(F, G, owner, domain, k, bodies, p, work, moved):
     i1 = min(n, math.floor((x_k + reach - x0) * inv_dx) + 1)
     j0 = max(0, math.ceil((y_k - reach - x0) * inv_dx))
     j1 = min(n, math.floor((y_k + reach - x0) * inv_dx) + 1)
-    code = _claim(owner, domain, k, (i0, i1, j0, j1), (x_k, y_k, reach), fresh)
+    code = _claim(owner, domain, k, (i0, i1, j0, j1), (x_k, y_k, reach, b.spans != 0), fresh)
     if code != 0:
         return code
     if moved:

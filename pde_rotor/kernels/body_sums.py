@@ -3,7 +3,9 @@
 * :func:`body_integrals`: the tension's and the friction's integrals over the cells a
   body owns, area form with central differences (the ``paper`` scheme);
 * :func:`body_contour`: for ``consistent``, the tension's force and torque in contour
-  form, on the cubic spline of c over a window about the body (:func:`spline_box`).
+  form, on the cubic spline of c over a window about the body (:func:`spline_box`);
+* :func:`spanning_integrals`: the same integrals of a body that spans its channel (a
+  ``track`` body with ``spans``), over the wet part of its plate only.
 
 Step 3 of the bodies' loop (:func:`pde_rotor.kernels.bodies.advance_bodies`); the
 integrands are those of :mod:`pde_rotor.physics.tension` and
@@ -25,6 +27,8 @@ from .body_draw import orient
 from .spline import ROW_GROUP, spline_columns, spline_rows
 
 _cell_integrals = CPU.motion.cell_integrals
+_friction_moments = CPU.motion.friction_moments
+_surface_pressure = CPU.tension.surface_pressure
 _edge_sums = CPU.tension.edge_sums
 _polygon_band = CPU.tension.polygon_band
 
@@ -114,6 +118,59 @@ def body_integrals(cur, F, coords, k, bodies, p, out):
         s7 += t[7]
         s8 += t[8]
         s9 += t[9]
+    area = dx * dx
+    out[0], out[1], out[2], out[3], out[4] = s0 * area, s1 * area, s2 * area, s3 * area, s4 * area
+    out[5], out[6], out[7], out[8], out[9] = s5 * area, s6 * area, s7 * area, s8 * area, s9 * area
+
+
+@nb.njit(cache=True, nogil=True, fastmath=FASTMATH)
+def spanning_integrals(cur, F, volume, coords, k, bodies, p, out):
+    """The integrals of :func:`body_integrals` for body k that spans its channel, over
+    the wet part of its plate (compiled).
+
+    Its plate crosses the vessel's no-flux walls, where c stops: the water pulls only the
+    part of the plate's edge that it wets, so the tension's force and torque are taken in
+    the form that reads c on wet cells only,
+
+        int F grad c dA = -int c grad F dA,
+        int F (r - X) x grad c dA = -int c (r - X) x grad F dA
+
+    (Pi(c) / k for c with the saturating law; the two forms agree away from walls, the
+    area form's central differences of c moved onto F by summation by parts), and every
+    cell's share, the friction's moments too, is weighted by its volume fraction kappa
+    (0 on dry cells): sum_P kappa_P [-Pi(c_P) (D F)_P, ...] dA, D the central difference.
+    The chords and `bodies` are those of :func:`body_integrals`; `volume` is the cut
+    cells' kappa, flat (:meth:`pde_rotor.model.wall.CutCells.arrays`).
+    """
+    (_, _, pose, _, box, _, _, _), chords = bodies
+    n = coords.size
+    dx = coords[1] - coords[0]
+    inv_2dx = 0.5 / dx
+    nn = n * n
+    x_k, y_k = pose[k, 0], pose[k, 1]
+    s0 = s1 = s2 = s3 = s4 = s5 = s6 = s7 = s8 = s9 = 0.0
+    for i in range(box[k, 0], box[k, 1]):
+        rx = coords[i] - x_k
+        for j in range(chords[0, k, i], chords[1, k, i]):
+            o = i * n + j
+            kappa = volume[o]
+            if kappa == 0.0:
+                continue
+            ry = coords[j] - y_k
+            pressure = kappa * _surface_pressure(cur[o], p)
+            dfx = (F[o + n] - F[o - n]) * inv_2dx
+            dfy = (F[o + 1] - F[o - 1]) * inv_2dx
+            s0 -= pressure * dfx
+            s1 -= pressure * dfy
+            s2 -= pressure * (rx * dfy - ry * dfx)
+            m = _friction_moments(cur, o, nn, F[o], rx, ry, p.flow)
+            s3 += kappa * m[0]
+            s4 += kappa * m[1]
+            s5 += kappa * m[2]
+            s6 += kappa * m[3]
+            s7 += kappa * m[4]
+            s8 += kappa * m[5]
+            s9 += kappa * m[6]
     area = dx * dx
     out[0], out[1], out[2], out[3], out[4] = s0 * area, s1 * area, s2 * area, s3 * area, s4 * area
     out[5], out[6], out[7], out[8], out[9] = s5 * area, s6 * area, s7 * area, s8 * area, s9 * area

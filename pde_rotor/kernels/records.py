@@ -247,6 +247,7 @@ BUILT_BODY: tuple[tuple[str, str], ...] = (
     ("track_radius", _F8),
     ("track_direction", _F8),
     ("track_force", _F8),
+    ("spans", _I8),
     ("tan_half", _F8),
     ("crease", _F8),
     ("corner_end", _F8),
@@ -280,7 +281,9 @@ apothem, radius or half length; ``size_b``: half width), the footprint radius ``
 (where it is drawn) and the contact radius ``contact`` (contact springs and walls),
 its pills' range in the pill table, motion kind, m, I, mu, the noise kick
 sqrt(2 dt) sigma / I, its stop schedule in steps, its external force and torque and, for
-a ``track`` body, its track's centre, radius, direction of travel and tangential force.
+a ``track`` body, its track's centre, radius, direction of travel and tangential force,
+and whether it spans the channel (``spans``: 1, its plate crossing the vessel's no-flux
+walls, its integrals :func:`pde_rotor.kernels.body_sums.spanning_integrals`).
 For the ``consistent`` scheme
 (:func:`make_body_tables`): tan(pi/N), the crease width and the corner table's end
 ``corner_end`` of a polygon, where its
@@ -339,6 +342,7 @@ def make_body_records(setup: Setup) -> tuple[np.ndarray, np.ndarray]:
             rec["track_x"], rec["track_y"] = track.centre
             rec["track_radius"], rec["track_direction"] = track.radius, track.direction
             rec["track_force"] = track.force
+            rec["spans"] = track.spans
         if schedule is not None:
             rec["n_ini"], rec["n_stop"] = schedule.n_ini, schedule.n_stop
             rec["n_period"], rec["cycles"] = schedule.n_period, schedule.cycles

@@ -140,12 +140,15 @@ class Track(NamedTuple):
         radius: R.
         direction: d = +1 (counterclockwise) or -1, the direction of travel.
         force: f_t, the external force along the direction of travel.
+        spans: whether the body spans the channel (its plate crosses the vessel's no-flux
+            walls; its integrals are taken over the wet cells only).
     """
 
     centre: tuple[float, float]
     radius: float
     direction: float
     force: float
+    spans: bool = False
 
 
 @dataclass(frozen=True, eq=False)
@@ -184,6 +187,11 @@ class Body:
     protocol: ProtocolConfig | None
     config: BodyConfig
     track: Track | None = None
+
+    @property
+    def spans(self) -> bool:
+        """Whether the body spans its channel (:attr:`Track.spans`)."""
+        return self.track is not None and self.track.spans
 
     @classmethod
     def from_config(cls, body: BodyConfig, shape: BodyShape) -> Body:
@@ -237,7 +245,7 @@ class Body:
             velocity0=(-speed * math.sin(theta), speed * math.cos(theta)),
             protocol=body.protocol,
             config=body,
-            track=Track((cx, cy), motion.radius, motion.sign, motion.force),
+            track=Track((cx, cy), motion.radius, motion.sign, motion.force, motion.spans),
         )
 
 

@@ -109,8 +109,9 @@ def contact_forces(poses: np.ndarray, bodies: Sequence[Body], config: RotorConfi
     """(K, 2) the contact forces of ``contact:`` on each body at `poses` (positions and
     velocities; 0 where off): kappa (ell - g) - gamma dg/dt for each gap g < ell between
     two footprints, along their centres' line, and between a footprint and each wall,
-    along the wall's normal (:mod:`pde_rotor.config.contact`). A footprint here is the
-    body's contact radius (:attr:`~pde_rotor.model.bodies.BodyShape.contact`), whatever
+    along the wall's normal (:mod:`pde_rotor.config.contact`; none from the walls on a
+    body that spans its channel). A footprint here is the body's contact radius
+    (:attr:`~pde_rotor.model.bodies.BodyShape.contact`), whatever
     ``numerics.footprint_widths`` draws."""
     out = np.zeros((len(bodies), 2))
     contact = config.contact
@@ -135,11 +136,12 @@ def contact_forces(poses: np.ndarray, bodies: Sequence[Body], config: RotorConfi
     grid = config.grid
     vessel = grid.vessel
     rel = centres - np.array(grid.domain_centre)
+    walled = np.array([not b.spans for b in bodies])  # a spanning body crosses the walls
     if vessel is not None and vessel.shape == "rectangle":
         for axis, half in enumerate(vessel.half_widths):
             for sign in (1.0, -1.0):  # the wall at -sign half: its clearance grows with sign U
                 gap = half + sign * rel[:, axis] - reach
-                out[:, axis] += sign * push(gap, sign * velocities[:, axis])
+                out[:, axis] += walled * sign * push(gap, sign * velocities[:, axis])
         return out
     r = np.hypot(rel[:, 0], rel[:, 1])
     normal = rel / r[:, None]
@@ -148,7 +150,7 @@ def contact_forces(poses: np.ndarray, bodies: Sequence[Body], config: RotorConfi
     force = -push(outer - r - reach, -outward)
     if vessel is not None:
         force += push(r - reach - vessel.inner_radius, outward)
-    return out + force[:, None] * normal
+    return out + (walled * force)[:, None] * normal
 
 
 def accelerations(

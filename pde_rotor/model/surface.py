@@ -295,7 +295,8 @@ class SurfacePDE(PDEBase):
 
         Returns:
             (K, 6): f_x, f_y, T (Eq. (torque) about X_k, in the scheme's form), and the friction
-            -mu int F_k (u_k - v) dA (x, y) and its torque, Eq. (eq_motion).
+            -mu int F_k (u_k - v) dA (x, y) and its torque, Eq. (eq_motion); for a body
+            that spans its channel each over the wet cells (:meth:`_spanning_integrals`).
         """
         cfg = self.config
         c, v = state
@@ -320,6 +321,15 @@ class SurfacePDE(PDEBase):
                     np.sum(f_k * (rx * grad[1] - ry * grad[0])) * area,
                 ]
             )
+            if self.bodies[k].spans:
+                tension, friction = self._spanning_integrals(pressure.data, f_k, rx, ry)
+                out[k] = (
+                    *(sign_k * tension),
+                    -mu * np.sum(friction * slip_x) * area,
+                    -mu * np.sum(friction * slip_y) * area,
+                    -mu * np.sum(friction * (rx * slip_y - ry * slip_x)) * area,
+                )
+                continue
             if self.body_scheme.consistent:
                 tension = contour_integrals(
                     c.data,
@@ -338,6 +348,36 @@ class SurfacePDE(PDEBase):
                 -mu * np.sum(f_k * (rx * slip_y - ry * slip_x)) * area,
             )
         return out
+
+    def _spanning_integrals(
+        self, pressure: np.ndarray, f_k: np.ndarray, rx: np.ndarray, ry: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """The tension's integrals of a body that spans its channel, over the wet cells:
+        -sum_P kappa_P Pi(c_P) (D F)_P dA and its torque about X (D the central
+        difference), and the plate weighted by the volume fractions, kappa F, that the
+        friction integrates (:func:`pde_rotor.kernels.body_sums.spanning_integrals`).
+
+        Args:
+            pressure: Pi(c) / k on the cells.
+            f_k: the body's F.
+            rx, ry: r - X at the cell centres.
+        """
+        kappa = self.domain.cut_cells.volume
+        inv_2dx = 0.5 / self.domain.dx
+        dfx = np.zeros_like(f_k)
+        dfy = np.zeros_like(f_k)
+        dfx[1:-1, :] = (f_k[2:, :] - f_k[:-2, :]) * inv_2dx
+        dfy[:, 1:-1] = (f_k[:, 2:] - f_k[:, :-2]) * inv_2dx
+        weight = -kappa * pressure
+        area = self.domain.cell_area
+        tension = np.array(
+            [
+                np.sum(weight * dfx) * area,
+                np.sum(weight * dfy) * area,
+                np.sum(weight * (rx * dfy - ry * dfx)) * area,
+            ]
+        )
+        return tension, kappa * f_k
 
     def reference_step(self, state: SurfaceFields, dt: float, step: int = 0) -> SurfaceFields:
         """One step of the fields and every body from step `step`, written with numpy.

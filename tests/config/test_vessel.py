@@ -78,3 +78,97 @@ def test_bad_vessel_is_one_line_naming_its_key(case: str) -> None:
     assert "\n" not in message
     assert message.startswith(start), message
     assert named in message, message
+
+
+SPAN_RING = {"shape": "annulus", "inner_radius": 2.0, "outer_radius": 4.0}
+"""A ring channel 2 wide about r = 3, on the default grid (dx = 0.025, delta = 0.025)."""
+
+
+def spanning_boat(**changes: object) -> dict:
+    """A strip 3 wide across the channel SPAN_RING on the track r = 3, a pill at its rear."""
+    boat = {
+        "plate": {"shape": "strip", "length": 0.3, "width": 3.0},
+        "pills": [{"x": -0.1, "radius": 0.05}],
+        "motion": {"kind": "track", "mass": 1.0, "spans": True},
+        "start": {"x": 3.0},
+    }
+    return {**boat, **changes}
+
+
+def spanning(vessel: dict | None = None, **sections: object) -> dict:
+    """The config of :func:`spanning_boat` in `vessel` (SPAN_RING) with `sections`."""
+    grid = {"domain_radius": 5.2, "vessel": vessel or SPAN_RING}
+    return {"grid": grid, "bodies": [spanning_boat()], "numerics": {"scheme": "paper"}, **sections}
+
+
+def test_a_spanning_boat_may_cross_the_walls_that_would_refuse_another() -> None:
+    """The boat's footprint (radius 2.10) reaches past both walls of its channel: allowed
+    with motion.spans, refused without it (the footprint must lie inside every wall)."""
+    config = validate_config(spanning())
+    assert config.body_list()[0].motion.spans
+    plain = spanning()
+    plain["bodies"] = [spanning_boat(motion={"kind": "track", "mass": 1.0})]
+    with pytest.raises(ConfigError, match="inside every wall"):
+        validate_config(plain)
+
+
+SPAN_BAD = {
+    "in a tank": (
+        spanning({"shape": "rectangle", "half_widths": [4.0, 4.0]}),
+        "bodies[0].motion.spans = true",
+        "no_flux walls",
+    ),
+    "through an absorbing wall": (
+        spanning({**SPAN_RING, "outer_wall": "absorbing"}),
+        "bodies[0].motion.spans = true",
+        "no_flux walls",
+    ),
+    "its pill near a wall": (
+        {
+            "grid": {"domain_radius": 5.2, "vessel": {**SPAN_RING, "outer_radius": 3.5}},
+            "bodies": [spanning_boat()],
+            "numerics": {"scheme": "paper"},
+        },
+        "bodies[0].pills[0]",
+        "falls on wet cells",
+    ),
+    "past the grid": (
+        {**spanning(), "grid": {"domain_radius": 5.0, "vessel": SPAN_RING}},
+        "grid.domain_radius = 5",
+        "domain_radius >= 5.128",
+    ),
+    "off the annulus' centre": (
+        {
+            "grid": {"domain_radius": 5.2, "vessel": SPAN_RING},
+            "bodies": [
+                spanning_boat(
+                    motion={"kind": "track", "mass": 1.0, "spans": True, "centre": [0.1, 0.0]}
+                )
+            ],
+            "numerics": {"scheme": "paper"},
+        },
+        "bodies[0].motion.centre",
+        "that centre",
+    ),
+    "on the consistent scheme": (
+        spanning(numerics={"scheme": "consistent"}),
+        "numerics.scheme = 'consistent'",
+        "allowed: paper",
+    ),
+    "on the GPU": (
+        spanning(solver={"backend": "gpu"}),
+        "solver.backend = 'gpu'",
+        "allowed: cpu",
+    ),
+}
+
+
+@pytest.mark.parametrize("case", list(SPAN_BAD), ids=list(SPAN_BAD))
+def test_a_bad_spanning_boat_is_one_line_naming_its_key(case: str) -> None:
+    data, start, named = SPAN_BAD[case]
+    with pytest.raises(ConfigError) as info:
+        validate_config(data)
+    message = str(info.value)
+    assert "\n" not in message
+    assert message.startswith(start), message
+    assert named in message, message

@@ -109,3 +109,88 @@ def test_vessel_conserves_camphor_with_moving_bodies_and_flow(vessel: str) -> No
     assert np.abs(sim.state.data[1:]).max() > 0.01
     assert np.hypot(*(sim.bodies.poses[1, :2] - x0)) > 0.02
     assert abs(domain.camphor_total(sim.state.data[0]) / start - 1) < 1e-12
+
+
+SPAN = (1.2, 3.8, 2.5)
+"""The channel R1 < r < R2 and the track radius of the spanning boat."""
+
+
+def spanning_run(supply: float, **sections: dict) -> Simulation:
+    """A boat that spans the channel SPAN (a strip 0.6 long and 5 wide, its plate 1.2 past
+    each wall, a pill at its rear 1.1 inside them) sailing at 0.3 on the coarse grid
+    (dx = 0.1), c and v smooth and nonzero up to the walls."""
+    inner, outer, radius = SPAN
+    boat = {
+        "name": "boat",
+        "plate": {"shape": "strip", "length": 0.6, "width": 5.0},
+        "pills": [{"x": -0.15, "y": 0.0, "radius": 0.08, "supply": supply}],
+        "motion": {"kind": "track", "mass": 1.0, "spans": True, "speed": 0.3},
+        "start": {"x": 0.6 * radius, "y": 0.8 * radius},
+    }
+    vessel = {"shape": "annulus", "inner_radius": inner, "outer_radius": outer}
+    config = RotorConfig.model_validate(
+        {
+            "grid": {"domain_radius": 6.4, "dx": 0.1, "dt": 1e-3, "vessel": vessel},
+            "geometry": {"smoothing": 0.05},
+            "numerics": {"scheme": "paper"},
+            "protocol": {"t_ini": 1.0, "cycles": 0},
+            "bodies": [boat],
+            **sections,
+        }
+    )
+    sim = Simulation(config)
+    pde: SurfacePDE = sim.pde
+    x, y = pde.cell_coordinates()
+    inside = pde.domain.interior_mask
+    sim.state.data[0] = pde.domain.camphor_mask * (1 + 0.5 * np.sin(1.3 * x + 0.2) * np.cos(y))
+    sim.state.data[1] = inside * 0.3 * np.sin(0.9 * y + 0.4) * np.cos(0.4 * x)
+    sim.state.data[2] = inside * 0.2 * np.cos(1.1 * x + 0.1) * np.sin(0.5 * y + 0.3)
+    return sim
+
+
+def test_spanning_boat_step_equals_numpy_reference() -> None:
+    """One compiled step of a boat whose plate crosses both walls gives the numpy step of
+    c on the cut cells, the numpy rate of v and the numpy integrals over the wet cells
+    (:meth:`SurfacePDE.body_forces`: tension and friction, recorded at the step's start)."""
+    sim = spanning_run(1.0)
+    pde: SurfacePDE = sim.pde
+    before = sim.state.copy()
+    dt = sim.config.grid.dt
+    expected = pde.camphor_step(before, dt)
+    rate = pde.evolution_rate(before).data
+    forces = pde.body_forces(before)[0]
+    sim.run(dt)
+    after = sim.state.data
+    assert np.abs(after[0] - expected).max() <= 1e-12 * np.abs(expected).max()
+    computed = (after - before.data) / dt
+    assert np.abs(computed[1:] - rate[1:]).max() <= 1e-9 * np.abs(rate).max()
+    recorded = sim.bodies.poses[0, 6:12]
+    assert np.abs(recorded - forces).max() <= 1e-10 * np.abs(forces).max()
+    assert np.abs(forces[:2]).max() > 0.1
+
+
+def test_spanning_boat_conserves_camphor_and_supplies_it_all_to_the_water() -> None:
+    """With no-flux walls and no sublimation the camphor in the channel stays what it was
+    to round-off while the spanning boat sails and stirs the water; with its pill on, the
+    camphor grows by exactly its supply, sum of the source over every cell (at the pose
+    of the step's start) times dA and dt per step: none of it falls on the dry cells its
+    plate covers."""
+    sim = spanning_run(0.0, camphor={"evaporation": 0.0})
+    domain = sim.pde.domain
+    start = domain.camphor_total(sim.state.data[0])
+    x0 = sim.bodies.poses[0, :2].copy()
+    sim.run(0.1)
+    assert np.hypot(*(sim.bodies.poses[0, :2] - x0)) > 0.02
+    assert abs(domain.camphor_total(sim.state.data[0]) / start - 1) < 1e-12
+    fed = spanning_run(2.0, camphor={"evaporation": 0.0}, flow={"enabled": False})
+    pde: SurfacePDE = fed.pde
+    start = pde.domain.camphor_total(fed.state.data[0])
+    dt = fed.config.grid.dt
+    supplied = 0.0
+    for step in range(20):
+        _, source = pde.body_fields(fed.state.bodies)[0]
+        supplied += dt * float(np.sum(source)) * pde.domain.cell_area
+        fed.run((step + 1) * dt)
+    gained = pde.domain.camphor_total(fed.state.data[0]) - start
+    assert supplied > 20 * dt * 1.9
+    assert abs(gained / supplied - 1) < 1e-12

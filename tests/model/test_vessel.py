@@ -1,6 +1,7 @@
 """The vessels' cut cells: exact areas and face lengths, the runs of wet cells, the
 Neumann spectra of the annulus and the rectangle (second-order convergence to the exact
-eigenvalues), and conservation of camphor by the cut-cell step."""
+eigenvalues), conservation of camphor by the cut-cell step, and the force on a boat that
+spans its channel."""
 
 from __future__ import annotations
 
@@ -9,11 +10,15 @@ import math
 import numpy as np
 import pytest
 import scipy.sparse as sp
+from scipy.integrate import quad
 from scipy.optimize import brentq
 from scipy.sparse.linalg import eigsh
 from scipy.special import jvp, yvp
 
+from pde_rotor import RotorConfig
 from pde_rotor.config.vessel import AnnulusVessel, RectangleVessel
+from pde_rotor.model.pde import TORQUE_SIGN
+from pde_rotor.model.surface import SurfacePDE
 from pde_rotor.model.vessel import make_vessel_cells
 from pde_rotor.model.wall import CutCells, make_cut_cells, make_wall_step
 
@@ -196,3 +201,58 @@ def test_an_absorbing_wall_takes_camphor_and_a_no_flux_wall_keeps_it() -> None:
     assert np.all(c[np.hypot(x, y) <= 0.43] == 0.0)
     near = np.hypot(x, y) < 0.7  # the staircase of the absorbing wall: kappa = 1 or 0
     assert np.array_equal(cells.mask[near], cells.flowing[near])
+
+
+def spanning_boat_force(dx: float, slope: float) -> tuple[float, float]:
+    """(f_theta, exact) for a boat spanning the channel 1.3 < r < 2.7 (a strip 0.6 long,
+    past both walls, at (2, 0) heading along e_theta = e_y) in c = slope theta: the
+    tension force over the wet cells (:meth:`SurfacePDE.body_forces`) along the track,
+    and the exact force of the sharp plate, s k times the integral of c over its wet
+    front edge less its rear edge, each the segment x in [sqrt(R1^2 - l^2/4),
+    sqrt(R2^2 - l^2/4)] at y = +-l/2 where theta = +-atan(l / (2 x))."""
+    inner, outer, length = 1.3, 2.7, 0.6
+    delta = dx / 2
+    width = outer - inner + 2 * (20 * delta + 2 * dx)
+    reach = math.hypot(length / 2 + 20 * delta, width / 2 + 20 * delta)
+    config = RotorConfig.model_validate(
+        {
+            "grid": {
+                "domain_radius": 2.0 + reach + 2 * dx,
+                "dx": dx,
+                "dt": 0.1 * dx**2,
+                "vessel": {"shape": "annulus", "inner_radius": inner, "outer_radius": outer},
+            },
+            "geometry": {"smoothing": delta},
+            "numerics": {"scheme": "paper"},
+            "bodies": [
+                {
+                    "plate": {"shape": "strip", "length": length, "width": width},
+                    "pills": [{"x": -0.15, "radius": 0.08}],
+                    "motion": {"kind": "track", "mass": 1.0, "spans": True},
+                    "start": {"x": 2.0},
+                }
+            ],
+        }
+    )
+    pde = SurfacePDE(config)
+    state = pde.initial_state()
+    x, y = pde.cell_coordinates()
+    state.data[0] = pde.domain.camphor_mask * slope * np.arctan2(y, x)
+    force = pde.body_forces(state)[0, 1]
+    ends = [math.sqrt(r**2 - length**2 / 4) for r in (inner, outer)]
+    edges = quad(lambda s: 2 * math.atan(length / (2 * s)), *ends)[0]
+    sign = TORQUE_SIGN[config.rotor.torque] * config.camphor.tension_slope
+    return force, sign * slope * edges
+
+
+def test_spanning_boat_is_pulled_by_the_camphor_on_its_wet_edges_only() -> None:
+    """The plate crosses both walls; the force the wet cells give it is that of its wet
+    front and rear edges, the walls' dry cells and the camphor pressing on the walls
+    adding nothing, to second order in dx (measured: 9.8e-4 at dx = 0.05, 2.5e-4 at
+    0.025)."""
+    errors = []
+    for dx in (0.05, 0.025):
+        force, exact = spanning_boat_force(dx, 0.7)
+        errors.append(abs(force / exact - 1))
+    assert errors[0] < 2e-3
+    assert errors[0] / errors[1] > 3.5
