@@ -30,9 +30,10 @@ or on the one of ``--dx``, ``--smoothing``, ``--dt`` (the scheme: ``--scheme``),
 forward Euler so that each step is one evaluation, as the vessel's field update it is
 timed against (the sweep's Heun step is two of each).
 
-``--footprint W ...`` (``--case disks``): the 20 disks' crowd once per footprint
-``numerics.footprint_widths`` = W (default: 20 alone, the saturated footprint), all timed
-alternately in the same rounds against the one bare surface; ``--contour-nodes N ...``
+``--footprint W ...`` (``--case disks`` or ``sweep``): the 20 disks' (the 16 boats')
+crowd once per footprint ``numerics.footprint_widths`` = W (default: 20 alone, the
+saturated footprint), all timed alternately in the same rounds against the one bare
+surface (vessel); ``--contour-nodes N ...``
 likewise for the consistent scheme's ``numerics.contour_nodes`` (a circle's arc nodes are
 4 N).
 
@@ -143,16 +144,17 @@ def ring_config(count: int, scheme: str) -> RotorConfig:
     )
 
 
-def sweep_config(count: int, scheme: str, grid: dict) -> RotorConfig:
+def sweep_config(count: int, scheme: str, grid: dict, numerics: dict | None = None) -> RotorConfig:
     """The ring sweep's resolved config with `count` boats (mu = 0.05, no flow), `scheme`,
-    forward Euler, and the grid's changes in `grid` (dx, dt, smoothing; None: the sweep's)."""
+    forward Euler, the grid's changes in `grid` (dx, dt, smoothing; None: the sweep's) and
+    the ``numerics`` keys of `numerics` (e.g. ``footprint_widths``)."""
     overrides = [
         f"axes.crowd.count=[{count}]",
         "axes.crowd.body.motion.friction=[0.05]",
         "axes.flow.enabled=[false]",
     ]
     data = Sweep.load(SWEEP, overrides).runs()[0].config
-    data["numerics"].update(scheme=scheme, integrator="euler")
+    data["numerics"].update(scheme=scheme, integrator="euler", **(numerics or {}))
     for key in ("dx", "dt"):
         if grid[key] is not None:
             data["grid"][key] = grid[key]
@@ -225,22 +227,29 @@ def bare_vessel(sim: Simulation):
     return timer
 
 
-def footprint_cases(scheme: str, widths: list[float], nodes: list[int]) -> tuple[dict, Simulation]:
-    """The timers of the 20 disks at each footprint in `widths` and (``consistent``) each
-    contour node count in `nodes`, one disk at the first, and the bare surface; and the
-    first crowd's run."""
+def footprint_cases(
+    case: str, scheme: str, grid: dict, widths: list[float], nodes: list[int]
+) -> tuple[dict, Simulation]:
+    """The timers of the crowd of `case` (``disks``: 20 disks, ``sweep``: the ring sweep's
+    16 boats) at each footprint in `widths` and (``consistent``) each contour node count in
+    `nodes`, one body at the first, and the bare surface or vessel; and the first crowd's
+    run."""
+    if case == "sweep":
+        count, what, bare = 16, "boats", bare_vessel
+        make = lambda k, numerics: sweep_config(k, scheme, grid, numerics)  # noqa: E731
+    else:
+        count, what, bare = 20, "disks", bare_surface
+        make = lambda k, numerics: config(k, scheme, numerics)  # noqa: E731
     runs = {}
     crowds = []
     for w in widths:
         for n in nodes if scheme == "consistent" else nodes[:1]:
-            label = f"20 disks w={w:g}" + (f" N={n}" if scheme == "consistent" else "")
-            crowds.append(
-                Simulation(config(20, scheme, {"footprint_widths": w, "contour_nodes": n}))
-            )
+            label = f"{count} {what} w={w:g}" + (f" N={n}" if scheme == "consistent" else "")
+            crowds.append(Simulation(make(count, {"footprint_widths": w, "contour_nodes": n})))
             runs[label] = partial(ms_per_step, crowds[-1])
-    one = Simulation(config(1, scheme, {"footprint_widths": widths[0], "contour_nodes": nodes[0]}))
-    runs["1 disk"] = partial(ms_per_step, one)
-    runs["no bodies"] = bare_surface(one)
+    one = Simulation(make(1, {"footprint_widths": widths[0], "contour_nodes": nodes[0]}))
+    runs[f"1 {what[:-1]}"] = partial(ms_per_step, one)
+    runs["no bodies"] = bare(one)
     return runs, crowds[0]
 
 
@@ -274,7 +283,7 @@ def main() -> None:
     parser.add_argument("--smoothing", type=float, help="--case sweep: delta")
     parser.add_argument("--profile", action="store_true", help="phases of the crowd's step")
     parser.add_argument(
-        "--footprint", type=float, nargs="+", help="--case disks: numerics.footprint_widths"
+        "--footprint", type=float, nargs="+", help="--case disks, sweep: numerics.footprint_widths"
     )
     parser.add_argument(
         "--contour-nodes", type=int, nargs="+", default=[32], help="numerics.contour_nodes"
@@ -283,8 +292,10 @@ def main() -> None:
     for case in args.case:
         for scheme in args.scheme:
             grid = {"dx": args.dx, "dt": args.dt, "smoothing": args.smoothing}
-            if case == "disks" and args.footprint:
-                runs, crowd = footprint_cases(scheme, args.footprint, args.contour_nodes)
+            if case != "ring" and args.footprint:
+                runs, crowd = footprint_cases(
+                    case, scheme, grid, args.footprint, args.contour_nodes
+                )
             else:
                 runs, crowd = cases(case, scheme, grid)
             for run in runs.values():
@@ -301,7 +312,9 @@ def main() -> None:
             print(f"{case}: {cells}^2 cells, {scheme} scheme, thread CPU time")
             for name, ms in best.items():
                 print(f"{name:>9}: {ms:.4f} ms/step, {ms / base:.3f} x the surface without bodies")
-            for name in [name for name in best if name.startswith("20 disks")] or [many]:
+            for name in [name for name in best if name.startswith(("20 disks", "16 boats w="))] or [
+                many
+            ]:
                 print(f"ratio {name} / no bodies = {best[name] / base:.3f} (goal <= {goal})")
                 each = np.array(rounds[name]) / np.array(rounds["no bodies"])
                 print(
