@@ -24,20 +24,27 @@ def test_check_finite_names_the_first_diverged_run():
         check_finite(result, ["a", "b", "c"])
 
 
-def test_timed_contents_splits_the_wall_time_evenly():
+def test_timed_contents_splits_the_wall_time_evenly(monkeypatch):
     runs = rigid_sweep("restart").runs()[:4]
+    calls = []  # the process's CPU clock: 1.0 at the start, 1.5 after the compute
+
+    def process_clock():
+        calls.append(None)
+        return 1.0 if len(calls) == 1 else 1.5
 
     def compute():
         time.sleep(0.02)
         return [{"k": n} for n in range(4)], "rigid"
+
+    monkeypatch.setattr(time, "process_time", process_clock)
 
     records = timed_contents(runs, compute)
     assert [r["key"] for r in records] == [r.key for r in runs]
     assert [r["result"] for r in records] == [{"k": n} for n in range(4)]
     shares = [r["wall_time"] for r in records]
     assert len(set(shares)) == 1 and shares[0] >= 0.02 / 4
-    cpu = [r["cpu_time"] for r in records]  # sleeping costs no CPU
-    assert len(set(cpu)) == 1 and 0 <= cpu[0] < shares[0]
+    cpu = [r["cpu_time"] for r in records]  # the process clock's 0.5, not the wall's
+    assert cpu == [0.125] * 4
     first = records[0]
     assert first["schema"] == SCHEMA_VERSION and first["backend"] == "rigid"
     assert (first["coords"], first["sample"], first["direction"]) == (
