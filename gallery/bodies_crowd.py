@@ -145,6 +145,8 @@ def draw_ring(
     first = lines(ds, [count])[0][1]
     for n in first[count].values:
         one = first.sel({count: n}).mean("sample")
+        if not bool(one["spacing_spread"].notnull().any()):
+            continue  # not computed yet
         (line,) = spread_ax.plot(one["time"], one["spacing_spread"], label=f"N = {n}")
         spread_ax.plot(one["time"], one["cluster_order"], "--", color=line.get_color())
     spread_ax.set(
