@@ -27,7 +27,6 @@ import numpy as np
 from pde_rotor import RotorConfig
 from pde_rotor.kernels import body_draw, body_fields, body_sums
 from pde_rotor.physics.motion import N_INTEGRALS
-from pde_rotor.physics.spline import SPLINE_MARGIN
 from pde_rotor.solver.bodies import make_bodies_stepper
 from pde_rotor.solver.simulation import Simulation
 
@@ -86,7 +85,6 @@ def profile(sim: Simulation, steps: int) -> dict[str, float]:
     p = record.view(np.recarray)[0]
     rates = body_fields._rate_coefficients(p)
     count = len(body)
-    x0, inv_dx = coords[0], 1.0 / (coords[1] - coords[0])
     out = np.zeros(N_INTEGRALS)
     chords = np.zeros((2, len(body), n), np.int64)
     work = (np.empty((body_draw.SCRATCH_ROWS, n)), np.empty(n, np.uint64), chords,
@@ -118,13 +116,7 @@ def profile(sim: Simulation, steps: int) -> dict[str, float]:
                   (bodies, chords), p, out)  # fmt: skip
             if p.contour:
                 half = int(body[k]["window_half"])
-                ic = int(np.floor((pose[k, 0] - x0) * inv_dx)) + 1
-                jc = int(np.floor((pose[k, 1] - x0) * inv_dx)) + 1
-                window = (max(1, ic - half), min(n - 1, ic + half), max(1, jc - half),
-                          min(n - 1, jc + half))  # fmt: skip
-                inner = half - SPLINE_MARGIN + 1
-                taps = (max(window[0], ic - inner), min(window[1], ic + inner),
-                        max(window[2], jc - inner), min(window[3], jc + inner))  # fmt: skip
+                window, taps = body_sums.spline_bounds(pose[k, 0], pose[k, 1], half, coords)
                 timed("spline window", body_sums.spline_box, cur, tables[7], n, window, taps,
                       tables[8])  # fmt: skip
                 timed("contour nodes", body_sums.body_contour, cur, coords, k, bodies, p,

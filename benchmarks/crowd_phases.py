@@ -36,7 +36,6 @@ from bench_crowd import config, sweep_config
 from pde_rotor.kernels import bodies as body_step
 from pde_rotor.kernels import body_draw, body_fields, body_sums, wall
 from pde_rotor.physics.motion import N_INTEGRALS
-from pde_rotor.physics.spline import SPLINE_MARGIN
 from pde_rotor.solver.bodies import make_bodies_stepper
 from pde_rotor.solver.simulation import Simulation
 
@@ -89,18 +88,10 @@ def _contour(steps, cur, coords, bodies, p, out):
 def _windows(steps, cur, coords, bodies):
     body, pose, tables = bodies[0], bodies[2], bodies[7]
     n = coords.size
-    x0, inv_dx = coords[0], 1.0 / (coords[1] - coords[0])
     for _ in range(steps):
         for k in range(body.shape[0]):
-            half = body[k].window_half
-            ic = int(np.floor((pose[k, 0] - x0) * inv_dx)) + 1
-            jc = int(np.floor((pose[k, 1] - x0) * inv_dx)) + 1
-            window = (max(1, ic - half), min(n - 1, ic + half), max(1, jc - half),
-                      min(n - 1, jc + half))  # fmt: skip
-            inner = half - SPLINE_MARGIN + 1
-            taps = (max(window[0], ic - inner), min(window[1], ic + inner),
-                    max(window[2], jc - inner), min(window[3], jc + inner))  # fmt: skip
-            body_sums.spline_box(cur, tables[7], n, window, taps, tables[8])
+            bounds = body_sums.spline_bounds(pose[k, 0], pose[k, 1], body[k].window_half, coords)
+            body_sums.spline_box(cur, tables[7], n, bounds[0], bounds[1], tables[8])
 
 
 @nb.njit

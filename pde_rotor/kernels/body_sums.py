@@ -193,6 +193,24 @@ def spline_box(cur, coef, n, window, taps, carry):
     spline_columns(coef, n, i0, i1, tj0, tj1, ti0, carry)
 
 
+@nb.njit(cache=True, nogil=True)
+def spline_bounds(x_k, y_k, half, coords):
+    """The spline window of a body at (`x_k`, `y_k`) whose window reaches `half` cells from
+    its centre's cell, ``(i0, i1, j0, j1)`` clipped to the interior, and the part of it
+    that the contour's taps read (:func:`spline_box`'s `taps`: the window less its
+    margin)."""
+    n = coords.size
+    x0 = coords[0]
+    inv_dx = 1.0 / (coords[1] - x0)
+    ic = math.floor((x_k - x0) * inv_dx) + 1
+    jc = math.floor((y_k - x0) * inv_dx) + 1
+    i0, i1 = max(1, ic - half), min(n - 1, ic + half)
+    j0, j1 = max(1, jc - half), min(n - 1, jc + half)
+    inner = half - SPLINE_MARGIN + 1
+    taps = (max(i0, ic - inner), min(i1, ic + inner), max(j0, jc - inner), min(j1, jc + inner))
+    return (i0, i1, j0, j1), taps
+
+
 @nb.njit(cache=True, nogil=True, fastmath=FASTMATH, error_model="numpy")
 def body_contour(cur, coords, k, bodies, p, out):
     """int F_k grad c dA (x, y) and int F_k (r - X_k) x grad c dA in contour form
@@ -220,14 +238,8 @@ def body_contour(cur, coords, k, bodies, p, out):
     x0 = coords[0]
     inv_dx = 1.0 / (coords[1] - x0)
     x_k, y_k = pose[k, 0], pose[k, 1]
-    half = b.window_half
-    ic = math.floor((x_k - x0) * inv_dx) + 1
-    jc = math.floor((y_k - x0) * inv_dx) + 1
-    i0, i1 = max(1, ic - half), min(n - 1, ic + half)
-    j0, j1 = max(1, jc - half), min(n - 1, jc + half)
-    inner = half - SPLINE_MARGIN + 1
-    taps = (max(i0, ic - inner), min(i1, ic + inner), max(j0, jc - inner), min(j1, jc + inner))
-    spline_box(cur, coef, n, (i0, i1, j0, j1), taps, carry)
+    window, taps = spline_bounds(x_k, y_k, b.window_half, coords)
+    spline_box(cur, coef, n, window, taps, carry)
     n_s = quad_s.shape[1]
     grid = (0, n, x0, inv_dx)
     f_x = 0.0
