@@ -31,6 +31,17 @@ STARTS = {
 """Where the hexagon and the strip start in each vessel, clear of its walls."""
 
 
+def seeded(sim: Simulation) -> Simulation:
+    """`sim` with a smooth camphor field on its wet cells and a smooth flow inside."""
+    pde: SurfacePDE = sim.pde
+    x, y = pde.cell_coordinates()
+    inside = pde.domain.interior_mask
+    sim.state.data[0] = pde.domain.camphor_mask * (1 + 0.5 * np.sin(1.3 * x + 0.2) * np.cos(y))
+    sim.state.data[1] = inside * 0.3 * np.sin(0.9 * y + 0.4) * np.cos(0.4 * x)
+    sim.state.data[2] = inside * 0.2 * np.cos(1.1 * x + 0.1) * np.sin(0.5 * y + 0.3)
+    return sim
+
+
 def bodies_in(vessel: str, supply: float = 1.0) -> list[dict]:
     """A turning hexagon and a free strip drifting with its start velocity."""
     (hx, hy), (sx, sy) = STARTS[vessel]
@@ -65,14 +76,7 @@ def vessel_run(vessel: str, supply: float = 1.0, **sections: dict) -> Simulation
             **sections,
         }
     )
-    sim = Simulation(config)
-    pde: SurfacePDE = sim.pde
-    x, y = pde.cell_coordinates()
-    inside = pde.domain.interior_mask
-    sim.state.data[0] = pde.domain.camphor_mask * (1 + 0.5 * np.sin(1.3 * x + 0.2) * np.cos(y))
-    sim.state.data[1] = inside * 0.3 * np.sin(0.9 * y + 0.4) * np.cos(0.4 * x)
-    sim.state.data[2] = inside * 0.2 * np.cos(1.1 * x + 0.1) * np.sin(0.5 * y + 0.3)
-    return sim
+    return seeded(Simulation(config))
 
 
 @pytest.mark.parametrize("vessel", sorted(VESSELS))
@@ -138,14 +142,7 @@ def spanning_run(supply: float, **sections: dict) -> Simulation:
             **sections,
         }
     )
-    sim = Simulation(config)
-    pde: SurfacePDE = sim.pde
-    x, y = pde.cell_coordinates()
-    inside = pde.domain.interior_mask
-    sim.state.data[0] = pde.domain.camphor_mask * (1 + 0.5 * np.sin(1.3 * x + 0.2) * np.cos(y))
-    sim.state.data[1] = inside * 0.3 * np.sin(0.9 * y + 0.4) * np.cos(0.4 * x)
-    sim.state.data[2] = inside * 0.2 * np.cos(1.1 * x + 0.1) * np.sin(0.5 * y + 0.3)
-    return sim
+    return seeded(Simulation(config))
 
 
 def test_spanning_boat_step_equals_numpy_reference() -> None:
