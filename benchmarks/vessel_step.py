@@ -4,9 +4,11 @@ narrow annulus costs against the full box.
 Three no-flux vessels on the ring sweep's grid (dx = 0.05, 226 x 226 cells, dt = 4e-4):
 the sweep's annulus 3.6 < r < 5.6 (``configs/sweeps/crowd_ring.yaml``), a narrow annulus
 5.09 < r < 5.6 that wets about 15 % of its bounding box, and a square tank filling that
-box. Each is :func:`pde_rotor.kernels.wall.euler_walled_fields` (Eqs. (eqc), (eqv) on
-the cut cells, its implicit clusters included) called `steps` times in a compiled loop on
-a positive c and a random v, flow off and on, thread CPU time, the least of `rounds`.
+box; and the dish r < 5.6 behind a no-flux wall (``grid.wall: no_flux``). Each is
+:func:`pde_rotor.kernels.wall.euler_walled_fields` (Eqs. (eqc), (eqv) on the cut cells, its
+implicit clusters included) called `steps` times in a compiled loop on a positive c and a
+random v, flow off and on, thread CPU time, the least of `rounds`, and with the flow on its
+ratio to the step without flow.
 With ``--against PATH`` the same loop also runs the ``wall.py`` at PATH (another
 checkout's, loaded as a sibling module so that it compiles against this checkout's
 physics), the two timed in turn in each round; set ``NUMBA_CACHE_DIR`` to a scratch
@@ -31,6 +33,7 @@ import numpy as np
 from pde_rotor.config.vessel import AnnulusVessel, RectangleVessel
 from pde_rotor.kernels import wall
 from pde_rotor.model.vessel import make_vessel_cells
+from pde_rotor.model.wall import CutCells, make_cut_cells
 
 DX, DT, N = 0.05, 4.0e-4, 226
 VESSELS = {
@@ -42,6 +45,7 @@ VESSELS = {
     ),
     "full box |x|, |y| < 5.6": RectangleVessel(shape="rectangle", half_widths=(5.6, 5.6)),
 }
+DISH = "dish r < 5.6"
 COEF = (1.0 / DX**2, 0.5 / DX, 1.0, 1.0, 10.0, 1.0, 0.1, 0.5)
 """The rates' coefficients (1/dx^2, 1/(2 dx), D, a, source, eta, eta_b, D_eta)."""
 
@@ -55,6 +59,14 @@ def load_wall(path: str) -> ModuleType:
     return module
 
 
+def vessel_cells(coords: np.ndarray, name: str) -> tuple[CutCells, float]:
+    """The cut cells of the vessel (or dish) `name` and the half width of its box."""
+    if name == DISH:
+        return make_cut_cells(coords, 5.6), 5.6
+    vessel = VESSELS[name]
+    return make_vessel_cells(coords, vessel), vessel.extent()
+
+
 def compiled_loop(module: ModuleType):
     """`steps` calls of `module`'s walled step, compiled as one loop."""
     step = module.euler_walled_fields
@@ -65,6 +77,21 @@ def compiled_loop(module: ModuleType):
             step(states, maps, domain, cells, coef, dt, pose, flow, rhs)
 
     return run
+
+
+def step_difference(loops: dict, state: tuple) -> str:
+    """The largest difference of c, v_x and v_y after one step of each loop from the same
+    state, relative to the largest magnitude of the field after the ``--against`` step."""
+    bare, domain, arrays, coef, dt, pose, flow, cur = state
+    after = {}
+    for key, loop in loops.items():
+        nxt = np.zeros_like(cur)
+        loop(1, (cur, nxt), bare, domain, arrays, coef, dt, pose, flow, np.zeros(N * N))
+        after[key] = nxt.reshape(3, -1)
+    scale = np.abs(after["against"]).max(axis=1)
+    worst = np.abs(after["this"] - after["against"]).max(axis=1) / np.where(scale > 0, scale, 1)
+    fields = zip(("c", "v_x", "v_y"), worst, strict=True)
+    return ", ".join(f"{field} {d:.1e}" for field, d in fields)
 
 
 def main() -> None:
@@ -83,14 +110,15 @@ def main() -> None:
     domain = (coords, np.zeros(N, np.int64), np.zeros(N, np.int64))
     pose = np.zeros((0, 13))
     least = {}
-    for name, vessel in VESSELS.items():
-        cells = make_vessel_cells(coords, vessel)
+    for name in [*VESSELS, DISH]:
+        cells, half = vessel_cells(coords, name)
         arrays = cells.arrays(DT / DX**2)
         wet = int((arrays[7] - arrays[6]).sum())
-        box = round(2 * vessel.extent() / DX) ** 2
+        box = round(2 * half / DX) ** 2
         fields = np.concatenate([1.0 + rng.random(N * N), 0.1 * rng.normal(size=2 * N * N)])
         cur = fields * np.tile(cells.mask.reshape(-1), 3)
         for flow in (False, True):
+            state = (bare, domain, arrays, COEF, DT, pose, flow, cur)
             times = {key: [] for key in loops}
             for _ in range(args.rounds + 1):  # the first round compiles and warms
                 for key, loop in loops.items():
@@ -106,7 +134,13 @@ def main() -> None:
                 pairs = zip(times["against"][1:], times["this"][1:], strict=True)
                 ratios = [t / a for a, t in pairs]
                 line += " this / against each round " + ", ".join(f"{r:.3f}" for r in ratios)
+            if args.against:
+                line += " one step's largest difference " + step_difference(loops, state)
             print(line, flush=True)
+    for name in [*VESSELS, DISH]:
+        for key in loops:
+            a, b = least[name, True, key], least[name, False, key]
+            print(f"{name}, {key}: flow on / off = {a:.4f} / {b:.4f} = {a / b:.2f}")
     narrow, full = list(VESSELS)[1:]
     for flow in (False, True):
         for key in loops:
