@@ -61,8 +61,10 @@ def cell_plate(maps, o, y, plate, motion):
 @nb.njit(inline="always", cache=True, nogil=True, fastmath=FASTMATH)
 def _cut_cells(bufs, base, a, b, plate, motion, coef, dt, flow):
     """The explicit part of the step on the cells [a, b) of the row at offset `base`:
-    c' (and kappa c' in `rhs`) on each, v where the cell is flowing; with `plate` the
-    cells are one body's, its F, G and plate velocity (:func:`cell_plate`), else none.
+    c' (and kappa c' in `rhs`) on each, then, with `flow` (a literal), v on those that
+    flow, in a second pass over the run (each pass keeps its arrays' addresses in
+    registers, where the two in one loop spilled them); with `plate` the cells are one
+    body's, its F, G and plate velocity (:func:`cell_plate`), else none.
     `bufs` = (cur, nxt, F, G, coords, rhs, wall)."""
     cur, nxt, F, G, coords, rhs, wall = bufs
     volume, pass_x, pass_y, open_x, open_y, _, _, _, flowing = wall[:9]
@@ -70,17 +72,21 @@ def _cut_cells(bufs, base, a, b, plate, motion, coef, dt, flow):
     nn = strides[2]
     for j in range(a, b):
         o = np.uint64(base + j)
-        f, g, px, py = cell_plate((F, G), o, coords[j], plate, motion)
+        f, g, _, _ = cell_plate((F, G), o, coords[j], plate, motion)
         cc = cur[o]
         kappa = volume[o]
         q = _cut_cell_inflow(cur, o, strides, (open_x, open_y, pass_x, pass_y), coef, flow)
         r = kappa * cc + dt * (q + kappa * _local_rate(cc, f, g, coef, plate))
         rhs[o] = r
         nxt[o] = r / kappa
-        if flow and flowing[o]:
-            _, rate_x, rate_y = _plate_rates(cur, o, strides, f, g, (px, py), coef, flow, plate)
-            nxt[o + nn] = cur[o + nn] + dt * rate_x
-            nxt[o + nn + nn] = cur[o + nn + nn] + dt * rate_y
+    if flow:
+        for j in range(a, b):
+            o = np.uint64(base + j)
+            if flowing[o]:
+                f, g, px, py = cell_plate((F, G), o, coords[j], plate, motion)
+                _, rate_x, rate_y = _plate_rates(cur, o, strides, f, g, (px, py), coef, flow, plate)
+                nxt[o + nn] = cur[o + nn] + dt * rate_x
+                nxt[o + nn + nn] = cur[o + nn + nn] + dt * rate_y
 
 
 @nb.njit(cache=True, nogil=True, fastmath=FASTMATH, error_model="numpy")
