@@ -130,12 +130,13 @@ def _walk_rows(bufs, segments, pose, coef, dt, flow):
     each), so that neither copy of the cell loop holds a branch on it: with a branch on a
     run-time `flow` numba cannot drop the reference counting of the arrays the rates'
     inflow binds (the state and the apertures, live across the branch's join), two
-    atomic updates of each of three arrays at every cell, 37 to 45 ns a wet cell instead
-    of 3 without flow and 8 with it. The literal True also lets LLVM fuse other products
-    into the flux sums than the run-time branch did: c and v differ from that step's at
-    round-off. The division by kappa > 0 (wet cells only) is IEEE's, without Python's
-    zero test (the caller's ``error_model``), so that the loop has no branch left in it
-    but the one on the flowing cells."""
+    atomic updates of each of three arrays at every cell: with the flow 40 to 52 ns a wet
+    cell on the vessels of ``benchmarks/vessel_step.py`` instead of 4 to 14. The literal
+    True also lets LLVM fuse other products into the flux sums than the run-time branch
+    did: c differs from that step's at round-off (2e-16 relative after one step). The
+    division by kappa > 0 (wet cells only) is IEEE's, without Python's zero test (the
+    caller's ``error_model``), so that the loop has no branch left in it but the one on
+    the flowing cells."""
     coords, wall = bufs[4], bufs[6]
     run_start, runs = segments
     row_start, span_lo, span_hi = wall[5], wall[6], wall[7]
