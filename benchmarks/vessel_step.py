@@ -8,7 +8,9 @@ box; and the dish r < 5.6 behind a no-flux wall (``grid.wall: no_flux``). Each i
 :func:`pde_rotor.kernels.wall.euler_walled_fields` (Eqs. (eqc), (eqv) on the cut cells, its
 implicit clusters included) called `steps` times in a compiled loop on a positive c and a
 random v, flow off and on, thread CPU time, the least of `rounds`, and with the flow on its
-ratio to the step without flow.
+ratio to the step without flow; for scale, the same for the open update of the dish behind
+the paper's absorbing wall (:func:`pde_rotor.kernels.body_fields.euler_body_fields`, no
+apertures, no implicit clusters).
 With ``--against PATH`` the same loop also runs the ``wall.py`` at PATH (another
 checkout's, loaded as a sibling module so that it compiles against this checkout's
 physics), the two timed in turn in each round; set ``NUMBA_CACHE_DIR`` to a scratch
@@ -32,6 +34,8 @@ import numpy as np
 
 from pde_rotor.config.vessel import AnnulusVessel, RectangleVessel
 from pde_rotor.kernels import wall
+from pde_rotor.kernels.body_fields import euler_body_fields
+from pde_rotor.model.geometry import support_rows
 from pde_rotor.model.vessel import make_vessel_cells
 from pde_rotor.model.wall import CutCells, make_cut_cells
 
@@ -94,6 +98,39 @@ def step_difference(loops: dict, state: tuple) -> str:
     return ", ".join(f"{field} {d:.1e}" for field, d in fields)
 
 
+@nb.njit
+def open_loop(steps, states, fields, pose, domain, segments, coef, dt, flow):
+    """`steps` open updates of the dish (absorbing wall) without bodies."""
+    cur, nxt = states
+    for _ in range(steps):
+        euler_body_fields(cur, nxt, fields, fields, pose, domain, segments, coef, dt, flow)
+
+
+def time_open(coords: np.ndarray, steps: int, rounds: int, rng: np.random.Generator) -> None:
+    """Print the open update's ms per step on the dish r < 5.6, flow off and on."""
+    lo, hi = support_rows(coords, 5.6)
+    domain, cells = (coords, lo, hi), int((hi - lo).sum())
+    inside = np.zeros((N, N), bool)
+    for i in range(N):
+        inside[i, lo[i] : hi[i]] = True
+    fields = np.concatenate([1.0 + rng.random(N * N), 0.1 * rng.normal(size=2 * N * N)])
+    cur = fields * np.tile(inside.reshape(-1), 3)
+    empty, pose = np.zeros(N * N), np.zeros((0, 13))
+    segments = (np.zeros(N + 1, np.int64), np.zeros((3, 0), np.int64))
+    least = {}
+    for flow in (False, True):
+        times = []
+        for _ in range(rounds + 1):  # the first round compiles and warms
+            states = (cur, np.zeros_like(cur))
+            start = time.thread_time()
+            open_loop(steps, states, empty, pose, domain, segments, COEF, DT, flow)
+            times.append(1e3 * (time.thread_time() - start) / steps)
+        least[flow] = best = min(times[1:])
+        print(f"open update of the {DISH}, {cells} cells, flow {flow}: {best:.4f} ms", flush=True)
+    a, b = least[True], least[False]
+    print(f"open update of the {DISH}: flow on / off = {a:.4f} / {b:.4f} = {a / b:.2f}")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--steps", type=int, default=100)
@@ -148,6 +185,7 @@ def main() -> None:
             print(
                 f"flow {flow}, {key}: narrow annulus / full box = {a:.4f} / {b:.4f} = {a / b:.3f}"
             )
+    time_open(coords, args.steps, args.rounds, rng)
     print("load average", " ".join(f"{x:.1f}" for x in os.getloadavg()))
 
 
