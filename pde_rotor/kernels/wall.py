@@ -62,9 +62,10 @@ def cell_plate(maps, o, y, plate, motion):
 def _cut_cells(bufs, base, a, b, plate, motion, coef, dt, flow):
     """The explicit part of the step on the cells [a, b) of the row at offset `base`:
     c' (and kappa c' in `rhs`) on each, then, with `flow` (a literal), v on those that
-    flow, in a second pass over the run (each pass keeps its arrays' addresses in
-    registers, where the two in one loop spilled them); with `plate` the cells are one
-    body's, its F, G and plate velocity (:func:`cell_plate`), else none.
+    flow, in a second pass over the run (one loop over both held more array addresses
+    than registers and reloaded 11 from the stack per iteration, the two passes 5 and 0);
+    with `plate` the cells are one body's, its F, G and plate velocity
+    (:func:`cell_plate`), else none.
     `bufs` = (cur, nxt, F, G, coords, rhs, wall)."""
     cur, nxt, F, G, coords, rhs, wall = bufs
     volume, pass_x, pass_y, open_x, open_y, _, _, _, flowing = wall[:9]
