@@ -536,7 +536,8 @@ def test_time_series_runs_are_read_from_run_directories(tmp_path, monkeypatch):
     series = timeseries
     runs, out = tmp_path / "runs", tmp_path / "out"
     args = ["--tiny", "--out", str(out), "--runs", str(runs)]
-    module.main(args)
+    fig4 = module.FIGURES[:1]  # Fig. 4's two panels: Fig. 6 takes the same path
+    series.timeseries_main(fig4, "Fig. 4", args)
     first = series.RunResult.load(runs / "paper_fig4a")
     assert first.ok and first.config.protocol.cycles == 2
 
@@ -546,7 +547,7 @@ def test_time_series_runs_are_read_from_run_directories(tmp_path, monkeypatch):
     monkeypatch.setattr(series, "run", no_run)
     assert (out / "fig4_timeseries.png").is_file()
     (out / "fig4_timeseries.png").unlink()
-    module.main(args)
+    series.timeseries_main(fig4, "Fig. 4", args)
     assert (out / "fig4_timeseries.png").is_file()
     fid = common.fidelity("tiny")
     config = fid.config(module.FIGURES[0].panels[0][1], *fid.protocol)
@@ -598,7 +599,12 @@ def test_time_series_archive_is_read_back_instead_of_computing(tmp_path, monkeyp
     with pytest.raises(SystemExit, match="is the --runs directory"):
         module.main(["--tiny", "--out", str(out), "--runs", str(runs), "--archive", str(runs)])
     assert not runs.exists()
-    module.main(["--tiny", "--out", str(out), "--runs", str(runs), "--archive", str(archive)])
+    fig4 = module.FIGURES[:1]  # Fig. 4's two panels: Fig. 6 takes the same path
+    series.timeseries_main(
+        fig4,
+        "Fig. 4",
+        ["--tiny", "--out", str(out), "--runs", str(runs), "--archive", str(archive)],
+    )
     full = series.RunResult.load(runs / "paper_fig4a")
     kept = series.RunResult.load(archive / "paper_fig4a")
     assert kept.ok and kept.config == full.config
