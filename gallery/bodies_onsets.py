@@ -114,10 +114,11 @@ def draw_steady_speeds(
         ls=":",
         label=f"supercritical tangent {slope:.1f} (mu_c - mu)",
     )
+    exact = {mu: free_disk_steady_speed(disk, mu) for mu in frictions}
     for flow, style, label in ((False, "ko", "no flow"), (True, "rs", "with flow")):
         squares = []
         for mu in frictions:
-            u_star = free_disk_steady_speed(disk, mu)
+            u_star = exact[mu]
             crossing = round(0.9 * 2 * (dish - 1.0) / u_star, 1)
             config = free_disk_config(
                 dx, dt, dish, MASS, mu, 2.0 + crossing + 0.1, 2.0, flow, 1.0 - dish
@@ -180,14 +181,14 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
         ax.plot(
             line, [defined(theory, mu) for mu in line], color="tab:blue", label="linear stability"
         )
+        expected_rates = [defined(theory, mu) for mu in mus]
         for flow, style, label in ((False, "ko", "no flow"), (True, "rs", "with flow")):
             simulated = np.array([simulate(mu, flow) for mu in mus])
             found_mu = sign_change(mus, simulated)
             found = f", mu_c = {found_mu:.4f} ({found_mu / mu_c - 1:+.1%})"
             ax.plot(mus, simulated, style, mfc="none", label=f"simulated, {label}{found}")
             print(f"{NAME}: {title}: {label}: theory mu_c = {mu_c:.5f}, simulated{found}")
-            for mu, lam in zip(mus, simulated, strict=True):
-                expected = defined(theory, mu)
+            for mu, lam, expected in zip(mus, simulated, expected_rates, strict=True):
                 rates = f"lambda {lam:+.4f}, theory {expected:+.4f}"
                 print(f"{NAME}: {title}: {label}: mu = {mu:.5f}: {rates}")
         ax.axhline(0, color="0.5", lw=0.7)
@@ -196,7 +197,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
         ax.legend(fontsize=8)
         ax.grid(alpha=0.3)
     if fid.is_tiny:
-        draw_steady_speeds(axes[2], disk, dx, dt, (0.15,), 2.5, 3)
+        draw_steady_speeds(axes[2], disk, dx, dt, (0.15,), 2.5, 2)
     else:
         draw_steady_speeds(axes[2], disk, dx, dt, SPEED_FRICTIONS, SPEED_DISH, 12)
     add_footer(
