@@ -10,10 +10,14 @@ a positive c and a random v, flow off and on, thread CPU time, the least of `rou
 With ``--against PATH`` the same loop also runs the ``wall.py`` at PATH (another
 checkout's, loaded as a sibling module so that it compiles against this checkout's
 physics), the two timed in turn in each round; set ``NUMBA_CACHE_DIR`` to a scratch
-folder so that no cache is written beside PATH.
+folder so that no cache is written beside PATH. Where that kernel takes its implicit
+clusters in another form, ``--against-model MODEL`` names the other checkout's
+``pde_rotor/model/wall.py`` (loaded the same way), whose ``implicit_blocks`` then gives
+the last four arrays of the `wall` the other kernel takes.
 
 Run:  NUMBA_NUM_THREADS=1 python benchmarks/vessel_step.py [--steps 100] [--rounds 3]
-      [--against /path/to/other/pde_rotor/kernels/wall.py]
+      [--against /path/to/other/pde_rotor/kernels/wall.py
+       [--against-model /path/to/other/pde_rotor/model/wall.py]]
 """
 
 from __future__ import annotations
@@ -46,9 +50,9 @@ COEF = (1.0 / DX**2, 0.5 / DX, 1.0, 1.0, 10.0, 1.0, 0.1, 0.5)
 """The rates' coefficients (1/dx^2, 1/(2 dx), D, a, source, eta, eta_b, D_eta)."""
 
 
-def load_wall(path: str) -> ModuleType:
-    """The ``wall.py`` at `path` as a module of this checkout's kernels package."""
-    spec = importlib.util.spec_from_file_location("pde_rotor.kernels.wall_against", path)
+def load_wall(path: str, package: str = "kernels") -> ModuleType:
+    """The ``wall.py`` at `path` as a module of this checkout's `package`."""
+    spec = importlib.util.spec_from_file_location(f"pde_rotor.{package}.wall_against", path)
     module = importlib.util.module_from_spec(spec)
     sys.modules[spec.name] = module  # numba's cache finds the module by its name
     spec.loader.exec_module(module)
@@ -72,10 +76,16 @@ def main() -> None:
     parser.add_argument("--steps", type=int, default=100)
     parser.add_argument("--rounds", type=int, default=3)
     parser.add_argument("--against", help="another checkout's pde_rotor/kernels/wall.py")
+    parser.add_argument(
+        "--against-model", help="the same checkout's pde_rotor/model/wall.py (its clusters)"
+    )
     args = parser.parse_args()
+    if args.against_model and not args.against:
+        parser.error("--against-model needs --against")
     loops = {"this": compiled_loop(wall)}
     if args.against:
         loops = {"against": compiled_loop(load_wall(args.against)), **loops}
+    model = load_wall(args.against_model, "model") if args.against_model else None
     coords = (np.arange(N) - (N - 1) / 2) * DX
     rng = np.random.default_rng(0)
     empty = np.zeros(N * N)
@@ -85,8 +95,10 @@ def main() -> None:
     least = {}
     for name, vessel in VESSELS.items():
         cells = make_vessel_cells(coords, vessel)
-        arrays = cells.arrays(DT / DX**2)
-        wet = int((arrays[7] - arrays[6]).sum())
+        arrays = {key: cells.arrays(DT / DX**2) for key in loops}
+        if model is not None:
+            arrays["against"] = arrays["against"][:9] + model.implicit_blocks(cells, DT / DX**2)
+        wet = int((arrays["this"][7] - arrays["this"][6]).sum())
         box = round(2 * vessel.extent() / DX) ** 2
         fields = np.concatenate([1.0 + rng.random(N * N), 0.1 * rng.normal(size=2 * N * N)])
         cur = fields * np.tile(cells.mask.reshape(-1), 3)
@@ -96,7 +108,8 @@ def main() -> None:
                 for key, loop in loops.items():
                     states, rhs = (cur, np.zeros_like(cur)), np.zeros(N * N)
                     start = time.thread_time()
-                    loop(args.steps, states, bare, domain, arrays, COEF, DT, pose, flow, rhs)
+                    walls = arrays[key]
+                    loop(args.steps, states, bare, domain, walls, COEF, DT, pose, flow, rhs)
                     times[key].append(1e3 * (time.thread_time() - start) / args.steps)
             line = f"{name}, {wet} wet cells ({wet / box:.1%} of its box), flow {flow}:"
             for key, values in times.items():
