@@ -32,14 +32,21 @@ inverse (:func:`cluster_matrices`): the independent check of the factors.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components, reverse_cuthill_mckee
 
-if TYPE_CHECKING:
-    from .wall import CutCells
+
+class CutCells(Protocol):
+    """What the clusters read of :class:`pde_rotor.model.wall.CutCells`."""
+
+    volume: np.ndarray
+    aperture_x: np.ndarray
+    aperture_y: np.ndarray
+    implicit_x: np.ndarray
+    implicit_y: np.ndarray
 
 
 def implicit_faces(cells: CutCells) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
