@@ -13,11 +13,13 @@ physics), the two timed in turn in each round; set ``NUMBA_CACHE_DIR`` to a scra
 folder so that no cache is written beside PATH. Where that kernel takes its implicit
 clusters in another form, ``--against-model MODEL`` names the other checkout's
 ``pde_rotor/model/wall.py`` (loaded the same way), whose ``implicit_blocks`` then gives
-the last four arrays of the `wall` the other kernel takes.
+the last four arrays of the `wall` the other kernel takes. ``--split`` also times each
+kernel's step with its implicit clusters emptied (its ``NO_WALL``'s) and prints the
+clusters' part, the difference.
 
 Run:  NUMBA_NUM_THREADS=1 python benchmarks/vessel_step.py [--steps 100] [--rounds 3]
       [--against /path/to/other/pde_rotor/kernels/wall.py
-       [--against-model /path/to/other/pde_rotor/model/wall.py]]
+       [--against-model /path/to/other/pde_rotor/model/wall.py]] [--split]
 """
 
 from __future__ import annotations
@@ -79,12 +81,18 @@ def main() -> None:
     parser.add_argument(
         "--against-model", help="the same checkout's pde_rotor/model/wall.py (its clusters)"
     )
+    parser.add_argument(
+        "--split", action="store_true", help="also time each step without its implicit clusters"
+    )
     args = parser.parse_args()
     if args.against_model and not args.against:
         parser.error("--against-model needs --against")
-    loops = {"this": compiled_loop(wall)}
+    modules = {"this": wall}
     if args.against:
-        loops = {"against": compiled_loop(load_wall(args.against)), **loops}
+        modules = {"against": load_wall(args.against), **modules}
+    loops = {key: compiled_loop(module) for key, module in modules.items()}
+    if args.split:  # the same loop, the clusters emptied: what is left is the explicit part
+        loops.update({f"{key} without clusters": loops[key] for key in modules})
     model = load_wall(args.against_model, "model") if args.against_model else None
     coords = (np.arange(N) - (N - 1) / 2) * DX
     rng = np.random.default_rng(0)
@@ -98,6 +106,9 @@ def main() -> None:
         arrays = {key: cells.arrays(DT / DX**2) for key in loops}
         if model is not None:
             arrays["against"] = arrays["against"][:9] + model.implicit_blocks(cells, DT / DX**2)
+        if args.split:
+            for key, module in modules.items():
+                arrays[f"{key} without clusters"] = arrays[key][:9] + module.NO_WALL[9:]
         wet = int((arrays["this"][7] - arrays["this"][6]).sum())
         box = round(2 * vessel.extent() / DX) ** 2
         fields = np.concatenate([1.0 + rng.random(N * N), 0.1 * rng.normal(size=2 * N * N)])
@@ -119,10 +130,13 @@ def main() -> None:
                 pairs = zip(times["against"][1:], times["this"][1:], strict=True)
                 ratios = [t / a for a, t in pairs]
                 line += " this / against each round " + ", ".join(f"{r:.3f}" for r in ratios)
+            for key in modules if args.split else ():
+                implicit = least[name, flow, key] - least[name, flow, f"{key} without clusters"]
+                line += f" {key}: implicit clusters {implicit:.4f} ms;"
             print(line, flush=True)
     narrow, full = list(VESSELS)[1:]
     for flow in (False, True):
-        for key in loops:
+        for key in modules:
             a, b = least[narrow, flow, key], least[full, flow, key]
             print(
                 f"flow {flow}, {key}: narrow annulus / full box = {a:.4f} / {b:.4f} = {a / b:.3f}"
