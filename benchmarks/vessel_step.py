@@ -15,11 +15,12 @@ clusters in another form, ``--against-model MODEL`` names the other checkout's
 ``pde_rotor/model/wall.py`` (loaded the same way), whose ``implicit_blocks`` then gives
 the last four arrays of the `wall` the other kernel takes. ``--split`` also times each
 kernel's step with its implicit clusters emptied (its ``NO_WALL``'s) and prints the
-clusters' part, the difference.
+clusters' part, the difference. ``--agree STEPS`` steps both kernels STEPS times from the
+same state and prints the largest difference in c, relative to the largest c.
 
 Run:  NUMBA_NUM_THREADS=1 python benchmarks/vessel_step.py [--steps 100] [--rounds 3]
       [--against /path/to/other/pde_rotor/kernels/wall.py
-       [--against-model /path/to/other/pde_rotor/model/wall.py]] [--split]
+       [--against-model /path/to/other/pde_rotor/model/wall.py] [--agree 1000]] [--split]
 """
 
 from __future__ import annotations
@@ -84,9 +85,14 @@ def main() -> None:
     parser.add_argument(
         "--split", action="store_true", help="also time each step without its implicit clusters"
     )
+    parser.add_argument(
+        "--agree", type=int, default=0, help="steps after which to compare c with --against's"
+    )
     args = parser.parse_args()
     if args.against_model and not args.against:
         parser.error("--against-model needs --against")
+    if args.agree and not args.against:
+        parser.error("--agree needs --against")
     modules = {"this": wall}
     if args.against:
         modules = {"against": load_wall(args.against), **modules}
@@ -133,6 +139,16 @@ def main() -> None:
             for key in modules if args.split else ():
                 implicit = least[name, flow, key] - least[name, flow, f"{key} without clusters"]
                 line += f" {key}: implicit clusters {implicit:.4f} ms;"
+            if args.agree:
+                c = {}
+                for key in modules:
+                    states, rhs = (cur.copy(), np.zeros_like(cur)), np.zeros(N * N)
+                    for _ in range(args.agree):
+                        loops[key](1, states, bare, domain, arrays[key], COEF, DT, pose, flow, rhs)
+                        states = states[::-1]
+                    c[key] = states[0][: N * N]
+                change = np.abs(c["this"] - c["against"]).max() / np.abs(c["against"]).max()
+                line += f" after {args.agree} steps max |c - c against| / max |c| = {change:.1e};"
             print(line, flush=True)
     narrow, full = list(VESSELS)[1:]
     for flow in (False, True):
