@@ -14,10 +14,17 @@ apertures, no implicit clusters).
 With ``--against PATH`` the same loop also runs the ``wall.py`` at PATH (another
 checkout's, loaded as a sibling module so that it compiles against this checkout's
 physics), the two timed in turn in each round; set ``NUMBA_CACHE_DIR`` to a scratch
-folder so that no cache is written beside PATH.
+folder so that no cache is written beside PATH. Where that kernel takes its implicit
+clusters in another form, ``--against-model MODEL`` names the other checkout's
+``pde_rotor/model/wall.py`` (loaded the same way), whose ``implicit_blocks`` then gives
+the last four arrays of the `wall` the other kernel takes. ``--split`` also times each
+kernel's step with its implicit clusters emptied (its ``NO_WALL``'s) and prints the
+clusters' part, the difference. ``--agree STEPS`` steps both kernels STEPS times from the
+same state and prints the largest difference in c, relative to the largest c.
 
 Run:  NUMBA_NUM_THREADS=1 python benchmarks/vessel_step.py [--steps 100] [--rounds 3]
-      [--against /path/to/other/pde_rotor/kernels/wall.py]
+      [--against /path/to/other/pde_rotor/kernels/wall.py
+       [--against-model /path/to/other/pde_rotor/model/wall.py] [--agree 1000]] [--split]
 """
 
 from __future__ import annotations
@@ -54,9 +61,9 @@ COEF = (1.0 / DX**2, 0.5 / DX, 1.0, 1.0, 10.0, 1.0, 0.1, 0.5)
 """The rates' coefficients (1/dx^2, 1/(2 dx), D, a, source, eta, eta_b, D_eta)."""
 
 
-def load_wall(path: str) -> ModuleType:
-    """The ``wall.py`` at `path` as a module of this checkout's kernels package."""
-    spec = importlib.util.spec_from_file_location("pde_rotor.kernels.wall_against", path)
+def load_wall(path: str, package: str = "kernels") -> ModuleType:
+    """The ``wall.py`` at `path` as a module of this checkout's `package`."""
+    spec = importlib.util.spec_from_file_location(f"pde_rotor.{package}.wall_against", path)
     module = importlib.util.module_from_spec(spec)
     sys.modules[spec.name] = module  # numba's cache finds the module by its name
     spec.loader.exec_module(module)
@@ -88,9 +95,9 @@ def step_difference(loops: dict, state: tuple) -> str:
     state, relative to the largest magnitude of the field after the ``--against`` step."""
     bare, domain, arrays, coef, dt, pose, flow, cur = state
     after = {}
-    for key, loop in loops.items():
+    for key in ("against", "this"):
         nxt = np.zeros_like(cur)
-        loop(1, (cur, nxt), bare, domain, arrays, coef, dt, pose, flow, np.zeros(N * N))
+        loops[key](1, (cur, nxt), bare, domain, arrays[key], coef, dt, pose, flow, np.zeros(N * N))
         after[key] = nxt.reshape(3, -1)
     scale = np.abs(after["against"]).max(axis=1)
     worst = np.abs(after["this"] - after["against"]).max(axis=1) / np.where(scale > 0, scale, 1)
@@ -136,10 +143,27 @@ def main() -> None:
     parser.add_argument("--steps", type=int, default=100)
     parser.add_argument("--rounds", type=int, default=3)
     parser.add_argument("--against", help="another checkout's pde_rotor/kernels/wall.py")
+    parser.add_argument(
+        "--against-model", help="the same checkout's pde_rotor/model/wall.py (its clusters)"
+    )
+    parser.add_argument(
+        "--split", action="store_true", help="also time each step without its implicit clusters"
+    )
+    parser.add_argument(
+        "--agree", type=int, default=0, help="steps after which to compare c with --against's"
+    )
     args = parser.parse_args()
-    loops = {"this": compiled_loop(wall)}
+    if args.against_model and not args.against:
+        parser.error("--against-model needs --against")
+    if args.agree and not args.against:
+        parser.error("--agree needs --against")
+    modules = {"this": wall}
     if args.against:
-        loops = {"against": compiled_loop(load_wall(args.against)), **loops}
+        modules = {"against": load_wall(args.against), **modules}
+    loops = {key: compiled_loop(module) for key, module in modules.items()}
+    if args.split:  # the same loop, the clusters emptied: what is left is the explicit part
+        loops.update({f"{key} without clusters": loops[key] for key in modules})
+    model = load_wall(args.against_model, "model") if args.against_model else None
     coords = (np.arange(N) - (N - 1) / 2) * DX
     rng = np.random.default_rng(0)
     empty = np.zeros(N * N)
@@ -149,8 +173,13 @@ def main() -> None:
     least = {}
     for name in [*VESSELS, DISH]:
         cells, half = vessel_cells(coords, name)
-        arrays = cells.arrays(DT / DX**2)
-        wet = int((arrays[7] - arrays[6]).sum())
+        arrays = {key: cells.arrays(DT / DX**2) for key in loops}
+        if model is not None:
+            arrays["against"] = arrays["against"][:9] + model.implicit_blocks(cells, DT / DX**2)
+        if args.split:
+            for key, module in modules.items():
+                arrays[f"{key} without clusters"] = arrays[key][:9] + module.NO_WALL[9:]
+        wet = int((arrays["this"][7] - arrays["this"][6]).sum())
         box = round(2 * half / DX) ** 2
         fields = np.concatenate([1.0 + rng.random(N * N), 0.1 * rng.normal(size=2 * N * N)])
         cur = fields * np.tile(cells.mask.reshape(-1), 3)
@@ -161,7 +190,8 @@ def main() -> None:
                 for key, loop in loops.items():
                     states, rhs = (cur, np.zeros_like(cur)), np.zeros(N * N)
                     start = time.thread_time()
-                    loop(args.steps, states, bare, domain, arrays, COEF, DT, pose, flow, rhs)
+                    walls = arrays[key]
+                    loop(args.steps, states, bare, domain, walls, COEF, DT, pose, flow, rhs)
                     times[key].append(1e3 * (time.thread_time() - start) / args.steps)
             line = f"{name}, {wet} wet cells ({wet / box:.1%} of its box), flow {flow}:"
             for key, values in times.items():
@@ -173,14 +203,27 @@ def main() -> None:
                 line += " this / against each round " + ", ".join(f"{r:.3f}" for r in ratios)
             if args.against:
                 line += " one step's largest difference " + step_difference(loops, state)
+            for key in modules if args.split else ():
+                implicit = least[name, flow, key] - least[name, flow, f"{key} without clusters"]
+                line += f" {key}: implicit clusters {implicit:.4f} ms;"
+            if args.agree:
+                c = {}
+                for key in modules:
+                    states, rhs = (cur.copy(), np.zeros_like(cur)), np.zeros(N * N)
+                    for _ in range(args.agree):
+                        loops[key](1, states, bare, domain, arrays[key], COEF, DT, pose, flow, rhs)
+                        states = states[::-1]
+                    c[key] = states[0][: N * N]
+                change = np.abs(c["this"] - c["against"]).max() / np.abs(c["against"]).max()
+                line += f" after {args.agree} steps max |c - c against| / max |c| = {change:.1e};"
             print(line, flush=True)
     for name in [*VESSELS, DISH]:
-        for key in loops:
+        for key in modules:
             a, b = least[name, True, key], least[name, False, key]
             print(f"{name}, {key}: flow on / off = {a:.4f} / {b:.4f} = {a / b:.2f}")
     narrow, full = list(VESSELS)[1:]
     for flow in (False, True):
-        for key in loops:
+        for key in modules:
             a, b = least[narrow, flow, key], least[full, flow, key]
             print(
                 f"flow {flow}, {key}: narrow annulus / full box = {a:.4f} / {b:.4f} = {a / b:.3f}"

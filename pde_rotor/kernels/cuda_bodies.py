@@ -131,13 +131,15 @@ def _euler_fields(src, dst, m, state, surface, bodies, p):
 def _walled_fields(src, dst, m, state, surface, bodies, wall, rhs, p):
     """One step of Eqs. (eqc), (eqv) behind the no-flux dish wall (all threads): the
     explicit part on the runs of cut cells of each row (``cut_cell_inflow``,
-    ``local_rate``), v on the cells that flow, then c' = inverse (kappa c') on each
-    cluster of implicit faces (:func:`pde_rotor.kernels.wall.euler_walled_fields`)."""
+    ``local_rate``), v on the cells that flow, then A c' = kappa c' on each cluster of
+    implicit faces by its L D L^T factors
+    (:func:`pde_rotor.kernels.wall.implicit_clusters`), the rows of one level in
+    parallel (those of different clusters), the levels in turn."""
     buf = state[0]
     coords = surface[0]
     volume, pass_x, pass_y, open_x, open_y, row_start, span_lo, span_hi, flowing = wall[:9]
     faces = (open_x, open_y, pass_x, pass_y)
-    members, offsets, blocks, starts = wall[9:]
+    index, levels, factor = wall[9:]
     tid = cuda.threadIdx.x
     n_threads = cuda.blockDim.x
     n = coords.size
@@ -165,17 +167,21 @@ def _walled_fields(src, dst, m, state, surface, bodies, wall, rhs, p):
                     )
                     _step_flow(buf, src, dst, o, nn, dt, (rate_x, rate_y))
     cuda.syncthreads()
-    for c in range(tid, offsets.size - 1, n_threads):
-        first = offsets[c]
-        size = offsets[c + 1] - first
-        block = starts[c]
-        for u in range(size):
-            total = 0.0
-            row = block + u * size
-            for w in range(size):
-                total += blocks[row + w] * rm[members[first + w]]
-            buf[dst + members[first + u]] = total
-    cuda.syncthreads()
+    span = index.shape[1]
+    for t in range(levels.size - 1):  # forward substitution, one level at a time
+        for g in range(levels[t] + tid, levels[t + 1], n_threads):
+            y = rm[index[g, 0]]
+            for e in range(1, span):
+                rm[index[g, e]] -= factor[g, e] * y
+        cuda.syncthreads()
+    for t in range(levels.size - 2, -1, -1):  # back substitution, last level first
+        for g in range(levels[t] + tid, levels[t + 1], n_threads):
+            o = index[g, 0]
+            x = rm[o] * factor[g, 0]
+            for e in range(span - 1, 0, -1):
+                x -= factor[g, e] * buf[dst + index[g, e]]
+            buf[dst + o] = x
+        cuda.syncthreads()
 
 
 @device_function

@@ -7,14 +7,14 @@ row (two across an annulus' hole), so that dry cells cost nothing, as
 :func:`pde_rotor.kernels.body_fields.euler_body_fields` does with the absorbing wall: the
 transport of c through the open part of each face (the physics' ``cut_cell_inflow``) and
 its local terms (``local_rate``) by forward Euler, then the diffusion through the faces
-of the stiff cut cells by backward Euler, cluster by cluster with the inverses computed
-once per run (:mod:`pde_rotor.model.wall`, which takes the same step with numpy and
-computes the geometry these loops read). v and the plate terms are the physics'
-``plate_rates``.
+of the stiff cut cells by backward Euler, by the sparse factors of the clusters' matrices
+computed once per run (:mod:`pde_rotor.model.clusters`; :mod:`pde_rotor.model.wall`
+takes the same step with numpy and computes the geometry these loops read). v and the
+plate terms are the physics' ``plate_rates``.
 
 The `wall` argument is :meth:`pde_rotor.model.wall.CutCells.arrays`: (volume, aperture_x,
 aperture_y, explicit apertures along x and y, row_start, span_lo, span_hi, flowing,
-cluster members, cluster offsets, inverse blocks, block offsets); :data:`NO_WALL` is the
+the implicit clusters' index, levels and factor); :data:`NO_WALL` is the
 same tuple, empty, for the absorbing dish wall.
 """
 
@@ -33,7 +33,8 @@ _plate_velocity = CPU.rates.plate_velocity
 _NONE = np.zeros(0)
 _NO_INDEX = np.zeros(0, dtype=np.int64)
 NO_WALL = (_NONE, _NONE, _NONE, _NONE, _NONE, _NO_INDEX, _NO_INDEX, _NO_INDEX,
-           np.zeros(0, dtype=np.uint8), _NO_INDEX, _NO_INDEX, _NONE, _NO_INDEX)  # fmt: skip
+           np.zeros(0, dtype=np.uint8), np.zeros((0, 2), dtype=np.int64), _NO_INDEX,
+           np.zeros((0, 2)))  # fmt: skip
 """The `wall` of the absorbing wall: no cut cells (the compiled step takes the same types)."""
 
 
@@ -109,17 +110,18 @@ def euler_walled_fields(states, maps, domain, wall, coef, dt, pose, flow, rhs):
         dt: time step.
         pose: (K, 13) the bodies' poses (plate velocity of each body's cells).
         flow: whether v evolves (else v = 0).
-        rhs: scratch of n^2 values: kappa c' of the explicit part, per cell.
+        rhs: scratch of n^2 values: kappa c' of the explicit part, per cell (on the
+            implicit clusters' cells changed by their forward substitution).
     """
     cur, nxt = states
     F, G, segments = maps
-    members, offsets, blocks, starts = wall[9:]
+    index, _, factor = wall[9:]
     bufs = (cur, nxt, F, G, domain[0], rhs, wall)
     if flow:
         _walk_rows(bufs, segments, pose, coef, dt, True)
     else:
         _walk_rows(bufs, segments, pose, coef, dt, False)
-    implicit_clusters(nxt, rhs, members, offsets, blocks, starts)
+    implicit_clusters(nxt, rhs, index, factor)
 
 
 @nb.njit(inline="always", cache=True, nogil=True, fastmath=FASTMATH)
@@ -160,35 +162,26 @@ def _walk_rows(bufs, segments, pose, coef, dt, flow):
 
 
 @nb.njit(cache=True, nogil=True, fastmath=FASTMATH)
-def implicit_clusters(nxt, rhs, members, offsets, blocks, starts):
-    """c' = inverse (kappa c' of the explicit part) on each cluster of implicit faces
-    (:func:`pde_rotor.model.wall.implicit_blocks`).
+def implicit_clusters(nxt, rhs, index, factor):
+    """c' solving A c' = kappa c' of the explicit part (`rhs`) on each cluster of
+    implicit faces, A = L D L^T by columns
+    (:func:`pde_rotor.model.clusters.implicit_factors`).
 
-    Four rows of a block at a time, each summed in its own order: four independent
-    chains of multiply-adds instead of one, whose latency bounded the solve, with the
-    same result for each row."""
-    for b in range(offsets.size - 1):
-        first = offsets[b]
-        size = offsets[b + 1] - first
-        block = starts[b]
-        u = 0
-        while u + 4 <= size:
-            row = block + u * size
-            t0, t1, t2, t3 = 0.0, 0.0, 0.0, 0.0
-            for w in range(size):
-                x = rhs[members[first + w]]
-                t0 += blocks[row + w] * x
-                t1 += blocks[row + size + w] * x
-                t2 += blocks[row + 2 * size + w] * x
-                t3 += blocks[row + 3 * size + w] * x
-            nxt[members[first + u]] = t0
-            nxt[members[first + u + 1]] = t1
-            nxt[members[first + u + 2]] = t2
-            nxt[members[first + u + 3]] = t3
-            u += 4
-        for v in range(u, size):
-            total = 0.0
-            row = block + v * size
-            for w in range(size):
-                total += blocks[row + w] * rhs[members[first + w]]
-            nxt[members[first + v]] = total
+    Forward substitution L y = rhs in place, each row's y, once its earlier rows have
+    been taken off it, taken off its later rows; then back substitution L^T c' = D^-1 y
+    from the last row up, each row's c' from its later rows' into `nxt`: one
+    multiply-add a row and sweep for the row's parent in the elimination tree, one
+    more for each other later row (a tree has none). Cell offsets unsigned, as in
+    :func:`run_strides`."""
+    rows, span = index.shape
+    for g in range(rows):
+        y = rhs[np.uint64(index[g, 0])]
+        rhs[np.uint64(index[g, 1])] -= factor[g, 1] * y
+        for e in range(2, span):
+            rhs[np.uint64(index[g, e])] -= factor[g, e] * y
+    for g in range(rows - 1, -1, -1):
+        o = np.uint64(index[g, 0])
+        x = rhs[o] * factor[g, 0]
+        for e in range(span - 1, 1, -1):
+            x -= factor[g, e] * nxt[np.uint64(index[g, e])]
+        nxt[o] = x - factor[g, 1] * nxt[np.uint64(index[g, 1])]

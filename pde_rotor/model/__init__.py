@@ -9,6 +9,7 @@ it is the independent reference of.
   pills anywhere, poses), with the plate velocity and the footprint;
 * :mod:`.domain`: the circular domain of radius L on a py-pde CartesianGrid;
 * :mod:`.wall`: the no-flux dish wall: cut cells of the circle, their fluxes and step;
+* :mod:`.clusters`: the implicit cut cells' clusters, their matrices and sparse factors;
 * :mod:`.vessel`: the cut cells of the other vessels (an annular channel, a rectangular
   tank) for the same step;
 * :mod:`.protocol`: the stop-and-release schedule (section "Model");

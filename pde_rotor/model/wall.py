@@ -30,8 +30,9 @@ taken implicitly (backward Euler), the rest explicitly:
 
 Q_E the explicit faces' diffusion and every face's advection, r the local terms of Eq.
 (eqc). The implicit faces join a stiff cell to its neighbours in small clusters along the
-rim (tens of cells), each solved exactly with its matrix inverted once per run
-(:func:`implicit_blocks`). Both parts are sums of face fluxes, so nothing is lost; the
+rim (tens of cells), each solved exactly (:mod:`pde_rotor.model.clusters`: this numpy
+step applies each cluster's inverse, the compiled step its sparse L D L^T factors, both
+computed once per run). Both parts are sums of face fluxes, so nothing is lost; the
 explicit part obeys the 5-point Laplacian's dt limit cell by cell (Gershgorin), the
 implicit part is unconditionally stable, and the symmetric splitting is then stable as a
 whole (:func:`make_wall_step`; the compiled step is :mod:`pde_rotor.kernels.wall`).
@@ -47,8 +48,8 @@ from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 import numpy as np
-import scipy.sparse as sp
-from scipy.sparse.csgraph import connected_components
+
+from .clusters import cluster_matrices, implicit_factors
 
 
 @dataclass(frozen=True)
@@ -85,13 +86,13 @@ class CutCells:
     def arrays(self, coefficient: float) -> tuple[np.ndarray, ...]:
         """The `wall` the compiled step takes (:mod:`pde_rotor.kernels.wall`), 2-D arrays
         flattened: (volume, aperture_x, aperture_y, explicit diffusion apertures along x
-        and y, row_start, span_lo, span_hi, flowing as 0/1, cluster members, cluster
-        offsets, inverse blocks, block offsets).
+        and y, row_start, span_lo, span_hi, flowing as 0/1, and the implicit clusters'
+        index, levels and factor, :func:`pde_rotor.model.clusters.implicit_factors`).
 
         Args:
-            coefficient: dt D / dx^2 of the run (:func:`implicit_blocks`).
+            coefficient: dt D / dx^2 of the run.
         """
-        members, offsets, blocks, starts = implicit_blocks(self, coefficient)
+        index, levels, factor = implicit_factors(self, coefficient)
         return (
             self.volume.reshape(-1),
             self.aperture_x.reshape(-1),
@@ -102,10 +103,9 @@ class CutCells:
             self.span_lo,
             self.span_hi,
             self.flowing.reshape(-1).astype(np.uint8),
-            members,
-            offsets,
-            blocks,
-            starts,
+            index,
+            levels,
+            factor,
         )
 
     @property
@@ -298,66 +298,6 @@ def wall_fluxes(
     return np.where(cells.mask, q, 0.0)
 
 
-def _implicit_faces(cells: CutCells) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(cell P, cell N, alpha) of every implicit face, flat indices."""
-    n = cells.volume.shape[0]
-    i, j = np.nonzero(cells.implicit_x)
-    k, m = np.nonzero(cells.implicit_y)
-    near = np.concatenate([i * n + j, k * n + m])
-    far = np.concatenate([(i + 1) * n + j, k * n + m + 1])
-    alpha = np.concatenate([cells.aperture_x[i, j], cells.aperture_y[k, m]])
-    return near, far, alpha
-
-
-def implicit_blocks(
-    cells: CutCells, coefficient: float
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """The clusters of cells joined by implicit faces and the inverses of their matrices.
-
-    A cluster is a connected set of cells joined by implicit faces; its matrix is
-    kappa_P on the diagonal plus, per implicit face, coefficient alpha (on both cells'
-    diagonal, negated between them): backward Euler of the implicit diffusion,
-    coefficient = dt D / dx^2.
-
-    Args:
-        cells: the cut cells.
-        coefficient: dt D / dx^2.
-
-    Returns:
-        (members, offsets, blocks, starts): the flat indices of the cells of cluster b are
-        members[offsets[b]:offsets[b + 1]], and its inverse matrix, row-major, is
-        blocks[starts[b]:starts[b + 1]].
-    """
-    near, far, alpha = _implicit_faces(cells)
-    size = cells.volume.size
-    graph = sp.coo_matrix((np.ones(near.size), (near, far)), shape=(size, size))
-    _, label = connected_components(graph, directed=False)
-    nodes = np.unique(np.concatenate([near, far]))
-    kappa = cells.volume.reshape(-1)
-    members, offsets, blocks, starts = [], [0], [], [0]
-    for group in np.unique(label[nodes]):
-        cluster = nodes[label[nodes] == group]
-        local = np.full(size, -1)
-        local[cluster] = np.arange(cluster.size)
-        inside = local[near] >= 0
-        u, w, a = local[near[inside]], local[far[inside]], coefficient * alpha[inside]
-        matrix = np.diag(kappa[cluster])
-        np.add.at(matrix, (u, u), a)
-        np.add.at(matrix, (w, w), a)
-        np.add.at(matrix, (u, w), -a)
-        np.add.at(matrix, (w, u), -a)
-        members.append(cluster)
-        offsets.append(offsets[-1] + cluster.size)
-        blocks.append(np.linalg.inv(matrix).reshape(-1))
-        starts.append(starts[-1] + cluster.size**2)
-    return (
-        np.concatenate(members).astype(np.int64) if members else np.zeros(0, dtype=np.int64),
-        np.asarray(offsets, dtype=np.int64),
-        np.concatenate(blocks) if blocks else np.zeros(0),
-        np.asarray(starts, dtype=np.int64),
-    )
-
-
 def wall_rate(inflow: np.ndarray, cells: CutCells) -> np.ndarray:
     """The semi-discrete rate of c by transport behind the wall: Q / kappa (0 outside)."""
     return np.where(cells.mask, inflow / np.where(cells.mask, cells.volume, 1.0), 0.0)
@@ -377,22 +317,19 @@ def make_wall_step(
         step(c, v, local): c (n, n) after the step from c, the flow v (2, n, n; None
         without flow) and the local rate r of Eq. (eqc) (n, n; -a (1 - F) c + sources):
         forward Euler of the explicit faces' diffusion, of the advection and of r,
-        backward Euler of the diffusion through the implicit faces.
+        backward Euler of the diffusion through the implicit faces, each cluster's
+        matrix (:func:`pde_rotor.model.clusters.cluster_matrices`) inverted once.
     """
     explicit = replace(
         cells,
         aperture_x=np.where(cells.implicit_x, 0.0, cells.aperture_x),
         aperture_y=np.where(cells.implicit_y, 0.0, cells.aperture_y),
     )
-    members, offsets, blocks, starts = implicit_blocks(cells, dt * diffusion / cells.dx**2)
     kappa = cells.volume.reshape(-1)
     divisor = np.where(kappa > 0, kappa, 1.0)
     clusters = [
-        (
-            members[offsets[b] : offsets[b + 1]],
-            blocks[starts[b] : starts[b + 1]].reshape(offsets[b + 1] - offsets[b], -1),
-        )
-        for b in range(offsets.size - 1)
+        (members, np.linalg.inv(matrix))
+        for members, matrix in cluster_matrices(cells, dt * diffusion / cells.dx**2)
     ]
 
     def step(c: np.ndarray, v: np.ndarray | None, local: np.ndarray) -> np.ndarray:
