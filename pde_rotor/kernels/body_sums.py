@@ -29,8 +29,10 @@ from .spline import ROW_GROUP, spline_columns, spline_rows
 _cell_integrals = CPU.motion.cell_integrals
 _friction_moments = CPU.motion.friction_moments
 _surface_pressure = CPU.tension.surface_pressure
-_edge_sums = CPU.tension.edge_sums
 _polygon_band = CPU.tension.polygon_band
+_edge_place = CPU.tension.edge_place
+_bspline_weights = CPU.spline.bspline_weights
+_spline_sum = CPU.spline.spline_sum
 
 
 SUM_FASTMATH = FASTMATH | {"reassoc"}
@@ -187,10 +189,10 @@ def spline_box(cur, coef, n, window, taps, carry):
     bits as with the whole window wanted (each line's recursions run over the whole
     window; only what is stored changes); the others are left as they were. `carry` >= n."""
     i0, i1, j0, j1 = window
-    ti0, _, tj0, tj1 = taps
+    ti0, ti1, tj0, tj1 = taps
     for r0 in range(i0, i1, ROW_GROUP):
-        spline_rows(cur, coef, n, r0, min(i1, r0 + ROW_GROUP), j0, j1, tj0, carry)
-    spline_columns(coef, n, i0, i1, tj0, tj1, ti0, carry)
+        spline_rows(cur, coef, n, r0, min(i1, r0 + ROW_GROUP), j0, j1, (tj0, tj1), carry)
+    spline_columns(coef, n, i0, i1, tj0, tj1, (ti0, ti1), carry)
 
 
 @nb.njit(cache=True, nogil=True)
@@ -209,6 +211,47 @@ def spline_bounds(x_k, y_k, half, coords):
     inner = half - SPLINE_MARGIN + 1
     taps = (max(i0, ic - inner), min(i1, ic + inner), max(j0, jc - inner), min(j1, jc + inner))
     return (i0, i1, j0, j1), taps
+
+
+@nb.njit(inline="always", cache=True, nogil=True, fastmath=FASTMATH, error_model="numpy")
+def _edge_pair(coef, grid, edge, quad, m, p, scratch):
+    """Band node m of a straight edge, the tension's ``edge_sums`` in two passes over
+    its nodes along the edge (as the rotor's contour nodes,
+    :func:`pde_rotor.kernels.cpu.contour_torque`): where each node takes its taps and
+    its weights (``edge_place``, ``bspline_weights``; no load from a computed place, so
+    that LLVM computes several nodes at a time), then the 16-tap sums (``spline_sum``,
+    unsigned offsets) through ``surface_pressure``, the shares of ``edge_node`` added
+    in order: the same sums, bit for bit. `quad` = (quad_s, quad_t); `scratch` =
+    (taps (L,) unsigned, weights (10, L)).
+
+    Returns:
+        The pair's (x, y, torque) shares, as ``edge_sums``.
+    """
+    quad_s, quad_t = quad
+    taps, weights = scratch
+    n_t = quad_t.shape[1]
+    for k_t in range(n_t):
+        row, tx, ty, w, w_t = _edge_place(grid, edge, quad_s, quad_t, m, k_t)
+        wx0, wx1, wx2, wx3 = _bspline_weights(tx)
+        wy0, wy1, wy2, wy3 = _bspline_weights(ty)
+        taps[k_t] = np.uint64(row)
+        weights[0, k_t], weights[1, k_t], weights[2, k_t], weights[3, k_t] = wx0, wx1, wx2, wx3
+        weights[4, k_t], weights[5, k_t], weights[6, k_t], weights[7, k_t] = wy0, wy1, wy2, wy3
+        weights[8, k_t], weights[9, k_t] = w, w_t
+    sx, sy = np.uint64(grid[1]), np.uint64(1)
+    ex, ey = edge[2], edge[3]
+    pair_x = 0.0
+    pair_y = 0.0
+    pair_t = 0.0
+    for k_t in range(n_t):
+        wx = (weights[0, k_t], weights[1, k_t], weights[2, k_t], weights[3, k_t])
+        wy = (weights[4, k_t], weights[5, k_t], weights[6, k_t], weights[7, k_t])
+        c = _surface_pressure(_spline_sum(coef, taps[k_t], sx, sy, wx, wy), p)
+        wc = weights[8, k_t] * c
+        pair_x += wc * ex
+        pair_y += wc * ey
+        pair_t += weights[9, k_t] * c
+    return pair_x, pair_y, pair_t
 
 
 @nb.njit(cache=True, nogil=True, fastmath=FASTMATH, error_model="numpy")
@@ -242,6 +285,8 @@ def body_contour(cur, coords, k, bodies, p, out):
     spline_box(cur, coef, n, window, taps, carry)
     n_s = quad_s.shape[1]
     grid = (0, n, x0, inv_dx)
+    quad = (quad_s, quad_t)
+    scratch = (np.empty(quad_t.shape[1], np.uint64), np.empty((10, quad_t.shape[1])))
     f_x = 0.0
     f_y = 0.0
     torque = 0.0
@@ -251,7 +296,7 @@ def body_contour(cur, coords, k, bodies, p, out):
             for m in range(n_s):
                 h, half = _polygon_band(b.size_a, delta, b.tan_half, quad_s, m)
                 edge = (x_k, y_k, ex, ey, h, half)
-                pair_x, pair_y, pair_t = _edge_sums(coef, grid, edge, quad_s, quad_t, m, p)
+                pair_x, pair_y, pair_t = _edge_pair(coef, grid, edge, quad, m, p, scratch)
                 f_x += pair_x
                 f_y += pair_y
                 torque += pair_t
@@ -265,7 +310,7 @@ def body_contour(cur, coords, k, bodies, p, out):
                 if h <= -thinner:  # no parallel: the gauge is >= -W/2 (L/2) everywhere
                     continue
                 edge = (x_k, y_k, ex, ey, side + h, along + h)
-                pair_x, pair_y, pair_t = _edge_sums(coef, grid, edge, quad_s, quad_t, m, p)
+                pair_x, pair_y, pair_t = _edge_pair(coef, grid, edge, quad, m, p, scratch)
                 f_x += pair_x
                 f_y += pair_y
                 torque += pair_t
