@@ -262,10 +262,13 @@ def draw_body(F, G, owner, domain, k, bodies, p, work, moved):
     functions :func:`~pde_rotor.kernels.indicators.plate_row` and, for the
     ``consistent`` scheme, ``filtered_plate_row``, in the body's frame; a disk's or
     strip's ``body_plate_cell``, a disk's filtered profile ``filtered_pill_term``, a
-    strip's quadrant table ``filtered_strip``), then each pill's term on the cells of
+    strip's quadrant table in two passes,
+    :func:`~pde_rotor.kernels.indicators.filtered_strip_row`), then each pill's term
+    on the cells of
     its own bounding square (a pill's term is below 4.3e-18 beyond rho + X_SATURATION
     delta; a filtered term is 0 beyond its profile, so only the square's chord of that
-    disk), in the pills' order, as the rotor's ``pill_row`` sums them; the terms of a
+    disk; a plate's pills' filtered G in two passes, :func:`_filtered_pill_cells`), in
+    the pills' order, as the rotor's ``pill_row`` sums them; the terms of a
     body without a plate are its F too (one pill alone: one pass,
     :func:`_lone_pill_row`, :func:`_lone_filtered_row`). G holds the pills' source
     densities relative to the record's ``source`` (1 for the paper's pills, so that G

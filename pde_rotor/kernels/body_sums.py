@@ -183,11 +183,13 @@ def spline_box(cur, coef, n, window, taps, carry):
     """coef = cubic B-spline coefficients of c (cur[:n^2]) of the window of rows
     [i0, i1) and columns [j0, j1), `window` = (i0, i1, j0, j1), wanted on the rows and
     columns of `taps` = (ti0, ti1, tj0, tj1) inside it (compiled): every row of the
-    window prefiltered in groups of ``ROW_GROUP``, its coefficients kept from column tj0
-    on, then only the columns [tj0, tj1), kept from row ti0 on, as the rotor's window
-    (:func:`pde_rotor.kernels.spline.spline_window`). A wanted coefficient has the same
-    bits as with the whole window wanted (each line's recursions run over the whole
-    window; only what is stored changes); the others are left as they were. `carry` >= n."""
+    window prefiltered in groups of ``ROW_GROUP``, its coefficients kept on the columns
+    [tj0, tj1), then only those columns, kept on the rows [ti0, ti1), as the rotor's
+    window (:func:`pde_rotor.kernels.spline.spline_window`, which keeps them to the
+    window's end). A wanted coefficient has the same bits as with the whole window
+    wanted (each line's backward recursion runs from the window's end, its forward one
+    from its start to the last wanted coefficient; only what is stored changes); the
+    others are left as they were. `carry` >= n."""
     i0, i1, j0, j1 = window
     ti0, ti1, tj0, tj1 = taps
     for r0 in range(i0, i1, ROW_GROUP):
@@ -264,7 +266,8 @@ def body_contour(cur, coords, k, bodies, p, out):
     taps lie (the window less ``SPLINE_MARGIN`` - 1 cells each side; the taps lie within
     ``window_half`` - ``SPLINE_MARGIN`` cells of that cell), then the contour nodes of
     the tension: a
-    polygon's or a strip's edges (``edge_sums``; per (edge, band node) the sum along
+    polygon's or a strip's edges (the tension's ``edge_sums`` in two passes,
+    :func:`_edge_pair`; per (edge, band node) the sum along
     the edge, the pairs added in order, as the rotor's contour torque; a strip's four
     edges of two lengths, its band nodes without a parallel skipped), or a disk plate's
     circle about X_k or each pill's about its centre, its torque (P - X) x its force

@@ -11,8 +11,10 @@ recomputed on the cells within reach of the plate. The terms are the physics'
 over edges and pills stand outside the loops over a row's cells, so that LLVM computes
 a row four cells at a time (SIMD): the loops run over slices, whose indices numba knows
 to be non-negative, the terms are branch-free, and ``error_model="numpy"`` drops the
-division-by-zero branch. tests/kernels/test_indicators.py checks the rows against the cell
-functions.
+division-by-zero branch. A body's strip plate has its own row
+(:func:`filtered_strip_row`, the physics' ``filtered_strip``): the places and weights of
+its table's taps first, several cells at a time, then the loads, which LLVM does not
+vectorise. tests/kernels/test_indicators.py checks the rows against the cell functions.
 """
 
 from __future__ import annotations
