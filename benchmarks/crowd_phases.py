@@ -17,8 +17,9 @@ clusters' share of the bare update (the bare update less the same update without
 and the open update (no cut cells) on the rows of
 the disk the vessel's grid covers, per cell.
 
-``--footprint W`` draws the disks to ``numerics.footprint_widths`` = W (default 20) and
-``--contour-nodes N`` sets ``numerics.contour_nodes`` (default 32: 4 N directions a circle).
+``--footprint W`` draws the disks (the boats) to ``numerics.footprint_widths`` = W
+(default 20) and ``--contour-nodes N`` sets ``numerics.contour_nodes`` (default 32: 4 N
+directions a circle, N Gauss-Legendre nodes along each of a boat's four edges).
 
 Run:  NUMBA_NUM_THREADS=1 python benchmarks/crowd_phases.py [--scheme paper] [--steps 300]
       [--case disks | sweep] [--footprint 20] [--contour-nodes 32]
@@ -122,9 +123,13 @@ boats move by SAIL dt a step."""
 
 def phases(case: str, scheme: str, steps: int, numerics: dict) -> tuple[dict[str, float], int, int]:
     """ms per step of each phase of `case` (``disks`` or ``sweep``), the owned and the
-    interior (wet) cells; `numerics`: the disks' ``numerics`` keys beside the scheme."""
+    interior (wet) cells; `numerics`: the crowd's ``numerics`` keys beside the scheme."""
     grid = dict.fromkeys(("dx", "dt", "smoothing"))
-    crowd = sweep_config(16, scheme, grid) if case == "sweep" else config(20, scheme, numerics)
+    crowd = (
+        sweep_config(16, scheme, grid, numerics)
+        if case == "sweep"
+        else config(20, scheme, numerics)
+    )
     sim = Simulation(crowd)
     sim.run(sim.t + 5 * sim.config.grid.dt)
     pde = sim.pde

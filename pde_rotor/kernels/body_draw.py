@@ -17,14 +17,22 @@ import numpy as np
 
 from ..physics.build import CPU, FASTMATH
 from ..physics.indicators import PLATE_DISK, PLATE_NONE, PLATE_POLYGON, PLATE_STRIP
-from .indicators import CornerScratch, PolygonFilter, filtered_plate_row, plate_row
+from .indicators import (
+    CornerScratch,
+    PolygonFilter,
+    StripRows,
+    filtered_plate_row,
+    filtered_strip_row,
+    plate_row,
+)
 
 _body_plate_cell = CPU.indicators.body_plate_cell
 _pill_term = CPU.indicators.pill_term
 _pill_reach = CPU.indicators.pill_reach
 _filtered_pill_term = CPU.indicators.filtered_pill_term
+_profile_place = CPU.indicators.profile_place
+_profile_value = CPU.indicators.profile_value
 _filtered_pill_reach = CPU.indicators.filtered_pill_reach
-_filtered_strip = CPU.indicators.filtered_strip
 _footprint_chord = CPU.indicators.footprint_chord
 
 
@@ -53,7 +61,7 @@ def orient(k, body, pills, pose, normals, centres):
         centres[1, j] = pose[k, 1] + pills[j, 4] * math.sin(angle)
 
 
-SCRATCH_ROWS = 5
+SCRATCH_ROWS = 9
 """Rows of the float scratch (SCRATCH_ROWS, n) of :func:`draw_body`."""
 
 
@@ -216,6 +224,27 @@ def _lone_filtered_row(maps, row, pill, coords, inv_step):
     _unowned(maps, base, zb, jb, k)
 
 
+@nb.njit(inline="always", cache=True, nogil=True, fastmath=FASTMATH, error_model="numpy")
+def _filtered_pill_cells(cell_g, pill, cell_y, profile, inv_step, rest):
+    """cell_g[j] += weight g_eps(|(dx, cell_y[j] - py)|), a pill's weighted filtered terms
+    on a row's cells (``filtered_pill_term`` cell by cell, bit for bit), in two passes:
+    where each cell reads the radial `profile` (``profile_place``: the distance's root,
+    several cells at a time, SIMD), then, one cell at a time, the two nodes it reads
+    (``profile_value``). `pill` = (dx from the pill's centre, its y, weight); `rest` =
+    (fractions, nodes (unsigned)) is scratch, as long as the row."""
+    dx_p, py, weight = pill
+    frac, nodes = rest
+    last = profile.size - 1
+    skip = np.uint64(-1)
+    for j in range(cell_y.size):
+        node, frac[j], inside = _profile_place(dx_p, cell_y[j] - py, last, inv_step)
+        nodes[j] = np.uint64(node) if inside else skip
+    for j in range(cell_y.size):
+        inside = nodes[j] != skip
+        node = np.int64(nodes[j]) if inside else 0
+        cell_g[j] += weight * _profile_value(profile, node, frac[j], inside)
+
+
 @nb.njit(cache=True, nogil=True, fastmath=FASTMATH, error_model="numpy")
 def draw_body(F, G, owner, domain, k, bodies, p, work, moved):
     """Draw body k at its pose: F_k, G_k and owner k on the cells of its footprint.
@@ -233,10 +262,13 @@ def draw_body(F, G, owner, domain, k, bodies, p, work, moved):
     functions :func:`~pde_rotor.kernels.indicators.plate_row` and, for the
     ``consistent`` scheme, ``filtered_plate_row``, in the body's frame; a disk's or
     strip's ``body_plate_cell``, a disk's filtered profile ``filtered_pill_term``, a
-    strip's quadrant table ``filtered_strip``), then each pill's term on the cells of
+    strip's quadrant table in two passes,
+    :func:`~pde_rotor.kernels.indicators.filtered_strip_row`), then each pill's term
+    on the cells of
     its own bounding square (a pill's term is below 4.3e-18 beyond rho + X_SATURATION
     delta; a filtered term is 0 beyond its profile, so only the square's chord of that
-    disk), in the pills' order, as the rotor's ``pill_row`` sums them; the terms of a
+    disk; a plate's pills' filtered G in two passes, :func:`_filtered_pill_cells`), in
+    the pills' order, as the rotor's ``pill_row`` sums them; the terms of a
     body without a plate are its F too (one pill alone: one pass,
     :func:`_lone_pill_row`, :func:`_lone_filtered_row`). G holds the pills' source
     densities relative to the record's ``source`` (1 for the paper's pills, so that G
@@ -298,6 +330,7 @@ def draw_body(F, G, owner, domain, k, bodies, p, work, moved):
             lone_reach = max(
                 _filtered_pill_reach(g_lone, inv_step), _filtered_pill_reach(f_lone, inv_step)
             )
+    rest = (scratch[1], taps)  # the pills' scratch: the plate's rows are done with it
     for i in range(i0, i1):
         ja, jb = fresh[0, i], fresh[1, i]
         if ja >= jb:
@@ -339,12 +372,9 @@ def draw_body(F, G, owner, domain, k, bodies, p, work, moved):
             for j in range(row_y.size):
                 row_f[j] = _filtered_pill_term(rx, row_y[j], disk, inv_step)
         elif filtered and b.plate == PLATE_STRIP:
-            ex, ey = tab[0, 0], tab[1, 0]
-            for j in range(row_y.size):
-                row_f[j] = _filtered_strip(
-                    rx, row_y[j], ex, ey, plate, b.table_n, b.table_m, b.table_x0,
-                    p.table_inv_step,
-                )  # fmt: skip
+            strip = (plate, b.table_n, b.table_m, b.table_x0, p.table_inv_step)
+            cells = StripRows(scratch[1:], taps[ja:jb])
+            filtered_strip_row(row_f, rx, row_y, (tab[0, 0], tab[1, 0]), strip, cells)
         elif filtered or no_plate:
             for j in range(row_y.size):
                 row_f[j] = 0.0
@@ -371,10 +401,7 @@ def draw_body(F, G, owner, domain, k, bodies, p, work, moved):
             cell_g = G[base + ca : base + cb]
             cell_f = F[base + ca : base + cb]
             if filtered:
-                for j in range(cell_y.size):
-                    cell_g[j] += weight * _filtered_pill_term(
-                        dx_p, cell_y[j] - py, g_prof, inv_step
-                    )
+                _filtered_pill_cells(cell_g, (dx_p, py, weight), cell_y, g_prof, inv_step, rest)
                 if no_plate:
                     for j in range(cell_y.size):
                         cell_f[j] += _filtered_pill_term(dx_p, cell_y[j] - py, f_prof, inv_step)

@@ -29,8 +29,10 @@ from .spline import ROW_GROUP, spline_columns, spline_rows
 _cell_integrals = CPU.motion.cell_integrals
 _friction_moments = CPU.motion.friction_moments
 _surface_pressure = CPU.tension.surface_pressure
-_edge_sums = CPU.tension.edge_sums
 _polygon_band = CPU.tension.polygon_band
+_edge_place = CPU.tension.edge_place
+_bspline_weights = CPU.spline.bspline_weights
+_spline_sum = CPU.spline.spline_sum
 
 
 SUM_FASTMATH = FASTMATH | {"reassoc"}
@@ -181,16 +183,18 @@ def spline_box(cur, coef, n, window, taps, carry):
     """coef = cubic B-spline coefficients of c (cur[:n^2]) of the window of rows
     [i0, i1) and columns [j0, j1), `window` = (i0, i1, j0, j1), wanted on the rows and
     columns of `taps` = (ti0, ti1, tj0, tj1) inside it (compiled): every row of the
-    window prefiltered in groups of ``ROW_GROUP``, its coefficients kept from column tj0
-    on, then only the columns [tj0, tj1), kept from row ti0 on, as the rotor's window
-    (:func:`pde_rotor.kernels.spline.spline_window`). A wanted coefficient has the same
-    bits as with the whole window wanted (each line's recursions run over the whole
-    window; only what is stored changes); the others are left as they were. `carry` >= n."""
+    window prefiltered in groups of ``ROW_GROUP``, its coefficients kept on the columns
+    [tj0, tj1), then only those columns, kept on the rows [ti0, ti1), as the rotor's
+    window (:func:`pde_rotor.kernels.spline.spline_window`, which keeps them to the
+    window's end). A wanted coefficient has the same bits as with the whole window
+    wanted (each line's backward recursion runs from the window's end, its forward one
+    from its start to the last wanted coefficient; only what is stored changes); the
+    others are left as they were. `carry` >= n."""
     i0, i1, j0, j1 = window
-    ti0, _, tj0, tj1 = taps
+    ti0, ti1, tj0, tj1 = taps
     for r0 in range(i0, i1, ROW_GROUP):
-        spline_rows(cur, coef, n, r0, min(i1, r0 + ROW_GROUP), j0, j1, tj0, carry)
-    spline_columns(coef, n, i0, i1, tj0, tj1, ti0, carry)
+        spline_rows(cur, coef, n, r0, min(i1, r0 + ROW_GROUP), j0, j1, (tj0, tj1), carry)
+    spline_columns(coef, n, i0, i1, tj0, tj1, (ti0, ti1), carry)
 
 
 @nb.njit(cache=True, nogil=True)
@@ -211,6 +215,47 @@ def spline_bounds(x_k, y_k, half, coords):
     return (i0, i1, j0, j1), taps
 
 
+@nb.njit(inline="always", cache=True, nogil=True, fastmath=FASTMATH, error_model="numpy")
+def _edge_pair(coef, grid, edge, quad, m, p, scratch):
+    """Band node m of a straight edge, the tension's ``edge_sums`` in two passes over
+    its nodes along the edge (as the rotor's contour nodes,
+    :func:`pde_rotor.kernels.cpu.contour_torque`): where each node takes its taps and
+    its weights (``edge_place``, ``bspline_weights``; no load from a computed place, so
+    that LLVM computes several nodes at a time), then the 16-tap sums (``spline_sum``,
+    unsigned offsets) through ``surface_pressure``, the shares of ``edge_node`` added
+    in order: the same sums, bit for bit. `quad` = (quad_s, quad_t); `scratch` =
+    (taps (L,) unsigned, weights (10, L)).
+
+    Returns:
+        The pair's (x, y, torque) shares, as ``edge_sums``.
+    """
+    quad_s, quad_t = quad
+    taps, weights = scratch
+    n_t = quad_t.shape[1]
+    for k_t in range(n_t):
+        row, tx, ty, w, w_t = _edge_place(grid, edge, quad_s, quad_t, m, k_t)
+        wx0, wx1, wx2, wx3 = _bspline_weights(tx)
+        wy0, wy1, wy2, wy3 = _bspline_weights(ty)
+        taps[k_t] = np.uint64(row)
+        weights[0, k_t], weights[1, k_t], weights[2, k_t], weights[3, k_t] = wx0, wx1, wx2, wx3
+        weights[4, k_t], weights[5, k_t], weights[6, k_t], weights[7, k_t] = wy0, wy1, wy2, wy3
+        weights[8, k_t], weights[9, k_t] = w, w_t
+    sx, sy = np.uint64(grid[1]), np.uint64(1)
+    ex, ey = edge[2], edge[3]
+    pair_x = 0.0
+    pair_y = 0.0
+    pair_t = 0.0
+    for k_t in range(n_t):
+        wx = (weights[0, k_t], weights[1, k_t], weights[2, k_t], weights[3, k_t])
+        wy = (weights[4, k_t], weights[5, k_t], weights[6, k_t], weights[7, k_t])
+        c = _surface_pressure(_spline_sum(coef, taps[k_t], sx, sy, wx, wy), p)
+        wc = weights[8, k_t] * c
+        pair_x += wc * ex
+        pair_y += wc * ey
+        pair_t += weights[9, k_t] * c
+    return pair_x, pair_y, pair_t
+
+
 @nb.njit(cache=True, nogil=True, fastmath=FASTMATH, error_model="numpy")
 def body_contour(cur, coords, k, bodies, p, out):
     """int F_k grad c dA (x, y) and int F_k (r - X_k) x grad c dA in contour form
@@ -221,7 +266,8 @@ def body_contour(cur, coords, k, bodies, p, out):
     taps lie (the window less ``SPLINE_MARGIN`` - 1 cells each side; the taps lie within
     ``window_half`` - ``SPLINE_MARGIN`` cells of that cell), then the contour nodes of
     the tension: a
-    polygon's or a strip's edges (``edge_sums``; per (edge, band node) the sum along
+    polygon's or a strip's edges (the tension's ``edge_sums`` in two passes,
+    :func:`_edge_pair`; per (edge, band node) the sum along
     the edge, the pairs added in order, as the rotor's contour torque; a strip's four
     edges of two lengths, its band nodes without a parallel skipped), or a disk plate's
     circle about X_k or each pill's about its centre, its torque (P - X) x its force
@@ -242,6 +288,8 @@ def body_contour(cur, coords, k, bodies, p, out):
     spline_box(cur, coef, n, window, taps, carry)
     n_s = quad_s.shape[1]
     grid = (0, n, x0, inv_dx)
+    quad = (quad_s, quad_t)
+    scratch = (np.empty(quad_t.shape[1], np.uint64), np.empty((10, quad_t.shape[1])))
     f_x = 0.0
     f_y = 0.0
     torque = 0.0
@@ -251,7 +299,7 @@ def body_contour(cur, coords, k, bodies, p, out):
             for m in range(n_s):
                 h, half = _polygon_band(b.size_a, delta, b.tan_half, quad_s, m)
                 edge = (x_k, y_k, ex, ey, h, half)
-                pair_x, pair_y, pair_t = _edge_sums(coef, grid, edge, quad_s, quad_t, m, p)
+                pair_x, pair_y, pair_t = _edge_pair(coef, grid, edge, quad, m, p, scratch)
                 f_x += pair_x
                 f_y += pair_y
                 torque += pair_t
@@ -265,7 +313,7 @@ def body_contour(cur, coords, k, bodies, p, out):
                 if h <= -thinner:  # no parallel: the gauge is >= -W/2 (L/2) everywhere
                     continue
                 edge = (x_k, y_k, ex, ey, side + h, along + h)
-                pair_x, pair_y, pair_t = _edge_sums(coef, grid, edge, quad_s, quad_t, m, p)
+                pair_x, pair_y, pair_t = _edge_pair(coef, grid, edge, quad, m, p, scratch)
                 f_x += pair_x
                 f_y += pair_y
                 torque += pair_t

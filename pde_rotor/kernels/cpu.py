@@ -178,7 +178,7 @@ def _sweep_block(bufs, domain, params, tables, plate, work, b, blocks):
             _euler_rows(bufs, i0, i1, domain, rates, dt, omega, False)
         if p.contour and max(i0, w_lo) < min(i1, w_hi):
             r0, r1 = max(i0, w_lo), min(i1, w_hi)
-            spline_rows(cur, coef, n, r0, r1, w_lo, w_hi, p.taps_lo, scratch[3])
+            spline_rows(cur, coef, n, r0, r1, w_lo, w_hi, (p.taps_lo, w_hi), scratch[3])
 
 
 @nb.njit(**_PARALLEL)
@@ -219,7 +219,7 @@ def _window_columns(coef, n, lo, hi, taps_lo, taps_hi):
     """The spline window's columns (x) [taps_lo, taps_hi) over its rows [lo, hi) (those
     the contour's taps read, :func:`.spline.spline_columns`)."""
     carry = np.empty(taps_hi - taps_lo)
-    spline_columns(coef, n, lo, hi, taps_lo, taps_hi, taps_lo, carry)
+    spline_columns(coef, n, lo, hi, taps_lo, taps_hi, (taps_lo, hi), carry)
 
 
 @nb.njit(_nrt=False, **_LOOP)  # called, not inlined: a prange body stays small

@@ -11,8 +11,10 @@ recomputed on the cells within reach of the plate. The terms are the physics'
 over edges and pills stand outside the loops over a row's cells, so that LLVM computes
 a row four cells at a time (SIMD): the loops run over slices, whose indices numba knows
 to be non-negative, the terms are branch-free, and ``error_model="numpy"`` drops the
-division-by-zero branch. tests/kernels/test_indicators.py checks the rows against the cell
-functions.
+division-by-zero branch. A body's strip plate has its own row
+(:func:`filtered_strip_row`, the physics' ``filtered_strip``): the places and weights of
+its table's taps first, several cells at a time, then the loads, which LLVM does not
+vectorise. tests/kernels/test_indicators.py checks the rows against the cell functions.
 """
 
 from __future__ import annotations
@@ -40,6 +42,9 @@ _filtered_edge = CPU.indicators.filtered_edge
 _corner_taps = CPU.indicators.corner_taps
 _corner_sum = CPU.indicators.corner_sum
 _filtered_pill_term = CPU.indicators.filtered_pill_term
+_spline_node = CPU.spline.spline_node
+_bspline_weights = CPU.spline.bspline_weights
+_spline_sum = CPU.spline.spline_sum
 
 
 _ROW = {"cache": True, "nogil": True, "fastmath": FASTMATH, "error_model": "numpy"}
@@ -128,6 +133,56 @@ def filtered_plate_row(row_f, x, row_y, tab, polygon, rows):
     for j in range(row_y.size):
         if row_taps[j] != skip:
             row_f[j] = _corner_sum(plate, row_taps[j], sx, sy, row_tx[j], row_ty[j])
+
+
+class StripRows(NamedTuple):
+    """The scratch of :func:`filtered_strip_row`: the B-spline weights of each cell of
+    the row, `weights` (8, >= the row) along x' (the first four) and y', and the first of
+    its taps (unsigned), `taps` (>= the row)."""
+
+    weights: np.ndarray
+    taps: np.ndarray
+
+
+@nb.njit(inline="always", **_ROW)
+def filtered_strip_row(row_f, x, row_y, axis, strip, rows):
+    """F_eps of a strip plate (scheme ``consistent``) on a row of cells (compiled):
+    row_f[j] at the point (x, row_y[j]) of the body's frame (its centre at the origin,
+    its x axis `axis` = (ex, ey) in the lab's axes), the physics' ``filtered_strip``
+    cell by cell, bit for bit.
+
+    `strip` is (plate, rows, columns, t_x0, t_inv), the quadrant table and its size,
+    first abscissa and inverse step. Two passes over the row: first where the taps of
+    each cell lie and their weights (|x'|, |y'|, whether the taps stay in the table,
+    ``spline_node`` and ``bspline_weights`` along both, unsigned offsets), several cells
+    at a time (SIMD: no branch, no load from a computed place); then, one cell at a
+    time, the table's 16 taps (``spline_sum``) on the cells whose taps lie in the table,
+    0 on the others. `rows` (:class:`StripRows`) is scratch.
+    """
+    ex, ey = axis
+    plate, t_rows, t_cols, t_x0, t_inv = strip
+    weights, row_taps = rows
+    skip = np.uint64(-1)
+    for j in range(row_y.size):
+        along = abs(_projection(x, row_y[j], ex, ey))
+        across = abs(_tangential(x, row_y[j], ex, ey))
+        fx = (along - t_x0) * t_inv
+        fy = (across - t_x0) * t_inv
+        inside = (fx < t_rows - 2.0) & (fy < t_cols - 2.0)
+        i, tx = _spline_node(t_x0, t_inv, along)
+        k, ty = _spline_node(t_x0, t_inv, across)
+        weights[0, j], weights[1, j], weights[2, j], weights[3, j] = _bspline_weights(tx)
+        weights[4, j], weights[5, j], weights[6, j], weights[7, j] = _bspline_weights(ty)
+        row_taps[j] = np.uint64((i - 1) * t_cols + k - 1) if inside else skip
+    sx, sy = np.uint64(t_cols), np.uint64(1)
+    for j in range(row_y.size):
+        first = row_taps[j]
+        if first == skip:
+            row_f[j] = 0.0
+        else:
+            wx = (weights[0, j], weights[1, j], weights[2, j], weights[3, j])
+            wy = (weights[4, j], weights[5, j], weights[6, j], weights[7, j])
+            row_f[j] = _spline_sum(plate, first, sx, sy, wx, wy)
 
 
 @nb.njit(inline="always", **_ROW)

@@ -32,25 +32,31 @@ fastmath, so that no multiply-add is fused and each coefficient has the bits of
 
 
 @nb.njit(inline="always", **_LINES)
-def spline_lines(src, buf, o, stride, count, lane_stride, lanes, keep, carry):
+def spline_lines(src, buf, o, stride, count, lane_stride, lanes, wanted, carry):
     """The physics' ``spline_line`` on `lanes` lines at once, from `src` into `buf`.
 
     Line r holds the `count` samples src[o + r lane_stride + k stride], its coefficients
     go to the same places of `buf` (another array than `src`); step k of every line is
     taken before step k + 1 of any, so the recursions run side by side. Only the
-    coefficients k >= `keep` (< count) are wanted: the backward recursion stops there,
-    the forward one stores from there on (the earlier places of `buf` keep what they
-    held). `carry` (>= lanes) holds each line's reach (``spline_reach``). Indexed with
-    unsigned offsets (no slices, which would count references on each step, and no
-    negative-wraparound checks).
+    coefficients keep <= k < end are wanted, `wanted` = (keep, end): the backward
+    recursion stores from end - 1 down to keep, the forward one runs to end and stores
+    from keep on (the other places of `buf` keep what they held; a wanted coefficient
+    has the bits of the whole line's). `carry` (>= lanes) holds each line's reach
+    (``spline_reach``). Indexed with unsigned offsets (no slices, which would count
+    references on each step, and no negative-wraparound checks).
     """
+    keep, end = wanted
     o = np.uint64(o)
     stride = np.uint64(stride)
     lane_stride = np.uint64(lane_stride)
     for r in range(lanes):
         carry[r] = 0.0
     at = o + np.uint64(count) * stride
-    for _ in range(count - 1, keep - 1, -1):
+    for _ in range(count - 1, end - 1, -1):
+        at -= stride
+        for r in range(lanes):
+            carry[r] = _spline_reach(src[at + np.uint64(r) * lane_stride] + carry[r])
+    for _ in range(end - 1, keep - 1, -1):
         at -= stride
         for r in range(lanes):
             place = at + np.uint64(r) * lane_stride
@@ -63,7 +69,7 @@ def spline_lines(src, buf, o, stride, count, lane_stride, lanes, keep, carry):
         for r in range(lanes):
             carry[r] = _spline_reach(src[at + np.uint64(r) * lane_stride] + carry[r])
         at += stride
-    for _ in range(keep, count):
+    for _ in range(keep, end):
         for r in range(lanes):
             place = at + np.uint64(r) * lane_stride
             sample = src[place]
@@ -73,16 +79,21 @@ def spline_lines(src, buf, o, stride, count, lane_stride, lanes, keep, carry):
 
 
 @nb.njit(inline="always", **_LINES)
-def adjacent_lines(buf, o, stride, count, lanes, keep, carry):
+def adjacent_lines(buf, o, stride, count, lanes, wanted, carry):
     """:func:`spline_lines` in place for lines next to each other (lane_stride 1): the
     same steps over contiguous slices, which LLVM computes several lanes at a time (SIMD);
-    the coefficients k >= `keep` are wanted (before, the samples are left). The backward
-    reaches wait in an array of their own until the forward pass needs them with the
-    samples they would have replaced."""
-    back = np.empty((count - keep) * lanes)
+    the coefficients keep <= k < end are wanted, `wanted` = (keep, end) (elsewhere the
+    samples are left). The backward reaches wait in an array of their own until the
+    forward pass needs them with the samples they would have replaced."""
+    keep, end = wanted
+    back = np.empty((end - keep) * lanes)
     for r in range(lanes):
         carry[r] = 0.0
-    for k in range(count - 1, keep - 1, -1):
+    for k in range(count - 1, end - 1, -1):
+        line = buf[o + k * stride : o + k * stride + lanes]
+        for r in range(lanes):
+            carry[r] = _spline_reach(line[r] + carry[r])
+    for k in range(end - 1, keep - 1, -1):
         line = buf[o + k * stride : o + k * stride + lanes]
         reach = back[(k - keep) * lanes : (k - keep + 1) * lanes]
         for r in range(lanes):
@@ -94,7 +105,7 @@ def adjacent_lines(buf, o, stride, count, lanes, keep, carry):
         line = buf[o + k * stride : o + k * stride + lanes]
         for r in range(lanes):
             carry[r] = _spline_reach(line[r] + carry[r])
-    for k in range(keep, count):
+    for k in range(keep, end):
         line = buf[o + k * stride : o + k * stride + lanes]
         reach = back[(k - keep) * lanes : (k - keep + 1) * lanes]
         for r in range(lanes):
@@ -104,19 +115,21 @@ def adjacent_lines(buf, o, stride, count, lanes, keep, carry):
 
 
 @nb.njit(inline="always", **_LINES)
-def spline_rows(cur, coef, n, i0, i1, lo, hi, keep, carry):
+def spline_rows(cur, coef, n, i0, i1, lo, hi, wanted, carry):
     """coef = c (cur[:n^2]) on rows [i0, i1), columns [lo, hi), prefiltered along the rows
-    (y), the rows side by side (`carry` >= i1 - i0); wanted on the columns from `keep` on
-    (the columns before keep what they held)."""
-    spline_lines(cur, coef, i0 * n + lo, 1, hi - lo, n, i1 - i0, keep - lo, carry)
+    (y), the rows side by side (`carry` >= i1 - i0); wanted on the columns [keep, end),
+    `wanted` = (keep, end) (the other columns keep what they held)."""
+    keep, end = wanted
+    spline_lines(cur, coef, i0 * n + lo, 1, hi - lo, n, i1 - i0, (keep - lo, end - lo), carry)
 
 
 @nb.njit(inline="always", **_LINES)
-def spline_columns(coef, n, lo, hi, j0, j1, keep, carry):
+def spline_columns(coef, n, lo, hi, j0, j1, wanted, carry):
     """Prefilter coef along the columns (x) [j0, j1) over the rows [lo, hi), the columns
-    side by side (contiguous: SIMD; `carry` >= j1 - j0), wanted on the rows from `keep`
-    on."""
-    adjacent_lines(coef, lo * n + j0, n, hi - lo, j1 - j0, keep - lo, carry)
+    side by side (contiguous: SIMD; `carry` >= j1 - j0), wanted on the rows [keep, end),
+    `wanted` = (keep, end)."""
+    keep, end = wanted
+    adjacent_lines(coef, lo * n + j0, n, hi - lo, j1 - j0, (keep - lo, end - lo), carry)
 
 
 ROW_GROUP = 16
@@ -133,5 +146,5 @@ def spline_window(cur, coef, n, lo, hi, taps_lo, taps_hi):
     the time step does the same, shared among threads."""
     carry = np.empty(max(ROW_GROUP, hi - lo))
     for i0 in range(lo, hi, ROW_GROUP):
-        spline_rows(cur, coef, n, i0, min(hi, i0 + ROW_GROUP), lo, hi, taps_lo, carry)
-    spline_columns(coef, n, lo, hi, taps_lo, taps_hi, taps_lo, carry)
+        spline_rows(cur, coef, n, i0, min(hi, i0 + ROW_GROUP), lo, hi, (taps_lo, hi), carry)
+    spline_columns(coef, n, lo, hi, taps_lo, taps_hi, (taps_lo, hi), carry)

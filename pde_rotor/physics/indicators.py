@@ -18,7 +18,8 @@ Gaussian prefilter (scheme ``consistent``, from the tables of
 * point values: :func:`plate_profile`, :func:`pill_term`, the cells :func:`plate_cell`,
   :func:`pill_cell` and a body's plate :func:`body_plate_cell`;
 * filtered: :func:`filtered_edge`, :func:`corner_taps`, :func:`corner_sum`,
-  :func:`filtered_corner`, :func:`filtered_plate`, :func:`filtered_pill_term`,
+  :func:`filtered_corner`, :func:`filtered_plate`, :func:`filtered_pill_term` (from
+  :func:`profile_place` and :func:`profile_value`),
   :func:`filtered_pills`, a strip's :func:`filtered_strip`.
 
 The GPU calls the cell functions once per cell; the CPU's row loops
@@ -86,6 +87,8 @@ class Indicators(NamedTuple):
     corner_sum: Callable
     filtered_corner: Callable
     filtered_plate: Callable
+    profile_place: Callable
+    profile_value: Callable
     filtered_pill_term: Callable
     filtered_pills: Callable
     polygon_gauge: Callable
@@ -344,15 +347,29 @@ def make_indicators(jit: Callable[[Callable], Callable], spline: Spline) -> Indi
         return filtered_edge(h, apothem, edge, e_u0, e_inv)
 
     @jit
+    def profile_place(dx, dy, last, inv_step):
+        """Where a radial profile of `last` + 1 nodes (spacing 1 / inv_step) is read at
+        the offset (dx, dy) from its centre: (i, t, inside), the node i at or before the
+        distance (clipped to last - 1), the fraction t of the way to the next, and
+        whether the distance is short of the last node (:func:`profile_value`)."""
+        u = math.sqrt(dx * dx + dy * dy) * inv_step
+        i = min(int(u), last - 1)
+        return i, u - i, u < last
+
+    @jit
+    def profile_value(profile, i, t, inside):
+        """The radial `profile` interpolated linearly at the place (i, t, inside) of
+        :func:`profile_place`, 0 where not `inside` (branch-free: the value selected)."""
+        value = profile[i] + t * (profile[i + 1] - profile[i])
+        return value if inside else 0.0
+
+    @jit
     def filtered_pill_term(dx, dy, profile, inv_step):
         """One pill's share of G_eps at the offset (dx, dy) from its centre: the radial
         profile `profile` (spacing 1 / inv_step) interpolated linearly, 0 beyond its end
-        (branch-free: the index is clipped, the value selected)."""
-        last = profile.size - 1
-        u = math.sqrt(dx * dx + dy * dy) * inv_step
-        i = min(int(u), last - 1)
-        value = profile[i] + (u - i) * (profile[i + 1] - profile[i])
-        return value if u < last else 0.0
+        (:func:`profile_place`, :func:`profile_value`)."""
+        i, t, inside = profile_place(dx, dy, profile.size - 1, inv_step)
+        return profile_value(profile, i, t, inside)
 
     @jit
     def filtered_pills(x, y, tab, n_corners, profile, inv_step):
@@ -447,6 +464,8 @@ def make_indicators(jit: Callable[[Callable], Callable], spline: Spline) -> Indi
         corner_sum=corner_sum,
         filtered_corner=filtered_corner,
         filtered_plate=filtered_plate,
+        profile_place=profile_place,
+        profile_value=profile_value,
         filtered_pill_term=filtered_pill_term,
         filtered_pills=filtered_pills,
         polygon_gauge=polygon_gauge,

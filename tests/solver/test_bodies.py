@@ -668,7 +668,8 @@ def test_spline_window_wanted_where_the_taps_lie_keeps_the_whole_windows_bits() 
     """The contour form's spline of c (``body_sums.spline_box``) wanted only on the inner
     part of its window gives there the same coefficients, bit for bit, as the whole
     window wanted (each line's recursions still run over the whole window), and leaves
-    the columns before the wanted ones as they were (they are not computed)."""
+    the columns before and after the wanted ones as they were (they are not computed:
+    the forward recursions stop at the last wanted coefficient)."""
     from pde_rotor.kernels.body_sums import spline_box
 
     n = 64
@@ -687,6 +688,78 @@ def test_spline_window_wanted_where_the_taps_lie_keeps_the_whole_windows_bits() 
     assert np.isfinite(wanted).all()
     assert np.array_equal(wanted, whole.reshape(n, n)[rows, columns])
     assert np.isnan(part.reshape(n, n)[:, : taps[2]]).all()
+    assert np.isnan(part.reshape(n, n)[:, taps[3] :]).all()
+
+
+def test_pill_cells_in_two_passes_are_the_cell_terms_bit_for_bit() -> None:
+    """A pill's weighted filtered G on a row's cells (``body_draw._filtered_pill_cells``:
+    where each cell reads the profile, then the reads) adds what the physics'
+    ``filtered_pill_term`` gives cell by cell, bit for bit, 0 beyond the profile's
+    end, which the row crosses."""
+    import numba as nb
+
+    from pde_rotor.kernels.body_draw import _filtered_pill_cells
+    from pde_rotor.model.filtering import PROFILE_REFINEMENT, disk_profile
+    from pde_rotor.physics.build import CPU
+
+    term = CPU.indicators.filtered_pill_term
+
+    @nb.njit
+    def both(g, pill, ys, profile, inv_step):
+        rows = g.copy()
+        _filtered_pill_cells(rows, pill, ys, profile, inv_step, (np.empty(ys.size),
+                             np.empty(ys.size, np.uint64)))  # fmt: skip
+        cells = g.copy()
+        for j in range(ys.size):
+            cells[j] += pill[2] * term(pill[0], ys[j] - pill[1], profile, inv_step)
+        return rows, cells
+
+    dx = 0.05
+    profile = disk_profile(0.05, 0.025, dx, ("sharpened", 0.95))
+    inv_step = PROFILE_REFINEMENT / dx
+    ys = dx * np.arange(-30, 31) + 0.013
+    g = np.random.default_rng(5).uniform(0.0, 1.0, ys.size)
+    for dx_p in (0.0, 0.21, 0.6, 2.0):
+        rows, cells = both(g, (dx_p, 0.02, 4.0), ys, profile, inv_step)
+        np.testing.assert_array_equal(rows, cells)
+        if dx_p < 0.5:
+            assert (rows != g).any() and (rows == g).any()  # the profile ends on the row
+
+
+def test_edge_pair_in_two_passes_is_the_tensions_edge_sums_bit_for_bit() -> None:
+    """A straight edge's band node (``body_sums._edge_pair``: the nodes' taps and
+    weights first, then their sums in order) gives the tension's ``edge_sums`` bit for
+    bit, for a strip's long and short edges at each band node, the linear and the
+    saturating law."""
+    import numba as nb
+
+    from pde_rotor.kernels.body_sums import _edge_pair
+    from pde_rotor.model.schemes import sech2_gauss
+    from pde_rotor.physics.build import CPU
+
+    edge_sums = CPU.tension.edge_sums
+
+    @nb.njit
+    def both(coef, grid, edge, quad_s, quad_t, m, p):
+        scratch = (np.empty(quad_t.shape[1], np.uint64), np.empty((10, quad_t.shape[1])))
+        got = _edge_pair(coef, grid, edge, (quad_s, quad_t), m, p, scratch)
+        return got, edge_sums(coef, grid, edge, quad_s, quad_t, m, p)
+
+    n = 64
+    coef = np.random.default_rng(6).uniform(0.0, 2.0, n * n)
+    grid = (0, n, -1.6, 20.0)
+    quad_s = np.ascontiguousarray(np.stack(sech2_gauss(6)))
+    quad_t = np.ascontiguousarray(np.stack(np.polynomial.legendre.leggauss(32)))
+    for saturation in (0.0, 2.0):
+        p = np.zeros(1, dtype=[("inv_saturation", "f8")]).view(np.recarray)[0]
+        p.inv_saturation = saturation
+        for m in range(quad_s.shape[1]):
+            h = -0.025 * quad_s[0, m]
+            for side, along in ((0.15, 0.075), (0.075, 0.15)):
+                edge = (0.11, -0.07, math.cos(0.4), math.sin(0.4), side + h, along + h)
+                got, want = both(coef, grid, edge, quad_s, quad_t, m, p)
+                assert got == want
+                assert all(abs(v) > 0.0 for v in got)
 
 
 TAIL_DISKS = [
