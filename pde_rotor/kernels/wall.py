@@ -62,10 +62,16 @@ def cell_plate(maps, o, y, plate, motion):
 @nb.njit(inline="always", cache=True, nogil=True, fastmath=FASTMATH)
 def _cut_cells(bufs, base, a, b, plate, motion, coef, dt, flow):
     """The explicit part of the step on the cells [a, b) of the row at offset `base`:
-    c' (and kappa c' in `rhs`) on each, then, with `flow` (a literal), v on those that
-    flow, in a second pass over the run (one loop over both held more array addresses
-    than registers and reloaded 11 from the stack per iteration, the two passes 5 and 0);
-    with `plate` the cells are one body's, its F, G and plate velocity
+    c' (and kappa c' in `rhs`) on each, then, with `flow` (a literal), v_x and then v_y
+    on those that flow, each in a pass of its own over the run (one loop over c and v held
+    more array addresses than registers and reloaded 11 from the stack per iteration, the
+    split passes 5 and 0). A run is short where a vessel's wall cuts the rows (about 10
+    to 30 cells across a narrow annulus), so the vectorised loops' entry counts: LLVM
+    checks at run time that the stores miss every array range a loop reads (the fields
+    at three rows, the flags), and runs shorter than its threshold go scalar. One v pass
+    storing both components made 23 such overlap tests and ran scalar below 24 cells;
+    each component's pass makes 4 and vectorises from 8 cells. Same values stored.
+    With `plate` the cells are one body's, its F, G and plate velocity
     (:func:`cell_plate`), else none.
     `bufs` = (cur, nxt, F, G, coords, rhs, wall)."""
     cur, nxt, F, G, coords, rhs, wall = bufs
@@ -86,8 +92,13 @@ def _cut_cells(bufs, base, a, b, plate, motion, coef, dt, flow):
             o = np.uint64(base + j)
             if flowing[o]:
                 f, g, px, py = cell_plate((F, G), o, coords[j], plate, motion)
-                _, rate_x, rate_y = _plate_rates(cur, o, strides, f, g, (px, py), coef, flow, plate)
+                _, rate_x, _ = _plate_rates(cur, o, strides, f, g, (px, py), coef, flow, plate)
                 nxt[o + nn] = cur[o + nn] + dt * rate_x
+        for j in range(a, b):
+            o = np.uint64(base + j)
+            if flowing[o]:
+                f, g, px, py = cell_plate((F, G), o, coords[j], plate, motion)
+                _, _, rate_y = _plate_rates(cur, o, strides, f, g, (px, py), coef, flow, plate)
                 nxt[o + nn + nn] = cur[o + nn + nn] + dt * rate_y
 
 
