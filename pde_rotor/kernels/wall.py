@@ -62,11 +62,21 @@ def cell_plate(maps, o, y, plate, motion):
 @nb.njit(inline="always", cache=True, nogil=True, fastmath=FASTMATH)
 def _cut_cells(bufs, base, a, b, plate, motion, coef, dt, flow):
     """The explicit part of the step on the cells [a, b) of the row at offset `base`:
-    c' (and kappa c' in `rhs`) on each, then, with `flow` (a literal), v on those that
-    flow, in a second pass over the run (one loop over both held more array addresses
-    than registers and reloaded 11 from the stack per iteration, the two passes 5 and 0);
-    with `plate` the cells are one body's, its F, G and plate velocity
-    (:func:`cell_plate`), else none.
+    c' on each (without flow also kappa c' in `rhs`), then, with `flow` (a literal), v_x
+    and then v_y on those that flow, each in a pass of its own over the run (one loop over
+    c and v held more array addresses than registers and reloaded 11 from the stack per
+    iteration, the split passes 5 and 0). With `plate` the cells are one body's, its F, G
+    and plate velocity (:func:`cell_plate`), else none.
+
+    A run is short where a vessel's wall cuts the rows (median 13 cells across the
+    narrow annulus of ``benchmarks/vessel_step.py``), so the entry of each vectorised
+    loop counts: LLVM tests at run time that the ranges a loop stores miss those it
+    reads (the fields at three rows, each aperture array), and runs below its threshold
+    go scalar. With the flow, the c pass stores c' alone (:func:`cluster_rhs` writes
+    kappa c' on the implicit clusters' cells, the only ones that read it): 14 overlap
+    tests instead of 29, vectorised from 8 cells instead of 12; and one v pass storing
+    both components made 23 tests and ran scalar below 24 cells, each component's pass
+    makes 4 and vectorises from 8.
     `bufs` = (cur, nxt, F, G, coords, rhs, wall)."""
     cur, nxt, F, G, coords, rhs, wall = bufs
     volume, pass_x, pass_y, open_x, open_y, _, _, _, flowing = wall[:9]
@@ -79,15 +89,21 @@ def _cut_cells(bufs, base, a, b, plate, motion, coef, dt, flow):
         kappa = volume[o]
         q = _cut_cell_inflow(cur, o, strides, (open_x, open_y, pass_x, pass_y), coef, flow)
         r = kappa * cc + dt * (q + kappa * _local_rate(cc, f, g, coef, plate))
-        rhs[o] = r
+        if not flow:
+            rhs[o] = r
         nxt[o] = r / kappa
     if flow:
         for j in range(a, b):
             o = np.uint64(base + j)
             if flowing[o]:
                 f, g, px, py = cell_plate((F, G), o, coords[j], plate, motion)
-                _, rate_x, rate_y = _plate_rates(cur, o, strides, f, g, (px, py), coef, flow, plate)
+                _, rate_x, _ = _plate_rates(cur, o, strides, f, g, (px, py), coef, flow, plate)
                 nxt[o + nn] = cur[o + nn] + dt * rate_x
+        for j in range(a, b):
+            o = np.uint64(base + j)
+            if flowing[o]:
+                f, g, px, py = cell_plate((F, G), o, coords[j], plate, motion)
+                _, _, rate_y = _plate_rates(cur, o, strides, f, g, (px, py), coef, flow, plate)
                 nxt[o + nn + nn] = cur[o + nn + nn] + dt * rate_y
 
 
@@ -110,8 +126,9 @@ def euler_walled_fields(states, maps, domain, wall, coef, dt, pose, flow, rhs):
         dt: time step.
         pose: (K, 13) the bodies' poses (plate velocity of each body's cells).
         flow: whether v evolves (else v = 0).
-        rhs: scratch of n^2 values: kappa c' of the explicit part, per cell (on the
-            implicit clusters' cells changed by their forward substitution).
+        rhs: scratch of n^2 values: kappa c' of the explicit part on the implicit
+            clusters' cells (without flow on every wet cell; with it only there, by
+            :func:`cluster_rhs`), changed by their forward substitution.
     """
     cur, nxt = states
     F, G, segments = maps
@@ -119,6 +136,7 @@ def euler_walled_fields(states, maps, domain, wall, coef, dt, pose, flow, rhs):
     bufs = (cur, nxt, F, G, domain[0], rhs, wall)
     if flow:
         _walk_rows(bufs, segments, pose, coef, dt, True)
+        cluster_rhs(nxt, rhs, wall[0], index)
     else:
         _walk_rows(bufs, segments, pose, coef, dt, False)
     implicit_clusters(nxt, rhs, index, factor)
@@ -159,6 +177,16 @@ def _walk_rows(bufs, segments, pose, coef, dt, flow):
                 _cut_cells(bufs, base, first, end, True, motion, coef, dt, flow)
                 j = end
             _cut_cells(bufs, base, j, b, False, still, coef, dt, flow)
+
+
+@nb.njit(inline="always", cache=True, nogil=True, fastmath=FASTMATH)
+def cluster_rhs(nxt, rhs, volume, index):
+    """kappa c' of the explicit part in `rhs` on the implicit clusters' cells (each
+    row's cell, ``index[:, 0]``), from their c' in `nxt`: the flow-on step's
+    :func:`_cut_cells` stores c' alone. kappa (c' / kappa) is kappa c' to one rounding."""
+    for g in range(index.shape[0]):
+        o = np.uint64(index[g, 0])
+        rhs[o] = volume[o] * nxt[o]
 
 
 @nb.njit(cache=True, nogil=True, fastmath=FASTMATH)
