@@ -76,22 +76,23 @@ COMMIT_TIME = 0.8
 """Release time until a restart has committed to a direction: the mean ``t_commit`` of
 the 6814 releases stored under data/sweeps/ is 0.82 (0.77 to 0.87 by sweep)."""
 BODIES_STEP_COSTS: dict[str, float] = {
-    "cell": 7.45e-10,
-    "flow_cell": 1.95e-9,
-    "no_flux_cell": 1.7e-9,
-    "no_flux_flow_cell": 1.89e-9,
-    "no_flux_box_cell": 1.15e-8,
-    "paper_box_cell": 4.4e-9,
-    "consistent_box_cell": 3.31e-8,
-    "drawn_pill_cell": 6.8e-9,
-    "heun_average_cell": 1.34e-9,
+    "cell": 7.68e-10,
+    "flow_cell": 1.94e-9,
+    "no_flux_cell": 2.77e-9,
+    "no_flux_flow_cell": 1.39e-9,
+    "no_flux_box_cell": 1.5e-8,
+    "paper_box_cell": 3.77e-9,
+    "consistent_box_cell": 3.56e-8,
+    "drawn_pill_cell": 7.33e-9,
+    "heun_average_cell": 1.33e-9,
 }
 """CPU seconds of one step of the bodies' kernel per unit of each term of
 :func:`bodies_step_terms` (one thread on one core of the project's machine), fitted by
 ``benchmarks/calibrate_cost.py`` to measured steps of every config of configs/bodies/
 with Euler and Heun, runs of the crowd sweeps (30 disks in the dish; 4, 6, 11 and 16
 boats in the ring) and single bodies in dishes (docs/results.md, 2026-11-28, after the
-vessel's cut-cell step was sped up with and without flow). Per wet cell: ``cell`` the
+vessel's cut-cell step was sped up with and without flow and its implicit clusters were
+solved by sparse factors). Per wet cell: ``cell`` the
 field update without flow, ``flow_cell`` what the flow adds, ``no_flux_cell`` what a
 no-flux wall's cut-cell update adds, ``no_flux_flow_cell`` what the flow adds there
 besides. Per cell of a body's box (2 R / dx)^2, R its footprint's reach:
