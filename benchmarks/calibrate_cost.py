@@ -6,8 +6,8 @@ CPU time (on a shared machine the wall-clock time also counts other processes), 
 median round is kept. The cases:
 
 * every config of configs/bodies/, with forward Euler and with Heun's method;
-* the largest runs of the crowd sweeps (configs/sweeps/crowd_dish.yaml: 30 disks, flow
-  off and on; configs/sweeps/crowd_ring.yaml: 16 boats, flow off and on), with the
+* runs of the crowd sweeps (configs/sweeps/crowd_dish.yaml: 30 disks, flow off and on;
+  configs/sweeps/crowd_ring.yaml: 4, 6, 11 and 16 boats, flow off and on), with the
   integrator each sweep sets;
 * the runs of ``benchmarks/bodies_cost.py --parts`` (single bodies in dishes of radius 2 to
   4, with and without flow and the no-flux wall, fixed, turning, held in a stop, moving;
@@ -45,10 +45,14 @@ from pde_rotor.sweep.cost import BODIES_STEP_COSTS, bodies_step_terms, estimate_
 
 ROOT = Path(__file__).resolve().parents[1]
 CROWDS = {
-    "crowd_dish": {"crowd.body.motion.friction": 0.2},
-    "crowd_ring": {"crowd.count": 16, "crowd.body.motion.friction": 0.05},
+    "crowd_dish": [{"crowd.body.motion.friction": 0.2}],
+    "crowd_ring": [
+        {"crowd.count": count, "crowd.body.motion.friction": 0.05} for count in (4, 6, 11, 16)
+    ],
 }
-"""The crowd sweeps and the coordinates of the runs timed (every value of the other axes)."""
+"""The crowd sweeps and the coordinates of the runs timed (every value of the other axes):
+the dish's 30 disks; the ring's 4 to 16 boats, which part the vessel's wet cells from the
+boats' boxes."""
 HELD_PART = {
     "hexagon held in a stop, L = 4, flow": (
         [{**HEXAGON, "protocol": {"t_ini": 0.0, "t_stop": 10.0, "t_release": 1.0, "cycles": 1}}],
@@ -67,9 +71,10 @@ def cases(parts: bool) -> dict[str, RotorConfig]:
         for integrator in ("euler", "heun"):
             numerics = config.numerics.model_copy(update={"integrator": integrator})
             found[f"{path.stem}, {integrator}"] = config.model_copy(update={"numerics": numerics})
-    for sweep_name, coords in CROWDS.items():
+    for sweep_name, points in CROWDS.items():
         for run in Sweep.load(ROOT / "configs" / "sweeps" / f"{sweep_name}.yaml").runs():
-            if all(run.coords[key] == value for key, value in coords.items()):
+            if any(all(run.coords[key] == value for key, value in coords.items())
+                   for coords in points):  # fmt: skip
                 flow = "flow" if run.coords["flow.enabled"] else "no flow"
                 name = f"{sweep_name}, N = {len(run.config['bodies'])}, {flow}"
                 found[name] = RotorConfig.model_validate(run.config)

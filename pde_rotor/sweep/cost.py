@@ -29,7 +29,7 @@ its box of (2 R / dx)^2 cells (R its footprint), where its plate terms enter the
 its forces are integrated every step (unless it is fixed) and F and G are redrawn while it
 moves (not while it is fixed or held); Heun's method does all of it twice and averages the
 fields. ``benchmarks/calibrate_cost.py`` measures these steps (every config of
-configs/bodies/ with Euler and Heun, the crowd sweeps' largest runs, single bodies in
+configs/bodies/ with Euler and Heun, runs of the crowd sweeps, single bodies in
 dishes) and fits :data:`BODIES_STEP_COSTS` to them (docs/results.md, 2026-11-28).
 """
 
@@ -76,31 +76,35 @@ COMMIT_TIME = 0.8
 """Release time until a restart has committed to a direction: the mean ``t_commit`` of
 the 6814 releases stored under data/sweeps/ is 0.82 (0.77 to 0.87 by sweep)."""
 BODIES_STEP_COSTS: dict[str, float] = {
-    "cell": 6.32e-10,
-    "flow_cell": 1.78e-9,
-    "no_flux_cell": 3.23e-8,
-    "no_flux_flow_cell": 4.71e-9,
-    "no_flux_box_cell": 2.42e-8,
-    "paper_box_cell": 3.04e-9,
-    "consistent_box_cell": 2.49e-8,
-    "drawn_pill_cell": 8.33e-9,
-    "heun_average_cell": 1.55e-9,
+    "cell": 7.68e-10,
+    "flow_cell": 1.94e-9,
+    "no_flux_cell": 2.77e-9,
+    "no_flux_flow_cell": 1.39e-9,
+    "no_flux_box_cell": 1.5e-8,
+    "paper_box_cell": 3.77e-9,
+    "consistent_box_cell": 3.56e-8,
+    "drawn_pill_cell": 7.33e-9,
+    "heun_average_cell": 1.33e-9,
 }
 """CPU seconds of one step of the bodies' kernel per unit of each term of
 :func:`bodies_step_terms` (one thread on one core of the project's machine), fitted by
 ``benchmarks/calibrate_cost.py`` to measured steps of every config of configs/bodies/
-with Euler and Heun, the crowd sweeps' largest runs and single bodies in dishes
-(docs/results.md, 2026-11-28). Per wet cell: ``cell`` the field update without flow,
-``flow_cell`` what the flow adds, ``no_flux_cell`` what a no-flux wall's cut-cell update
-adds, ``no_flux_flow_cell`` what the flow adds there besides. Per cell of a body's box
-(2 R / dx)^2, R its footprint's reach: ``no_flux_box_cell`` its plate terms in the
-cut-cell update (every body, behind a no-flux wall; in the open update they cost what a
-bare cell costs), ``<scheme>_box_cell`` its force integrals (every body but a ``fixed``
-one, held or not; with ``consistent`` also its filtered F and the contour form).
-``drawn_pill_cell``: per cell of each pill's box (2 (rho + 20 delta) / dx)^2, its source
-term G (and F without a plate) redrawn while the body moves (the plate's own F is within
-the fit's noise). ``heun_average_cell``: Heun's average per wet cell and field (c, and v
-with the flow)."""
+with Euler and Heun, runs of the crowd sweeps (30 disks in the dish; 4, 6, 11 and 16
+boats in the ring) and single bodies in dishes (docs/results.md, 2026-11-28, after the
+vessel's cut-cell step was sped up with and without flow and its implicit clusters were
+solved by sparse factors). Per wet cell: ``cell`` the
+field update without flow, ``flow_cell`` what the flow adds, ``no_flux_cell`` what a
+no-flux wall's cut-cell update adds, ``no_flux_flow_cell`` what the flow adds there
+besides. Per cell of a body's box (2 R / dx)^2, R its footprint's reach:
+``no_flux_box_cell`` its plate terms in the cut-cell update (every body, behind a no-flux
+wall; in the open update they cost what a bare cell costs), ``<scheme>_box_cell`` its
+force integrals (every body but a ``fixed`` one, held or not; with ``consistent`` also
+its filtered F and the contour form). ``drawn_pill_cell``: per cell of each pill's box
+(2 (rho + w delta) / dx)^2, w = ``numerics.footprint_widths``, its source term G (and F
+without a plate) redrawn while the body moves (the plate's own F is within the fit's
+noise). ``heun_average_cell``: Heun's average per wet cell and field (c, and v with the
+flow). A change of the bodies' or the vessel's step calls for the script again; it
+prints these constants in this form."""
 COLLECTIVE_SET_UP_SECONDS = 1.5
 """CPU time of a collective run besides its steps (its Simulation, the bodies' placement,
 the recorded measures): the crowd dish's runs that ended at t = 1 took 1.0 to 2.3 s more
