@@ -45,7 +45,7 @@ the wall, and none through a closed face.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -69,6 +69,8 @@ class CutCells:
         flowing: (n, n) True on the cells where v evolves (centre inside the vessel; v = 0,
             the wall's no-slip, on the others).
         dx: grid spacing.
+        _factors: the implicit clusters' factors by dt D / dx^2 (:meth:`arrays`), kept:
+            every ``run`` builds its stepper anew.
     """
 
     volume: np.ndarray
@@ -82,6 +84,9 @@ class CutCells:
     span_hi: np.ndarray
     flowing: np.ndarray
     dx: float
+    _factors: dict[float, tuple[np.ndarray, ...]] = field(
+        default_factory=dict, init=False, compare=False, repr=False
+    )
 
     def arrays(self, coefficient: float) -> tuple[np.ndarray, ...]:
         """The `wall` the compiled step takes (:mod:`pde_rotor.kernels.wall`), 2-D arrays
@@ -92,7 +97,9 @@ class CutCells:
         Args:
             coefficient: dt D / dx^2 of the run.
         """
-        index, levels, factor = implicit_factors(self, coefficient)
+        if coefficient not in self._factors:  # once per geometry and dt: each run() asks
+            self._factors[coefficient] = implicit_factors(self, coefficient)
+        index, levels, factor = self._factors[coefficient]
         return (
             self.volume.reshape(-1),
             self.aperture_x.reshape(-1),

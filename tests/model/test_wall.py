@@ -5,11 +5,13 @@ analytic value."""
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
 from scipy.special import j0, jn_zeros, jnp_zeros, jv
 
+from pde_rotor.model.clusters import implicit_factors
 from pde_rotor.model.wall import CutCells, make_cut_cells, make_wall_step, wall_fluxes
 
 RADIUS = 3.0
@@ -182,3 +184,17 @@ def test_radial_blob_stays_radial_and_converges() -> None:
     assert asymmetry < 1e-12
     assert coarse < 2e-3
     assert fine < coarse / 3
+
+
+def test_the_clusters_are_factored_once_per_time_step_and_not_copied() -> None:
+    """Every ``run`` builds its stepper and asks for the wall's arrays again: the same
+    geometry and dt D / dx^2 hand back the same factors, another coefficient its own,
+    equal to a fresh factorisation; a copy made by ``replace`` starts without them."""
+    cells = make_cut_cells(dish_coords(0.1), RADIUS)
+    first, again, other = cells.arrays(0.2), cells.arrays(0.2), cells.arrays(0.1)
+    assert first[9].shape[0] > 0  # this dish has implicit clusters
+    assert all(a is b for a, b in zip(first[9:], again[9:], strict=True))
+    assert other[11] is not first[11]
+    for got, want in zip(other[9:], implicit_factors(cells, 0.1), strict=True):
+        np.testing.assert_array_equal(got, want)
+    assert replace(cells, dx=cells.dx)._factors == {}
