@@ -76,15 +76,15 @@ COMMIT_TIME = 0.8
 """Release time until a restart has committed to a direction: the mean ``t_commit`` of
 the 6814 releases stored under data/sweeps/ is 0.82 (0.77 to 0.87 by sweep)."""
 BODIES_STEP_COSTS: dict[str, float] = {
-    "cell": 7.68e-10,
-    "flow_cell": 1.94e-9,
-    "no_flux_cell": 2.77e-9,
-    "no_flux_flow_cell": 1.39e-9,
-    "no_flux_box_cell": 1.5e-8,
-    "paper_box_cell": 3.77e-9,
-    "consistent_box_cell": 3.56e-8,
-    "drawn_pill_cell": 7.33e-9,
-    "heun_average_cell": 1.33e-9,
+    "cell": 6.86e-10,
+    "flow_cell": 1.96e-9,
+    "no_flux_cell": 8.09e-10,
+    "no_flux_flow_cell": 2.06e-9,
+    "no_flux_box_cell": 7.93e-9,
+    "paper_box_cell": 5.38e-9,
+    "consistent_box_cell": 2.09e-8,
+    "drawn_pill_cell": 7.37e-9,
+    "heun_average_cell": 1.29e-9,
 }
 """CPU seconds of one step of the bodies' kernel per unit of each term of
 :func:`bodies_step_terms` (one thread on one core of the project's machine), fitted by
