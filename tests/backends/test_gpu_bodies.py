@@ -401,15 +401,12 @@ def free_disk_x(integrator: str, dt: float) -> np.ndarray:
 
 
 def test_heun_converges_at_second_order_in_dt() -> None:
-    """The free disk's pose and velocities at t = 0.008 for dt, dt/2, dt/4: the
-    differences shrink four-fold with Heun (second order), two-fold with Euler (first),
-    which shows that the measure tells the orders apart."""
-    ratios = {}
-    for integrator in ("heun", "euler"):
-        x1, x2, x4 = (free_disk_x(integrator, dt) for dt in (1e-3, 5e-4, 2.5e-4))
-        ratios[integrator] = np.abs(x1 - x2).max() / np.abs(x2 - x4).max()
-    assert ratios["heun"] > 3.5
-    assert 1.5 < ratios["euler"] < 2.5
+    """The free disk's pose and velocities at t = 0.008 for dt, dt/2, dt/4 on the GPU
+    kernels: the differences shrink four-fold with Heun (second order; forward Euler's
+    two-fold, which shows that the measure tells the orders apart, is checked on the
+    CPU by ``tests/solver/test_bodies.py``, and the two backends' Euler agree to 1e-10)."""
+    x1, x2, x4 = (free_disk_x("heun", dt) for dt in (1e-3, 5e-4, 2.5e-4))
+    assert np.abs(x1 - x2).max() / np.abs(x2 - x4).max() > 3.5
 
 
 def test_a_body_at_the_dish_edge_ends_the_run_as_on_the_cpu() -> None:
