@@ -17,6 +17,8 @@ from pde_rotor.model.surface import SurfacePDE
 from pde_rotor.model.vessel import make_vessel_cells
 from pde_rotor.solver.simulation import Simulation
 
+from .test_vessel import seeded
+
 BODIES = [
     {
         "name": "hexagon",
@@ -49,13 +51,7 @@ def walled(bodies: list[dict] = BODIES, **sections: dict) -> Simulation:
             **sections,
         }
     )
-    sim = Simulation(config)
-    pde: SurfacePDE = sim.pde
-    x, y = pde.cell_coordinates()
-    inside = pde.domain.interior_mask
-    sim.state.data[0] = pde.domain.camphor_mask * (1 + 0.5 * np.sin(1.3 * x + 0.2) * np.cos(y))
-    sim.state.data[1] = inside * 0.3 * np.sin(0.9 * y + 0.4) * np.cos(0.4 * x)
-    sim.state.data[2] = inside * 0.2 * np.cos(1.1 * x + 0.1) * np.sin(0.5 * y + 0.3)
+    sim = seeded(Simulation(config))
     if not config.flow.enabled:
         sim.state.data[1:] = 0.0
     return sim
