@@ -78,14 +78,14 @@ TINY_SWEEP: dict[str, Any] = {
         **TINY_GRID,
         "rotor": {"omega0": 20.0},
         "noise": {"sigma": 0.0},
-        "protocol": {"t_ini": 0.01, "t_stop": 0.005, "t_release": 0.005, "cycles": 1},
+        "protocol": {"t_ini": 0.005, "t_stop": 0.003, "t_release": 0.002, "cycles": 1},
     },
     "axes": {"geometry.asymmetry": [0.0, 0.05]},
     "estimator": {"kind": "protocol"},
     "samples": 1,
     "seed": 3,
 }
-"""Two protocol runs of 20 steps, one stop, on the tiny grid of tests/sweep/test_sweep_gpu.py."""
+"""Two protocol runs of 10 steps, one stop, on the tiny grid of tests/sweep/test_sweep_gpu.py."""
 
 BODIES: list[dict[str, Any]] = [
     {

@@ -62,8 +62,8 @@ checks of the ensemble machinery (noise, launches, restarts, flags) run the ``pa
 scheme, whose per-cell work the simulator interprets several times faster; the default
 ``consistent`` scheme has its own agreement test below."""
 
-PROTOCOL: dict[str, Any] = {"t_ini": 0.03, "t_stop": 0.01, "t_release": 0.02, "cycles": 2}
-"""Short stop-and-release protocol: two stops (10 steps each) within the first 0.09 time
+PROTOCOL: dict[str, Any] = {"t_ini": 0.015, "t_stop": 0.005, "t_release": 0.01, "cycles": 2}
+"""Short stop-and-release protocol: two stops (5 steps each) within the first 0.045 time
 units; every simulated step costs the simulator about a tenth of a second per member."""
 
 RECORD = 0.005
@@ -96,7 +96,7 @@ def test_members_match_their_own_cpu_runs(small_config: Callable[..., RotorConfi
     """Three members with different Delta, t_stop, t_ini and flow, no noise: phi, omega agree.
 
     Each member of one GPU batch follows its own CPU run (Eqs. (eqc), (eqv), (eq_motion)
-    with the stop schedule) to 1e-10 relative over 90 steps that include two stops. The
+    with the stop schedule) to 1e-10 relative over 45 steps that include two stops. The
     members really differ (so swapped parameters would fail), omega is 0 during every
     stop, and the run is not trivial: omega changes by as much as its own size.
     """
@@ -106,7 +106,7 @@ def test_members_match_their_own_cpu_runs(small_config: Callable[..., RotorConfi
             TINY,
             {
                 "geometry": {"asymmetry": -0.03},
-                "protocol": {**PROTOCOL, "t_ini": 0.02, "t_stop": 0.02},
+                "protocol": {**PROTOCOL, "t_ini": 0.01, "t_stop": 0.01},
                 "rotor": {"omega0": 20.0, "phi0": 0.3},
             },
         ),
@@ -115,10 +115,10 @@ def test_members_match_their_own_cpu_runs(small_config: Callable[..., RotorConfi
             {"flow": {"enabled": False}, "geometry": {"asymmetry": 0.02}, "protocol": PROTOCOL},
         ),
     ]
-    t_end = 0.09
+    t_end = 0.045
     want = cpu.run_ensemble(members, t_end, record_interval=RECORD)
     got = gpu_backend.run_ensemble(
-        members, t_end, record_interval=RECORD, threads_per_block=2, chunk_steps=64
+        members, t_end, record_interval=RECORD, threads_per_block=2, chunk_steps=32
     )
     assert got.backend == "gpu"
     assert_same_run(got, want, rtol=1e-10)
@@ -130,7 +130,7 @@ def test_members_match_their_own_cpu_runs(small_config: Callable[..., RotorConfi
         assert np.all(np.diff(got.camphor_total[m]) > 0)  # pills release camphor from c = 0
     for a, b in [(0, 1), (0, 2), (1, 2)]:
         assert rel_error(got.omega[a], got.omega[b]) > 1e-2
-    # member 1 stops 0.01 earlier and 0.01 longer than member 0
+    # member 1 stops 0.005 earlier and 0.005 longer than member 0
     first_stop = [np.argmax(got.stopped[m]) for m in range(2)]
     assert got.t[first_stop[1]] < got.t[first_stop[0]]
 
@@ -153,10 +153,10 @@ def test_consistent_scheme_matches_cpu_to_1e10(small_config: Callable[..., Rotor
             {"numerics": numerics, "protocol": PROTOCOL, "rotor": {"omega0": -15.0}},
         ),
     ]
-    t_end = 0.05
+    t_end = 0.025
     want = cpu.run_ensemble(members, t_end, record_interval=RECORD)
     got = gpu_backend.run_ensemble(
-        members, t_end, record_interval=RECORD, threads_per_block=2, chunk_steps=40
+        members, t_end, record_interval=RECORD, threads_per_block=2, chunk_steps=20
     )
     assert_same_run(got, want, rtol=1e-10)
     assert rel_error(got.omega[0], got.omega[1]) > 1e-2
@@ -229,7 +229,7 @@ def test_noise_same_seed_same_trajectory(small_config: Callable[..., RotorConfig
     noisy = {"noise": {"sigma": 2.0 * inertia, "seed": 11}, "protocol": PROTOCOL}
     cfg = small_config(TINY, noisy, {"geometry": {"asymmetry": 0.04}})
     other = small_config(TINY, noisy, {"geometry": {"asymmetry": 0.04}, "noise": {"seed": 12}})
-    t_end = 0.06
+    t_end = 0.03
     want = cpu.run_ensemble([cfg, other], t_end, record_interval=RECORD)
     got = gpu_backend.run_ensemble(
         [cfg], t_end, record_interval=RECORD, threads_per_block=2, chunk_steps=7
@@ -256,10 +256,10 @@ def test_launch_configuration_and_restart_do_not_change_the_result(
             {"noise": {"sigma": inertia, "seed": 3}, "protocol": {**PROTOCOL, "t_ini": 0.0}},
         ),
     ]
-    t_mid, t_end = 0.015, 0.025  # the second member's release at 0.01 lies before t_mid
+    t_mid, t_end = 0.01, 0.015  # the second member's release at 0.005 lies before t_mid
     one = gpu_backend.run_ensemble(members, t_end, record_interval=RECORD, threads_per_block=2)
     other = gpu_backend.run_ensemble(
-        members, t_end, record_interval=RECORD, threads_per_block=8, chunk_steps=9
+        members, t_end, record_interval=RECORD, threads_per_block=4, chunk_steps=5
     )
     assert_same_run(other, one, rtol=1e-12)
     rngs = [np.random.default_rng(cfg.noise.seed) for cfg in members]
@@ -310,12 +310,12 @@ def test_cli_run_with_backend_gpu_writes_the_cpu_run(tmp_path: Path) -> None:
     config = {
         **TINY,
         "geometry": {**TINY["geometry"], "asymmetry": 0.05},
-        "protocol": {**PROTOCOL, "t_release": 0.05},
+        "protocol": {**PROTOCOL, "t_release": 0.025},
         "noise": {"sigma": 0.5 * RotorConfig.model_validate({}).rotor.inertia, "seed": 5},
         "output": {
             "timeseries_interval": 0.01,
             "event_interval": 0.005,
-            "snapshot_interval": 0.05,
+            "snapshot_interval": 0.025,
             "movie": False,
             "commit_fraction": 0.2,
         },

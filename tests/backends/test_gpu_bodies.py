@@ -388,7 +388,7 @@ def test_one_body_with_heun_is_the_rotors_heun(scheme: str) -> None:
 
 
 def free_disk_x(integrator: str, dt: float) -> np.ndarray:
-    """x, y, phi, u, v, omega of a free disk at t = 0.008 after a start with smooth fields."""
+    """x, y, phi, u, v, omega of a free disk at t = 0.004 after a start with smooth fields."""
     cfg = config(
         [{**DISK, "noise_sigma": 0.0}],
         grid={"dt": dt, "domain_radius": 1.6},
@@ -396,12 +396,12 @@ def free_disk_x(integrator: str, dt: float) -> np.ndarray:
     )
     sim = Simulation(cfg, stepper=gpu_bodies_stepper)
     smooth_fields(sim)
-    sim.run(0.008)
+    sim.run(0.004)
     return sim.bodies.poses[0, :6].copy()
 
 
 def test_heun_converges_at_second_order_in_dt() -> None:
-    """The free disk's pose and velocities at t = 0.008 for dt, dt/2, dt/4 on the GPU
+    """The free disk's pose and velocities at t = 0.004 for dt, dt/2, dt/4 on the GPU
     kernels: the differences shrink four-fold with Heun (second order; forward Euler's
     two-fold, which shows that the measure tells the orders apart, is checked on the
     CPU by ``tests/solver/test_bodies.py``, and the two backends' Euler agree to 1e-10)."""
