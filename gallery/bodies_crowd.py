@@ -49,8 +49,9 @@ TINY_GRID = {"dx": 0.04, "dt": 2.0e-4}
 
 
 def tiny_sweeps() -> dict[str, dict]:
-    """Two tiny collective sweeps of free disks (not boats: the track motion is not here
-    yet): in a ring channel 1 < r < 2.4 and in a no-flux dish of radius 2."""
+    """Two tiny collective sweeps of free disks, in a ring channel 1 < r < 2.4 and in a
+    no-flux dish of radius 2: the page's drawing checked on the cheapest crowd (boats on
+    their track are checked by tests/solver/test_track.py and the committed stores)."""
     common = {
         "geometry": {"smoothing": 0.02},
         "numerics": {"scheme": "paper"},
