@@ -24,14 +24,12 @@ from ..physics.indicators import PLATE_POLYGON, PLATE_STRIP
 from ..physics.spline import SPLINE_MARGIN
 from .body_arcs import circle_sums
 from .body_draw import orient
-from .spline import ROW_GROUP, spline_columns, spline_rows
+from .spline import ROW_GROUP, place_nodes, spline_columns, spline_rows
 
 _cell_integrals = CPU.motion.cell_integrals
 _friction_moments = CPU.motion.friction_moments
 _surface_pressure = CPU.tension.surface_pressure
 _polygon_band = CPU.tension.polygon_band
-_edge_place = CPU.tension.edge_place
-_bspline_weights = CPU.spline.bspline_weights
 _spline_sum = CPU.spline.spline_sum
 
 
@@ -220,10 +218,9 @@ def _edge_pair(coef, grid, edge, quad, m, p, scratch):
     """Band node m of a straight edge, the tension's ``edge_sums`` in two passes over
     its nodes along the edge (as the rotor's contour nodes,
     :func:`pde_rotor.kernels.cpu.contour_torque`): where each node takes its taps and
-    its weights (``edge_place``, ``bspline_weights``; no load from a computed place, so
-    that LLVM computes several nodes at a time), then the 16-tap sums (``spline_sum``,
-    unsigned offsets) through ``surface_pressure``, the shares of ``edge_node`` added
-    in order: the same sums, bit for bit. `quad` = (quad_s, quad_t); `scratch` =
+    its weights (:func:`~pde_rotor.kernels.spline.place_nodes`), then the 16-tap sums
+    (``spline_sum``, unsigned offsets) through ``surface_pressure``, the shares of
+    ``edge_node`` added in order: the same sums, bit for bit. `quad` = (quad_s, quad_t); `scratch` =
     (taps (L,) unsigned, weights (10, L)).
 
     Returns:
@@ -232,14 +229,7 @@ def _edge_pair(coef, grid, edge, quad, m, p, scratch):
     quad_s, quad_t = quad
     taps, weights = scratch
     n_t = quad_t.shape[1]
-    for k_t in range(n_t):
-        row, tx, ty, w, w_t = _edge_place(grid, edge, quad_s, quad_t, m, k_t)
-        wx0, wx1, wx2, wx3 = _bspline_weights(tx)
-        wy0, wy1, wy2, wy3 = _bspline_weights(ty)
-        taps[k_t] = np.uint64(row)
-        weights[0, k_t], weights[1, k_t], weights[2, k_t], weights[3, k_t] = wx0, wx1, wx2, wx3
-        weights[4, k_t], weights[5, k_t], weights[6, k_t], weights[7, k_t] = wy0, wy1, wy2, wy3
-        weights[8, k_t], weights[9, k_t] = w, w_t
+    place_nodes(grid, edge, quad_s, quad_t, m, taps, weights)
     sx, sy = np.uint64(grid[1]), np.uint64(1)
     ex, ey = edge[2], edge[3]
     pair_x = 0.0

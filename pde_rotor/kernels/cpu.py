@@ -28,7 +28,7 @@ import numpy as np
 
 from ..physics.build import CPU, FASTMATH
 from .indicators import SCRATCH_ROWS, indicator_row
-from .spline import ROW_GROUP, spline_columns, spline_rows, spline_window
+from .spline import ROW_GROUP, place_nodes, spline_columns, spline_rows, spline_window
 
 _cell_rates = CPU.rates.cell_rates
 _rate_coefficients = CPU.rates.rate_coefficients
@@ -36,8 +36,6 @@ _tension_integrand = CPU.tension.tension_integrand
 _surface_pressure = CPU.tension.surface_pressure
 _friction_moments = CPU.motion.friction_moments
 _polygon_band = CPU.tension.polygon_band
-_edge_place = CPU.tension.edge_place
-_bspline_weights = CPU.spline.bspline_weights
 _spline_sum = CPU.spline.spline_sum
 _rotor_table = CPU.indicators.rotor_table
 _held = CPU.motion.held
@@ -226,8 +224,8 @@ def _window_columns(coef, n, lo, hi, taps_lo, taps_hi):
 def _contour_block(coef, coords, params, tab, quad_s, quad_t, sums, scratch, b, blocks):
     """Block b of the contour nodes: the sum over the nodes along the edge of each
     (edge j, band node m) of every `blocks`-th pair into sums[j M + m], in two passes
-    over a pair's nodes: the tension's ``edge_place`` and ``bspline_weights`` of every
-    node (SIMD), then the 16-tap sums ``spline_sum`` times the torque's weights, added in
+    over a pair's nodes: where each node reads the spline (:func:`place_nodes`, SIMD),
+    then the 16-tap sums ``spline_sum`` times the torque's weights, added in
     order (the torque of the tension's ``edge_node``, node by node)."""
     p = params[0]
     n = coords.size
@@ -243,20 +241,13 @@ def _contour_block(coef, coords, params, tab, quad_s, quad_t, sums, scratch, b, 
         m = pair - j * n_s
         h, half = _polygon_band(apothem, delta, tan_half, quad_s, m)
         edge = (0.0, 0.0, tab[0, j], tab[1, j], h, half)
-        for k_t in range(n_t):
-            row, tx, ty, _, w = _edge_place(grid, edge, quad_s, quad_t, m, k_t)
-            wx0, wx1, wx2, wx3 = _bspline_weights(tx)
-            wy0, wy1, wy2, wy3 = _bspline_weights(ty)
-            taps[k_t] = np.uint64(row)
-            weights[0, k_t], weights[1, k_t], weights[2, k_t], weights[3, k_t] = wx0, wx1, wx2, wx3
-            weights[4, k_t], weights[5, k_t], weights[6, k_t], weights[7, k_t] = wy0, wy1, wy2, wy3
-            weights[8, k_t] = w
+        place_nodes(grid, edge, quad_s, quad_t, m, taps, weights)
         total = 0.0
         for k_t in range(n_t):
             wx = (weights[0, k_t], weights[1, k_t], weights[2, k_t], weights[3, k_t])
             wy = (weights[4, k_t], weights[5, k_t], weights[6, k_t], weights[7, k_t])
             c = _spline_sum(coef, taps[k_t], sx, sy, wx, wy)
-            total += weights[8, k_t] * _surface_pressure(c, p)
+            total += weights[9, k_t] * _surface_pressure(c, p)
         sums[pair] = total
 
 
@@ -277,11 +268,11 @@ def contour_torque(coef, coords, params, tab, tables, sums, threads):
     blocks = min(threads, pairs)
     if blocks <= 1:  # no parallel region to start
         for b in range(1):
-            scratch = (np.empty(quad_t.shape[1], np.uint64), np.empty((9, quad_t.shape[1])))
+            scratch = (np.empty(quad_t.shape[1], np.uint64), np.empty((10, quad_t.shape[1])))
             _contour_block(coef, coords, params, tab, quad_s, quad_t, sums, scratch, b, 1)
     else:
         for b in nb.prange(blocks):
-            scratch = (np.empty(quad_t.shape[1], np.uint64), np.empty((9, quad_t.shape[1])))
+            scratch = (np.empty(quad_t.shape[1], np.uint64), np.empty((10, quad_t.shape[1])))
             _contour_block(
                 coef, coords, params, tab, quad_s, quad_t, sums, scratch, np.int64(b), blocks
             )
@@ -508,7 +499,7 @@ def rotor_integrals(cur, F, domain, params, tab, tables, coef):
         spline_window(cur, coef, n, p.window_lo, p.window_hi, p.taps_lo, p.taps_hi)
         pair_sums = np.zeros(p.n_corners * tables[0].shape[1])
         for b in range(1):  # as contour_torque calls it
-            scratch = (np.empty(tables[1].shape[1], np.uint64), np.empty((9, tables[1].shape[1])))
+            scratch = (np.empty(tables[1].shape[1], np.uint64), np.empty((10, tables[1].shape[1])))
             _contour_block(
                 coef, coords, params, tab, tables[0], tables[1], pair_sums, scratch, b, 1
             )

@@ -20,10 +20,12 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
-from ..physics.build import CPU
+from ..physics.build import CPU, FASTMATH
 
 _spline_reach = CPU.spline.spline_reach
 _spline_coefficient = CPU.spline.spline_coefficient
+_edge_place = CPU.tension.edge_place
+_bspline_weights = CPU.spline.bspline_weights
 
 _LINES = {"cache": True, "nogil": True, "error_model": "numpy"}
 """numba options of the loops below (inlined into the time step that calls them): no
@@ -148,3 +150,31 @@ def spline_window(cur, coef, n, lo, hi, taps_lo, taps_hi):
     for i0 in range(lo, hi, ROW_GROUP):
         spline_rows(cur, coef, n, i0, min(hi, i0 + ROW_GROUP), lo, hi, (taps_lo, hi), carry)
     spline_columns(coef, n, lo, hi, taps_lo, taps_hi, (taps_lo, hi), carry)
+
+
+@nb.njit(inline="always", cache=True, nogil=True, fastmath=FASTMATH, error_model="numpy")
+def place_nodes(grid, edge, quad_s, quad_t, m, taps, weights):
+    """Where the nodes of band node m along a straight edge read the spline of c: the
+    first of the contour form's two passes over an edge's nodes (the rotor's
+    :func:`pde_rotor.kernels.cpu.contour_torque`, the bodies'
+    :func:`pde_rotor.kernels.body_sums.body_contour`).
+
+    Node k takes its taps' first cell and its weights from the physics' ``edge_place``
+    and ``bspline_weights`` (the tension's nodes of Eq. (eq_motion) in contour form);
+    no node's place is loaded back, so that LLVM computes several nodes at a time. The
+    second pass sums the 16 taps node by node in order (``spline_sum``).
+
+    Args:
+        grid, edge, quad_s, quad_t, m: as ``edge_place``.
+        taps: (L,) unsigned, each node's first tap (flat cell index), written.
+        weights: (10, L), written: rows 0-3 the x weights, 4-7 the y weights, 8 the
+            node's force weight w, 9 its torque weight w_t.
+    """
+    for k_t in range(quad_t.shape[1]):
+        row, tx, ty, w, w_t = _edge_place(grid, edge, quad_s, quad_t, m, k_t)
+        wx0, wx1, wx2, wx3 = _bspline_weights(tx)
+        wy0, wy1, wy2, wy3 = _bspline_weights(ty)
+        taps[k_t] = np.uint64(row)
+        weights[0, k_t], weights[1, k_t], weights[2, k_t], weights[3, k_t] = wx0, wx1, wx2, wx3
+        weights[4, k_t], weights[5, k_t], weights[6, k_t], weights[7, k_t] = wy0, wy1, wy2, wy3
+        weights[8, k_t], weights[9, k_t] = w, w_t
