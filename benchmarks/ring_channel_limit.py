@@ -59,8 +59,9 @@ in core-hours.
 
 Estimated (``--dry-run``, N = 1 and 8, flow off and on, t_end = 6): rungs 0 and 1 about
 0.11 core-hours, rung 2 1.0, rung 3 10.9, rung 4 142; the whole ladder 154 core-hours.
-Run (rungs 0 and 1 were run, docs/results.md 2026-11-28; rungs 2 and 3, about 12
-core-hours, are the ones worth running next; the straight channel alone takes seconds):
+Run (the narrow strip's rungs 0 and 1 and the spanning boat's rungs 0 to 3 were run,
+docs/results.md 2026-11-28; rung 3 with ``--span`` took 2.0 core-hours for N = 1, 4, 8
+with and without flow; the straight channel alone takes seconds):
     NUMBA_NUM_THREADS=1 PYTHONPATH=. python benchmarks/ring_channel_limit.py --dry-run
     NUMBA_NUM_THREADS=1 PYTHONPATH=. python benchmarks/ring_channel_limit.py \
         --rungs 2 3 --count 1 8 --flow off on
