@@ -24,7 +24,7 @@ from ..physics.indicators import PLATE_POLYGON, PLATE_STRIP
 from ..physics.spline import SPLINE_MARGIN
 from .body_arcs import circle_sums
 from .body_draw import orient
-from .spline import ROW_GROUP, place_nodes, spline_columns, spline_rows
+from .spline import ROW_GROUP, node_scratch, place_nodes, spline_columns, spline_rows
 
 _cell_integrals = CPU.motion.cell_integrals
 _friction_moments = CPU.motion.friction_moments
@@ -279,7 +279,7 @@ def body_contour(cur, coords, k, bodies, p, out):
     n_s = quad_s.shape[1]
     grid = (0, n, x0, inv_dx)
     quad = (quad_s, quad_t)
-    scratch = (np.empty(quad_t.shape[1], np.uint64), np.empty((10, quad_t.shape[1])))
+    scratch = node_scratch(quad_t.shape[1])
     f_x = 0.0
     f_y = 0.0
     torque = 0.0

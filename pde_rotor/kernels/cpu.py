@@ -28,7 +28,7 @@ import numpy as np
 
 from ..physics.build import CPU, FASTMATH
 from .indicators import SCRATCH_ROWS, indicator_row
-from .spline import ROW_GROUP, place_nodes, spline_columns, spline_rows, spline_window
+from .spline import ROW_GROUP, node_scratch, place_nodes, spline_columns, spline_rows, spline_window
 
 _cell_rates = CPU.rates.cell_rates
 _rate_coefficients = CPU.rates.rate_coefficients
@@ -268,11 +268,11 @@ def contour_torque(coef, coords, params, tab, tables, sums, threads):
     blocks = min(threads, pairs)
     if blocks <= 1:  # no parallel region to start
         for b in range(1):
-            scratch = (np.empty(quad_t.shape[1], np.uint64), np.empty((10, quad_t.shape[1])))
+            scratch = node_scratch(quad_t.shape[1])
             _contour_block(coef, coords, params, tab, quad_s, quad_t, sums, scratch, b, 1)
     else:
         for b in nb.prange(blocks):
-            scratch = (np.empty(quad_t.shape[1], np.uint64), np.empty((10, quad_t.shape[1])))
+            scratch = node_scratch(quad_t.shape[1])
             _contour_block(
                 coef, coords, params, tab, quad_s, quad_t, sums, scratch, np.int64(b), blocks
             )
@@ -499,7 +499,7 @@ def rotor_integrals(cur, F, domain, params, tab, tables, coef):
         spline_window(cur, coef, n, p.window_lo, p.window_hi, p.taps_lo, p.taps_hi)
         pair_sums = np.zeros(p.n_corners * tables[0].shape[1])
         for b in range(1):  # as contour_torque calls it
-            scratch = (np.empty(tables[1].shape[1], np.uint64), np.empty((10, tables[1].shape[1])))
+            scratch = node_scratch(tables[1].shape[1])
             _contour_block(
                 coef, coords, params, tab, tables[0], tables[1], pair_sums, scratch, b, 1
             )

@@ -152,6 +152,13 @@ def spline_window(cur, coef, n, lo, hi, taps_lo, taps_hi):
     spline_columns(coef, n, lo, hi, taps_lo, taps_hi, (taps_lo, hi), carry)
 
 
+@nb.njit(inline="always", cache=True, nogil=True)
+def node_scratch(nodes):
+    """The scratch of :func:`place_nodes` for `nodes` nodes along an edge: (taps (L,)
+    unsigned, weights (10, L))."""
+    return np.empty(nodes, np.uint64), np.empty((10, nodes))
+
+
 @nb.njit(inline="always", cache=True, nogil=True, fastmath=FASTMATH, error_model="numpy")
 def place_nodes(grid, edge, quad_s, quad_t, m, taps, weights):
     """Where the nodes of band node m along a straight edge read the spline of c: the
@@ -167,8 +174,8 @@ def place_nodes(grid, edge, quad_s, quad_t, m, taps, weights):
     Args:
         grid, edge, quad_s, quad_t, m: as ``edge_place``.
         taps: (L,) unsigned, each node's first tap (flat cell index), written.
-        weights: (10, L), written: rows 0-3 the x weights, 4-7 the y weights, 8 the
-            node's force weight w, 9 its torque weight w_t.
+        weights: (10, L) (:func:`node_scratch`), written: rows 0-3 the x weights, 4-7
+            the y weights, 8 the node's force weight w, 9 its torque weight w_t.
     """
     for k_t in range(quad_t.shape[1]):
         row, tx, ty, w, w_t = _edge_place(grid, edge, quad_s, quad_t, m, k_t)
