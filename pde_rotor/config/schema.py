@@ -281,24 +281,17 @@ class RotorConfig(_Section):
                     raise FieldError(f"bodies[{k}].start", [x, y], msg)
 
     def _spanning_numerics(self) -> None:
-        """A body that spans its channel runs on the paper scheme and the CPU: its
-        integrals over the wet cells (:func:`pde_rotor.kernels.body_sums.spanning_integrals`)
-        are the area form's, and the GPU's bodies kernel has none."""
+        """A body that spans its channel runs on the paper scheme: its integrals over the
+        wet cells (:func:`pde_rotor.kernels.body_sums.spanning_integrals` on the CPU,
+        :func:`pde_rotor.kernels.cuda_body_sums.spanning_sums` on the GPU, one
+        ``wet_cell_integrals`` for both) are the area form's."""
         spanning = [k for k, b in enumerate(self.bodies or []) if getattr(b.motion, "spans", False)]
-        if not spanning:
-            return
-        if self.numerics.scheme != "paper":
+        if spanning and self.numerics.scheme != "paper":
             msg = (
                 f"bodies[{spanning[0]}] spans its channel, whose wet-cell integrals are the "
                 "area form's (allowed: paper)"
             )
             raise FieldError("numerics.scheme", self.numerics.scheme, msg)
-        if self.solver.backend != "cpu":
-            msg = (
-                f"bodies[{spanning[0]}] spans its channel, which the CPU kernel steps only "
-                "(allowed: cpu)"
-            )
-            raise FieldError("solver.backend", self.solver.backend, msg)
 
     def _contact_sound(self) -> None:
         """Contact needs bodies, and the step must resolve it for every body that moves:

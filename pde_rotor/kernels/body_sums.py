@@ -27,8 +27,8 @@ from .body_draw import orient
 from .spline import ROW_GROUP, node_scratch, place_nodes, spline_columns, spline_rows
 
 _cell_integrals = CPU.motion.cell_integrals
-_friction_moments = CPU.motion.friction_moments
 _surface_pressure = CPU.tension.surface_pressure
+_wet_cell_integrals = CPU.motion.wet_cell_integrals
 _polygon_band = CPU.tension.polygon_band
 _spline_sum = CPU.spline.spline_sum
 
@@ -138,7 +138,8 @@ def spanning_integrals(cur, F, volume, coords, k, bodies, p, out):
     (Pi(c) / k for c with the saturating law; the two forms agree away from walls, the
     area form's central differences of c moved onto F by summation by parts), and every
     cell's share, the friction's moments too, is weighted by its volume fraction kappa
-    (0 on dry cells): sum_P kappa_P [-Pi(c_P) (D F)_P, ...] dA, D the central difference.
+    (0 on dry cells): sum_P kappa_P [-Pi(c_P) (D F)_P, ...] dA, D the central difference
+    (the motion's ``wet_cell_integrals``, which the GPU's sums share).
     The chords and `bodies` are those of :func:`body_integrals`; `volume` is the cut
     cells' kappa, flat (:meth:`pde_rotor.model.wall.CutCells.arrays`).
     """
@@ -148,7 +149,8 @@ def spanning_integrals(cur, F, volume, coords, k, bodies, p, out):
     inv_2dx = 0.5 / dx
     nn = n * n
     x_k, y_k = pose[k, 0], pose[k, 1]
-    s0 = s1 = s2 = s3 = s4 = s5 = s6 = s7 = s8 = s9 = 0.0
+    strides = (n, nn)
+    total = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     for i in range(box[k, 0], box[k, 1]):
         rx = coords[i] - x_k
         for j in range(chords[0, k, i], chords[1, k, i]):
@@ -156,24 +158,13 @@ def spanning_integrals(cur, F, volume, coords, k, bodies, p, out):
             kappa = volume[o]
             if kappa == 0.0:
                 continue
-            ry = coords[j] - y_k
-            pressure = kappa * _surface_pressure(cur[o], p)
-            dfx = (F[o + n] - F[o - n]) * inv_2dx
-            dfy = (F[o + 1] - F[o - 1]) * inv_2dx
-            s0 -= pressure * dfx
-            s1 -= pressure * dfy
-            s2 -= pressure * (rx * dfy - ry * dfx)
-            m = _friction_moments(cur, o, nn, F[o], rx, ry, p.flow)
-            s3 += kappa * m[0]
-            s4 += kappa * m[1]
-            s5 += kappa * m[2]
-            s6 += kappa * m[3]
-            s7 += kappa * m[4]
-            s8 += kappa * m[5]
-            s9 += kappa * m[6]
+            r = (rx, coords[j] - y_k)
+            total = _wet_cell_integrals(
+                total, cur, (o, o), F, strides, kappa, r, inv_2dx, p, p.flow
+            )
     area = dx * dx
-    out[0], out[1], out[2], out[3], out[4] = s0 * area, s1 * area, s2 * area, s3 * area, s4 * area
-    out[5], out[6], out[7], out[8], out[9] = s5 * area, s6 * area, s7 * area, s8 * area, s9 * area
+    for q in range(10):
+        out[q] = total[q] * area
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")

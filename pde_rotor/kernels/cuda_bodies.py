@@ -55,7 +55,7 @@ from ..physics.motion import MOTION_FIXED
 from .bodies import STATUS_EDGE, STATUS_FINITE, STATUS_OVERLAP
 from .cuda import GPU
 from .cuda_body_draw import draw_body
-from .cuda_body_sums import N_SUMS, area_sums, contour_sums
+from .cuda_body_sums import N_SUMS, area_sums, contour_sums, spanning_sums
 from .cuda_target import cuda, device_function, float64, int64, kernel
 
 _plate_rates = GPU.rates.plate_rates
@@ -258,18 +258,21 @@ def _stage(where, state, surface, bodies, scratch, tables, walls, p, shared):
         b = body[m][k]
         if b.motion == MOTION_FIXED:
             continue
-        if _leaves_vessel(pose[m, k, 0], pose[m, k, 1], b.contact, p):
+        if b.spans:
+            spanning_sums(src, k, m, state, surface, bodies, wall[0], p, red)
+        elif _leaves_vessel(pose[m, k, 0], pose[m, k, 1], b.contact, p):
             if tid == 0:
                 flags[2] = k
                 flags[3] = -1
             cuda.syncthreads()
             return STATUS_EDGE
-        area_sums(src, k, m, state, surface, bodies, p, red)
+        else:
+            area_sums(src, k, m, state, surface, bodies, p, red)
         if tid == 0:
             for q in range(N_SUMS):
                 ints[q] = red[q * n_threads] * area
         cuda.syncthreads()
-        if p.contour:
+        if p.contour and not b.spans:
             contour_sums(src, k, m, state, surface, bodies, scratch, tables, p, red)
             if tid == 0:
                 ints[0] = red[0]
@@ -305,7 +308,8 @@ def _stage(where, state, surface, bodies, scratch, tables, walls, p, shared):
 
 @device_function
 def _contact(m, stage, bodies, loads, p):
-    """Add each moving body's contact force with every other body and the walls to its
+    """Add each moving body's contact force with every other body and the walls (not for
+    a body that spans its channel, whose plate crosses them by design) to its
     accelerations in loads[m, k, stage] (one thread; the motion's ``pair_contact``,
     ``wall_contact`` at the poses' positions and velocities, ``contact_loads``); at
     `stage` 0 the force into the pose's columns 13, 14."""
@@ -316,7 +320,7 @@ def _contact(m, stage, bodies, loads, p):
         if b.motion == MOTION_FIXED:
             continue
         here = (pose[m, k, 0], pose[m, k, 1], pose[m, k, 3], pose[m, k, 4])
-        f_x, f_y = _wall_contact(here, b.contact, p)
+        f_x, f_y = (0.0, 0.0) if b.spans else _wall_contact(here, b.contact, p)
         for j in range(n_bodies):
             if j != k:
                 there = (pose[m, j, 0], pose[m, j, 1], pose[m, j, 3], pose[m, j, 4])

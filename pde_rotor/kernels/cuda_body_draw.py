@@ -152,7 +152,8 @@ def _pill_values(i, j, m, b, pills, centres, tables, p, coords):
 def _row_code(i, k, m, state, surface, bodies):
     """0 if body k may own the cells of its footprint's chord on row i, else why not, as
     the CPU's drawing says it: ``STATUS_EDGE`` (a cell outside the dish), or ``-1 - j``
-    (the first cell owned by body j)."""
+    (the first cell owned by body j); a body that spans its channel may own cells beyond
+    the vessel's walls, anywhere inside the grid's outermost ring of cells."""
     owner = state[3]
     coords, interior = surface
     body, _, pose, _, box = bodies
@@ -163,13 +164,15 @@ def _row_code(i, k, m, state, surface, bodies):
     )
     if ja >= jb:
         return 0
-    if ja < interior[0, i]:
+    spans = body[m][k].spans != 0
+    first, last = (1, n - 1) if spans else (interior[0, i], interior[1, i])
+    if ja < first or (spans and (i == 0 or i == n - 1)):
         return STATUS_EDGE
-    for j in range(ja, max(ja, min(jb, interior[1, i]))):
+    for j in range(ja, max(ja, min(jb, last))):
         who = owner[m, i * n + j]
         if who >= 0 and who != k:
             return -1 - who
-    if jb > interior[1, i]:
+    if jb > last:
         return STATUS_EDGE
     return 0
 

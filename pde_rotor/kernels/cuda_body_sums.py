@@ -4,7 +4,9 @@ the area form over the cells of its box it owns (central differences; the CPU's
 force and torque in contour form (the spline of c on the body's window, then its edges'
 or circles' nodes, ``edge_sums``, ``arc_orbit``; the CPU's
 :func:`pde_rotor.kernels.body_sums.body_contour`), each split among a block's threads and
-summed by a fixed-order tree in shared memory (:func:`reduce_sums`).
+summed by a fixed-order tree in shared memory (:func:`reduce_sums`); for a body that
+spans its channel, the same integrals over the wet cells it owns (:func:`spanning_sums`;
+the CPU's :func:`pde_rotor.kernels.body_sums.spanning_integrals`).
 """
 
 from __future__ import annotations
@@ -23,6 +25,7 @@ N_SUMS = N_INTEGRALS
 
 _spline_line = GPU.spline.spline_line
 _cell_integrals = GPU.motion.cell_integrals
+_wet_cell_integrals = GPU.motion.wet_cell_integrals
 _polygon_band = GPU.tension.polygon_band
 _edge_sums = GPU.tension.edge_sums
 _arc_orbit = GPU.tension.arc_orbit
@@ -82,6 +85,42 @@ def area_sums(src, k, m, state, surface, bodies, p, red):
     red[7 * n_threads + tid] = s[7]
     red[8 * n_threads + tid] = s[8]
     red[9 * n_threads + tid] = s[9]
+    reduce_sums(red, N_SUMS, tid, n_threads)
+
+
+@device_function
+def spanning_sums(src, k, m, state, surface, bodies, volume, p, red):
+    """Body k's integrals over the wet cells of its box it owns, for a body that spans
+    its channel (the motion's ``wet_cell_integrals``, each cell's share weighted by its
+    volume fraction kappa, `volume` flat; dry cells skipped), into red[q n_threads]
+    (q < :data:`N_SUMS`, not yet times dA; all threads; the sums of
+    :func:`pde_rotor.kernels.body_sums.spanning_integrals`)."""
+    buf, F, _, owner = state
+    coords, _ = surface
+    _, _, pose, _, box = bodies
+    tid = cuda.threadIdx.x
+    n_threads = cuda.blockDim.x
+    n = coords.size
+    strides = (n, n * n)
+    inv_2dx = 0.5 / (coords[1] - coords[0])
+    fm = F[m]
+    x_k, y_k = pose[m, k, 0], pose[m, k, 1]
+    i0, j0 = box[m, k, 0], box[m, k, 2]
+    width = box[m, k, 3] - j0
+    s = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    for q in range(tid, (box[m, k, 1] - i0) * width, n_threads):
+        i = i0 + q // width
+        j = j0 + q % width
+        o = i * n + j
+        if owner[m, o] != k:
+            continue
+        kappa = volume[o]
+        if kappa == 0.0:
+            continue
+        r = (coords[i] - x_k, coords[j] - y_k)
+        s = _wet_cell_integrals(s, buf, (src + o, o), fm, strides, kappa, r, inv_2dx, p, p.flow)
+    for q in range(N_SUMS):
+        red[q * n_threads + tid] = s[q]
     reduce_sums(red, N_SUMS, tid, n_threads)
 
 

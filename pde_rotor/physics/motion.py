@@ -89,6 +89,7 @@ class Motion(NamedTuple):
     hold: Callable
     friction_moments: Callable
     cell_integrals: Callable
+    wet_cell_integrals: Callable
     body_loads: Callable
     finite_loads: Callable
     euler_pose: Callable
@@ -115,6 +116,7 @@ def make_motion(jit: Callable[[Callable], Callable], tension: Tension) -> Motion
         The compiled functions.
     """
     tension_integrand = tension.tension_integrand
+    surface_pressure = tension.surface_pressure
 
     @jit
     def stopped_at(step, n_ini, n_stop, n_period, cycles):
@@ -187,6 +189,44 @@ def make_motion(jit: Callable[[Callable], Callable], tension: Tension) -> Motion
         return (
             sums[0] + t0, sums[1] + t1, sums[2] + t2, sums[3] + m0, sums[4] + m1,
             sums[5] + m2, sums[6] + m3, sums[7] + m4, sums[8] + m5, sums[9] + m6,
+        )  # fmt: skip
+
+    @jit
+    def wet_cell_integrals(sums, buf, cell, F, strides, kappa, r, inv_2dx, p, flow):
+        """`sums` plus one wet cell's share of the integrals of a body that spans its
+        channel (no dA), weighted by the cell's volume fraction kappa: the tension's in
+        the form that reads c on this cell only, -kappa Pi(c) (D F) and
+        -kappa Pi(c) (r - X) x (D F) (D the central difference, Pi(c) / k the
+        ``surface_pressure``), and kappa times :func:`friction_moments`, in the order of
+        :func:`cell_integrals`; the running sums of the wet-cell loop, CPU
+        (:func:`pde_rotor.kernels.body_sums.spanning_integrals`) and GPU
+        (:func:`pde_rotor.kernels.cuda_body_sums.spanning_sums`).
+
+        Args:
+            sums: the 10 sums so far.
+            buf: the flat state (c, v_x, v_y).
+            cell: (o, q), the cell's offsets in `buf` and in `F`.
+            F: the bodies' plate indicator, flat.
+            strides: (sx, nn), the offset of the x neighbour (the y neighbour's is 1) and
+                of the next field in `buf`.
+            kappa: the cell's volume fraction (> 0).
+            r: (rx, ry) = r - X at the cell centre.
+            inv_2dx: 1 / (2 dx).
+            p: the parameter record (the tension law).
+            flow: whether v is read (else 0).
+        """
+        o, q = cell
+        sx, nn = strides
+        rx, ry = r
+        pressure = kappa * surface_pressure(buf[o], p)
+        dfx = (F[q + sx] - F[q - sx]) * inv_2dx
+        dfy = (F[q + 1] - F[q - 1]) * inv_2dx
+        m0, m1, m2, m3, m4, m5, m6 = friction_moments(buf, o, nn, F[q], rx, ry, flow)
+        return (
+            sums[0] - pressure * dfx, sums[1] - pressure * dfy,
+            sums[2] - pressure * (rx * dfy - ry * dfx), sums[3] + kappa * m0,
+            sums[4] + kappa * m1, sums[5] + kappa * m2, sums[6] + kappa * m3,
+            sums[7] + kappa * m4, sums[8] + kappa * m5, sums[9] + kappa * m6,
         )  # fmt: skip
 
     @jit
@@ -417,6 +457,7 @@ def make_motion(jit: Callable[[Callable], Callable], tension: Tension) -> Motion
         hold=hold,
         friction_moments=friction_moments,
         cell_integrals=cell_integrals,
+        wet_cell_integrals=wet_cell_integrals,
         body_loads=body_loads,
         finite_loads=finite_loads,
         euler_pose=euler_pose,
