@@ -305,22 +305,22 @@ def test_track_boats_agree_with_the_cpu(integrator: str) -> None:
 
 SPANNING_BOAT = {
     "name": "boat",
-    "plate": {"shape": "strip", "length": 0.4, "width": 1.6},
+    "plate": {"shape": "strip", "length": 0.4, "width": 3.2},
     "pills": [{"x": -0.12, "y": 0.0, "radius": 0.08}],
-    "motion": {"kind": "track", "mass": 1e-3, "friction": 0.5, "spans": True, "speed": 0.3},
-    "start": {"x": 0.9, "y": 1.2},
+    "motion": {"kind": "track", "mass": 1e-2, "friction": 0.5, "spans": True, "speed": 0.3},
+    "start": {"x": 1.5, "y": 2.0},
 }
-"""A boat on the track r = 1.5 that spans the channel 1.0 < r < 2.0, its plate 0.3 past
-each wall."""
+"""A boat on the track r = 2.5 that spans the channel 1.2 < r < 3.8, its plate 0.3 past
+each wall, its pill 1.3 inside them."""
 
 
 @pytest.mark.parametrize("integrator", ["euler", "heun"])
 def test_a_spanning_boat_agrees_with_the_cpu(integrator: str) -> None:
     """A boat that spans its channel (its force and friction over the wet cells, its
     footprint past both walls, no wall contact) runs on the GPU as on the CPU."""
-    ring = {**VESSEL, "inner_radius": 1.0, "outer_radius": 2.0}
+    ring = {**VESSEL, "inner_radius": 1.2, "outer_radius": 3.8}
     numerics = {"scheme": "paper", "integrator": integrator}
-    grid = {"domain_radius": 3.5, "vessel": ring}
+    grid = {"domain_radius": 5.5, "vessel": ring}
     cpu, gpu = pair(config([SPANNING_BOAT], grid=grid, numerics=numerics))
     cpu.run(0.003)
     gpu.run(0.003)
