@@ -145,7 +145,6 @@ class RotorConfig(_Section):
         else:
             self._bodies_in_dish()
         check_vessel(self.grid, self.bodies is not None, self.body_list(), self.geometry.smoothing)
-        self._spanning_numerics()
         limit = self.dt_limit()
         if self.grid.dt > limit:
             msg = f"above the explicit stability limit (allowed: dt <= {limit:.4g} for this dx)"
@@ -279,19 +278,6 @@ class RotorConfig(_Section):
                         f"distance {apart:.4g} (allowed: distance >= {reach[k] + reach[i]:.4g})"
                     )
                     raise FieldError(f"bodies[{k}].start", [x, y], msg)
-
-    def _spanning_numerics(self) -> None:
-        """A body that spans its channel runs on the paper scheme: its integrals over the
-        wet cells (:func:`pde_rotor.kernels.body_sums.spanning_integrals` on the CPU,
-        :func:`pde_rotor.kernels.cuda_body_sums.spanning_sums` on the GPU, one
-        ``wet_cell_integrals`` for both) are the area form's."""
-        spanning = [k for k, b in enumerate(self.bodies or []) if getattr(b.motion, "spans", False)]
-        if spanning and self.numerics.scheme != "paper":
-            msg = (
-                f"bodies[{spanning[0]}] spans its channel, whose wet-cell integrals are the "
-                "area form's (allowed: paper)"
-            )
-            raise FieldError("numerics.scheme", self.numerics.scheme, msg)
 
     def _contact_sound(self) -> None:
         """Contact needs bodies, and the step must resolve it for every body that moves:

@@ -314,12 +314,13 @@ SPANNING_BOAT = {
 each wall, its pill 1.3 inside them."""
 
 
-@pytest.mark.parametrize("integrator", ["euler", "heun"])
-def test_a_spanning_boat_agrees_with_the_cpu(integrator: str) -> None:
+@pytest.mark.parametrize(("scheme", "integrator"), [("paper", "euler"), ("consistent", "heun")])
+def test_a_spanning_boat_agrees_with_the_cpu(scheme: str, integrator: str) -> None:
     """A boat that spans its channel (its force and friction over the wet cells, its
-    footprint past both walls, no wall contact) runs on the GPU as on the CPU."""
+    footprint past both walls, no wall contact) runs on the GPU as on the CPU, on either
+    scheme and with either integrator."""
     ring = {**VESSEL, "inner_radius": 1.2, "outer_radius": 3.8}
-    numerics = {"scheme": "paper", "integrator": integrator}
+    numerics = {"scheme": scheme, "integrator": integrator}
     grid = {"domain_radius": 5.5, "vessel": ring}
     cpu, gpu = pair(config([SPANNING_BOAT], grid=grid, numerics=numerics))
     cpu.run(0.003)

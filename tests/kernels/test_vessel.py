@@ -145,11 +145,14 @@ def spanning_run(supply: float, **sections: dict) -> Simulation:
     return seeded(Simulation(config))
 
 
-def test_spanning_boat_step_equals_numpy_reference() -> None:
+@pytest.mark.parametrize("scheme", ["paper", "consistent"])
+def test_spanning_boat_step_equals_numpy_reference(scheme: str) -> None:
     """One compiled step of a boat whose plate crosses both walls gives the numpy step of
     c on the cut cells, the numpy rate of v and the numpy integrals over the wet cells
-    (:meth:`SurfacePDE.body_forces`: tension and friction, recorded at the step's start)."""
-    sim = spanning_run(1.0)
+    (:meth:`SurfacePDE.body_forces`: tension and friction, recorded at the step's start),
+    on either scheme (``consistent``: the filtered plate and pill, the wet-cell integrals
+    in place of its contour form)."""
+    sim = spanning_run(1.0, numerics={"scheme": scheme})
     pde: SurfacePDE = sim.pde
     before = sim.state.copy()
     dt = sim.config.grid.dt
@@ -166,20 +169,24 @@ def test_spanning_boat_step_equals_numpy_reference() -> None:
     assert np.abs(forces[:2]).max() > 0.1
 
 
-def test_spanning_boat_conserves_camphor_and_supplies_it_all_to_the_water() -> None:
+@pytest.mark.parametrize("scheme", ["paper", "consistent"])
+def test_spanning_boat_conserves_camphor_and_supplies_it_all_to_the_water(scheme: str) -> None:
     """With no-flux walls and no sublimation the camphor in the channel stays what it was
     to round-off while the spanning boat sails and stirs the water; with its pill on, the
     camphor grows by exactly its supply, sum of the source over every cell (at the pose
     of the step's start) times dA and dt per step: none of it falls on the dry cells its
-    plate covers."""
-    sim = spanning_run(0.0, camphor={"evaporation": 0.0})
+    plate covers, on either scheme (``consistent``: the filtered pill)."""
+    numerics = {"scheme": scheme}
+    sim = spanning_run(0.0, camphor={"evaporation": 0.0}, numerics=numerics)
     domain = sim.pde.domain
     start = domain.camphor_total(sim.state.data[0])
     x0 = sim.bodies.poses[0, :2].copy()
     sim.run(0.1)
     assert np.hypot(*(sim.bodies.poses[0, :2] - x0)) > 0.02
     assert abs(domain.camphor_total(sim.state.data[0]) / start - 1) < 1e-12
-    fed = spanning_run(2.0, camphor={"evaporation": 0.0}, flow={"enabled": False})
+    fed = spanning_run(
+        2.0, camphor={"evaporation": 0.0}, flow={"enabled": False}, numerics=numerics
+    )
     pde: SurfacePDE = fed.pde
     start = pde.domain.camphor_total(fed.state.data[0])
     dt = fed.config.grid.dt
