@@ -24,13 +24,18 @@ from ..physics.indicators import PLATE_POLYGON, PLATE_STRIP
 from ..physics.spline import SPLINE_MARGIN
 from .body_arcs import circle_sums
 from .body_draw import orient
-from .spline import ROW_GROUP, node_scratch, place_nodes, spline_columns, spline_rows
+from .spline import (
+    ROW_GROUP,
+    node_pressure,
+    node_scratch,
+    place_nodes,
+    spline_columns,
+    spline_rows,
+)
 
 _cell_integrals = CPU.motion.cell_integrals
-_surface_pressure = CPU.tension.surface_pressure
 _wet_cell_integrals = CPU.motion.wet_cell_integrals
 _polygon_band = CPU.tension.polygon_band
-_spline_sum = CPU.spline.spline_sum
 
 
 SUM_FASTMATH = FASTMATH | {"reassoc"}
@@ -227,9 +232,7 @@ def _edge_pair(coef, grid, edge, quad, m, p, scratch):
     pair_y = 0.0
     pair_t = 0.0
     for k_t in range(n_t):
-        wx = (weights[0, k_t], weights[1, k_t], weights[2, k_t], weights[3, k_t])
-        wy = (weights[4, k_t], weights[5, k_t], weights[6, k_t], weights[7, k_t])
-        c = _surface_pressure(_spline_sum(coef, taps[k_t], sx, sy, wx, wy), p)
+        c = node_pressure(coef, taps, weights, k_t, sx, sy, p)
         wc = weights[8, k_t] * c
         pair_x += wc * ex
         pair_y += wc * ey

@@ -28,15 +28,21 @@ import numpy as np
 
 from ..physics.build import CPU, FASTMATH
 from .indicators import SCRATCH_ROWS, indicator_row
-from .spline import ROW_GROUP, node_scratch, place_nodes, spline_columns, spline_rows, spline_window
+from .spline import (
+    ROW_GROUP,
+    node_pressure,
+    node_scratch,
+    place_nodes,
+    spline_columns,
+    spline_rows,
+    spline_window,
+)
 
 _cell_rates = CPU.rates.cell_rates
 _rate_coefficients = CPU.rates.rate_coefficients
 _tension_integrand = CPU.tension.tension_integrand
-_surface_pressure = CPU.tension.surface_pressure
 _friction_moments = CPU.motion.friction_moments
 _polygon_band = CPU.tension.polygon_band
-_spline_sum = CPU.spline.spline_sum
 _rotor_table = CPU.indicators.rotor_table
 _held = CPU.motion.held
 _hold = CPU.motion.hold
@@ -244,10 +250,7 @@ def _contour_block(coef, coords, params, tab, quad_s, quad_t, sums, scratch, b, 
         place_nodes(grid, edge, quad_s, quad_t, m, taps, weights)
         total = 0.0
         for k_t in range(n_t):
-            wx = (weights[0, k_t], weights[1, k_t], weights[2, k_t], weights[3, k_t])
-            wy = (weights[4, k_t], weights[5, k_t], weights[6, k_t], weights[7, k_t])
-            c = _spline_sum(coef, taps[k_t], sx, sy, wx, wy)
-            total += weights[9, k_t] * _surface_pressure(c, p)
+            total += weights[9, k_t] * node_pressure(coef, taps, weights, k_t, sx, sy, p)
         sums[pair] = total
 
 

@@ -26,6 +26,8 @@ _spline_reach = CPU.spline.spline_reach
 _spline_coefficient = CPU.spline.spline_coefficient
 _edge_place = CPU.tension.edge_place
 _bspline_weights = CPU.spline.bspline_weights
+_spline_sum = CPU.spline.spline_sum
+_surface_pressure = CPU.tension.surface_pressure
 
 _LINES = {"cache": True, "nogil": True, "error_model": "numpy"}
 """numba options of the loops below (inlined into the time step that calls them): no
@@ -185,3 +187,19 @@ def place_nodes(grid, edge, quad_s, quad_t, m, taps, weights):
         weights[0, k_t], weights[1, k_t], weights[2, k_t], weights[3, k_t] = wx0, wx1, wx2, wx3
         weights[4, k_t], weights[5, k_t], weights[6, k_t], weights[7, k_t] = wy0, wy1, wy2, wy3
         weights[8, k_t], weights[9, k_t] = w, w_t
+
+
+@nb.njit(inline="always", cache=True, nogil=True, fastmath=FASTMATH, error_model="numpy")
+def node_pressure(coef, taps, weights, k_t, sx, sy, p):
+    """Node k_t's Pi(c) / k (the tension's ``surface_pressure``) from the 16 taps that
+    :func:`place_nodes` placed: the second pass of the contour form of Eq. (eq_motion),
+    node by node (``spline_sum``, unsigned offsets `sx`, `sy`), shared by the rotor's
+    :func:`pde_rotor.kernels.cpu.contour_torque` and the bodies'
+    :func:`pde_rotor.kernels.body_sums.body_contour`.
+
+    Returns:
+        Pi(c) / k at the node, to be weighted by the node's w (row 8) or w_t (row 9).
+    """
+    wx = (weights[0, k_t], weights[1, k_t], weights[2, k_t], weights[3, k_t])
+    wy = (weights[4, k_t], weights[5, k_t], weights[6, k_t], weights[7, k_t])
+    return _surface_pressure(_spline_sum(coef, taps[k_t], sx, sy, wx, wy), p)
