@@ -21,10 +21,15 @@ the last four arrays of the `wall` the other kernel takes. ``--split`` also time
 kernel's step with its implicit clusters emptied (its ``NO_WALL``'s) and prints the
 clusters' part, the difference. ``--agree STEPS`` steps both kernels STEPS times from the
 same state and prints the largest difference in c, relative to the largest c.
+``--alone`` also times this checkout's clusters outside the step, each in a compiled loop
+on the state one step left: the gather of kappa c' onto their cells (``cluster_rhs``, the
+flow-on step's) and their solve (``implicit_clusters``, less the copy that restores its
+right-hand side each time), so that their cost in the step can be told from their own.
 
 Run:  NUMBA_NUM_THREADS=1 python benchmarks/vessel_step.py [--steps 100] [--rounds 3]
       [--against /path/to/other/pde_rotor/kernels/wall.py
        [--against-model /path/to/other/pde_rotor/model/wall.py] [--agree 1000]] [--split]
+      [--alone]
 """
 
 from __future__ import annotations
@@ -113,6 +118,49 @@ def open_loop(steps, states, fields, pose, domain, segments, coef, dt, flow):
         euler_body_fields(cur, nxt, fields, fields, pose, domain, segments, coef, dt, flow)
 
 
+@nb.njit
+def gather_loop(steps, nxt, rhs, volume, index):
+    """`steps` gathers of kappa c' onto the clusters' cells (``cluster_rhs``)."""
+    for _ in range(steps):
+        wall.cluster_rhs(nxt, rhs, volume, index)
+
+
+@nb.njit
+def solve_loop(steps, nxt, rhs, index, factor, start, solve):
+    """`steps` restores of `rhs` from `start`, each followed (with `solve`) by the
+    clusters' solve (``implicit_clusters``)."""
+    for _ in range(steps):
+        rhs[:] = start
+        if solve:
+            wall.implicit_clusters(nxt, rhs, index, factor)
+
+
+def time_alone(walls: tuple, state: tuple, steps: int, rounds: int) -> str:
+    """The clusters' gather and solve outside the step, ms (least of `rounds`), on the
+    fields and right-hand side one step of `state` = (bare, domain, flow, cur) leaves."""
+    bare, domain, flow, cur = state
+    nxt, rhs = np.zeros_like(cur), np.zeros(N * N)
+    wall.euler_walled_fields(
+        (cur, nxt), bare, domain, walls, COEF, DT, np.zeros((0, 13)), flow, rhs
+    )
+    volume, index, factor = walls[0], walls[9], walls[11]
+    times = {"gather": [], "solve": []}
+    for _ in range(rounds + 1):  # the first round compiles and warms
+        clocks = []
+        for run in (
+            lambda: gather_loop(steps, nxt.copy(), rhs.copy(), volume, index),
+            lambda: solve_loop(steps, nxt.copy(), rhs.copy(), index, factor, rhs, True),
+            lambda: solve_loop(steps, nxt.copy(), rhs.copy(), index, factor, rhs, False),
+        ):
+            start = time.thread_time()
+            run()
+            clocks.append(1e3 * (time.thread_time() - start) / steps)
+        times["gather"].append(clocks[0])
+        times["solve"].append(clocks[1] - clocks[2])
+    gather, solve = (min(times[key][1:]) for key in ("gather", "solve"))
+    return f" alone ({index.shape[0]} rows): gather {gather:.4f} ms, solve {solve:.4f} ms;"
+
+
 def time_open(coords: np.ndarray, steps: int, rounds: int, rng: np.random.Generator) -> None:
     """Print the open update's ms per step on the dish r < 5.6, flow off and on."""
     lo, hi = support_rows(coords, 5.6)
@@ -148,6 +196,9 @@ def main() -> None:
     )
     parser.add_argument(
         "--split", action="store_true", help="also time each step without its implicit clusters"
+    )
+    parser.add_argument(
+        "--alone", action="store_true", help="also time the clusters outside the step"
     )
     parser.add_argument(
         "--agree", type=int, default=0, help="steps after which to compare c with --against's"
@@ -206,6 +257,10 @@ def main() -> None:
             for key in modules if args.split else ():
                 implicit = least[name, flow, key] - least[name, flow, f"{key} without clusters"]
                 line += f" {key}: implicit clusters {implicit:.4f} ms;"
+            if args.alone:
+                line += time_alone(
+                    arrays["this"], (bare, domain, flow, cur), 10 * args.steps, args.rounds
+                )
             if args.agree:
                 c = {}
                 for key in modules:
