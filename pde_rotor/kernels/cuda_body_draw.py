@@ -178,6 +178,23 @@ def _row_code(i, k, m, state, surface, bodies):
 
 
 @device_function
+def box_size(box, m, k):
+    """The number of cells of body k's box (member m; rows box[0]:box[1], columns
+    box[2]:box[3]), which the threads of a block share as q = tid, tid + n_threads, ..."""
+    return (box[m, k, 1] - box[m, k, 0]) * (box[m, k, 3] - box[m, k, 2])
+
+
+@device_function
+def box_cell(box, m, k, q, n):
+    """(i, j, i n + j): cell q of body k's box in row-major order (q < :func:`box_size`)."""
+    j0 = box[m, k, 2]
+    width = box[m, k, 3] - j0
+    i = box[m, k, 0] + q // width
+    j = j0 + q % width
+    return i, j, i * n + j
+
+
+@device_function
 def draw_body(k, m, moved, state, surface, bodies, scratch, tables, p, red):
     """Draw body k of member m at its pose (all threads): F_k, G_k and owner k on the
     cells of its footprint, the old footprint cleared first where X_k `moved`.
@@ -192,10 +209,8 @@ def draw_body(k, m, moved, state, surface, bodies, scratch, tables, p, red):
     n_threads = cuda.blockDim.x
     n = coords.size
     if moved:
-        i0, j0 = box[m, k, 0], box[m, k, 2]
-        width = box[m, k, 3] - j0
-        for q in range(tid, (box[m, k, 1] - i0) * width, n_threads):
-            o = (i0 + q // width) * n + j0 + q % width
+        for q in range(tid, box_size(box, m, k), n_threads):
+            _, _, o = box_cell(box, m, k, q, n)
             if owner[m, o] == k:
                 F[m, o] = 0.0
                 G[m, o] = 0.0

@@ -17,6 +17,7 @@ from ..model.body_schemes import ARC_EDGES
 from ..physics.indicators import PLATE_DISK, PLATE_POLYGON, PLATE_STRIP
 from ..physics.motion import N_INTEGRALS
 from .cuda import GPU
+from .cuda_body_draw import box_cell, box_size
 from .cuda_target import cuda, device_function
 
 N_SUMS = N_INTEGRALS
@@ -46,6 +47,15 @@ def reduce_sums(red, count, tid, n_threads):
 
 
 @device_function
+def store_sums(red, s, tid, n_threads):
+    """Thread tid's partial integrals `s` (:data:`N_SUMS`) into red[q n_threads + tid],
+    then their sums over the block into red[q n_threads] (:func:`reduce_sums`)."""
+    for q in range(N_SUMS):
+        red[q * n_threads + tid] = s[q]
+    reduce_sums(red, N_SUMS, tid, n_threads)
+
+
+@device_function
 def area_sums(src, k, m, state, surface, bodies, p, red):
     """Body k's integrals over the cells of its box it owns, area form with central
     differences (the motion's ``cell_integrals``; the tension's terms 0 for the contour
@@ -61,13 +71,9 @@ def area_sums(src, k, m, state, surface, bodies, p, red):
     inv_2dx = 0.5 / (coords[1] - coords[0])
     terms = (not p.contour, p.flow)
     x_k, y_k = pose[m, k, 0], pose[m, k, 1]
-    i0, j0 = box[m, k, 0], box[m, k, 2]
-    width = box[m, k, 3] - j0
     s = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
-    for q in range(tid, (box[m, k, 1] - i0) * width, n_threads):
-        i = i0 + q // width
-        j = j0 + q % width
-        o = i * n + j
+    for q in range(tid, box_size(box, m, k), n_threads):
+        i, j, o = box_cell(box, m, k, q, n)
         if owner[m, o] != k:
             continue
         f = F[m, o]
@@ -75,17 +81,7 @@ def area_sums(src, k, m, state, surface, bodies, p, red):
             continue
         r = (coords[i] - x_k, coords[j] - y_k)
         s = _cell_integrals(s, buf, src + o, strides, f, r, inv_2dx, p, terms)
-    red[tid] = s[0]
-    red[n_threads + tid] = s[1]
-    red[2 * n_threads + tid] = s[2]
-    red[3 * n_threads + tid] = s[3]
-    red[4 * n_threads + tid] = s[4]
-    red[5 * n_threads + tid] = s[5]
-    red[6 * n_threads + tid] = s[6]
-    red[7 * n_threads + tid] = s[7]
-    red[8 * n_threads + tid] = s[8]
-    red[9 * n_threads + tid] = s[9]
-    reduce_sums(red, N_SUMS, tid, n_threads)
+    store_sums(red, s, tid, n_threads)
 
 
 @device_function
@@ -105,13 +101,9 @@ def spanning_sums(src, k, m, state, surface, bodies, volume, p, red):
     inv_2dx = 0.5 / (coords[1] - coords[0])
     fm = F[m]
     x_k, y_k = pose[m, k, 0], pose[m, k, 1]
-    i0, j0 = box[m, k, 0], box[m, k, 2]
-    width = box[m, k, 3] - j0
     s = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
-    for q in range(tid, (box[m, k, 1] - i0) * width, n_threads):
-        i = i0 + q // width
-        j = j0 + q % width
-        o = i * n + j
+    for q in range(tid, box_size(box, m, k), n_threads):
+        i, j, o = box_cell(box, m, k, q, n)
         if owner[m, o] != k:
             continue
         kappa = volume[o]
@@ -119,9 +111,7 @@ def spanning_sums(src, k, m, state, surface, bodies, volume, p, red):
             continue
         r = (coords[i] - x_k, coords[j] - y_k)
         s = _wet_cell_integrals(s, buf, (src + o, o), fm, strides, kappa, r, inv_2dx, p, p.flow)
-    for q in range(N_SUMS):
-        red[q * n_threads + tid] = s[q]
-    reduce_sums(red, N_SUMS, tid, n_threads)
+    store_sums(red, s, tid, n_threads)
 
 
 @device_function
