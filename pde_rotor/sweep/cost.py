@@ -99,12 +99,14 @@ besides. Per cell of a body's box (2 R / dx)^2, R its footprint's reach:
 ``no_flux_box_cell`` its plate terms in the cut-cell update (every body, behind a no-flux
 wall; in the open update they cost what a bare cell costs), ``<scheme>_box_cell`` its
 force integrals (every body but a ``fixed`` one, held or not; with ``consistent`` also
-its filtered F and the contour form). ``drawn_pill_cell``: per cell of each pill's box
-(2 (rho + w delta) / dx)^2, w = ``numerics.footprint_widths``, its source term G (and F
-without a plate) redrawn while the body moves (the plate's own F is within the fit's
-noise). ``heun_average_cell``: Heun's average per wet cell and field (c, and v with the
-flow). A change of the bodies' or the vessel's step calls for the script again; it
-prints these constants in this form."""
+its filtered F and the contour form; a body that spans its channel ``paper_box_cell`` on
+either scheme, its integrals being the area form's over the wet cells: measured, its
+consistent run costs what its paper run does, docs/results.md, 2026-11-29).
+``drawn_pill_cell``: per cell of each pill's box (2 (rho + w delta) / dx)^2, w =
+``numerics.footprint_widths``, its source term G (and F without a plate) redrawn while
+the body moves (the plate's own F is within the fit's noise). ``heun_average_cell``:
+Heun's average per wet cell and field (c, and v with the flow). A change of the bodies'
+or the vessel's step calls for the script again; it prints these constants in this form."""
 COLLECTIVE_SET_UP_SECONDS = 1.5
 """CPU time of a collective run besides its steps (its Simulation, the bodies' placement,
 the recorded measures): the crowd dish's runs that ended at t = 1 took 1.0 to 2.3 s more
@@ -159,7 +161,8 @@ def bodies_step_terms(
     """What one step of a run with ``bodies:`` walks, by the key of
     :data:`BODIES_STEP_COSTS` that prices it: the wet cells (with the flow, behind a
     no-flux wall), each body's box of (2 R / dx)^2 cells (its plate terms behind a no-flux
-    wall, its force integrals unless it is ``fixed``) and its pills' boxes (redrawn in the
+    wall, its force integrals unless it is ``fixed``: the area form's for a body that
+    spans its channel, whatever the scheme) and its pills' boxes (redrawn in the
     share `moving` of the steps, each body's, default :func:`moving_shares`). Heun's method
     (:func:`pde_rotor.kernels.bodies.advance_bodies`) draws, sums and updates the fields
     twice a step (at the state and at the prediction) and averages the fields once: twice
@@ -181,7 +184,8 @@ def bodies_step_terms(
         box = (2 * body.reach(delta, widths) / dx) ** 2
         terms["no_flux_box_cell"] += box if walled else 0.0
         if body.motion.kind != "fixed":
-            terms[f"{config.numerics.scheme}_box_cell"] += box
+            scheme = "paper" if getattr(body.motion, "spans", False) else config.numerics.scheme
+            terms[f"{scheme}_box_cell"] += box
             for pill in body.pills:
                 pill_box = (2 * (pill.radius + widths * delta) / dx) ** 2
                 terms["drawn_pill_cell"] += share * pill_box

@@ -350,6 +350,38 @@ def test_a_body_costs_its_integrals_unless_fixed_and_its_pills_redraw_while_it_m
     assert held == pytest.approx(bodies_step_seconds(fixed) + sums)
 
 
+def test_a_spanning_boat_costs_the_area_form_on_either_scheme() -> None:
+    """A boat that spans its channel takes its integrals in the area form over the wet
+    cells on both schemes (no contour form): its box is priced as ``paper_box_cell``
+    on ``consistent`` too, where another track boat's is ``consistent_box_cell``."""
+    ring = {"shape": "annulus", "inner_radius": 2.375, "outer_radius": 3.625}
+    grid = {"domain_radius": 4.95, "dx": 0.05, "dt": 4e-4, "vessel": ring}
+    boat = {
+        "plate": {"shape": "strip", "length": 0.3, "width": 2.45},
+        "pills": [{"x": -0.1, "radius": 0.05}],
+        "motion": {"kind": "track", "mass": 1e-3, "friction": 0.3, "spans": True},
+        "start": {"x": 3.0},
+    }
+    base = {"grid": grid, "geometry": {"smoothing": 0.025}, "bodies": [boat]}
+    seconds = {
+        scheme: bodies_step_seconds(validate_config(base | {"numerics": {"scheme": scheme}}))
+        for scheme in ("paper", "consistent")
+    }
+    assert seconds["consistent"] == pytest.approx(seconds["paper"])
+    narrow = {**boat, "plate": {"shape": "strip", "length": 0.3, "width": 0.2}}
+    narrow["motion"] = {"kind": "track", "mass": 1e-3, "friction": 0.3}
+    wide = {**grid, "vessel": {**ring, "inner_radius": 1.5, "outer_radius": 4.5}}
+    plain = {
+        scheme: bodies_step_seconds(
+            validate_config(
+                base | {"grid": wide, "bodies": [narrow], "numerics": {"scheme": scheme}}
+            )
+        )
+        for scheme in ("paper", "consistent")
+    }
+    assert plain["consistent"] > plain["paper"]
+
+
 def test_a_cut_footprint_costs_its_smaller_box() -> None:
     """With ``numerics.footprint_widths`` = w a free body's box and its pills' boxes grow
     by w delta, not 20 delta: the estimate prices the cells the drawing walks."""
