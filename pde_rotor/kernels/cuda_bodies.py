@@ -55,7 +55,7 @@ from ..physics.motion import MOTION_FIXED
 from .bodies import STATUS_EDGE, STATUS_FINITE, STATUS_OVERLAP
 from .cuda import GPU
 from .cuda_body_draw import draw_body
-from .cuda_body_sums import N_SUMS, area_sums, contour_sums, spanning_sums
+from .cuda_body_sums import N_SUMS, contour_sums, owned_sums
 from .cuda_target import cuda, device_function, float64, int64, kernel
 
 _plate_rates = GPU.rates.plate_rates
@@ -258,16 +258,13 @@ def _stage(where, state, surface, bodies, scratch, tables, walls, p, shared):
         b = body[m][k]
         if b.motion == MOTION_FIXED:
             continue
-        if b.spans:
-            spanning_sums(src, k, m, state, surface, bodies, wall[0], p, red)
-        elif _leaves_vessel(pose[m, k, 0], pose[m, k, 1], b.contact, p):
+        if not b.spans and _leaves_vessel(pose[m, k, 0], pose[m, k, 1], b.contact, p):
             if tid == 0:
                 flags[2] = k
                 flags[3] = -1
             cuda.syncthreads()
             return STATUS_EDGE
-        else:
-            area_sums(src, k, m, state, surface, bodies, p, red)
+        owned_sums(src, k, m, state, surface, bodies, wall[0], p, red)
         if tid == 0:
             for q in range(N_SUMS):
                 ints[q] = red[q * n_threads] * area

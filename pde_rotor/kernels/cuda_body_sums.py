@@ -1,12 +1,12 @@
 """A body's integrals on the GPU, for the kernel of :mod:`pde_rotor.kernels.cuda_bodies`:
-the area form over the cells of its box it owns (central differences; the CPU's
-:func:`pde_rotor.kernels.body_sums.body_integrals`) and, for ``consistent``, the tension
+the area form over the cells of its box it owns (central differences, :func:`owned_sums`;
+the CPU's :func:`pde_rotor.kernels.body_sums.body_integrals`) and, for ``consistent``, the tension
 force and torque in contour form (the spline of c on the body's window, then its edges'
 or circles' nodes, ``edge_sums``, ``arc_orbit``; the CPU's
 :func:`pde_rotor.kernels.body_sums.body_contour`), each split among a block's threads and
 summed by a fixed-order tree in shared memory (:func:`reduce_sums`); for a body that
-spans its channel, the same integrals over the wet cells it owns (:func:`spanning_sums`;
-the CPU's :func:`pde_rotor.kernels.body_sums.spanning_integrals`).
+spans its channel, the same integrals over the wet cells it owns (also
+:func:`owned_sums`; the CPU's :func:`pde_rotor.kernels.body_sums.spanning_integrals`).
 """
 
 from __future__ import annotations
@@ -56,49 +56,24 @@ def store_sums(red, s, tid, n_threads):
 
 
 @device_function
-def area_sums(src, k, m, state, surface, bodies, p, red):
-    """Body k's integrals over the cells of its box it owns, area form with central
+def owned_sums(src, k, m, state, surface, bodies, volume, p, red):
+    """Body k's integrals over the cells of its box it owns, into red[q n_threads]
+    (q < :data:`N_SUMS`, not yet times dA; all threads): the area form with central
     differences (the motion's ``cell_integrals``; the tension's terms 0 for the contour
-    form, which replaces them), into red[q n_threads] (q < :data:`N_SUMS`, not yet times
-    dA; all threads; the sums of :func:`pde_rotor.kernels.body_sums.body_integrals`)."""
-    buf, F, _, owner = state
-    coords, _ = surface
-    _, _, pose, _, box = bodies
-    tid = cuda.threadIdx.x
-    n_threads = cuda.blockDim.x
-    n = coords.size
-    strides = (n, 1, n * n)
-    inv_2dx = 0.5 / (coords[1] - coords[0])
-    terms = (not p.contour, p.flow)
-    x_k, y_k = pose[m, k, 0], pose[m, k, 1]
-    s = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
-    for q in range(tid, box_size(box, m, k), n_threads):
-        i, j, o = box_cell(box, m, k, q, n)
-        if owner[m, o] != k:
-            continue
-        f = F[m, o]
-        if f == 0.0:
-            continue
-        r = (coords[i] - x_k, coords[j] - y_k)
-        s = _cell_integrals(s, buf, src + o, strides, f, r, inv_2dx, p, terms)
-    store_sums(red, s, tid, n_threads)
-
-
-@device_function
-def spanning_sums(src, k, m, state, surface, bodies, volume, p, red):
-    """Body k's integrals over the wet cells of its box it owns, for a body that spans
-    its channel (the motion's ``wet_cell_integrals``, each cell's share weighted by its
-    volume fraction kappa, `volume` flat; dry cells skipped), into red[q n_threads]
-    (q < :data:`N_SUMS`, not yet times dA; all threads; the sums of
+    form, which replaces them; the sums of
+    :func:`pde_rotor.kernels.body_sums.body_integrals`), or for a body that spans its
+    channel each wet cell's share weighted by its volume fraction kappa (the motion's
+    ``wet_cell_integrals``, `volume` flat, dry cells skipped; the sums of
     :func:`pde_rotor.kernels.body_sums.spanning_integrals`)."""
     buf, F, _, owner = state
     coords, _ = surface
-    _, _, pose, _, box = bodies
+    body, _, pose, _, box = bodies
     tid = cuda.threadIdx.x
     n_threads = cuda.blockDim.x
     n = coords.size
-    strides = (n, n * n)
     inv_2dx = 0.5 / (coords[1] - coords[0])
+    terms = (not p.contour, p.flow)
+    spans = body[m][k].spans != 0
     fm = F[m]
     x_k, y_k = pose[m, k, 0], pose[m, k, 1]
     s = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
@@ -106,11 +81,18 @@ def spanning_sums(src, k, m, state, surface, bodies, volume, p, red):
         i, j, o = box_cell(box, m, k, q, n)
         if owner[m, o] != k:
             continue
-        kappa = volume[o]
-        if kappa == 0.0:
-            continue
         r = (coords[i] - x_k, coords[j] - y_k)
-        s = _wet_cell_integrals(s, buf, (src + o, o), fm, strides, kappa, r, inv_2dx, p, p.flow)
+        if spans:
+            kappa = volume[o]
+            if kappa == 0.0:
+                continue
+            cell = (src + o, o)
+            s = _wet_cell_integrals(s, buf, cell, fm, (n, n * n), kappa, r, inv_2dx, p, p.flow)
+        else:
+            f = fm[o]
+            if f == 0.0:
+                continue
+            s = _cell_integrals(s, buf, src + o, (n, 1, n * n), f, r, inv_2dx, p, terms)
     store_sums(red, s, tid, n_threads)
 
 

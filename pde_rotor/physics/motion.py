@@ -200,7 +200,7 @@ def make_motion(jit: Callable[[Callable], Callable], tension: Tension) -> Motion
         ``surface_pressure``), and kappa times :func:`friction_moments`, in the order of
         :func:`cell_integrals`; the running sums of the wet-cell loop, CPU
         (:func:`pde_rotor.kernels.body_sums.spanning_integrals`) and GPU
-        (:func:`pde_rotor.kernels.cuda_body_sums.spanning_sums`).
+        (:func:`pde_rotor.kernels.cuda_body_sums.owned_sums`).
 
         Args:
             sums: the 10 sums so far.
