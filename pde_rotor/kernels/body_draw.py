@@ -380,10 +380,15 @@ def draw_body(F, G, owner, domain, k, bodies, p, work, moved):
                 row_f[j] = 0.0
         elif b.plate == PLATE_POLYGON:
             plate_row(row_f, rx, row_y, tab, b.n_corners, b.size_a, inv_delta, scratch[1, ja:jb])
+        elif b.plate == PLATE_STRIP:  # the kind a constant of each loop: SIMD
+            for j in range(row_y.size):
+                row_f[j] = _body_plate_cell(
+                    rx, row_y[j], PLATE_STRIP, tab, b.n_corners, b.size_a, b.size_b, inv_delta
+                )
         else:
             for j in range(row_y.size):
                 row_f[j] = _body_plate_cell(
-                    rx, row_y[j], b.plate, tab, b.n_corners, b.size_a, b.size_b, inv_delta
+                    rx, row_y[j], PLATE_DISK, tab, b.n_corners, b.size_a, b.size_b, inv_delta
                 )
         for m in range(b.pill_start, b.pill_start + b.pill_count):
             px, py, rho, weight = centres[0, m], centres[1, m], pills[m, 2], pills[m, 3]
