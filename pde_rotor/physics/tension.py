@@ -25,8 +25,9 @@ the bodies':
   :func:`edge_node` (its shares); :func:`edge_sums` adds an edge's nodes in order,
   :func:`polygon_band` gives the level of a polygon's band node and
   :func:`polygon_node` enumerates a polygon's nodes one by one (the GPU's threads). A
-  circle's nodes come four at a time, mirror images of each other (:func:`arc_orbit`,
-  c at each from :func:`arc_value`).
+  circle's nodes come four at a time, mirror images of each other (:func:`arc_orbit`:
+  :func:`orbit_points`, c at each from :func:`arc_value`, that is :func:`arc_place`
+  and :func:`arc_read`, and :func:`orbit_share`).
 
 A ``grid`` is the tuple (o0, n, x0, inv_dx): the offset of the first of the n x n
 B-spline coefficients of c, their count along a side, the coordinate of cell 0's centre
@@ -59,7 +60,11 @@ class Tension(NamedTuple):
     edge_node: Callable
     edge_sums: Callable
     polygon_node: Callable
+    arc_place: Callable
+    arc_read: Callable
     arc_value: Callable
+    orbit_points: Callable
+    orbit_share: Callable
     arc_orbit: Callable
 
 
@@ -191,19 +196,67 @@ def make_tension(jit: Callable[[Callable], Callable], spline: Spline) -> Tension
         return edge_node(coef, grid, edge, quad_s, quad_t, m, k_t, p)
 
     @jit
-    def arc_value(coef, lattice, x, y, p):
-        """Pi(c) / k (:func:`surface_pressure`) at the point (x, y) of the dish frame from
-        the spline of c, its taps those of :func:`~pde_rotor.physics.spline` ``mirror_node``
-        along both axes: at the point's images under the grid's mirrors (x -> -x, y -> -y)
-        the same arithmetic on mirrored coefficients, so that on coefficients symmetric
-        under a mirror the values at a point and at its image agree bit for bit.
-        `lattice` is (o0, n, inv_dx) (module docstring)."""
+    def arc_place(lattice, x, y):
+        """Where the point (x, y) of the dish frame reads the spline of c: its taps those
+        of :func:`~pde_rotor.physics.spline` ``mirror_node`` along both axes, so that
+        its image under a mirror of the grid (x -> -x, y -> -y) reads the mirrored taps
+        in the same order with the same fractions. `lattice` is (o0, n, inv_dx) (module
+        docstring).
+
+        Returns:
+            (row, sx, sy, tx, ty): the first tap, the offsets of the next tap along x and
+            y (+-n, +-1) and the fractions along x and y (:func:`arc_read`'s `place`).
+        """
         o0, n, inv_dx = lattice
         i, step_i, tx = mirror_node(n, x * inv_dx)
         j, step_j, ty = mirror_node(n, y * inv_dx)
-        row = o0 + i * n + j
-        value = spline_sum(coef, row, step_i * n, step_j, bspline_weights(tx), bspline_weights(ty))
+        return o0 + i * n + j, step_i * n, step_j, tx, ty
+
+    @jit
+    def arc_read(coef, place, p):
+        """Pi(c) / k (:func:`surface_pressure`) from the 16 taps of the spline of c that
+        :func:`arc_place` placed, `place` = (row, sx, sy, tx, ty)."""
+        row, sx, sy, tx, ty = place
+        value = spline_sum(coef, row, sx, sy, bspline_weights(tx), bspline_weights(ty))
         return surface_pressure(value, p)
+
+    @jit
+    def arc_value(coef, lattice, x, y, p):
+        """Pi(c) / k at the point (x, y) of the dish frame from the spline of c
+        (:func:`arc_place`, then :func:`arc_read`): at the point's images under the
+        grid's mirrors the same arithmetic on mirrored coefficients, so that on
+        coefficients symmetric under a mirror the values at a point and at its image
+        agree bit for bit."""
+        return arc_read(coef, arc_place(lattice, x, y), p)
+
+    @jit
+    def orbit_points(circle, ca, sa):
+        """The four nodes of a circle's orbit (:func:`arc_orbit`) off the axes, 0 < a <
+        pi/2: (x1, y1, .., x4, y4) at the angles a, pi - a, -a, pi + a of the body frame.
+
+        Their offsets from P are sign flips of R(phi) (h ca, 0) and R(phi) (0, h sa), not
+        cosines and sines of their own; the two products h ca and h sa, the only ones
+        that round when phi = 0, are taken on their own (no fused multiply-add can take
+        them into a sum at one node and not at its image).
+        """
+        cx, cy, h, cos_phi, sin_phi = circle
+        along = h * ca
+        across = h * sa
+        ux, uy = cos_phi * along, sin_phi * along
+        vx, vy = -sin_phi * across, cos_phi * across
+        return (
+            cx + (ux + vx), cy + (uy + vy), cx + (vx - ux), cy + (vy - uy),
+            cx + (ux - vx), cy + (uy - vy), cx - (ux + vx), cy - (uy + vy),
+        )  # fmt: skip
+
+    @jit
+    def orbit_share(ca, sa, values):
+        """An orbit's share of int F grad c dA in the body frame, without the ring's
+        weight, from Pi(c) / k at its four nodes (:func:`orbit_points`' order), the
+        values at mirror images subtracted before anything else is added: ca ((c1 - c2)
+        + (c3 - c4)) along the body's x axis, sa ((c1 - c3) + (c2 - c4)) along its y."""
+        c1, c2, c3, c4 = values
+        return ca * ((c1 - c2) + (c3 - c4)), sa * ((c1 - c3) + (c2 - c4))
 
     @jit
     def arc_orbit(coef, lattice, circle, ca, sa, p):
@@ -215,15 +268,14 @@ def make_tension(jit: Callable[[Callable], Callable], spline: Spline) -> Tension
         the angles a, pi - a, -a, pi + a of the body frame; (1, 0) the four on its axes,
         0, pi, pi/2, 3 pi/2.
 
-        The nodes' offsets from P are sign flips of R(phi) (h ca, 0) and R(phi) (0, h sa),
-        not cosines and sines of their own, and the values at mirror images are
-        subtracted before anything else is added. The two products h ca and h sa, the
-        only ones that round when phi = 0, are taken on their own (no fused
-        multiply-add can take them into a sum at one node and not at its image). So on
-        a c symmetric under a mirror of the grid that is one of the body frame's
-        (phi = 0, P on the mirror's axis) the images read the same coordinates, or
-        opposite ones, each difference is 0 and so is the orbit's share across that
-        axis, exactly.
+        The nodes are :func:`orbit_points` (sign flips of two offsets, not cosines and
+        sines of their own), c at each :func:`arc_value`, the share :func:`orbit_share`
+        (the values at mirror images subtracted before anything else is added). So on a
+        c symmetric under a mirror of the grid that is one of the body frame's (phi = 0,
+        P on the mirror's axis) the images read the same coordinates, or opposite ones,
+        each difference is 0 and so is the orbit's share across that axis, exactly.
+        The CPU's :func:`pde_rotor.kernels.body_arcs.circle_sums` makes the same calls
+        for a whole ring in two passes.
 
         Returns:
             the orbit's share of int F grad c dA in the body frame, without the ring's
@@ -232,8 +284,6 @@ def make_tension(jit: Callable[[Callable], Callable], spline: Spline) -> Tension
             pi + a); its torque about P is 0 ((r - P) x n = 0 on the circle).
         """
         cx, cy, h, cos_phi, sin_phi = circle
-        along = h * ca
-        across = h * sa
         if sa == 0.0:  # the axes: P +- R(phi) (h, 0) and P +- R(phi) (0, h)
             ux, uy = cos_phi * h, sin_phi * h
             east = arc_value(coef, lattice, cx + ux, cy + uy, p)
@@ -241,13 +291,12 @@ def make_tension(jit: Callable[[Callable], Callable], spline: Spline) -> Tension
             north = arc_value(coef, lattice, cx - uy, cy + ux, p)
             south = arc_value(coef, lattice, cx + uy, cy - ux, p)
             return east - west, north - south
-        ux, uy = cos_phi * along, sin_phi * along
-        vx, vy = -sin_phi * across, cos_phi * across
-        c1 = arc_value(coef, lattice, cx + (ux + vx), cy + (uy + vy), p)
-        c2 = arc_value(coef, lattice, cx + (vx - ux), cy + (vy - uy), p)
-        c3 = arc_value(coef, lattice, cx + (ux - vx), cy + (uy - vy), p)
-        c4 = arc_value(coef, lattice, cx - (ux + vx), cy - (uy + vy), p)
-        return ca * ((c1 - c2) + (c3 - c4)), sa * ((c1 - c3) + (c2 - c4))
+        x1, y1, x2, y2, x3, y3, x4, y4 = orbit_points(circle, ca, sa)
+        c1 = arc_value(coef, lattice, x1, y1, p)
+        c2 = arc_value(coef, lattice, x2, y2, p)
+        c3 = arc_value(coef, lattice, x3, y3, p)
+        c4 = arc_value(coef, lattice, x4, y4, p)
+        return orbit_share(ca, sa, (c1, c2, c3, c4))
 
     return Tension(
         surface_pressure=surface_pressure,
@@ -257,6 +306,10 @@ def make_tension(jit: Callable[[Callable], Callable], spline: Spline) -> Tension
         edge_node=edge_node,
         edge_sums=edge_sums,
         polygon_node=polygon_node,
+        arc_place=arc_place,
+        arc_read=arc_read,
         arc_value=arc_value,
+        orbit_points=orbit_points,
+        orbit_share=orbit_share,
         arc_orbit=arc_orbit,
     )
