@@ -14,7 +14,9 @@ call the same source and hold no physics of their own:
 * :mod:`.motion`: the equation of motion of a body, Eq. (eq_motion), the stop schedule
   and the noise kick of Eq. (noiseav);
 * :mod:`.build`: :func:`~.build.make_physics`, all of the above for one compiler, and
-  its CPU build :data:`~.build.CPU`.
+  its CPU build :data:`~.build.CPU`;
+* :mod:`.cache`: numba's on-disk caches of the package dropped when a compiled source
+  changes (a cached loop keeps what it inlined from other files).
 
 :mod:`pde_rotor.model` keeps an independent numpy version of the same equations as the
 test oracle.

@@ -8,23 +8,28 @@ results by topic. :data:`CPU` is the build for numba's CPU target, inlined into 
 of :mod:`pde_rotor.kernels`; :mod:`pde_rotor.kernels.cuda` builds the same source as
 CUDA device functions.
 
-numba caches each compiled loop on disk keyed by its own file: after editing a module of
-this package, delete the ``__pycache__/*.nbi`` and ``*.nbc`` files of
-:mod:`pde_rotor.kernels`, or its loops keep the inlined old version.
+numba caches each compiled loop on disk keyed by its own file, not by what it inlines:
+importing this module first drops the package's caches if any compiled source changed
+since they were made (:func:`pde_rotor.physics.cache.refresh_caches`), so that no loop
+keeps an inlined old version.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
+from pathlib import Path
 from typing import NamedTuple
 
 import numba as nb
 
+from .cache import refresh_caches
 from .indicators import Indicators, make_indicators
 from .motion import Motion, make_motion
 from .rates import Rates, make_rates
 from .spline import Spline, make_spline
 from .tension import Tension, make_tension
+
+refresh_caches(Path(__file__).resolve().parents[1])
 
 
 class Physics(NamedTuple):
