@@ -76,23 +76,23 @@ COMMIT_TIME = 0.8
 """Release time until a restart has committed to a direction: the mean ``t_commit`` of
 the 6814 releases stored under data/sweeps/ is 0.82 (0.77 to 0.87 by sweep)."""
 BODIES_STEP_COSTS: dict[str, float] = {
-    "cell": 6.86e-10,
-    "flow_cell": 1.96e-9,
-    "no_flux_cell": 8.09e-10,
-    "no_flux_flow_cell": 2.06e-9,
-    "no_flux_box_cell": 7.93e-9,
-    "paper_box_cell": 5.38e-9,
-    "consistent_box_cell": 2.09e-8,
-    "drawn_pill_cell": 7.37e-9,
-    "heun_average_cell": 1.29e-9,
+    "cell": 5.47e-10,
+    "flow_cell": 1.65e-09,
+    "no_flux_cell": 6.55e-10,
+    "no_flux_flow_cell": 9.24e-10,
+    "no_flux_box_cell": 5.47e-09,
+    "paper_box_cell": 4.06e-09,
+    "consistent_box_cell": 2.11e-08,
+    "drawn_pill_cell": 5.16e-09,
+    "heun_average_cell": 9.55e-10,
 }
 """CPU seconds of one step of the bodies' kernel per unit of each term of
 :func:`bodies_step_terms` (one thread on one core of the project's machine), fitted by
 ``benchmarks/calibrate_cost.py`` to measured steps of every config of configs/bodies/
 with Euler and Heun, runs of the crowd sweeps (30 disks in the dish; 4, 6, 11 and 16
-boats in the ring) and single bodies in dishes (docs/results.md, 2026-11-28, after the
-vessel's cut-cell step was sped up with and without flow and its implicit clusters were
-solved by sparse factors). Per wet cell: ``cell`` the
+boats in the ring) and single bodies in dishes, on the idle machine after a body's
+contour circles were taken in two passes and a strip's drawing was vectorised
+(docs/results.md, 2026-11-29). Per wet cell: ``cell`` the
 field update without flow, ``flow_cell`` what the flow adds, ``no_flux_cell`` what a
 no-flux wall's cut-cell update adds, ``no_flux_flow_cell`` what the flow adds there
 besides. Per cell of a body's box (2 R / dx)^2, R its footprint's reach:
