@@ -25,7 +25,8 @@ vessel's field update without bodies
 goal: 16 boats <= 2x.
 
 ``--case sweep``: the ring sweep's own boats (`configs/sweeps/crowd_ring.yaml` at N = 16
-and N = 1, mu = 0.05, flow off: strips 0.3 x 0.15 on their track, contact on), on its grid
+and N = 1, mu = 0.05, flow off, or on with ``--flow on``, as the sweep runs both:
+strips 0.3 x 0.15 on their track, contact on), on its grid
 or on the one of ``--dx``, ``--smoothing``, ``--dt`` (the scheme: ``--scheme``), stepped by
 forward Euler so that each step is one evaluation, as the vessel's field update it is
 timed against (the sweep's Heun step is two of each).
@@ -40,6 +41,7 @@ likewise for the consistent scheme's ``numerics.contour_nodes`` (a circle's arc 
 Run:  NUMBA_NUM_THREADS=1 python benchmarks/bench_crowd.py [--steps 300] [--repeats 3]
       [--scheme paper consistent] [--case disks ring sweep] [--profile]
       [--dx DX --smoothing DELTA --dt DT] [--footprint 20 8 6] [--contour-nodes 32 16]
+      [--flow on]
 """
 
 from __future__ import annotations
@@ -144,14 +146,16 @@ def ring_config(count: int, scheme: str) -> RotorConfig:
     )
 
 
-def sweep_config(count: int, scheme: str, grid: dict, numerics: dict | None = None) -> RotorConfig:
-    """The ring sweep's resolved config with `count` boats (mu = 0.05, no flow), `scheme`,
-    forward Euler, the grid's changes in `grid` (dx, dt, smoothing; None: the sweep's) and
-    the ``numerics`` keys of `numerics` (e.g. ``footprint_widths``)."""
+def sweep_config(
+    count: int, scheme: str, grid: dict, numerics: dict | None = None, flow: bool = False
+) -> RotorConfig:
+    """The ring sweep's resolved config with `count` boats (mu = 0.05, the flow off unless
+    `flow`), `scheme`, forward Euler, the grid's changes in `grid` (dx, dt, smoothing; None:
+    the sweep's) and the ``numerics`` keys of `numerics` (e.g. ``footprint_widths``)."""
     overrides = [
         f"axes.crowd.count=[{count}]",
         "axes.crowd.body.motion.friction=[0.05]",
-        "axes.flow.enabled=[false]",
+        f"axes.flow.enabled=[{str(flow).lower()}]",
     ]
     data = Sweep.load(SWEEP, overrides).runs()[0].config
     data["numerics"].update(scheme=scheme, integrator="euler", **(numerics or {}))
@@ -228,15 +232,15 @@ def bare_vessel(sim: Simulation):
 
 
 def footprint_cases(
-    case: str, scheme: str, grid: dict, widths: list[float], nodes: list[int]
+    case: str, scheme: str, grid: dict, widths: list[float], nodes: list[int], flow: bool
 ) -> tuple[dict, Simulation]:
     """The timers of the crowd of `case` (``disks``: 20 disks, ``sweep``: the ring sweep's
     16 boats) at each footprint in `widths` and (``consistent``) each contour node count in
     `nodes`, one body at the first, and the bare surface or vessel; and the first crowd's
-    run."""
+    run. `flow`: the sweep's boats with the flow on."""
     if case == "sweep":
         count, what, bare = 16, "boats", bare_vessel
-        make = lambda k, numerics: sweep_config(k, scheme, grid, numerics)  # noqa: E731
+        make = lambda k, numerics: sweep_config(k, scheme, grid, numerics, flow)  # noqa: E731
     else:
         count, what, bare = 20, "disks", bare_surface
         make = lambda k, numerics: config(k, scheme, numerics)  # noqa: E731
@@ -253,12 +257,12 @@ def footprint_cases(
     return runs, crowds[0]
 
 
-def cases(case: str, scheme: str, grid: dict) -> tuple[dict, Simulation]:
+def cases(case: str, scheme: str, grid: dict, flow: bool) -> tuple[dict, Simulation]:
     """The timers of `case` (``disks``, ``ring`` or ``sweep``) on `scheme`, and the crowd's
-    run."""
+    run. `flow`: the sweep's boats with the flow on."""
     if case == "sweep":
-        crowd = Simulation(sweep_config(16, scheme, grid))
-        one = Simulation(sweep_config(1, scheme, grid))
+        crowd = Simulation(sweep_config(16, scheme, grid, flow=flow))
+        one = Simulation(sweep_config(1, scheme, grid, flow=flow))
         names, bare = ("16 boats", "1 boat", "no bodies"), bare_vessel(one)
     elif case == "disks":
         crowd, one = Simulation(config(20, scheme)), Simulation(config(1, scheme))
@@ -283,6 +287,9 @@ def main() -> None:
     parser.add_argument("--smoothing", type=float, help="--case sweep: delta")
     parser.add_argument("--profile", action="store_true", help="phases of the crowd's step")
     parser.add_argument(
+        "--flow", choices=["off", "on"], default="off", help="--case sweep: flow.enabled"
+    )
+    parser.add_argument(
         "--footprint", type=float, nargs="+", help="--case disks, sweep: numerics.footprint_widths"
     )
     parser.add_argument(
@@ -294,10 +301,10 @@ def main() -> None:
             grid = {"dx": args.dx, "dt": args.dt, "smoothing": args.smoothing}
             if case != "ring" and args.footprint:
                 runs, crowd = footprint_cases(
-                    case, scheme, grid, args.footprint, args.contour_nodes
+                    case, scheme, grid, args.footprint, args.contour_nodes, args.flow == "on"
                 )
             else:
-                runs, crowd = cases(case, scheme, grid)
+                runs, crowd = cases(case, scheme, grid, args.flow == "on")
             for run in runs.values():
                 run(20)  # compile and warm up
             rounds = {name: [] for name in runs}

@@ -22,6 +22,7 @@ from .dish import (
 )
 from .ring import (
     MODES,
+    NET_SPEED,
     STOP_SPEED,
     UNIFORM_SPREAD,
     WAVE_MOBILITY,
@@ -37,6 +38,7 @@ from .ring import (
 
 __all__ = [
     "MODES",
+    "NET_SPEED",
     "STOP_SPEED",
     "UNIFORM_SPREAD",
     "WAVE_MOBILITY",

@@ -12,6 +12,8 @@ Each body k is reduced to the angle theta_k(t) of its centre about the vessel's 
   max over 1 <= m <= N/2 of |<exp(i m theta_k)>| with its m (:func:`cluster_order`): 1 for
   m equal tight clusters evenly placed, of order 1/sqrt(N) for evenly spaced bodies
   (exactly 0 without noise);
+* the mean signed arc speed against the mean |arc speed|: bodies that move but go nowhere
+  on average oscillate about fixed places;
 * the gap mobility mean_k std_t(gap_k) / mean gap (:func:`gap_mobility`): how much each
   body's own gap changes in time. A static pattern of clusters keeps every gap
   (mobility 0 at any spread); a density wave travels through the bodies, so each body's
@@ -19,7 +21,8 @@ Each body k is reduced to the angle theta_k(t) of its centre about the vessel's 
   Omega t)): spread and mobility both A / sqrt(2)).
 
 :func:`ring_mode` names the state from the time averages by the thresholds
-:data:`STOP_SPEED`, :data:`UNIFORM_SPREAD` and :data:`WAVE_MOBILITY` (docs/collective.md).
+:data:`STOP_SPEED`, :data:`NET_SPEED`, :data:`UNIFORM_SPREAD` and :data:`WAVE_MOBILITY`
+(docs/collective.md).
 The reduced theory of the same system is :mod:`pde_rotor.theory.ring`.
 """
 
@@ -36,8 +39,12 @@ UNIFORM_SPREAD = 0.2
 WAVE_MOBILITY = 0.5
 """Gap mobility over spacing spread above which an uneven spacing is a density wave (it
 travels through the bodies) rather than clusters (each body keeps its gap)."""
-MODES = ("uniform", "clusters", "density wave", "stop")
-"""The modes :func:`ring_mode` names, in the order of their codes 0..3."""
+NET_SPEED = 0.5
+"""Fraction of the mean |arc speed| that the mean signed arc speed must reach for bodies
+to be moving round the ring; below it they oscillate about fixed places."""
+MODES = ("uniform", "clusters", "density wave", "stop", "oscillation")
+"""The modes :func:`ring_mode` names, in the order of their codes 0..4 (oscillation, the
+last, came after the first stores: the codes of the others are theirs)."""
 
 
 def ring_angles(x: np.ndarray, y: np.ndarray, centre: tuple[float, float]) -> np.ndarray:
@@ -122,16 +129,25 @@ def gap_mobility(theta: np.ndarray) -> float:
     return float(g.std(axis=0).mean() / (2 * math.pi / g.shape[-1]))
 
 
-def ring_mode(arc_speed: float, spread: float, mobility: float) -> str:
+def ring_mode(abs_speed: float, net_speed: float, spread: float, mobility: float) -> str:
     """The collective mode from time averages: one of :data:`MODES`.
 
+    Bodies whose mean |arc speed| is below :data:`STOP_SPEED` stop; bodies that move but
+    go nowhere on average (mean signed arc speed below :data:`NET_SPEED` of the mean |arc
+    speed|: symmetric boats rocking against each other about their rest places, the Hopf
+    state of docs/ring.md) oscillate; moving bodies are uniform, clusters or a density
+    wave by their spacing spread and gap mobility.
+
     Args:
-        arc_speed: mean |arc speed| of the bodies.
+        abs_speed: mean |arc speed| of the bodies.
+        net_speed: mean signed arc speed of the bodies (either direction round the ring).
         spread: time-averaged spacing spread.
         mobility: gap mobility (:func:`gap_mobility`).
     """
-    if not abs(arc_speed) >= STOP_SPEED:
+    if not abs(abs_speed) >= STOP_SPEED:
         return "stop"
+    if abs(net_speed) < NET_SPEED * abs(abs_speed):
+        return "oscillation"
     if spread < UNIFORM_SPREAD:
         return "uniform"
     return "density wave" if mobility >= WAVE_MOBILITY * spread else "clusters"

@@ -78,14 +78,37 @@ def test_density_wave_and_static_clusters_by_the_gap_mobility() -> None:
     spread = ring.spacing_spread(theta)
     np.testing.assert_allclose(spread, a / math.sqrt(2), rtol=1e-9)
     assert ring.gap_mobility(theta) == pytest.approx(a / math.sqrt(2), rel=1e-9)
-    assert ring.ring_mode(1.0, spread.mean(), ring.gap_mobility(theta)) == "density wave"
+    assert ring.ring_mode(1.0, 1.0, spread.mean(), ring.gap_mobility(theta)) == "density wave"
     frozen = np.repeat(theta[:1], 50, axis=0)
     assert ring.gap_mobility(frozen) == pytest.approx(0.0, abs=1e-12)
-    assert ring.ring_mode(1.0, spread.mean(), 0.0) == "clusters"
+    assert ring.ring_mode(1.0, -1.0, spread.mean(), 0.0) == "clusters"
 
 
 def test_modes_by_their_thresholds() -> None:
-    assert ring.ring_mode(0.5 * ring.STOP_SPEED, 1.0, 1.0) == "stop"
-    assert ring.ring_mode(float("nan"), 0.0, 0.0) == "stop"
-    assert ring.ring_mode(-2 * ring.STOP_SPEED, 0.5 * ring.UNIFORM_SPREAD, 9.0) == "uniform"
-    assert set(ring.MODES) == {"uniform", "clusters", "density wave", "stop"}
+    stop = ring.STOP_SPEED
+    assert ring.ring_mode(0.5 * stop, 0.5 * stop, 1.0, 1.0) == "stop"
+    assert ring.ring_mode(float("nan"), float("nan"), 0.0, 0.0) == "stop"
+    assert ring.ring_mode(2 * stop, -2 * stop, 0.5 * ring.UNIFORM_SPREAD, 9.0) == "uniform"
+    net = ring.NET_SPEED * 2 * stop
+    assert ring.ring_mode(2 * stop, 1.01 * net, 0.0, 0.0) == "uniform"
+    assert ring.ring_mode(2 * stop, -0.99 * net, 0.0, 0.0) == "oscillation"
+    assert ring.MODES[:4] == ("uniform", "clusters", "density wave", "stop")  # stored codes
+    assert set(ring.MODES) == {"uniform", "clusters", "density wave", "stop", "oscillation"}
+
+
+def test_rocking_bodies_oscillate_and_sailing_ones_do_not() -> None:
+    """Boats rocking about evenly spaced places, w_k = A sin(W t + pi k): they move, go
+    nowhere (the mean signed speed 0, by the record times' symmetry) and keep a tiny spread:
+    oscillation; the same boats with a drift V > A: uniform."""
+    n, a, w = 8, 0.05, 2.0
+    t = np.linspace(0.0, 2 * math.pi / w * 10, 2000, endpoint=False)
+    k = np.arange(n)
+    r = 4.0
+    for drift, mode in ((0.0, "oscillation"), (3 * a, "uniform")):
+        s = drift * t[:, None] - a / w * np.cos(w * t[:, None] + math.pi * k[None, :])
+        theta = 2 * math.pi * k[None, :] / n + s / r
+        speed = drift + a * np.sin(w * t[:, None] + math.pi * k[None, :])
+        spread = ring.spacing_spread(theta).mean()
+        found = ring.ring_mode(np.abs(speed).mean(), speed.mean(), spread, ring.gap_mobility(theta))
+        assert found == mode
+        assert spread < ring.UNIFORM_SPREAD

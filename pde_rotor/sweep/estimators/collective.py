@@ -136,7 +136,8 @@ def collective_result(
         spread = _mean(series["spacing_spread"][late])
         summary = {name: _mean(values[late]) for name, values in series.items()}
         summary |= {"abs_arc_speed": speed, "gap_mobility": mobility}
-        summary["mode"] = ring.MODES.index(ring.ring_mode(speed, spread, mobility))
+        net = summary["arc_speed"]
+        summary["mode"] = ring.MODES.index(ring.ring_mode(speed, net, spread, mobility))
     else:
         xy, uv = np.stack([dx, dy], axis=-1), np.stack([u, v], axis=-1)
         rotation = dish.rotational_order(xy, uv)
