@@ -8,6 +8,12 @@ committed collective sweeps (docs/collective.md).
   cluster order (dashed); (f) the mode of each run (uniform, clusters, density wave, stop)
   against N; while the consistent store holds no run yet, the panels show the paper
   scheme's;
+* symmetric boats (configs/sweeps/crowd_ring_symmetric.yaml,
+  data/sweeps/crowd_ring_symmetric: the camphor at the boat's centre): (g), (h) the mode
+  of each run (stop, oscillation, uniform, ...) over friction and N, flow off and on;
+  (i) the mean |arc speed| (solid) and the mean signed arc speed's size (dashed, the
+  speed round the ring) against the friction for each N, flow off: where the two part,
+  the boats rock about their places;
 * dish (configs/sweeps/crowd_dish.yaml, data/sweeps/crowd_dish): (c) the disks' mean
   speed against time, per friction and flow, to the end of each run (a run ends where two
   footprints meet or one reaches the wall: there is no contact force yet); (d) their pair
@@ -16,8 +22,9 @@ committed collective sweeps (docs/collective.md).
 
 A panel whose store is not committed says so. Run: ``python gallery/bodies_crowd.py
 [--quick | --tiny]``: full and quick read the committed stores (nothing is computed);
-tiny runs two tiny sweeps of free disks here, in a ring channel and in a dish (seconds),
-and draws them (the CI check that the page draws).
+tiny runs two tiny sweeps of free disks here, in a ring channel (whose report also stands
+in for the symmetric boats') and in a dish (seconds), and draws them (the CI check that
+the page draws).
 """
 
 from __future__ import annotations
@@ -39,6 +46,7 @@ STORES = {
     "ring": DEFAULT_ROOT / "crowd_ring",
     "dish": DEFAULT_ROOT / "crowd_dish",
     "ring_paper": DEFAULT_ROOT / "crowd_ring_paper",
+    "ring_symmetric": DEFAULT_ROOT / "crowd_ring_symmetric",
 }
 DISK = {
     "plate": {"shape": "none"},
@@ -63,7 +71,7 @@ def tiny_sweeps() -> dict[str, dict]:
         "name": "tiny_ring",
         "base": common | {"grid": TINY_GRID | {"domain_radius": 2.4, "vessel": annulus}},
         "crowd": {"count": 2, "body": DISK, "placement": {"kind": "ring", "radius": 1.7}},
-        "axes": {"crowd.count": [1, 2, 3]},
+        "axes": {"crowd.count": [1, 2, 3], "crowd.body.motion.friction": [0.2, 0.25]},
         "estimator": {"kind": "collective", "record_interval": 0.02},
         "samples": 1,
         "seed": 1,
@@ -173,6 +181,48 @@ def draw_ring(
     spread_ax.legend(fontsize=7, ncol=2)
 
 
+def draw_symmetric(ds: xr.Dataset | None, axes: Sequence[Axes], what: str) -> None:
+    """Panels (g), (h) and (i) of a ring store `ds` swept in count and friction (`what`:
+    its bodies): the modes over both per value of the other axes (the flow), and the
+    mean |arc speed| and the mean signed arc speed's size against the friction."""
+    if ds is None or "friction" not in ds.dims:
+        for ax in axes:
+            missing(ax, f"no store {STORES['ring_symmetric']} yet")
+        return
+    modes = ds.attrs["modes"].split(", ")
+    flow = {"enabled = 0": "flow off", "enabled = 1": "flow on"}
+    groups = [(flow.get(label, label), one) for label, one in lines(ds, ["count", "friction"])]
+    frictions = ds["friction"].values
+    for ax, (label, one), letter in zip(axes[:2], groups, "gh", strict=False):
+        for n in one["count"].values:
+            for mu in one["friction"].values:
+                code = int(one["mode"].sel(count=n, friction=mu).values.flat[0])
+                if code >= 0:
+                    ax.plot(mu, n, "s", ms=9, color=f"C{code}")
+        for code, mode in enumerate(modes):
+            ax.plot([], [], "s", color=f"C{code}", label=mode)
+        ax.set(xlabel="friction mu", ylabel="boats N", title=f"({letter}) {what}: {label}")
+        ax.set_xlim(frictions.min() - 0.03, frictions.max() + 0.03)
+        ax.legend(fontsize=7)
+    for ax in axes[len(groups) : 2]:
+        missing(ax, "one flow setting only")
+    speed_ax = axes[2]
+    first_label, first = groups[0]
+    for n in first["count"].values:
+        one = first.sel(count=n).mean("sample")
+        if not bool(one["abs_arc_speed"].notnull().any()):
+            continue  # not computed yet
+        (line,) = speed_ax.plot(one["friction"], one["abs_arc_speed"], "o-", label=f"N = {n}")
+        speed_ax.plot(one["friction"], abs(one["mean_arc_speed"]), "x--", color=line.get_color())
+    speed_ax.set(
+        xlabel="friction mu",
+        ylabel="<|arc speed|> (solid), |<arc speed>| (dashed)",
+        yscale="log",
+        title=f"(i) {what}: speed against friction, {first_label}",
+    )
+    speed_ax.legend(fontsize=7, ncol=2)
+
+
 def draw_dish(ds: xr.Dataset | None, axes: Sequence[Axes]) -> None:
     """Panels (c), (d) and (e) of the dish store `ds`."""
     speed_ax, g_ax, order_ax = axes
@@ -207,6 +257,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
         with tempfile.TemporaryDirectory() as tmp:
             specs = tiny_sweeps()
             reports = {kind: run_here(spec, Path(tmp) / kind) for kind, spec in specs.items()}
+        reports["ring_symmetric"] = reports["ring"]
         source = "tiny sweeps of free disks computed here (not boats)"
     else:
         reports = {kind: stored(path) for kind, path in STORES.items()}
@@ -214,10 +265,13 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     ring, paper, scheme = reports["ring"], reports.get("ring_paper"), "consistent scheme"
     if ring is None or int(ring["runs_done"].sum()) == 0:
         ring, paper, scheme = paper, None, "paper scheme"
-    fig = new_figure(15.0, 8.4)
-    axes = fig.subplots(2, 3)
+    fig = new_figure(15.0, 12.6)
+    axes = fig.subplots(3, 3)
     draw_ring(ring, paper, axes[0], "free disks" if fid.is_tiny else scheme)
     draw_dish(reports["dish"], axes[1])
+    draw_symmetric(
+        reports["ring_symmetric"], axes[2], "free disks" if fid.is_tiny else "symmetric boats"
+    )
     for ax in axes.flat:
         ax.grid(alpha=0.3)
     for kind, ds in reports.items():
