@@ -17,7 +17,10 @@ stiffness along the common turn, which the default frame drops.
 Run (one thread):
 ``NUMBA_NUM_THREADS=1 OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 python
 benchmarks/stability_ring.py --counts 1 2 3 4 6 8 [--flow] [--values 0.05 0.1 0.2 0.4]
-[--rtol 1e-4] [--time-only]``
+[--rtol 1e-4] [--time-only] [--scan 0.2 0.22 11]``. ``--scan`` replaces the branch by
+each |m|'s leading eigenvalue on a grid of frictions (the modes that move no boat
+skipped), the crossings of each |m| by linear interpolation: the onsets that the leading
+eigenvalue hides.
 """
 
 from __future__ import annotations
@@ -77,10 +80,39 @@ def ring_data(count: int, friction: float, flow: bool) -> dict[str, Any]:
 
 
 def mode_number(w: np.ndarray) -> int:
-    """The m of largest |sum_k w_k e^{-2 pi i m k / N}| (m <= N / 2)."""
-    spectrum = np.abs(np.fft.fft(w))
-    n = w.size
-    return int(np.argmax(spectrum[: n // 2 + 1]))
+    """The |m| of largest |sum_k w_k e^{-2 pi i m k / N}| (m and N - m, waves travelling
+    either way, are one |m| <= N / 2)."""
+    j = int(np.argmax(np.abs(np.fft.fft(w))))
+    return min(j, w.size - j)
+
+
+def mode_scan(data: dict[str, Any], values: np.ndarray, k: int) -> None:
+    """For each |m|, the largest Re lambda among the boats' modes of that |m| at each
+    friction of `values`, and where it crosses 0 (linear interpolation between values)."""
+    count = len(data["bodies"])
+    table: dict[int, list[complex]] = {}
+    for value in values:
+        lin = linearise(DiscreteModel(validate_config(_at(data, value))))
+        spectrum = leading_modes(lin, k=k)
+        best: dict[int, complex] = {}
+        for j, lam in enumerate(spectrum.eigenvalues):
+            w = lin.split(spectrum.vectors[:, j], lam)["dp"]
+            if np.abs(w).max() < 1e-6 * np.abs(spectrum.vectors[:, j]).max():
+                continue  # a field mode
+            m = mode_number(w)
+            if m not in best or lam.real > best[m].real:
+                best[m] = complex(lam)
+        for m in range(count // 2 + 1):
+            table.setdefault(m, []).append(best.get(m, complex(np.nan, np.nan)))
+    for m, lams in sorted(table.items()):
+        rates = np.array([z.real for z in lams])
+        shown = ", ".join(f"{z.real:+.5f}{abs(z.imag):+.4f}i" for z in lams)
+        print(f"  |m| = {m}: {shown}", flush=True)
+        for i in np.nonzero(np.sign(rates[:-1]) * np.sign(rates[1:]) < 0)[0]:
+            a, b = rates[i], rates[i + 1]
+            cross = values[i] + (values[i + 1] - values[i]) * a / (a - b)
+            freq = abs(lams[i].imag) + (abs(lams[i + 1].imag) - abs(lams[i].imag)) * a / (a - b)
+            print(f"  |m| = {m} crosses at mu = {cross:.5f}, frequency {freq:.4f}", flush=True)
 
 
 def main() -> None:
@@ -91,6 +123,13 @@ def main() -> None:
     parser.add_argument("--rtol", type=float, default=1e-4)
     parser.add_argument("--k", type=int, default=6)
     parser.add_argument("--time-only", action="store_true", help="one linearisation only")
+    parser.add_argument(
+        "--scan",
+        type=float,
+        nargs=3,
+        metavar=("A", "B", "POINTS"),
+        help="instead of follow: each |m|'s leading Re lambda at POINTS frictions in [A, B]",
+    )
     args = parser.parse_args()
     for count in args.counts:
         data = ring_data(count, args.values[0], args.flow)
@@ -109,6 +148,10 @@ def main() -> None:
             flush=True,
         )
         if args.time_only:
+            continue
+        if args.scan:
+            lo, hi, points = args.scan
+            mode_scan(data, np.linspace(lo, hi, int(points)), max(args.k, 2 * count + 4))
             continue
         start = time.perf_counter()
         branch = follow(data, KEY, args.values, k=args.k, rtol=args.rtol)
