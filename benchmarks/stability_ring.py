@@ -14,13 +14,16 @@ speeds w_k: m = 0 the boats moving together, m = N/2 alternating). Besides: the
 linearisation's time, the rest acceleration (0 by symmetry) and |K g|, the lattice's
 stiffness along the common turn, which the default frame drops.
 
-Run (one thread):
-``NUMBA_NUM_THREADS=1 OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 python
-benchmarks/stability_ring.py --counts 1 2 3 4 6 8 [--flow] [--values 0.05 0.1 0.2 0.4]
-[--rtol 1e-4] [--time-only] [--scan 0.2 0.22 11]``. ``--scan`` replaces the branch by
-each |m|'s leading eigenvalue on a grid of frictions (the modes that move no boat
-skipped), the crossings of each |m| by linear interpolation: the onsets that the leading
-eigenvalue hides.
+``--lattice``: instead, one boat alone at 0, 30, 45, 60 and 90 degrees about the centre:
+its stiffness K along the track (the lattice's spring, 0 in the continuum) and its
+acceleration at rest; the boats of N = 3 and 6 sit at angles of both signs of K.
+
+Run (one thread): ``NUMBA_NUM_THREADS=1 OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 python
+benchmarks/stability_ring.py --counts 1 2 3 4 6 8 [--flow] [--dx 0.05] [--values 0.05 0.1
+0.2 0.4] [--rtol 1e-4] [--time-only] [--positions] [--scan 0.2 0.22 11] [--lattice]``.
+``--scan`` replaces the branch by each |m|'s leading eigenvalue on a grid of frictions
+(the modes that move no boat skipped), the crossings of each |m| by linear interpolation:
+the onsets that the leading eigenvalue hides.
 """
 
 from __future__ import annotations
@@ -40,8 +43,9 @@ KEY = "bodies[*].motion.friction"
 TRACK_RADIUS = 4.6
 
 
-def ring_data(count: int, friction: float, flow: bool) -> dict[str, Any]:
-    """The ring channel with `count` symmetric boats evenly spaced (module docstring)."""
+def ring_data(count: int, friction: float, flow: bool, dx: float = 0.05) -> dict[str, Any]:
+    """The ring channel with `count` symmetric boats evenly spaced (module docstring), on a
+    grid of spacing `dx` (dt scaled with dx^2 from the sweep's 4e-4 at 0.05)."""
     bodies = []
     for k in range(count):
         angle = 2 * math.pi * k / count
@@ -61,8 +65,8 @@ def ring_data(count: int, friction: float, flow: bool) -> dict[str, Any]:
     return {
         "grid": {
             "domain_radius": 5.6,
-            "dx": 0.05,
-            "dt": 4e-4,
+            "dx": dx,
+            "dt": 4e-4 * (dx / 0.05) ** 2,
             "vessel": {
                 "shape": "annulus",
                 "inner_radius": 3.6,
@@ -120,9 +124,15 @@ def main() -> None:
     parser.add_argument("--counts", type=int, nargs="+", default=[1, 2, 3, 4, 6, 8])
     parser.add_argument("--values", type=float, nargs="+", default=[0.05, 0.1, 0.2, 0.4])
     parser.add_argument("--flow", action="store_true")
+    parser.add_argument("--dx", type=float, default=0.05, help="grid spacing (the sweep's)")
     parser.add_argument("--rtol", type=float, default=1e-4)
     parser.add_argument("--k", type=int, default=6)
     parser.add_argument("--time-only", action="store_true", help="one linearisation only")
+    parser.add_argument(
+        "--positions",
+        action="store_true",
+        help="every coordinate an unknown (the common turn too: the lattice's spring)",
+    )
     parser.add_argument(
         "--scan",
         type=float,
@@ -130,9 +140,27 @@ def main() -> None:
         metavar=("A", "B", "POINTS"),
         help="instead of follow: each |m|'s leading Re lambda at POINTS frictions in [A, B]",
     )
+    parser.add_argument("--lattice", action="store_true", help="a lone boat's K by angle")
     args = parser.parse_args()
+    if args.lattice:
+        for degrees in (0, 30, 45, 60, 90):
+            data = ring_data(1, args.values[0], args.flow, args.dx)
+            angle = math.radians(degrees)
+            data["bodies"][0]["start"] = {
+                "x": TRACK_RADIUS * math.cos(angle),
+                "y": TRACK_RADIUS * math.sin(angle),
+                "angle": math.remainder(angle + math.pi / 2, 2 * math.pi),
+            }
+            lin = linearise(DiscreteModel(validate_config(data)))
+            print(
+                f"dx = {args.dx:g}, one boat at {degrees} degrees: K = {lin.stiffness[0, 0]:+.4g}, "
+                f"d(acceleration)/ds {lin.coordinate_rows[0, 0]:.4g}, rest acceleration "
+                f"{lin.rest_acceleration[0]:+.2e}",
+                flush=True,
+            )
+        return
     for count in args.counts:
-        data = ring_data(count, args.values[0], args.flow)
+        data = ring_data(count, args.values[0], args.flow, args.dx)
         start = time.perf_counter()
         lin = linearise(DiscreteModel(validate_config(data)))
         built = time.perf_counter() - start
@@ -154,15 +182,17 @@ def main() -> None:
             mode_scan(data, np.linspace(lo, hi, int(points)), max(args.k, 2 * count + 4))
             continue
         start = time.perf_counter()
-        branch = follow(data, KEY, args.values, k=args.k, rtol=args.rtol)
+        positions = True if args.positions else None
+        branch = follow(data, KEY, args.values, k=args.k, rtol=args.rtol, positions=positions)
         for value, lam in zip(branch.values, branch.eigenvalues, strict=True):
             shown = ", ".join(f"{x.real:+.5f}{x.imag:+.5f}i" for x in lam[:4])
             print(f"  mu = {value:g}: {shown}", flush=True)
         if not branch.crossings:
             print("  no crossing in the range", flush=True)
         for cross in branch.crossings:
-            at = spectrum_at(data, KEY, cross.value, k=args.k)
-            lin = linearise(DiscreteModel(validate_config(_at(data, cross.value))))
+            at = spectrum_at(data, KEY, cross.value, k=args.k, positions=positions)
+            model = DiscreteModel(validate_config(_at(data, cross.value)))
+            lin = linearise(model, positions=positions)
             parts = lin.split(at.vectors[:, 0], at.eigenvalues[0])
             m = mode_number(parts["dp"])
             print(
