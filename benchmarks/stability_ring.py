@@ -12,7 +12,10 @@ part crosses 0 and its kind (pitchfork or Hopf, frequency), and the mode m of th
 critical eigenvector (the largest |sum_k w_k e^{-2 pi i m k / N}| of the boats' arc
 speeds w_k: m = 0 the boats moving together, m = N/2 alternating). Besides: the
 linearisation's time, the rest acceleration (0 by symmetry) and |K g|, the lattice's
-stiffness along the common turn, which the default frame drops.
+stiffness along the common turn, which the default frame drops; for N > 1 the stiffness
+matrix K (d acceleration_k / d s_j at the rest field moved with the boats) split into its
+row sums (0 in the continuum, where moving every boat together moves nothing: the
+lattice's part) and a boat's coupling to its neighbours (the camphor's).
 
 ``--lattice``: instead, one boat alone at 0, 30, 45, 60 and 90 degrees about the centre:
 its stiffness K along the track (the lattice's spring, 0 in the continuum) and its
@@ -175,6 +178,14 @@ def main() -> None:
             f"d(acceleration)/ds {np.abs(lin.coordinate_rows).max():.3g}",
             flush=True,
         )
+        if count > 1:
+            rows = lin.stiffness.sum(axis=1)
+            print(
+                f"  stiffness K: row sums (the lattice's part) {np.round(rows, 4)}; a boat's "
+                f"pull by its neighbour ahead K_01 {lin.stiffness[0, 1]:+.4g} and behind "
+                f"K_0,N-1 {lin.stiffness[0, count - 1]:+.4g}",
+                flush=True,
+            )
         if args.time_only:
             continue
         if args.scan:
