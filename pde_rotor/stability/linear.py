@@ -185,7 +185,9 @@ class Linearisation:
             return "co-moving frame"
         if not self.frame.shape[1]:
             return "coordinates included"
-        return f"{self.kept.shape[1]} relative coordinates (co-moving with the common turn)"
+        if not self.kept.shape[1]:
+            return "co-moving frame: the common turn"
+        return f"{self.kept.shape[1]} relative coordinates, co-moving with the common turn"
 
     @property
     def rest_acceleration(self) -> np.ndarray:
