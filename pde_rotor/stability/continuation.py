@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import json
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -172,13 +172,19 @@ def config_at(data: Mapping[str, Any], key: str, value: float) -> RotorConfig:
 def spectrum_at(
     data: Mapping[str, Any], key: str, value: float, k: int = 4, positions: bool | None = None
 ) -> Spectrum:
-    """The leading eigenvalues of the config `data` with `key` = `value`: at least k, and
-    at least two more than the bodies' unknowns, so that every root of the bodies is among
+    """The k leading eigenvalues of the config `data` with `key` = `value`, of at least two
+    more than the bodies' unknowns computed, so that every root of the bodies is among
     them (the Arnoldi returns those nearest the shift, and with many bodies -- 8 boats on
     a track, 15 unknowns -- the one that crosses first can lie farther from it than k
     others)."""
     lin = linearise(DiscreteModel(config_at(data, key, value)), positions=positions)
-    return leading_modes(lin, k=max(k, lin.small.shape[0] + 2))
+    found = leading_modes(lin, k=max(k, lin.small.shape[0] + 2))
+    return replace(
+        found,
+        eigenvalues=found.eigenvalues[:k],
+        vectors=found.vectors[:, :k],
+        residuals=found.residuals[:k],
+    )
 
 
 def critical_value(
@@ -199,7 +205,7 @@ def critical_value(
         lo: one end of a bracket: Re lambda has opposite signs at its ends.
         hi: the other end.
         rtol: relative tolerance of the value.
-        k: eigenvalues per evaluation (at least the bodies' unknowns + 2: :func:`spectrum_at`).
+        k: eigenvalues kept per evaluation (computed: at least the bodies' unknowns + 2).
         positions: as for :func:`~pde_rotor.stability.linear.linearise`.
         known: spectra already computed, by value (a branch's ends: not computed again).
 
@@ -245,7 +251,7 @@ def follow(
         data: the config as a mapping (a YAML file's contents).
         key: the dotted key.
         values: its values (at least 2, all valid: checked before any compute).
-        k: eigenvalues per value (at least the bodies' unknowns + 2: :func:`spectrum_at`).
+        k: eigenvalues kept per value (computed: at least the bodies' unknowns + 2).
         positions: as for :func:`~pde_rotor.stability.linear.linearise`.
         rtol: relative tolerance of each critical value.
         progress: wraps the iterable of values (e.g. ``tqdm``).

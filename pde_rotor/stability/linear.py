@@ -45,8 +45,9 @@ coordinates. So ``positions=None`` takes them in the frame that turns with the b
 sigma = g . dq, the coordinates kept are an orthonormal basis P of the directions normal
 to g, and the term dropped is K g, the lattice force on the boats turned together. One
 boat alone keeps no coordinate (its co-moving frame, the clean pitchfork); N boats keep N
-- 1 relative ones and no neutral eigenvalue 0 (with ``positions=True`` it is there, at
-+-|K g|, and can take the lead). In general the blocks are, with G the co-moving
+- 1 relative ones and no neutral eigenvalue 0 (with ``positions=True`` it is there,
+moved off 0 by the lattice's K g, and can take the lead or turn the onset into a slow
+pair). In general the blocks are, with G the co-moving
 directions (all of them without positions, none with ``positions=True``):
 
     B = [B_q P, B_p - c_q G G^T],    D = [[0, P^T], [g_q P, D_p]].
