@@ -42,7 +42,12 @@ def register(app: typer.Typer) -> None:
         param: Annotated[
             str | None,
             typer.Option(
-                "--param", metavar="KEY", help="Config key to follow, e.g. rotor.friction."
+                "--param",
+                metavar="KEY",
+                help=(
+                    "Config key to follow, e.g. rotor.friction; [*] sets it in every entry "
+                    "of a list, e.g. bodies[*].motion.friction."
+                ),
             ),
         ] = None,
         start: Annotated[
@@ -61,7 +66,10 @@ def register(app: typer.Typer) -> None:
             bool | None,
             typer.Option(
                 "--positions/--comoving",
-                help="Bodies' coordinates as unknowns [default: behind a no-flux wall only].",
+                help=(
+                    "Bodies' coordinates as unknowns [default: behind a no-flux wall only; "
+                    "track bodies about a round vessel's centre: their relative ones]."
+                ),
                 show_default=False,
             ),
         ] = None,
@@ -130,8 +138,9 @@ def _spectrum(config, k: int, positions: bool | None, target: Path) -> None:
             f"{name} {a:+.3g}" for name, a in zip(labels, lin.rest_acceleration, strict=True)
         )
     )
-    frame = "coordinates included" if lin.positions else "co-moving frame"
-    typer.echo(f"unknowns: {lin.n_fields} field values, {lin.small.shape[0]} mechanical ({frame})")
+    typer.echo(
+        f"unknowns: {lin.n_fields} field values, {lin.small.shape[0]} mechanical ({lin.frame_name})"
+    )
     if lin.n_dofs:
         typer.echo(
             "stiffness K = d(acceleration)/dq at rest: "

@@ -3,7 +3,9 @@
 :func:`follow` computes the leading eigenvalues of the linearisation at each value of one
 config key (any dotted key, ``rotor.friction``, ``bodies[0].motion.friction``,
 ``geometry.radius``, ...; the config is rebuilt and validated at each value, so the rest
-state and every block follow it). Where the largest real part changes sign between two
+state and every block follow it). An index ``[*]`` sets the key in every entry of its list
+at once (:func:`expand_key`): ``bodies[*].motion.friction`` follows a crowd of identical
+bodies in their common friction. Where the largest real part changes sign between two
 values, :func:`critical_value` finds the crossing by Brent's method (scipy ``brentq``) to
 a stated relative tolerance in the key; the leading eigenvalue there says the kind of
 onset: real, a pitchfork (the body starts to move one way or the other: a rotor to turn,
@@ -14,7 +16,7 @@ from __future__ import annotations
 
 import json
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -103,14 +105,62 @@ class Branch:
         )
 
 
+WILDCARD = "[*]"
+"""The index of a key that stands for every entry of its list."""
+
+
+def _entries(data: Mapping[str, Any], path: str, key: str) -> int:
+    """The length of the list at the dotted `path` of `data` (`key`: the whole key, for
+    the message)."""
+    node: Any = data
+    for part in path.split("."):
+        name, _, index = part.partition("[")
+        node = node.get(name) if isinstance(node, Mapping) else None
+        if index and isinstance(node, list) and int(index.rstrip("]")) < len(node):
+            node = node[int(index.rstrip("]"))]
+        elif index:
+            node = None
+    if not isinstance(node, list) or not node:
+        msg = (
+            f"--param {key}: {path} is not a list with entries in the config (allowed: "
+            f"{WILDCARD} after a list, e.g. bodies[*].motion.friction)"
+        )
+        raise ConfigError(msg)
+    return len(node)
+
+
+def expand_key(data: Mapping[str, Any], key: str) -> list[str]:
+    """The keys a dotted `key` stands for in `data`: itself, or with each ``[*]`` replaced by
+    every index of its list (``bodies[*].motion.friction`` -> ``bodies[0].motion.friction``,
+    ``bodies[1]...``).
+
+    Raises:
+        ConfigError: a ``[*]`` after something that is not a list with entries (one line).
+    """
+    head, star, tail = key.partition(WILDCARD)
+    if not star:
+        return [key]
+    count = _entries(data, head, key)
+    out = []
+    for i in range(count):
+        out.extend(expand_key(data, f"{head}[{i}]{tail}"))
+    return out
+
+
 def config_at(data: Mapping[str, Any], key: str, value: float) -> RotorConfig:
-    """The config `data` with `key` set to `value`, validated.
+    """The config `data` with `key` set to `value` (every key it stands for,
+    :func:`expand_key`), validated.
 
     Raises:
         ConfigError: one line naming the key (unknown, not a number, out of range).
     """
     copy = json.loads(json.dumps(dict(data)))
-    set_key(copy, key, value)
+    try:
+        for each in expand_key(copy, key):
+            set_key(copy, each, value)
+    except ConfigError as err:
+        msg = f"--param {key} = {value:g}: {err}".replace(f"--param {key}: ", "")
+        raise ConfigError(msg) from None
     try:
         config = validate_config(copy)
     except ConfigError as err:
@@ -122,9 +172,19 @@ def config_at(data: Mapping[str, Any], key: str, value: float) -> RotorConfig:
 def spectrum_at(
     data: Mapping[str, Any], key: str, value: float, k: int = 4, positions: bool | None = None
 ) -> Spectrum:
-    """The leading eigenvalues of the config `data` with `key` = `value`."""
+    """The k leading eigenvalues of the config `data` with `key` = `value`, of at least two
+    more than the bodies' unknowns computed, so that every root of the bodies is among
+    them (the Arnoldi returns those nearest the shift, and with many bodies -- 8 boats on
+    a track, 15 unknowns -- the one that crosses first can lie farther from it than k
+    others)."""
     lin = linearise(DiscreteModel(config_at(data, key, value)), positions=positions)
-    return leading_modes(lin, k=k)
+    found = leading_modes(lin, k=max(k, lin.small.shape[0] + 2))
+    return replace(
+        found,
+        eigenvalues=found.eigenvalues[:k],
+        vectors=found.vectors[:, :k],
+        residuals=found.residuals[:k],
+    )
 
 
 def critical_value(
@@ -145,7 +205,7 @@ def critical_value(
         lo: one end of a bracket: Re lambda has opposite signs at its ends.
         hi: the other end.
         rtol: relative tolerance of the value.
-        k: eigenvalues per evaluation.
+        k: eigenvalues kept per evaluation (computed: at least the bodies' unknowns + 2).
         positions: as for :func:`~pde_rotor.stability.linear.linearise`.
         known: spectra already computed, by value (a branch's ends: not computed again).
 
@@ -191,7 +251,7 @@ def follow(
         data: the config as a mapping (a YAML file's contents).
         key: the dotted key.
         values: its values (at least 2, all valid: checked before any compute).
-        k: eigenvalues per value.
+        k: eigenvalues kept per value (computed: at least the bodies' unknowns + 2).
         positions: as for :func:`~pde_rotor.stability.linear.linearise`.
         rtol: relative tolerance of each critical value.
         progress: wraps the iterable of values (e.g. ``tqdm``).

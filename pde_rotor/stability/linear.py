@@ -34,6 +34,23 @@ K = d/dq (force on the held body at its rest state), the term dropped; K is comp
 reported (:attr:`Linearisation.stiffness`). Without it, every translation or rotation
 leaves a neutral eigenvalue 0 beside the onset. ``positions=None`` includes them behind a
 no-flux wall (the dish, where K drives the Hopf pair) and not otherwise.
+
+**Track bodies.** Boats on circles about the centre of a round vessel (the dish, or an
+annulus about its centre) can all move along their tracks together, turning by one angle
+alpha: a symmetry of the rest state (broken only by the lattice), whose coordinate is the
+direction g = (R_1, ..., R_N) / |R| of the arc positions. Their spacings are not: a boat's
+camphor pushes its neighbours, and the spacing modes (m >= 1 of N boats) need the
+coordinates. So ``positions=None`` takes them in the frame that turns with the boats
+(:func:`symmetry_frame`): the field co-moves along g only, dc~ = dc - c_q g sigma with
+sigma = g . dq, the coordinates kept are an orthonormal basis P of the directions normal
+to g, and the term dropped is K g, the lattice force on the boats turned together. One
+boat alone keeps no coordinate (its co-moving frame, the clean pitchfork); N boats keep N
+- 1 relative ones and no neutral eigenvalue 0 (with ``positions=True`` it is there,
+moved off 0 by the lattice's K g, and can take the lead or turn the onset into a slow
+pair). In general the blocks are, with G the co-moving
+directions (all of them without positions, none with ``positions=True``):
+
+    B = [B_q P, B_p - c_q G G^T],    D = [[0, P^T], [g_q P, D_p]].
 """
 
 from __future__ import annotations
@@ -78,6 +95,9 @@ class Linearisation:
         velocity_rows: (m, m) d(accelerations)/dp.
         rest_shift: c_q, (n_f, m): the rest field's derivative along each coordinate.
         stiffness: K, (m, m): d/dq of the held bodies' accelerations at their rest state.
+        comoving: G, (m, g) orthonormal: with positions, the directions of the
+            coordinates taken in the co-moving frame (:func:`symmetry_frame`; none: every
+            active coordinate is an unknown).
     """
 
     model: DiscreteModel
@@ -91,15 +111,41 @@ class Linearisation:
     velocity_rows: np.ndarray
     rest_shift: np.ndarray
     stiffness: np.ndarray
+    comoving: np.ndarray | None = None
+
+    @property
+    def frame(self) -> np.ndarray:
+        """G, (m, g): the co-moving directions (all without positions)."""
+        if not self.positions:
+            return np.eye(self.n_dofs)
+        if self.comoving is None:
+            return np.zeros((self.n_dofs, 0))
+        return self.comoving
+
+    @property
+    def kept(self) -> np.ndarray:
+        """P, (m, a): the coordinates that are unknowns, as directions: the active unit
+        vectors (with positions), less the co-moving directions (an orthonormal basis of
+        the rest); none without positions."""
+        m = self.n_dofs
+        if not self.positions:
+            return np.zeros((m, 0))
+        units = np.eye(m)[:, self.active]
+        g = self.frame
+        if not g.shape[1]:
+            return units
+        rest = units - g @ (g.T @ units)
+        basis, sizes, _ = np.linalg.svd(rest, full_matrices=False)
+        return basis[:, sizes > 1e-9]
 
     @property
     def columns(self) -> np.ndarray:
-        """B, (n_f, m_s): the coordinates' columns (with positions), then the velocities';
-        in the co-moving frame the velocities' columns less the rest field's shift c_q."""
-        if self.positions:
-            coords = self.coordinate_columns[:, self.active]
-            return np.concatenate([coords, self.velocity_columns], axis=1)
-        return self.velocity_columns - self.rest_shift
+        """B, (n_f, m_s): the kept coordinates' columns, then the velocities' less the
+        rest field's shift c_q along the co-moving directions (module docstring)."""
+        g = self.frame
+        coords = self.coordinate_columns @ self.kept
+        velocities = self.velocity_columns - self.rest_shift @ g @ g.T
+        return np.concatenate([coords, velocities], axis=1)
 
     @property
     def active(self) -> np.ndarray:
@@ -117,20 +163,32 @@ class Linearisation:
     @property
     def small(self) -> np.ndarray:
         """D, (m_s, m_s)."""
-        if self.positions:
-            m, a = self.n_dofs, self.active
-            pick = np.eye(m)[a]
-            return np.block(
-                [
-                    [np.zeros((a.size, a.size)), pick],
-                    [self.coordinate_rows[:, a], self.velocity_rows],
-                ]
-            )
-        return self.velocity_rows
+        kept = self.kept
+        a = kept.shape[1]
+        if not a:
+            return self.velocity_rows
+        return np.block(
+            [
+                [np.zeros((a, a)), kept.T],
+                [self.coordinate_rows @ kept, self.velocity_rows],
+            ]
+        )
 
-    def with_positions(self, positions: bool) -> Linearisation:
-        """The same blocks with or without the coordinates as unknowns."""
-        return replace(self, positions=positions)
+    def with_positions(self, positions: bool, comoving: np.ndarray | None = None) -> Linearisation:
+        """The same blocks with or without the coordinates as unknowns (with them, those
+        along `comoving` taken in the co-moving frame; None: none)."""
+        return replace(self, positions=positions, comoving=comoving)
+
+    @property
+    def frame_name(self) -> str:
+        """How the coordinates enter, in words."""
+        if not self.positions:
+            return "co-moving frame"
+        if not self.frame.shape[1]:
+            return "coordinates included"
+        if not self.kept.shape[1]:
+            return "co-moving frame: the common turn"
+        return f"{self.kept.shape[1]} relative coordinates, co-moving with the common turn"
 
     @property
     def rest_acceleration(self) -> np.ndarray:
@@ -160,8 +218,11 @@ class Linearisation:
     def labels(self) -> list[str]:
         """Names of the mechanical unknowns, in order."""
         dofs = self.model.dofs
-        coords = [f"{dofs[i].name}.{dofs[i].coordinate}" for i in self.active]
-        coords = coords if self.positions else []
+        coords = []
+        for j, column in enumerate(self.kept.T):
+            i = int(np.argmax(np.abs(column)))
+            unit = abs(abs(column[i]) - 1.0) < 1e-12
+            coords.append(f"{dofs[i].name}.{dofs[i].coordinate}" if unit else f"relative{j}")
         return coords + [d.label for d in dofs]
 
     def rows(self, x_fields: np.ndarray) -> np.ndarray:
@@ -176,9 +237,7 @@ class Linearisation:
             )
         else:
             acc = model.accelerations(c, v, q, zero)
-        if self.positions:
-            return np.concatenate([np.zeros(self.active.size, dtype=acc.dtype), acc])
-        return acc
+        return np.concatenate([np.zeros(self.kept.shape[1], dtype=acc.dtype), acc])
 
     def matvec(self, x: np.ndarray) -> np.ndarray:
         """J x."""
@@ -247,22 +306,43 @@ class Linearisation:
         """A vector of unknowns as the physicist's pieces in the lab frame: dc (n, n), dv
         (2, n, n), dq (m,), dp (m,). In the co-moving frame (no positions) an eigenmode's
         dq = dp / lambda and dc = dc~ + c_q dq."""
-        n, m = self.n_fields, self.n_dofs
+        n = self.n_fields
         x_f, x_s = x[:n], x[n:]
-        if self.positions:
-            a = self.active
-            dq, dp = np.zeros(m, dtype=x.dtype), x_s[a.size :]
-            dq[a] = x_s[: a.size]
-        else:
-            dp = x_s
-            dq = dp / eigenvalue if eigenvalue not in (None, 0) else np.zeros_like(dp)
-            x_f = x_f + self.rest_shift @ dq
+        kept, g = self.kept, self.frame
+        a = kept.shape[1]
+        dp = x_s[a:]
+        along = g.T @ dp / eigenvalue if eigenvalue not in (None, 0) else np.zeros(g.shape[1])
+        dq = kept @ x_s[:a] + g @ along
+        x_f = x_f + self.rest_shift @ (g @ along)
         c, v = self.layout.unpack(x_f)
         return {"dc": c, "dv": v, "dq": dq, "dp": dp}
 
 
-def _positions_default(model: DiscreteModel) -> bool:
-    return model.pde.domain.cut_cells is not None
+def symmetry_frame(model: DiscreteModel) -> np.ndarray | None:
+    """g, (m, 1): the common turn of the track bodies about the centre of a round vessel
+    (the arc positions' direction (R_1, ..., R_N) / |R|), where every body is a track body
+    on a circle about it (module docstring); None where the bodies break the symmetry (a
+    body of another kind, a track about another point, a rectangular tank)."""
+    if model.rotor or not model.dofs:
+        return None
+    grid = model.config.grid
+    if grid.vessel is not None and grid.vessel.shape == "rectangle":
+        return None
+    centre = np.asarray(grid.domain_centre, dtype=float)
+    radii = []
+    for body in model.pde.bodies:
+        if body.track is None or not np.allclose(body.track.centre, centre, atol=1e-12):
+            return None
+        radii.append(body.track.radius)
+    radii = np.array(radii)
+    return (radii / np.linalg.norm(radii))[:, None]
+
+
+def _positions_default(model: DiscreteModel) -> tuple[bool, np.ndarray | None]:
+    frame = symmetry_frame(model)
+    if frame is not None:
+        return True, frame
+    return model.pde.domain.cut_cells is not None, None
 
 
 def linearise(
@@ -273,14 +353,17 @@ def linearise(
     Args:
         model: the discrete model of a config.
         rest: its rest state (computed if None).
-        positions: include the bodies' coordinates (None: behind a no-flux wall only).
+        positions: include the bodies' coordinates (None: behind a no-flux wall only, and
+            for track bodies about a round vessel's centre the relative coordinates,
+            co-moving with their common turn: module docstring).
 
     Returns:
         The linearisation, every block assembled except C (applied on demand).
     """
     rest = rest if rest is not None else rest_state(model)
+    comoving = None
     if positions is None:
-        positions = _positions_default(model)
+        positions, comoving = _positions_default(model)
     layout = FieldLayout(model.shape, model.c_mask, model.v_mask, flow=model.flow)
     c0, q0 = rest.c, model.q0
     m = len(model.dofs)
@@ -356,4 +439,4 @@ def linearise(
     if m:
         response = np.stack([lin.rows(shift[:, j]) for j in range(m)], axis=1)
         lin.stiffness = response + g_q
-    return lin.with_positions(positions)
+    return lin.with_positions(positions, comoving)

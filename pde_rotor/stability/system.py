@@ -13,9 +13,24 @@ coordinates q and body velocities p:
 The unknowns of the linearisation are c on the cells that hold camphor, the two
 components of v on the dish's interior (with flow only), and the moving bodies'
 coordinates and velocities (:class:`Dof`): the angle phi and angular velocity omega of a
-turning body, and x, y, U of a free one. Fixed bodies have none. The plate and pill
-indicators of a pose are cached, so a linear probe costs one evaluation of the field
-operators.
+turning body, x, y, U of a free one, and the arc position s and arc speed w of a
+``track`` body. Fixed bodies have none. The plate and pill indicators of a pose are
+cached, so a linear probe costs one evaluation of the field operators.
+
+**Track bodies.** A track body has one degree of freedom, its angle theta about the
+track's centre C (:mod:`pde_rotor.model.motion`): X = C + R e_r(theta), phi = theta + d
+pi/2 (its start heading plus theta - theta0), U = w e_theta, omega = w / R. Its coordinate
+here is the arc position s = R (theta - theta0) from its start, not theta itself, so that
+ds/dt = w is its velocity, as dq/dt = p for every other coordinate (the block [0, 1] of
+the linearisation's small matrix holds as it is), its inertia is the mass m of m dw/dt =
+(f + f_fr + f_ext + f_contact) . e_theta + d f_t, and its finite-difference step is a
+length like a free body's. Moving s moves the plate's position and heading together, and
+w drags the flow with the plate's rigid velocity w e_theta and turning w / R.
+
+The accelerations are the reference's own (:func:`pde_rotor.model.motion.accelerations`
+with :func:`~pde_rotor.model.motion.contact_forces`): tension, friction, the external
+loads and the contact's springs and dashpots (0 where no gap is in range, as between
+evenly spaced boats at rest).
 """
 
 from __future__ import annotations
@@ -27,7 +42,8 @@ from functools import cached_property
 import numpy as np
 from pde import CartesianGrid, ScalarField, VectorField
 
-from ..config import DISH_CENTRE, ConfigError, RotorConfig
+from ..config import DISH_CENTRE, RotorConfig
+from ..model.motion import Inertia, accelerations, contact_forces
 from ..model.pde import RotorFields, RotorPDE, RotorState
 from ..model.setup import Setup, as_setup
 from ..model.surface import POSE_COLUMNS, BodiesState, SurfaceFields, SurfacePDE
@@ -45,9 +61,10 @@ def _share_grid(pde: RotorPDE | SurfacePDE) -> None:
     pde.domain = replace(pde.domain, grid=_GRIDS.setdefault(key, grid))
 
 
-POSE_VELOCITY = {"x": "u", "y": "v", "phi": "omega"}
+POSE_VELOCITY = {"x": "u", "y": "v", "phi": "omega", "s": "w"}
 """The velocity of each coordinate of a body's pose (columns of
-:data:`pde_rotor.model.surface.POSE_COLUMNS`)."""
+:data:`pde_rotor.model.surface.POSE_COLUMNS`; a track body's arc position s and arc
+speed w, not columns, set its pose by :meth:`DiscreteModel.state`)."""
 POSE_INDEX = {"x": 0, "y": 1, "phi": 2, "u": 3, "v": 4, "omega": 5}
 
 
@@ -58,8 +75,8 @@ class Dof:
     Attributes:
         body: the body's index (0 for the paper's rotor).
         name: the body's name.
-        coordinate: ``x``, ``y`` or ``phi``.
-        inertia: m (x, y) or I (phi), the coefficient of its equation of motion.
+        coordinate: ``x``, ``y``, ``phi`` or ``s`` (a track body's arc position).
+        inertia: m (x, y, s) or I (phi), the coefficient of its equation of motion.
     """
 
     body: int
@@ -69,7 +86,7 @@ class Dof:
 
     @property
     def velocity(self) -> str:
-        """``u``, ``v`` or ``omega``."""
+        """``u``, ``v``, ``omega`` or ``w``."""
         return POSE_VELOCITY[self.coordinate]
 
     @property
@@ -115,19 +132,49 @@ class DiscreteModel:
             inertia = self.config.rotor.inertia
             return (Dof(0, "body0", "phi", inertia),), np.array([self.config.rotor.phi0])
         dofs, q0 = [], []
+        kinds = {"fixed": (), "fixed_axis": ("phi",), "free": ("x", "y", "phi"), "track": ("s",)}
         for k, body in enumerate(self.pde.bodies):
-            if body.motion == "track":
-                msg = (
-                    f"bodies[{k}].motion.kind = track: the linear analysis takes fixed, "
-                    "fixed_axis and free bodies (allowed: one of those)"
-                )
-                raise ConfigError(msg)
-            names = {"fixed": (), "fixed_axis": ("phi",), "free": ("x", "y", "phi")}[body.motion]
-            for name in names:
+            for name in kinds[body.motion]:
                 inertia = body.inertia if name == "phi" else body.mass
                 dofs.append(Dof(k, body.name, name, float(inertia)))
-                q0.append(body.start[POSE_INDEX[name]])
+                q0.append(0.0 if name == "s" else body.start[POSE_INDEX[name]])
         return tuple(dofs), np.array(q0, dtype=float)
+
+    @cached_property
+    def inertia(self) -> Inertia:
+        """The bodies' motion parameters, as the reference's step reads them."""
+        return Inertia.of(self.pde.bodies)
+
+    def track_pose(self, k: int, s: float, w: float) -> tuple[float, ...]:
+        """(x, y, phi, u, v, omega) of track body `k` at arc position `s` from its start
+        and arc speed `w` (module docstring)."""
+        body = self.pde.bodies[k]
+        (cx, cy), radius = body.track.centre, body.track.radius
+        x0, y0, phi0 = body.start
+        theta = math.atan2(y0 - cy, x0 - cx) + s / radius
+        cos_t, sin_t = math.cos(theta), math.sin(theta)
+        return (
+            cx + radius * cos_t,
+            cy + radius * sin_t,
+            phi0 + s / radius,
+            -w * sin_t,
+            w * cos_t,
+            w / radius,
+        )
+
+    def arc_coordinates(self, poses: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(s, w) of every degree of freedom's body at `poses` (K, >= 6), for the track
+        ones (the inverse of :meth:`track_pose`; s in (-pi R, pi R]); nan elsewhere."""
+        theta, _, speed = self.inertia.tangents(poses)
+        s, w = np.full(len(self.dofs), np.nan), np.full(len(self.dofs), np.nan)
+        for i, dof in enumerate(self.dofs):
+            if dof.coordinate == "s":
+                body = self.pde.bodies[dof.body]
+                (cx, cy), radius = body.track.centre, body.track.radius
+                theta0 = math.atan2(body.start.y - cy, body.start.x - cx)
+                s[i] = radius * math.remainder(theta[dof.body] - theta0, 2 * math.pi)
+                w[i] = speed[dof.body]
+        return s, w
 
     def _install_cache(self) -> None:
         """Cache the indicators per pose: the probes of a linearisation share one pose."""
@@ -183,6 +230,9 @@ class DiscreteModel:
         for k, body in enumerate(bodies):
             poses[k, :3] = body.start
         for i, dof in enumerate(self.dofs):
+            if dof.coordinate == "s":
+                poses[dof.body, :6] = self.track_pose(dof.body, float(q[i]), float(p[i]))
+                continue
             poses[dof.body, POSE_INDEX[dof.coordinate]] = q[i]
             poses[dof.body, POSE_INDEX[dof.velocity]] = p[i]
         names = tuple(b.name for b in bodies)
@@ -199,17 +249,23 @@ class DiscreteModel:
         self, c: np.ndarray, v: np.ndarray, q: np.ndarray, p: np.ndarray
     ) -> np.ndarray:
         """(m,) dp/dt of every degree of freedom, Eq. (eq_motion): the tension force or
-        torque of the scheme plus the friction, over m or I."""
+        torque of the scheme plus the friction (and the external and contact loads of a
+        bodies' config), over m or I; a track body's tangential acceleration dw/dt."""
         state = self.state(c, v, q, p)
         if self.rotor:
             torque, friction = self.pde.rotor_torques(state)
             return np.array([(torque + friction) / self.dofs[0].inertia])
-        forces = self.pde.body_forces(state)
+        poses = state.bodies.poses[:, :6]
+        contact = contact_forces(poses, self.pde.bodies, self.config)
+        accel = accelerations(self.pde.body_forces(state), self.inertia, poses, contact)
+        _, tangent, _ = self.inertia.tangents(poses)
         column = {"x": 0, "y": 1, "phi": 2}
         out = np.empty(len(self.dofs))
         for i, dof in enumerate(self.dofs):
-            j = column[dof.coordinate]
-            out[i] = (forces[dof.body, j] + forces[dof.body, j + 3]) / dof.inertia
+            if dof.coordinate == "s":
+                out[i] = accel[dof.body, :2] @ tangent[dof.body]
+            else:
+                out[i] = accel[dof.body, column[dof.coordinate]]
         return out
 
     def source_total(self) -> float:

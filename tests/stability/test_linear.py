@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pde_rotor.config import ConfigError, RotorConfig
+from pde_rotor.config import RotorConfig
 from pde_rotor.stability import DiscreteModel, linearise
 from tests.stability.conftest import disk_data, rotor_data
 
@@ -91,21 +91,3 @@ def test_comoving_frame_drops_only_the_stiffness() -> None:
     assert [lin.model.dofs[i].coordinate for i in active] == ["x", "y"]  # a round disk's angle
     stiffness = np.abs(lin.stiffness[:2, :2]).max()
     assert stiffness < 1e-2 * np.abs(lin.coordinate_rows[:2, :2]).max()
-
-
-def test_a_track_body_is_refused_in_one_line() -> None:
-    """The linear analysis takes fixed, fixed_axis and free bodies: a track body is named."""
-    config = RotorConfig.model_validate(
-        {
-            "grid": {"dx": 0.05, "dt": 2e-4, "domain_radius": 2.0},
-            "bodies": [
-                {
-                    "pills": [{"x": 0.0, "y": 0.0}],
-                    "motion": {"kind": "track", "mass": 1e-3},
-                    "start": {"x": 0.5, "y": 0.0},
-                }
-            ],
-        }
-    )
-    with pytest.raises(ConfigError, match=r"^bodies\[0\]\.motion\.kind = track: the linear"):
-        DiscreteModel(config)
