@@ -203,7 +203,8 @@ def draw_symmetric(ds: xr.Dataset | None, axes: Sequence[Axes], what: str) -> No
             ax.plot([], [], "s", color=f"C{code}", label=mode)
         ax.set(xlabel="friction mu", ylabel="boats N", title=f"({letter}) {what}: {label}")
         ax.set_xlim(frictions.min() - 0.03, frictions.max() + 0.03)
-        ax.legend(fontsize=7)
+        ax.set_ylim(0, 1.25 * max(one["count"].values) + 1)  # room for the legend
+        ax.legend(fontsize=7, ncol=3, loc="upper center")
     for ax in axes[len(groups) : 2]:
         missing(ax, "one flow setting only")
     speed_ax = axes[2]
@@ -218,7 +219,7 @@ def draw_symmetric(ds: xr.Dataset | None, axes: Sequence[Axes], what: str) -> No
         xlabel="friction mu",
         ylabel="<|arc speed|> (solid), |<arc speed>| (dashed)",
         yscale="log",
-        title=f"(i) {what}: speed against friction, {first_label}",
+        title=f"(i) {what}, {first_label}: speeds",
     )
     speed_ax.legend(fontsize=7, ncol=2)
 
