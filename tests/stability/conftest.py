@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+import importlib.util
+import sys
+from pathlib import Path
+from types import ModuleType
 from typing import Any
 
 import pytest
@@ -9,6 +13,21 @@ import pytest
 from pde_rotor.config import RotorConfig
 
 COARSE_GRID = {"dx": 0.05, "dt": 4e-4}
+ROOT = Path(__file__).resolve().parents[2]
+
+
+@pytest.fixture(scope="session")
+def kicks() -> ModuleType:
+    """benchmarks/stability_kicks.py as a module (benchmarks/ is not a package): its kicked
+    runs and oscillation fit."""
+    name = "stability_kicks"
+    if name not in sys.modules:
+        spec = importlib.util.spec_from_file_location(name, ROOT / "benchmarks" / f"{name}.py")
+        assert spec is not None and spec.loader is not None
+        module = importlib.util.module_from_spec(spec)
+        sys.modules[name] = module
+        spec.loader.exec_module(module)
+    return sys.modules[name]
 
 
 def rotor_data(scheme: str = "consistent", flow: bool = True) -> dict[str, Any]:

@@ -12,32 +12,13 @@ modes in the window.
 
 from __future__ import annotations
 
-import importlib.util
-import sys
-from pathlib import Path
-from typing import Any
+from types import ModuleType
 
 import numpy as np
 import pytest
 
-ROOT = Path(__file__).resolve().parents[2]
 
-
-def load_kicks() -> Any:
-    """benchmarks/stability_kicks.py as a module (benchmarks/ is not a package)."""
-    name = "stability_kicks"
-    spec = importlib.util.spec_from_file_location(name, ROOT / "benchmarks" / f"{name}.py")
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[name] = module
-    spec.loader.exec_module(module)
-    return module
-
-
-kicks = load_kicks()
-
-
-def test_oscillation_fit_recovers_a_known_pair_beside_a_slow_term() -> None:
+def test_oscillation_fit_recovers_a_known_pair_beside_a_slow_term(kicks: ModuleType) -> None:
     times = np.arange(0.0, 6.0, 0.05)
     lam = complex(-0.14, 0.22)
     z = 1e-4 * np.exp(0.3j + lam * times)
@@ -48,7 +29,7 @@ def test_oscillation_fit_recovers_a_known_pair_beside_a_slow_term() -> None:
     assert fit.residual < 1e-8
 
 
-def test_kicked_disk_in_a_dish_turns_at_the_hopf_pair() -> None:
+def test_kicked_disk_in_a_dish_turns_at_the_hopf_pair(kicks: ModuleType) -> None:
     run = kicks.dish_kick(0.05, 4e-4, 1.75, 0.16, relax=2.0, decay=1e2, periods=0.5)
     lam, fit = run.pair, run.fit.rate
     assert lam.imag > 0.5 and lam.real > 0.1, "a growing oscillatory pair at this friction"

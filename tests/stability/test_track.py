@@ -7,10 +7,8 @@ that move them together (m = 0) and against each other (m = 1).
 
 from __future__ import annotations
 
-import importlib.util
 import math
-import sys
-from pathlib import Path
+from types import ModuleType
 from typing import Any
 
 import numpy as np
@@ -20,24 +18,10 @@ from pde_rotor.config import ConfigError, RotorConfig
 from pde_rotor.stability import DiscreteModel, follow, leading_modes, linearise
 from pde_rotor.stability.continuation import config_at, expand_key
 
-ROOT = Path(__file__).resolve().parents[2]
 KEY = "bodies[*].motion.friction"
 AMP = 1e-5
 """The kick's speed: the slow pair is the lattice's spring, whose force is linear in the
 boat's move only over a small part of a cell (at 1e-4 its frequency is off by 5 %)."""
-
-
-def load_kicks() -> Any:
-    """benchmarks/stability_kicks.py as a module (its oscillation fit)."""
-    name = "stability_kicks"
-    if name in sys.modules:
-        return sys.modules[name]
-    spec = importlib.util.spec_from_file_location(name, ROOT / "benchmarks" / f"{name}.py")
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[name] = module
-    spec.loader.exec_module(module)
-    return module
 
 
 def ring_data(
@@ -130,7 +114,7 @@ def test_steps_of_a_track_boat_follow_the_jacobian(scheme: str, flow: bool) -> N
         assert errors[1][0] < errors[0][0] / 8
 
 
-def kicked_rate(mu: float, span: tuple[float, float]) -> tuple[complex, complex]:
+def kicked_rate(mu: float, span: tuple[float, float], kicks: ModuleType) -> tuple[complex, complex]:
     """The leading eigenvalue with the boat's coordinate at friction `mu`, and e^{lambda t}
     fitted to the boat's (s, w) in a reference run (the implicit cut-cell step for c, as
     the compiled loop takes it) from the rest state kicked along the real part of that
@@ -160,12 +144,12 @@ def kicked_rate(mu: float, span: tuple[float, float]) -> tuple[complex, complex]
         state.fields[0].data[...] = c
     times, series = np.array(times), np.array(series)
     keep = times >= span[0]
-    fit = load_kicks().oscillation_fit(times[keep], series[keep])
+    fit = kicks.oscillation_fit(times[keep], series[keep])
     assert fit.residual < 0.05
     return spectrum.leading, complex(fit.rate)
 
 
-def test_symmetric_boat_onset_against_kicked_runs() -> None:
+def test_symmetric_boat_onset_against_kicked_runs(kicks: ModuleType) -> None:
     """Alone in the annulus the boat's rest state is symmetric under moving it along its
     track: its onset is a pitchfork in the frame that turns with it. The lattice makes
     that move a weak spring (K), which the kicked runs feel: with the coordinate the onset
@@ -182,7 +166,7 @@ def test_symmetric_boat_onset_against_kicked_runs() -> None:
     mu_c = full.crossings[0].value
     assert mu_c == pytest.approx(onset.value, rel=0.05)  # the lattice's spring only
     for factor, sign in ((0.8, 1.0), (1.2, -1.0)):
-        lam, fitted = kicked_rate(factor * mu_c, (0.25, 2.0))
+        lam, fitted = kicked_rate(factor * mu_c, (0.25, 2.0), kicks)
         assert sign * fitted.real > 0 and sign * lam.real > 0
         assert fitted.real == pytest.approx(lam.real, rel=0.05)
         assert abs(fitted.imag) == pytest.approx(abs(lam.imag), rel=0.02)
