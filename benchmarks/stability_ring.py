@@ -41,6 +41,7 @@ import numpy as np
 from pde_rotor.config import validate_config
 from pde_rotor.stability import DiscreteModel, follow, leading_modes, linearise
 from pde_rotor.stability.continuation import spectrum_at
+from pde_rotor.sweep.placement import CrowdSpec, place
 
 KEY = "bodies[*].motion.friction"
 TRACK_RADIUS = 4.6
@@ -49,22 +50,14 @@ TRACK_RADIUS = 4.6
 def ring_data(count: int, friction: float, flow: bool, dx: float = 0.05) -> dict[str, Any]:
     """The ring channel with `count` symmetric boats evenly spaced (module docstring), on a
     grid of spacing `dx` (dt scaled with dx^2 from the sweep's 4e-4 at 0.05)."""
-    bodies = []
-    for k in range(count):
-        angle = 2 * math.pi * k / count
-        bodies.append(
-            {
-                "name": f"boat{k}",
-                "plate": {"shape": "strip", "length": 0.3, "width": 0.15},
-                "pills": [{"x": 0.0, "y": 0.0, "radius": 0.05}],
-                "motion": {"kind": "track", "mass": 1e-3, "friction": friction},
-                "start": {
-                    "x": TRACK_RADIUS * math.cos(angle),
-                    "y": TRACK_RADIUS * math.sin(angle),
-                    "angle": math.remainder(angle + math.pi / 2, 2 * math.pi),
-                },
-            }
-        )
+    boat = {
+        "name": "boat",
+        "plate": {"shape": "strip", "length": 0.3, "width": 0.15},
+        "pills": [{"x": 0.0, "y": 0.0, "radius": 0.05}],
+        "motion": {"kind": "track", "mass": 1e-3, "friction": friction},
+    }
+    crowd = {"count": count, "body": boat, "placement": {"kind": "ring", "radius": TRACK_RADIUS}}
+    bodies = place(CrowdSpec.model_validate(crowd), (0.0, 0.0), 0)
     return {
         "grid": {
             "domain_radius": 5.6,

@@ -17,6 +17,7 @@ import pytest
 from pde_rotor.config import ConfigError, RotorConfig
 from pde_rotor.stability import DiscreteModel, follow, leading_modes, linearise
 from pde_rotor.stability.continuation import config_at, expand_key
+from pde_rotor.sweep.placement import CrowdSpec, place
 
 KEY = "bodies[*].motion.friction"
 AMP = 1e-5
@@ -31,22 +32,14 @@ def ring_data(
     track about the centre of a no-flux annulus. fine: dx = 0.05, delta = 0.025, 0.55 < r <
     2.45, track radius 1.5; else dx = 0.1, delta = 0.05, 1 < r < 4.4, radius 2.7."""
     dx, radius, inner, outer = (0.05, 1.5, 0.55, 2.45) if fine else (0.1, 2.7, 1.0, 4.4)
-    bodies = []
-    for k in range(count):
-        angle = 2 * math.pi * k / count
-        bodies.append(
-            {
-                "name": f"boat{k}",
-                "plate": {"shape": "strip", "length": 0.3, "width": 0.15},
-                "pills": [{"x": 0.0, "y": 0.0, "radius": 0.05}],
-                "motion": {"kind": "track", "mass": 1e-3, "friction": friction, "speed": speed},
-                "start": {
-                    "x": radius * math.cos(angle),
-                    "y": radius * math.sin(angle),
-                    "angle": angle + math.pi / 2,
-                },
-            }
-        )
+    boat = {
+        "name": "boat",
+        "plate": {"shape": "strip", "length": 0.3, "width": 0.15},
+        "pills": [{"x": 0.0, "y": 0.0, "radius": 0.05}],
+        "motion": {"kind": "track", "mass": 1e-3, "friction": friction, "speed": speed},
+    }
+    crowd = {"count": count, "body": boat, "placement": {"kind": "ring", "radius": radius}}
+    bodies = place(CrowdSpec.model_validate(crowd), (0.0, 0.0), 0)
     vessel = {"shape": "annulus", "inner_radius": inner, "outer_radius": outer}
     return {
         "grid": {
