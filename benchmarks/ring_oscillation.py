@@ -1,11 +1,17 @@
-"""The rocking of symmetric boats in the ring channel: its spatial mode, frequency and kind.
+"""The rocking and the density waves of symmetric boats in the ring channel: their spatial
+mode, frequency and kind.
 
-Runs one point of `configs/sweeps/crowd_ring_symmetric.yaml` (the same resolved config as
-the sweep's run, its placement and seed included) to ``--t-end``, recording every boat's
-arc speed w_k = (X x U) / |X| and angle each ``--record``, and from ``--from`` on
-analyses the boats' speeds as a wave on the ring (boats numbered counter-clockwise):
+Runs one point of a ring sweep of symmetric boats (``--sweep``, default
+`configs/sweeps/crowd_ring_symmetric.yaml`; `crowd_ring_waves.yaml` adds the start speed)
+to ``--t-end``, the same resolved config as the sweep's run, its placement and seed
+included: each of ``--count``, ``--friction``, ``--flow``, ``--speed`` that is given pins
+that axis. It records every boat's arc speed w_k = (X x U) / |X| and angle each
+``--record``, and from ``--from`` on analyses the boats' speeds as a wave on the ring
+(boats numbered counter-clockwise):
 
-* the mean signed arc speed and the rms of w (the ring's modes, docs/collective.md);
+* the ring's mode over the analysed records, by the sweep's rule (``ring.ring_mode``, its
+  measures: the spacing spread, the gap mobility, the mean |w| and the mean signed w), and
+  the rms of w;
 * the power of each spatial mode m = 0 .. N/2 of w_k (its discrete Fourier transform over
   k), and the leading one;
 * its angular frequency Omega (the peak of the time spectrum of that mode's amplitude)
@@ -14,13 +20,23 @@ analyses the boats' speeds as a wave on the ring (boats numbered counter-clockwi
   other) at both; printed is the share of the larger side, 1 for a travelling wave, 1/2
   for a standing one;
 * each boat's swing, the rms of its arc displacement from its mean path, against the mean
-  spacing.
+  spacing;
+* the kind of a density wave: the share of a boat's time spent halted (|w_k| below
+  :data:`HALT` times the mean |w|: boats that queue in a jam and leave it, a stop-and-go
+  or discrete wave, against a continuous one whose boats only slow down; a sinusoidal
+  rocking spends 4 % of its time so), and each boat's least and largest w_k over the mean
+  |w|, averaged over the boats;
+* the contact: the least distance between neighbours' centres over the mean spacing, and
+  the share of records in which some neighbours' footprints (``BodyConfig.reach``) are
+  closer than ``contact.range``, where the contact spring pushes them apart
+  (docs/bodies.md, "Contact").
 
 Compare with the 1D theory of the symmetric boat (docs/ring.md, "Onset of the symmetric
 boat": the alternating mode m = N/2 goes unstable first, by a Hopf bifurcation).
 
 Run:  NUMBA_NUM_THREADS=1 python benchmarks/ring_oscillation.py --count 8 --friction 0.2
-      [--flow on] [--t-end 60] [--record 0.05] [--from 30]
+      [--flow on] [--sweep configs/sweeps/crowd_ring_waves.yaml --speed 0.5]
+      [--t-end 60] [--record 0.05] [--from 30]
 """
 
 from __future__ import annotations
@@ -31,20 +47,30 @@ import math
 import numpy as np
 
 from pde_rotor import RotorConfig
+from pde_rotor.collective import ring
 from pde_rotor.solver.simulation import Simulation
 from pde_rotor.sweep.plan import Sweep
 
 SWEEP = "configs/sweeps/crowd_ring_symmetric.yaml"
+HALT = 0.1
+"""|w_k| below this fraction of the mean |w| counts as halted."""
+PINS = {
+    "count": "crowd.count",
+    "friction": "crowd.body.motion.friction",
+    "flow": "flow.enabled",
+    "speed": "crowd.body.motion.speed",
+}
+"""The options that pin an axis of the sweep, and the axis each pins."""
 
 
-def sweep_point(count: int, friction: float, flow: bool, t_end: float) -> RotorConfig:
-    """The sweep's resolved config at (count, friction, flow), run to `t_end`."""
-    overrides = [
-        f"axes.crowd.count=[{count}]",
-        f"axes.crowd.body.motion.friction=[{friction}]",
-        f"axes.flow.enabled=[{str(flow).lower()}]",
-    ]
-    data = Sweep.load(SWEEP, overrides).runs()[0].config
+def sweep_point(sweep: str, pins: dict[str, str], t_end: float) -> RotorConfig:
+    """The sweep's resolved config with the axes `pins` (axis: value) pinned, run to
+    `t_end`; the sweep's axes left unpinned must have one value."""
+    overrides = [f"axes.{axis}=[{value}]" for axis, value in pins.items()]
+    runs = Sweep.load(sweep, overrides).runs()
+    if len(runs) != 1:
+        raise SystemExit(f"{sweep}: pin every axis with more than one value ({len(runs)} runs)")
+    data = runs[0].config
     data["protocol"]["t_ini"] = t_end
     return RotorConfig.model_validate(data)
 
@@ -64,8 +90,11 @@ def record(sim: Simulation, t_end: float, interval: float) -> tuple[np.ndarray, 
     return np.array(times), np.array(speeds), np.unwrap(np.array(angles), axis=0)
 
 
-def analyse(t: np.ndarray, w: np.ndarray, theta: np.ndarray, radius: float) -> dict:
-    """The wave measures of the module docstring from the late records."""
+def analyse(
+    t: np.ndarray, w: np.ndarray, theta: np.ndarray, radius: float, contact: tuple[float, float]
+) -> dict:
+    """The wave measures of the module docstring from the late records; `contact` =
+    (a footprint's reach, ``contact.range``)."""
     n = w.shape[1]
     order = np.argsort(np.mod(theta[0], 2 * math.pi))
     w, theta = w[:, order], theta[:, order]
@@ -82,36 +111,60 @@ def analyse(t: np.ndarray, w: np.ndarray, theta: np.ndarray, radius: float) -> d
     arc = radius * theta
     path = arc - arc.mean(axis=1, keepdims=True)
     swing = float(np.sqrt(((path - path.mean(axis=0)) ** 2).mean()))
+    mean_abs = np.abs(w).mean()
+    spacing = 2 * math.pi * radius / n
+    step = np.diff(theta, axis=1, append=theta[:, :1] + 2 * math.pi)
+    distance = 2 * radius * np.abs(np.sin(step / 2))  # neighbours' centres, on the track
+    reach, reach_range = contact
+    touching = (distance - 2 * reach < reach_range).any(axis=1)
+    spread = float(ring.spacing_spread(theta).mean())
+    mobility = ring.gap_mobility(theta)
     return {
+        "mode": ring.ring_mode(float(mean_abs), float(w.mean()), spread, mobility),
+        "spacing spread": spread,
+        "gap mobility": mobility,
+        "mean |arc speed|": float(mean_abs),
         "mean signed arc speed": float(w.mean()),
         "rms arc speed": float(np.sqrt((w**2).mean())),
         "mode powers m = 0..N/2": np.array2string(power, precision=3),
         "leading m": m,
         "Omega": omega,
         "travelling share": travelling,
-        "swing / spacing": swing / (2 * math.pi * radius / n),
+        "swing / spacing": swing / spacing,
+        "halted share": float((np.abs(w) < HALT * mean_abs).mean()),
+        "least w / mean |w|": float(w.min(axis=0).mean() / mean_abs),
+        "largest w / mean |w|": float(w.max(axis=0).mean() / mean_abs),
+        "least distance / spacing": float(distance.min() / spacing) if n > 1 else math.nan,
+        "contact share": float(touching.mean()) if n > 1 else 0.0,
     }
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--count", type=int, required=True)
-    parser.add_argument("--friction", type=float, required=True)
-    parser.add_argument("--flow", choices=["off", "on"], default="off")
+    parser.add_argument("--sweep", default=SWEEP)
+    parser.add_argument("--count", type=int)
+    parser.add_argument("--friction", type=float)
+    parser.add_argument("--flow", choices=["off", "on"])
+    parser.add_argument("--speed", type=float, help="the boats' start speed")
     parser.add_argument("--t-end", type=float, default=60.0)
     parser.add_argument("--record", type=float, default=0.05)
     parser.add_argument("--from", dest="start", type=float, default=30.0)
     args = parser.parse_args()
-    config = sweep_point(args.count, args.friction, args.flow == "on", args.t_end)
+    given = {name: getattr(args, name) for name in PINS if getattr(args, name) is not None}
+    flow = {"on": "true", "off": "false"}
+    pins = {PINS[name]: flow.get(value, value) for name, value in given.items()}
+    config = sweep_point(args.sweep, pins, args.t_end)
     start, (cx, cy) = config.bodies[0].start, config.grid.domain_centre
     radius = math.hypot(start.x - cx, start.y - cy)  # the track's, about the vessel's centre
+    contact = (config.bodies[0].reach(config.geometry.smoothing), config.contact.range)
     t, w, theta = record(Simulation(config), args.t_end, args.record)
     late = t >= args.start
-    print(
-        f"N = {args.count}, mu = {args.friction:g}, flow {args.flow}: records {late.sum()} "
-        f"from t = {args.start:g} to {args.t_end:g}"
+    point = ", ".join(
+        f"{name} {value:g}" if isinstance(value, float) else f"{name} {value}"
+        for name, value in given.items()
     )
-    for name, value in analyse(t[late], w[late], theta[late], radius).items():
+    print(f"{args.sweep}, {point}: records {late.sum()} from t = {args.start:g} to {args.t_end:g}")
+    for name, value in analyse(t[late], w[late], theta[late], radius, contact).items():
         print(f"  {name}: {value:.4g}" if isinstance(value, float) else f"  {name}: {value}")
 
 
