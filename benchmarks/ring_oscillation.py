@@ -31,12 +31,15 @@ that axis. It records every boat's arc speed w_k = (X x U) / |X| and angle each
   closer than ``contact.range``, where the contact spring pushes them apart
   (docs/bodies.md, "Contact").
 
+With ``--windows W``, also each window of length W from t = 0 on its own line: its mode,
+mean |w|, mean signed w and spacing spread, to tell a settled state from a slow transient.
+
 Compare with the 1D theory of the symmetric boat (docs/ring.md, "Onset of the symmetric
 boat": the alternating mode m = N/2 goes unstable first, by a Hopf bifurcation).
 
 Run:  NUMBA_NUM_THREADS=1 python benchmarks/ring_oscillation.py --count 8 --friction 0.2
       [--flow on] [--sweep configs/sweeps/crowd_ring_waves.yaml --speed 0.5]
-      [--t-end 60] [--record 0.05] [--from 30]
+      [--t-end 60] [--record 0.05] [--from 30] [--windows 30]
 """
 
 from __future__ import annotations
@@ -149,6 +152,7 @@ def main() -> None:
     parser.add_argument("--t-end", type=float, default=60.0)
     parser.add_argument("--record", type=float, default=0.05)
     parser.add_argument("--from", dest="start", type=float, default=30.0)
+    parser.add_argument("--windows", type=float, help="also each window of this length")
     args = parser.parse_args()
     given = {name: getattr(args, name) for name in PINS if getattr(args, name) is not None}
     flow = {"on": "true", "off": "false"}
@@ -166,6 +170,14 @@ def main() -> None:
     print(f"{args.sweep}, {point}: records {late.sum()} from t = {args.start:g} to {args.t_end:g}")
     for name, value in analyse(t[late], w[late], theta[late], radius, contact).items():
         print(f"  {name}: {value:.4g}" if isinstance(value, float) else f"  {name}: {value}")
+    for a in np.arange(0.0, args.t_end - 1e-9, args.windows) if args.windows else []:
+        inside = (t > a) & (t <= a + args.windows)
+        m = analyse(t[inside], w[inside], theta[inside], radius, contact)
+        print(
+            f"  t = {a:g} to {a + args.windows:g}: {m['mode']}, mean |w| "
+            f"{m['mean |arc speed|']:.4g}, mean w {m['mean signed arc speed']:.4g}, "
+            f"spread {m['spacing spread']:.3g}"
+        )
 
 
 if __name__ == "__main__":

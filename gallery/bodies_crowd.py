@@ -14,6 +14,10 @@ committed collective sweeps (docs/collective.md).
   (i) the mean |arc speed| (solid) and the mean signed arc speed's size (dashed, the
   speed round the ring) against the friction for each N, flow off: where the two part,
   the boats rock about their places;
+* their density waves and coexisting states (configs/sweeps/crowd_ring_waves.yaml,
+  data/sweeps/crowd_ring_waves: N = 8 ... 16, friction 0.0125 apart, flow off, each point
+  from rest and from a sailing start): (j), (k) the modes from each start, (l) the speeds
+  from rest (solid, dashed) and from the sailing start (dotted: the mean |arc speed|);
 * dish (configs/sweeps/crowd_dish.yaml, data/sweeps/crowd_dish): (c) the disks' mean
   speed against time, per friction and flow, to the end of each run (a run ends where two
   footprints meet or one reaches the wall: there is no contact force yet); (d) their pair
@@ -47,7 +51,16 @@ STORES = {
     "dish": DEFAULT_ROOT / "crowd_dish",
     "ring_paper": DEFAULT_ROOT / "crowd_ring_paper",
     "ring_symmetric": DEFAULT_ROOT / "crowd_ring_symmetric",
+    "ring_waves": DEFAULT_ROOT / "crowd_ring_waves",
 }
+GROUPS = {
+    "enabled = 0": "flow off",
+    "enabled = 1": "flow on",
+    "speed = 0.01": "from rest",
+    "speed = 0.5": "sailing start",
+}
+"""Titles of the groups of runs that a symmetric store's other axis (flow or start speed)
+makes."""
 DISK = {
     "plate": {"shape": "none"},
     "pills": [{"radius": 0.1}],
@@ -181,19 +194,22 @@ def draw_ring(
     spread_ax.legend(fontsize=7, ncol=2)
 
 
-def draw_symmetric(ds: xr.Dataset | None, axes: Sequence[Axes], what: str) -> None:
-    """Panels (g), (h) and (i) of a ring store `ds` swept in count and friction (`what`:
-    its bodies): the modes over both per value of the other axes (the flow), and the
-    mean |arc speed| and the mean signed arc speed's size against the friction."""
+def draw_symmetric(
+    ds: xr.Dataset | None, axes: Sequence[Axes], what: str, store: str, letters: str = "ghi"
+) -> None:
+    """Panels (g), (h) and (i) (`letters`) of a ring store `ds` swept in count and
+    friction (`what`: its bodies; `store`: its name): the modes over both per value of the
+    other axis (the flow, or the start speed), and the mean |arc speed| and the mean
+    signed arc speed's size against the friction, of the first group; of the second, its
+    mean |arc speed| (dotted)."""
     if ds is None or "friction" not in ds.dims:
         for ax in axes:
-            missing(ax, f"no store {STORES['ring_symmetric']} yet")
+            missing(ax, f"no store {STORES[store]} yet")
         return
     modes = ds.attrs["modes"].split(", ")
-    flow = {"enabled = 0": "flow off", "enabled = 1": "flow on"}
-    groups = [(flow.get(label, label), one) for label, one in lines(ds, ["count", "friction"])]
+    groups = [(GROUPS.get(label, label), one) for label, one in lines(ds, ["count", "friction"])]
     frictions = ds["friction"].values
-    for ax, (label, one), letter in zip(axes[:2], groups, "gh", strict=False):
+    for ax, (label, one), letter in zip(axes[:2], groups, letters, strict=False):
         for n in one["count"].values:
             for mu in one["friction"].values:
                 code = int(one["mode"].sel(count=n, friction=mu).values.flat[0])
@@ -206,7 +222,7 @@ def draw_symmetric(ds: xr.Dataset | None, axes: Sequence[Axes], what: str) -> No
         ax.set_ylim(0, 1.25 * max(one["count"].values) + 1)  # room for the legend
         ax.legend(fontsize=7, ncol=3, loc="upper center")
     for ax in axes[len(groups) : 2]:
-        missing(ax, "one flow setting only")
+        missing(ax, "one group of runs only")
     speed_ax = axes[2]
     first_label, first = groups[0]
     for n in first["count"].values:
@@ -215,11 +231,17 @@ def draw_symmetric(ds: xr.Dataset | None, axes: Sequence[Axes], what: str) -> No
             continue  # not computed yet
         (line,) = speed_ax.plot(one["friction"], one["abs_arc_speed"], "o-", label=f"N = {n}")
         speed_ax.plot(one["friction"], abs(one["mean_arc_speed"]), "x--", color=line.get_color())
+        if len(groups) > 1 and groups[1][0] == "sailing start":
+            other = groups[1][1].sel(count=n).mean("sample")
+            speed_ax.plot(other["friction"], other["abs_arc_speed"], ":", color=line.get_color())
+    ylabel = "<|arc speed|> (solid), |<arc speed>| (dashed)"
+    if len(groups) > 1 and groups[1][0] == "sailing start":
+        ylabel += ";\nsailing start <|arc speed|> (dotted)"
     speed_ax.set(
         xlabel="friction mu",
-        ylabel="<|arc speed|> (solid), |<arc speed>| (dashed)",
+        ylabel=ylabel,
         yscale="log",
-        title=f"(i) {what}, {first_label}: speeds",
+        title=f"({letters[2]}) {what}, {first_label}: speeds",
     )
     speed_ax.legend(fontsize=7, ncol=2)
 
@@ -258,7 +280,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
         with tempfile.TemporaryDirectory() as tmp:
             specs = tiny_sweeps()
             reports = {kind: run_here(spec, Path(tmp) / kind) for kind, spec in specs.items()}
-        reports["ring_symmetric"] = reports["ring"]
+        reports["ring_symmetric"] = reports["ring_waves"] = reports["ring"]
         source = "tiny sweeps of free disks computed here (not boats)"
     else:
         reports = {kind: stored(path) for kind, path in STORES.items()}
@@ -266,13 +288,13 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     ring, paper, scheme = reports["ring"], reports.get("ring_paper"), "consistent scheme"
     if ring is None or int(ring["runs_done"].sum()) == 0:
         ring, paper, scheme = paper, None, "paper scheme"
-    fig = new_figure(15.0, 12.6)
-    axes = fig.subplots(3, 3)
+    fig = new_figure(15.0, 16.8)
+    axes = fig.subplots(4, 3)
     draw_ring(ring, paper, axes[0], "free disks" if fid.is_tiny else scheme)
     draw_dish(reports["dish"], axes[1])
-    draw_symmetric(
-        reports["ring_symmetric"], axes[2], "free disks" if fid.is_tiny else "symmetric boats"
-    )
+    what = "free disks" if fid.is_tiny else "symmetric boats"
+    draw_symmetric(reports["ring_symmetric"], axes[2], what, "ring_symmetric")
+    draw_symmetric(reports["ring_waves"], axes[3], what, "ring_waves", "jkl")
     for ax in axes.flat:
         ax.grid(alpha=0.3)
     for kind, ds in reports.items():
