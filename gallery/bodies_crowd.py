@@ -225,17 +225,18 @@ def draw_symmetric(
         missing(ax, "one group of runs only")
     speed_ax = axes[2]
     first_label, first = groups[0]
+    sailing = groups[1][1] if len(groups) > 1 and groups[1][0] == "sailing start" else None
     for n in first["count"].values:
         one = first.sel(count=n).mean("sample")
         if not bool(one["abs_arc_speed"].notnull().any()):
             continue  # not computed yet
         (line,) = speed_ax.plot(one["friction"], one["abs_arc_speed"], "o-", label=f"N = {n}")
         speed_ax.plot(one["friction"], abs(one["mean_arc_speed"]), "x--", color=line.get_color())
-        if len(groups) > 1 and groups[1][0] == "sailing start":
-            other = groups[1][1].sel(count=n).mean("sample")
+        if sailing is not None:
+            other = sailing.sel(count=n).mean("sample")
             speed_ax.plot(other["friction"], other["abs_arc_speed"], ":", color=line.get_color())
     ylabel = "<|arc speed|> (solid), |<arc speed>| (dashed)"
-    if len(groups) > 1 and groups[1][0] == "sailing start":
+    if sailing is not None:
         ylabel += ";\nsailing start <|arc speed|> (dotted)"
     speed_ax.set(
         xlabel="friction mu",
