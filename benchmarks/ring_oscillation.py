@@ -5,9 +5,9 @@ Runs one point of a ring sweep of symmetric boats (``--sweep``, default
 `configs/sweeps/crowd_ring_symmetric.yaml`; `crowd_ring_waves.yaml` adds the start speed)
 to ``--t-end``, the same resolved config as the sweep's run, its placement and seed
 included: each of ``--count``, ``--friction``, ``--flow``, ``--speed`` that is given pins
-that axis. It records every boat's arc speed w_k = (X x U) / |X| and angle each
-``--record``, and from ``--from`` on analyses the boats' speeds as a wave on the ring
-(boats numbered counter-clockwise):
+that axis (a flow axis is pinned off unless ``--flow`` is given). It records every boat's
+arc speed w_k = (X x U) / |X| and angle each ``--record``, and from ``--from`` on analyses
+the boats' speeds as a wave on the ring (boats numbered counter-clockwise):
 
 * the ring's mode over the analysed records, by the sweep's rule (``ring.ring_mode``, its
   measures: the spacing spread, the gap mobility, the mean |w| and the mean signed w), and
@@ -155,6 +155,8 @@ def main() -> None:
     parser.add_argument("--windows", type=float, help="also each window of this length")
     args = parser.parse_args()
     given = {name: getattr(args, name) for name in PINS if getattr(args, name) is not None}
+    if "flow" not in given and PINS["flow"] in Sweep.load(args.sweep).axes:
+        given["flow"] = "off"  # a sweep's flow axis is pinned off unless --flow says
     flow = {"on": "true", "off": "false"}
     pins = {PINS[name]: flow.get(value, value) for name, value in given.items()}
     config = sweep_point(args.sweep, pins, args.t_end)
