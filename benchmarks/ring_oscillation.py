@@ -87,8 +87,8 @@ def record(sim: Simulation, t_end: float, interval: float) -> tuple[np.ndarray, 
         sim.run(float(t))
         p = sim.bodies.poses
         x, y = p[:, 0] - cx, p[:, 1] - cy
-        speeds.append((x * p[:, 4] - y * p[:, 3]) / np.hypot(x, y))
-        angles.append(np.arctan2(y, x))
+        speeds.append(ring.angular_velocity(x, y, p[:, 3], p[:, 4])[1])
+        angles.append(ring.ring_angles(x, y, (0.0, 0.0)))
         times.append(float(t))
     return np.array(times), np.array(speeds), np.unwrap(np.array(angles), axis=0)
 
